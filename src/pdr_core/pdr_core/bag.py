@@ -130,7 +130,7 @@ class BagReader:
                 except _READ_ERRORS:
                     stream.seek(0)
                     reader = NonSeekingReader(stream, validate_crcs=True)
-                    messages = reader.iter_messages(topics=topics)
+                    messages = reader.iter_messages(topics=topics, log_time_order=False)
                     first = next(messages, None)
                 if first is None:
                     return

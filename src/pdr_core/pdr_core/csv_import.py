@@ -14,6 +14,7 @@ repeat the previous row exactly (same time, same values) are refused unless
 from __future__ import annotations
 
 import csv
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -115,8 +116,10 @@ def _read_table(path: Path, fmt: CsvImuFormat) -> tuple[list[str] | None, np.nda
         raise InputError(path, "empty file")
     names = [c.strip() for c in first] if fmt.header else None
     try:
-        table = np.loadtxt(path, delimiter=",", skiprows=1 if fmt.header else 0, ndmin=2,
-                           dtype=np.float64)
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", "loadtxt: input contained no data")
+            table = np.loadtxt(path, delimiter=",", skiprows=1 if fmt.header else 0, ndmin=2,
+                               dtype=np.float64)
     except ValueError as exc:
         raise InputError(path, f"cannot parse as numbers ({exc})") from exc
     if table.shape[0] == 0:

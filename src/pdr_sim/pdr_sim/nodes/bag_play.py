@@ -29,15 +29,18 @@ from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from pdr_core import topics as bag_topics
 from pdr_core.bag import BagReader
 from pdr_core.errors import InputError
 from pdr_sim.nodes.ros_types import message_class
 
+# Transient local: a subscriber whose side of discovery completes after the player's side
+# (the player already counts it) still gets the first messages from the writer's history.
 RELIABLE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
-                      reliability=ReliabilityPolicy.RELIABLE)
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 _NS = 1_000_000_000
 
 

@@ -7,9 +7,10 @@ Parameters:
     max_messages (int, 0): stop after this many messages in all (0: until stopped).
 
 Each topic is subscribed once a publisher of it appears, with its type taken from the
-graph and its reliability matching the publishers'. Messages are stored as received (raw
-CDR). The log time is the message's ``header.stamp`` when it has one, so the bag replays
-in data time; messages without a header (``/clock``) are logged at reception.
+graph and its reliability and durability matching the publishers'. Messages are stored
+as received (raw CDR). The log time is the message's ``header.stamp`` when it has one, so
+the bag replays in data time; messages without a header (``/clock``) are logged at
+reception.
 
 SIGINT or SIGTERM stops recording: messages already received are drained from the
 subscriptions, the bag is closed and only then appears at ``out`` (atomically).
@@ -24,7 +25,7 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 
 from pdr_core import topics as bag_topics
@@ -47,6 +48,18 @@ def header_stamp_ns(data: bytes) -> int:
     """``header.stamp`` in ns of a CDR message whose first field is a Header."""
     sec, nanosec = struct.unpack_from("<iI", data, 4)
     return sec * _NS + nanosec
+
+
+def matching_qos(publishers: list) -> QoSProfile:
+    """The strongest subscription QoS that every publisher of a topic is compatible with:
+    reliable and transient local when all of them offer it (as ``ros2 bag record`` does)."""
+    reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in publishers)
+    durable = all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
+                  for p in publishers)
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_ALL,
+        reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if durable else DurabilityPolicy.VOLATILE)
 
 
 class BagRecorder(Node):
@@ -79,12 +92,7 @@ class BagRecorder(Node):
             if full not in graph:
                 continue
             msgtype = graph[full][0]
-            publishers = self.get_publishers_info_by_topic(full)
-            reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE
-                           for p in publishers)
-            qos = QoSProfile(history=HistoryPolicy.KEEP_ALL,
-                             reliability=ReliabilityPolicy.RELIABLE if reliable
-                             else ReliabilityPolicy.BEST_EFFORT)
+            qos = matching_qos(self.get_publishers_info_by_topic(full))
             self.create_subscription(message_class(msgtype), topic,
                                      self._callback(bag_topics.bag_name(topic), msgtype),
                                      qos, raw=True)

@@ -1,0 +1,125 @@
+"""Bag writing and reading: round trips, other readers, and damaged input."""
+import numpy as np
+import pytest
+import yaml
+from mcap.reader import make_reader
+from rosbags.highlevel import AnyReader
+
+from pdr_core.bag import BagReader, BagWriter, write_batches
+from pdr_core.errors import InputError
+from pdr_core.msgtypes import PATH, typestore
+from pdr_core.nav_path import path_message, path_poses
+
+
+def assert_same(a, b):
+    np.testing.assert_array_equal(a.stamp_ns, b.stamp_ns)
+    np.testing.assert_array_equal(a.frame_id, b.frame_id)
+    assert a.fields.keys() == b.fields.keys()
+    for name in a.fields:
+        np.testing.assert_array_equal(a[name], b[name])
+
+
+def test_roundtrip_two_topics_in_time_order(tmp_path, imu, pose):
+    out = tmp_path / "bag"
+    write_batches(out, {"/imu/data": imu, "/ground_truth/pose": pose})
+    reader = BagReader(out)
+    assert reader.topics == {"/imu/data": "sensor_msgs/msg/Imu",
+                             "/ground_truth/pose": "geometry_msgs/msg/PoseStamped"}
+    back = reader.read_batches(["/imu/data", "/ground_truth/pose"])
+    assert_same(back["/imu/data"], imu)
+    assert_same(back["/ground_truth/pose"], pose)
+    times = [m.log_time_ns for m in reader.raw_messages()]
+    assert times == sorted(times) and len(times) == 1000
+
+
+def test_bag_opens_with_rosbags_and_mcap_and_has_valid_metadata(tmp_path, imu):
+    out = tmp_path / "bag"
+    write_batches(out, {"/imu/data": imu}, custom_data={"pdr.scenario": "x"})
+    info = yaml.safe_load((out / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert info["storage_identifier"] == "mcap"
+    assert info["message_count"] == 500
+    assert info["custom_data"] == {"pdr.scenario": "x"}
+    with AnyReader([out], default_typestore=typestore()) as reader:
+        msgs = [reader.deserialize(raw, c.msgtype) for c, _, raw in reader.messages()]
+    assert len(msgs) == 500
+    np.testing.assert_array_equal(msgs[7].linear_acceleration.z, imu["linear_acceleration"][7, 2])
+    with (out / "bag.mcap").open("rb") as stream:
+        mcap_reader = make_reader(stream)
+        summary = mcap_reader.get_summary()
+        assert summary.statistics.message_count == 500
+        schema = next(iter(summary.schemas.values()))
+        assert schema.name == "sensor_msgs/msg/Imu" and schema.encoding == "ros2msg"
+
+
+def test_path_roundtrip(tmp_path, pose):
+    msg = path_message(pose, int(pose.stamp_ns[-1]), "map")
+    out = tmp_path / "bag"
+    write_batches(out, {}, {"/pdr/foot/path": (PATH, [(int(pose.stamp_ns[-1]), msg)])})
+    [(t, back)] = BagReader(out).read_messages("/pdr/foot/path")
+    assert t == pose.stamp_ns[-1]
+    assert_same(path_poses(back), pose)
+
+
+def test_missing_bag(tmp_path):
+    with pytest.raises(InputError, match="no such bag") as err:
+        BagReader(tmp_path / "nope")
+    assert str(tmp_path / "nope") in str(err.value)
+
+
+def test_directory_without_metadata(tmp_path):
+    with pytest.raises(InputError, match=r"no metadata\.yaml"):
+        BagReader(tmp_path)
+
+
+def test_corrupt_metadata(tmp_path, imu):
+    write_batches(tmp_path / "bag", {"/imu/data": imu})
+    (tmp_path / "bag" / "metadata.yaml").write_text("rosbag2_bagfile_information: [1, 2")
+    with pytest.raises(InputError, match=r"corrupt metadata\.yaml"):
+        BagReader(tmp_path / "bag")
+
+
+def test_not_an_mcap_file(tmp_path, imu):
+    write_batches(tmp_path / "bag", {"/imu/data": imu})
+    (tmp_path / "bag" / "bag.mcap").write_bytes(b"SQLite format 3\0" + b"x" * 100)
+    with pytest.raises(InputError, match="not an MCAP file"):
+        BagReader(tmp_path / "bag")
+
+
+def test_unknown_topic_names_the_topics_present(tmp_path, imu):
+    write_batches(tmp_path / "bag", {"/imu/data": imu})
+    with pytest.raises(InputError, match=r"no topic /imu/mag \(the bag has: /imu/data\)"):
+        BagReader(tmp_path / "bag").read("/imu/mag")
+
+
+def test_truncated_bag_yields_everything_before_the_damage(tmp_path, make_imu):
+    big = make_imu(12000)
+    write_batches(tmp_path / "bag", {"/imu/data": big})
+    mcap = tmp_path / "bag" / "bag.mcap"
+    data = mcap.read_bytes()
+    mcap.write_bytes(data[: int(len(data) * 0.7)])
+    reader = BagReader(tmp_path / "bag")
+    got = []
+    with pytest.raises(InputError, match="corrupt MCAP after") as err:
+        got.extend(reader.raw_messages(["/imu/data"]))
+    assert str(mcap) in str(err.value)
+    # Damage costs at most the chunk it falls in (rosbags writes 1 MiB chunks).
+    per_chunk = 2**20 // len(got[0].data) + 1
+    assert 12000 * 0.7 - per_chunk <= len(got) < 12000 * 0.7
+    stamps = [m.log_time_ns for m in got]
+    np.testing.assert_array_equal(stamps, big.stamp_ns[: len(got)])
+
+
+def test_failed_write_leaves_no_output(tmp_path, imu):
+    out = tmp_path / "bag"
+    with pytest.raises(RuntimeError), BagWriter(out) as writer:
+        writer.add_topic("/imu/data", imu.msgtype)
+        raise RuntimeError("interrupted")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_existing_output_is_refused(tmp_path, imu):
+    write_batches(tmp_path / "bag", {"/imu/data": imu})
+    with pytest.raises(InputError, match="exists already"):
+        write_batches(tmp_path / "bag", {"/imu/data": imu})
+    write_batches(tmp_path / "bag", {"/imu/data": imu.take(slice(0, 10))}, overwrite=True)
+    assert len(BagReader(tmp_path / "bag").read("/imu/data")) == 10

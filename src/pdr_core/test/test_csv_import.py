@@ -1,0 +1,115 @@
+"""CSV import: units, axes, columns and refused rows."""
+import numpy as np
+import pytest
+
+from pdr_core.csv_import import STANDARD_GRAVITY_MPS2, CsvImuFormat, axis_matrix, import_csv
+from pdr_core.errors import InputError
+
+HEADER = "time,ax,ay,az,gx,gy,gz,px,py,pz\n"
+
+
+def write_csv(path, rows, header=HEADER):
+    path.write_text(header + "".join(",".join(str(v) for v in row) + "\n" for row in rows))
+    return path
+
+
+def rows(n=5):
+    return [[0.01 * i, 0.0, 0.0, 1.0, 90.0, 0.0, 0.0, i, 2 * i, 0.0] for i in range(n)]
+
+
+FMT = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), acc_unit="g",
+                   gyro_cols=("gx", "gy", "gz"), gyro_unit="deg/s", pos_cols=("px", "py", "pz"))
+
+
+def test_units_are_converted_to_si(tmp_path):
+    result = import_csv(write_csv(tmp_path / "a.csv", rows()), FMT)
+    np.testing.assert_allclose(result.imu["linear_acceleration"][:, 2], STANDARD_GRAVITY_MPS2)
+    np.testing.assert_allclose(result.imu["angular_velocity"][:, 0], np.pi / 2)
+    np.testing.assert_array_equal(result.imu.stamp_ns, np.arange(5) * 10_000_000)
+    np.testing.assert_array_equal(result.pose["pose.position"][:, 1], 2 * np.arange(5))
+    assert result.imu["orientation_covariance"][0, 0] == -1.0
+    assert result.imu["angular_velocity_covariance"][0, 0] == 0.0
+    assert list(result.imu.frame_id) == ["imu_link"] * 5 and result.pose.frame_id[0] == "map"
+
+
+def test_columns_by_index_without_header_and_time_in_ns(tmp_path):
+    path = write_csv(tmp_path / "b.csv", [[1_000_000 * i, 0.1, 0.2, 9.8] for i in range(4)],
+                     header="")
+    fmt = CsvImuFormat(time_col="0", time_unit="ns", acc_cols=("1", "2", "3"), header=False)
+    result = import_csv(path, fmt)
+    assert len(result.imu) == 4 and result.pose is None
+    np.testing.assert_array_equal(result.imu.stamp_ns, np.arange(4) * 1_000_000)
+    assert result.imu["angular_velocity_covariance"][0, 0] == -1.0, "no gyro: rates unknown"
+
+
+def test_axis_remap_with_signs(tmp_path):
+    np.testing.assert_array_equal(axis_matrix(("-y", "x", "z")) @ [1, 2, 3], [-2, 1, 3])
+    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), axes=("z", "-x", "y"))
+    result = import_csv(write_csv(tmp_path / "c.csv", rows()), fmt)
+    np.testing.assert_allclose(result.imu["linear_acceleration"][0], [1.0, -0.0, 0.0])
+
+
+@pytest.mark.parametrize("axes", [("x", "x", "z"), ("x", "y", "w")])
+def test_bad_axes(axes):
+    with pytest.raises(InputError, match="--axes"):
+        axis_matrix(axes)
+
+
+def test_nan_row_is_refused_with_its_row_number(tmp_path):
+    data = rows()
+    data[3][2] = float("nan")
+    path = write_csv(tmp_path / "d.csv", data)
+    with pytest.raises(InputError, match=r"d.csv: row 5: NaN or Inf value \(1 such rows"):
+        import_csv(path, FMT)
+    result = import_csv(path, CsvImuFormat(**{**FMT.__dict__, "drop_invalid": True}))
+    assert len(result.imu) == 4 and result.rows_invalid == 1
+
+
+def test_time_going_backwards_is_refused(tmp_path):
+    data = rows()
+    data[2][0] = 0.0
+    path = write_csv(tmp_path / "e.csv", data)
+    with pytest.raises(InputError, match=r"row 4: time 0\.000000000 does not increase"):
+        import_csv(path, FMT)
+    result = import_csv(path, CsvImuFormat(**{**FMT.__dict__, "drop_invalid": True}))
+    np.testing.assert_array_equal(result.imu.stamp_ns, [0, 10_000_000, 30_000_000, 40_000_000])
+
+
+def test_exact_duplicate_rows(tmp_path):
+    data = rows()
+    data.insert(2, list(data[1]))
+    path = write_csv(tmp_path / "f.csv", data)
+    with pytest.raises(InputError, match="row 4: exact duplicate of the previous row"):
+        import_csv(path, FMT)
+    result = import_csv(path, CsvImuFormat(**{**FMT.__dict__, "drop_duplicates": True}))
+    assert len(result.imu) == 5 and result.rows_duplicate == 1 and result.rows_read == 6
+
+
+def test_same_time_with_other_values_is_not_a_duplicate(tmp_path):
+    data = rows()
+    data.insert(2, list(data[1]))
+    data[2][1] = 5.0
+    with pytest.raises(InputError, match="does not increase"):
+        import_csv(write_csv(tmp_path / "g.csv", data),
+                   CsvImuFormat(**{**FMT.__dict__, "drop_duplicates": True}))
+
+
+def test_unknown_column_lists_the_columns(tmp_path):
+    fmt = CsvImuFormat(time_col="t", acc_cols=("ax", "ay", "az"))
+    with pytest.raises(InputError, match=r"no column 't' \(columns: time, ax"):
+        import_csv(write_csv(tmp_path / "h.csv", rows()), fmt)
+
+
+def test_unparsable_and_missing_files(tmp_path):
+    path = tmp_path / "i.csv"
+    path.write_text(HEADER + "0,1,2,oops,4,5,6,7,8,9\n")
+    with pytest.raises(InputError, match=r"i\.csv: cannot parse"):
+        import_csv(path, FMT)
+    with pytest.raises(InputError, match="no such file"):
+        import_csv(tmp_path / "none.csv", FMT)
+
+
+def test_unknown_unit(tmp_path):
+    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), acc_unit="furlong")
+    with pytest.raises(InputError, match="--acc-unit: unknown unit 'furlong'"):
+        import_csv(write_csv(tmp_path / "j.csv", rows()), fmt)

@@ -1,0 +1,56 @@
+"""``pdr-sim import-csv`` as a process: bad input gives exit 2, one line, no output."""
+import subprocess
+import sys
+
+import pytest
+
+from pdr_core.bag import BagReader
+
+GOOD = "t,ax,ay,az\n0.00,0,0,9.8\n0.01,0,0,9.8\n0.02,0,0,9.8\n"
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "pdr_sim.cli", "import-csv", *args],
+                          capture_output=True, text=True, timeout=60)
+
+
+def import_args(csv, out):
+    return [str(csv), "--out", str(out), "--time-col", "t", "--acc-cols", "ax,ay,az"]
+
+
+def test_good_file(tmp_path):
+    csv = tmp_path / "good.csv"
+    csv.write_text(GOOD)
+    result = run(*import_args(csv, tmp_path / "bag"))
+    assert result.returncode == 0, result.stderr
+    assert len(BagReader(tmp_path / "bag").read("/imu/data")) == 3
+
+
+@pytest.mark.parametrize("content, problem", [
+    (GOOD + "0.03,0,nan,9.8\n", "row 5: NaN or Inf value"),
+    (GOOD + "0.015,0,0,9.8\n", "row 5: time 0.015000000 does not increase"),
+    ("t,ax,ay,az\n", "no data rows"),
+])
+def test_bad_rows(tmp_path, content, problem):
+    csv = tmp_path / "bad.csv"
+    csv.write_text(content)
+    result = run(*import_args(csv, tmp_path / "bag"))
+    assert result.returncode == 2
+    [line] = result.stderr.splitlines()
+    assert line.startswith(f"pdr-sim: error: {csv}: {problem}")
+    assert list(tmp_path.iterdir()) == [csv], "no half-written output"
+
+
+def test_missing_file(tmp_path):
+    result = run(*import_args(tmp_path / "none.csv", tmp_path / "bag"))
+    assert result.returncode == 2
+    assert result.stderr == f"pdr-sim: error: {tmp_path / 'none.csv'}: no such file\n"
+
+
+def test_existing_output_is_kept(tmp_path):
+    csv = tmp_path / "good.csv"
+    csv.write_text(GOOD)
+    (tmp_path / "bag").mkdir()
+    result = run(*import_args(csv, tmp_path / "bag"))
+    assert result.returncode == 2 and "output exists already" in result.stderr
+    assert list((tmp_path / "bag").iterdir()) == []

@@ -1,0 +1,49 @@
+"""Helpers for the cross-package tests: paths, and ``./ws`` processes in one ROS domain."""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+WS = ROOT / "ws"
+SHARED_DATA = ROOT.parent / "shared" / "data"
+
+
+class Processes:
+    """Starts ``./ws`` executables in one ROS domain; stops what is left at teardown."""
+
+    def __init__(self, domain_id: int, log_dir: Path) -> None:
+        self.env = {**os.environ, "ROS_DOMAIN_ID": str(domain_id)}
+        self.log_dir = log_dir
+        self.started: list[subprocess.Popen] = []
+
+    def start(self, *args: str, name: str) -> subprocess.Popen:
+        """Start ``./ws ARGS``; its stdout and stderr go to LOG_DIR/NAME.log."""
+        log = (self.log_dir / f"{name}.log").open("w")
+        proc = subprocess.Popen([str(WS), *args], env=self.env, stdout=log,
+                                stderr=subprocess.STDOUT, cwd=ROOT)
+        proc.log_path = self.log_dir / f"{name}.log"
+        self.started.append(proc)
+        return proc
+
+    def run(self, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+        """Run ``./ws ARGS`` to completion, capturing its output."""
+        return subprocess.run([str(WS), *args], env=self.env, capture_output=True, text=True,
+                              timeout=timeout, cwd=ROOT)
+
+    @staticmethod
+    def stop(proc: subprocess.Popen, sig: int = signal.SIGINT, timeout: float = 30) -> int:
+        proc.send_signal(sig)
+        return proc.wait(timeout=timeout)
+
+    def cleanup(self) -> None:
+        for proc in self.started:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+
+
+def log_text(proc: subprocess.Popen) -> str:
+    return Path(proc.log_path).read_text()
