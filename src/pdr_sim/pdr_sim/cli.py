@@ -2,6 +2,7 @@
 
 Subcommands:
     import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose).
+    info         topics, types, message counts and time span of a bag.
 
 Errors in the input exit with status 2 and one line naming the file and the problem.
 """
@@ -15,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import write_batches
+from pdr_core.bag import BagReader, write_batches
 from pdr_core.csv_import import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
@@ -89,11 +90,35 @@ def _run_import_csv(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_info(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("info", help="summarise a bag",
+                       description="Topics, types, message counts and time span of a bag "
+                                   "(what `ros2 bag info` shows).")
+    p.add_argument("bag", type=Path, help="bag directory or .mcap file")
+    p.set_defaults(func=_run_info)
+
+
+def _run_info(args: argparse.Namespace) -> int:
+    reader = BagReader(args.bag)
+    counts: dict[str, int] = dict.fromkeys(reader.topics, 0)
+    first = last = None
+    for message in reader.raw_messages():
+        counts[message.topic] += 1
+        first = message.log_time_ns if first is None else first
+        last = message.log_time_ns
+    span = 0.0 if first is None else (last - first) * 1e-9
+    print(f"bag: {args.bag}\nduration: {span:.3f} s\nmessages: {sum(counts.values())}")
+    for topic in sorted(counts):
+        print(f"  {topic:<28} {reader.topics[topic]:<44} {counts[topic]:>9}")
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     """The ``pdr-sim`` argument parser."""
     top = argparse.ArgumentParser(prog="pdr-sim", description=__doc__.split("\n")[0])
     sub = top.add_subparsers(dest="command", required=True)
     _add_import_csv(sub)
+    _add_info(sub)
     return top
 
 
