@@ -8,7 +8,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 WS = ROOT / "ws"
-SHARED_DATA = ROOT.parent / "shared" / "data"
+# The real recordings (../shared/data beside the repository; PDR_SHARED_DATA overrides).
+SHARED_DATA = Path(os.environ.get("PDR_SHARED_DATA", ROOT.parent / "shared" / "data"))
+if not SHARED_DATA.is_dir():
+    raise FileNotFoundError(f"{SHARED_DATA}: the shared recordings are missing; clone the "
+                            "repository beside shared/ or set PDR_SHARED_DATA")
 
 
 class Processes:
