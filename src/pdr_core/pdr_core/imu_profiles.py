@@ -1,0 +1,177 @@
+"""Named IMU error profiles and their configuration format (units in the key names).
+
+A profile is a mapping with up to three sections, ``gyro``, ``accel`` and ``mag``; each
+value is a scalar (all axes) or a list of three (x, y, z). :func:`imu_errors` turns it
+into an :class:`~pdr_core.imu_errors.ImuErrors` in SI units; unknown keys and negative
+densities are refused with the key named. Keys:
+
+gyro:  arw_deg_per_sqrt_h, bias_deg_per_s, bias_sigma_deg_per_s,
+       bias_instability_deg_per_h, bias_correlation_time_s, rrw_deg_per_s_per_sqrt_h,
+       scale_factor_ppm, misalignment_mrad, range_deg_per_s, resolution_deg_per_s
+accel: vrw_ug_per_sqrt_hz | vrw_mps_per_sqrt_h, bias_mg, bias_sigma_mg,
+       bias_instability_mg, bias_correlation_time_s, random_walk_mps2_per_sqrt_h,
+       scale_factor_ppm, misalignment_mrad, range_g, resolution_mg
+mag:   noise_ut_per_sqrt_hz, bias_ut, bias_sigma_ut, scale_factor_ppm, misalignment_mrad,
+       range_ut, resolution_ut
+
+A bias instability β becomes a Gauss–Markov bias with the given correlation time whose
+σ makes the minimum of the modelled Allan deviation equal β
+(:func:`pdr_core.allan.gm_sigma_for_bias_instability`), so ``pdr-sim allan`` on static
+data reads β back. Misalignment is given as the three small angles (about x, y, z) of a
+non-orthogonality that couples the axes: M = [[0, −γz, γy], [γz, 0, −γx], [−γy, γx, 0]]
+plus its symmetric part (each axis tilted towards the next), i.e. M_ij = γ for i ≠ j.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from pdr_core import units
+from pdr_core.allan import gm_sigma_for_bias_instability
+from pdr_core.errors import InputError
+from pdr_core.imu_errors import ImuErrors, TriadErrors
+
+# Sources are cited per profile; "assumed" marks values the cited source does not give.
+PROFILES: dict[str, dict[str, dict[str, Any]]] = {
+    "ideal": {},
+    # Xsens MTi, 000_fbd401126d10f515.txt section IV-B: 3 °/√h ARW, 122 µg/√Hz VRW,
+    # constant biases drawn per axis with σ 1.23 mg (accelerometer) and 0.5 °/s (gyro).
+    "xsens_mti": {
+        "gyro": {"arw_deg_per_sqrt_h": 3.0, "bias_sigma_deg_per_s": 0.5},
+        "accel": {"vrw_ug_per_sqrt_hz": 122.0, "bias_sigma_mg": 1.23},
+    },
+    # Xsens MTw, 003_05973562addf7331.txt Table 3.2: gyro white noise 0.1 °/s per sample
+    # at 100 Hz (= 0.01 °/s/√Hz = 0.6 °/√h), biases (−0.1, 0.1, −0.1) °/s, magnetometer
+    # noise 0.015 µT per sample at 100 Hz; Table 6.1 uses the same noise. Assumed (not in
+    # the thesis, MTw datasheet order): gyro bias instability 10 °/h, accelerometer
+    # 200 µg/√Hz and 0.1 mg bias instability, correlation times 200 s and 100 s.
+    "xsens_mtw": {
+        "gyro": {"arw_deg_per_sqrt_h": 0.6, "bias_deg_per_s": [-0.1, 0.1, -0.1],
+                 "bias_instability_deg_per_h": 10.0, "bias_correlation_time_s": 200.0,
+                 "range_deg_per_s": 2000.0},
+        "accel": {"vrw_ug_per_sqrt_hz": 200.0, "bias_instability_mg": 0.1,
+                  "bias_correlation_time_s": 100.0, "range_g": 16.0},
+        "mag": {"noise_ut_per_sqrt_hz": 0.0015},
+    },
+    # VectorNav VN-200, 004_1269ce0256f0c590.txt section IV: ARW 0.21 °/√h,
+    # VRW 0.14 mg/√Hz, RRW 0.048 °/s/√h (from its Allan deviation, Fig. 7).
+    "vn200": {
+        "gyro": {"arw_deg_per_sqrt_h": 0.21, "rrw_deg_per_s_per_sqrt_h": 0.048},
+        "accel": {"vrw_ug_per_sqrt_hz": 140.0},
+    },
+    # A smartphone-class MEMS IMU (typical values of a Bosch BMI160-class datasheet):
+    # 0.007 °/s/√Hz (0.42 °/√h), turn-on bias σ 1 °/s, 180 µg/√Hz, bias σ 40 mg, 1 %
+    # scale factor, 1° cross-axis, ±2000 °/s and ±8 g in 16 bits; magnetometer 0.3 µT RMS
+    # at 100 Hz.
+    "consumer_phone": {
+        "gyro": {"arw_deg_per_sqrt_h": 0.42, "bias_sigma_deg_per_s": 1.0,
+                 "bias_instability_deg_per_h": 30.0, "bias_correlation_time_s": 100.0,
+                 "scale_factor_ppm": 10000.0, "misalignment_mrad": 17.0,
+                 "range_deg_per_s": 2000.0, "resolution_deg_per_s": 2000.0 / 32768},
+        "accel": {"vrw_ug_per_sqrt_hz": 180.0, "bias_sigma_mg": 40.0,
+                  "bias_instability_mg": 0.5, "bias_correlation_time_s": 100.0,
+                  "scale_factor_ppm": 10000.0, "misalignment_mrad": 17.0,
+                  "range_g": 8.0, "resolution_mg": 8000.0 / 32768},
+        "mag": {"noise_ut_per_sqrt_hz": 0.03, "bias_sigma_ut": 0.5},
+    },
+}
+
+_SCALES = {
+    "gyro": {"arw_deg_per_sqrt_h": units.arw_to_si(1), "bias_deg_per_s": units.DEG,
+             "bias_sigma_deg_per_s": units.DEG,
+             "bias_instability_deg_per_h": units.deg_per_h_to_si(1),
+             "rrw_deg_per_s_per_sqrt_h": units.rrw_to_si(1),
+             "range_deg_per_s": units.DEG, "resolution_deg_per_s": units.DEG},
+    "accel": {"vrw_ug_per_sqrt_hz": units.ug_per_sqrt_hz_to_si(1),
+              "vrw_mps_per_sqrt_h": units.vrw_to_si(1), "bias_mg": units.mg_to_si(1),
+              "bias_sigma_mg": units.mg_to_si(1), "bias_instability_mg": units.mg_to_si(1),
+              "random_walk_mps2_per_sqrt_h": 1 / units.SQRT_HOUR,
+              "range_g": units.STANDARD_GRAVITY_MPS2, "resolution_mg": units.mg_to_si(1)},
+    "mag": {"noise_ut_per_sqrt_hz": 1e-6, "bias_ut": 1e-6, "bias_sigma_ut": 1e-6,
+            "range_ut": 1e-6, "resolution_ut": 1e-6},
+}
+_COMMON = {"scale_factor_ppm": 1e-6, "misalignment_mrad": 1e-3, "bias_correlation_time_s": 1.0}
+_FIELDS = {  # config key (after unit scaling) -> TriadErrors field
+    "arw_deg_per_sqrt_h": "white_density", "vrw_ug_per_sqrt_hz": "white_density",
+    "vrw_mps_per_sqrt_h": "white_density", "noise_ut_per_sqrt_hz": "white_density",
+    "bias_deg_per_s": "bias", "bias_mg": "bias", "bias_ut": "bias",
+    "bias_sigma_deg_per_s": "bias_sigma", "bias_sigma_mg": "bias_sigma",
+    "bias_sigma_ut": "bias_sigma", "rrw_deg_per_s_per_sqrt_h": "random_walk_density",
+    "random_walk_mps2_per_sqrt_h": "random_walk_density", "scale_factor_ppm": "scale_factor",
+}
+_SCALAR_KEYS = {"range_deg_per_s", "range_g", "range_ut", "resolution_deg_per_s",
+                "resolution_mg", "resolution_ut"}
+
+
+def _axes(value: Any, where: str) -> tuple[float, float, float]:
+    if isinstance(value, int | float):
+        return (float(value),) * 3
+    if isinstance(value, list | tuple) and len(value) == 3 and all(
+            isinstance(v, int | float) for v in value):
+        return tuple(float(v) for v in value)
+    raise InputError(where, f"expected a number or a list of 3 numbers, got {value!r}")
+
+
+def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
+    scales = {**_SCALES[sensor], **_COMMON}
+    unknown = sorted(set(config) - set(scales))
+    if unknown:
+        raise InputError(f"{where}.{unknown[0]}", f"unknown key (known: {', '.join(sorted(scales))})")
+    values: dict[str, Any] = {}
+    for key, raw in config.items():
+        if key in _SCALAR_KEYS:
+            if not isinstance(raw, int | float) or raw <= 0:
+                raise InputError(f"{where}.{key}", f"must be a positive number, got {raw!r}")
+            continue
+        axes = tuple(v * scales[key] for v in _axes(raw, f"{where}.{key}"))
+        if key not in ("bias_deg_per_s", "bias_mg", "bias_ut", "scale_factor_ppm") and min(axes) < 0:
+            raise InputError(f"{where}.{key}", f"must be >= 0, got {raw!r}")
+        values[key] = axes
+    fields: dict[str, Any] = {_FIELDS[k]: v for k, v in values.items() if k in _FIELDS}
+    if "misalignment_mrad" in values:
+        gx, gy, gz = values["misalignment_mrad"]
+        fields["misalignment"] = ((0.0, gz, gy), (gz, 0.0, gx), (gy, gx, 0.0))
+    instability = next((k for k in values if k.startswith("bias_instability")), None)
+    if instability:
+        tau = values.get("bias_correlation_time_s")
+        if tau is None or min(tau) <= 0:
+            raise InputError(f"{where}.bias_correlation_time_s",
+                             "required (> 0) with a bias instability")
+        white = fields.get("white_density", (0.0,) * 3)
+        walk = fields.get("random_walk_density", (0.0,) * 3)
+        try:
+            fields["gm_sigma"] = tuple(gm_sigma_for_bias_instability(b, t, w, k) for b, t, w, k
+                                       in zip(values[instability], tau, white, walk, strict=True))
+        except ValueError as exc:
+            raise InputError(f"{where}.{instability}", str(exc)) from exc
+        fields["gm_tau_s"] = tau
+    for key in _SCALAR_KEYS & set(config):
+        target = "saturation" if key.startswith("range") else "quantum"
+        fields[target] = float(config[key]) * scales[key]
+    return TriadErrors(**fields)
+
+
+def imu_errors(config: Mapping[str, Any], where: str = "imu") -> ImuErrors:
+    """ImuErrors from a profile mapping (see module docstring); InputError names bad keys."""
+    if not isinstance(config, Mapping):
+        raise InputError(where, f"expected a mapping, got {config!r}")
+    unknown = sorted(set(config) - {"gyro", "accel", "mag"})
+    if unknown:
+        raise InputError(f"{where}.{unknown[0]}", "unknown sensor (known: gyro, accel, mag)")
+    return ImuErrors(**{s: _triad(s, config[s] or {}, f"{where}.{s}") for s in config})
+
+
+def profile(name: str, overrides: Mapping[str, Any] | None = None) -> ImuErrors:
+    """The named profile, with ``overrides`` ({sensor: {key: value}}) merged in."""
+    if name not in PROFILES:
+        raise InputError("--imu", f"unknown profile '{name}' (known: {', '.join(PROFILES)})")
+    merged = {s: dict(v) for s, v in PROFILES[name].items()}
+    for sensor, values in (overrides or {}).items():
+        merged.setdefault(sensor, {}).update(values or {})
+    return imu_errors(merged, where=name)
+
+
+def profile_config(name: str) -> dict[str, dict[str, Any]]:
+    """The raw configuration of a named profile (for records and documentation)."""
+    return {s: dict(v) for s, v in PROFILES[name].items()}
+

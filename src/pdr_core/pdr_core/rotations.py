@@ -1,0 +1,56 @@
+"""Attitude conventions and the conversions between them (scipy.spatial.transform).
+
+Frames: navigation frame ENU (x east, y north, z up); body frame FLU (x forward, y left,
+z up), REP-103. Attitude is C_b^n (body -> navigation), built from Euler angles as
+C_b^n = Rz(ψ)·Ry(θ)·Rx(φ) (roll φ, pitch θ, yaw ψ; yaw 0 = facing east, counter-clockwise
+positive). With this convention a positive pitch turns the nose (the toes) down.
+
+Arrays: angles (N,) [rad], rates (N,) [rad/s], vectors (N, 3).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+
+def rotation_from_euler(roll: np.ndarray, pitch: np.ndarray, yaw: np.ndarray) -> Rotation:
+    """C_b^n from roll, pitch, yaw [rad] (ZYX intrinsic)."""
+    return Rotation.from_euler("ZYX", np.stack([yaw, pitch, roll], axis=-1))
+
+
+def body_rate_from_euler(roll, pitch, yaw, roll_rate, pitch_rate, yaw_rate) -> np.ndarray:
+    """ω_nb^b [rad/s], (N, 3), from Euler angles and their time derivatives.
+
+    The analytic route to the turn rate; 000_fbd401126d10f515.txt, Eq. (10) is the
+    numerical one (see :func:`body_rate_from_matrix_log`). For C_b^n = Rz(ψ)Ry(θ)Rx(φ):
+    ω = [φ̇ − ψ̇ sinθ, θ̇ cosφ + ψ̇ sinφ cosθ, −θ̇ sinφ + ψ̇ cosφ cosθ].
+    """
+    sr, cr = np.sin(roll), np.cos(roll)
+    sp, cp = np.sin(pitch), np.cos(pitch)
+    return np.stack([roll_rate - yaw_rate * sp,
+                     pitch_rate * cr + yaw_rate * sr * cp,
+                     -pitch_rate * sr + yaw_rate * cr * cp], axis=-1)
+
+
+def body_rate_from_matrix_log(attitude: Rotation, dt: float) -> np.ndarray:
+    """ω_nb^b [rad/s], (N−1, 3), over each sample interval by the matrix logarithm.
+
+    000_fbd401126d10f515.txt, Eq. (10): Ω = ln(C_b^n(t)ᵀ·C_b^n(t+ΔT)) / ΔT; the log of a
+    rotation matrix is the skew matrix of its rotation vector.
+    """
+    return (attitude[:-1].inv() * attitude[1:]).as_rotvec() / dt
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """Skew-symmetric matrices [v×], (..., 3, 3), of vectors (..., 3)."""
+    v = np.asarray(v)
+    zero = np.zeros(v.shape[:-1])
+    return np.stack([np.stack([zero, -v[..., 2], v[..., 1]], -1),
+                     np.stack([v[..., 2], zero, -v[..., 0]], -1),
+                     np.stack([-v[..., 1], v[..., 0], zero], -1)], -2)
+
+
+def quaternion_xyzw(attitude: Rotation) -> np.ndarray:
+    """(N, 4) quaternions in ROS order (x, y, z, w), w >= 0."""
+    q = attitude.as_quat()
+    return np.where(q[..., 3:4] < 0, -q, q)

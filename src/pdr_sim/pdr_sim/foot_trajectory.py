@@ -1,0 +1,199 @@
+"""Foot-mounted IMU trajectory of a scenario (000_fbd401126d10f515.txt, section II).
+
+The walk is a sequence of *phases*: rest (standing or stance, the foot still), swing along
+a straight line or an arc, and turns in place. Every sample is evaluated in one
+vectorised pass: the phase of each sample is found with ``searchsorted`` and its pattern
+evaluated with per-sample parameters.
+
+- Straight swing: p = p₀ + s(τ)·u(ψ) + z(τ)·e_up, the pattern of Eqs. (1)–(2) (or the
+  fitted one of Eqs. (3)–(4)), on the scenario's swing timing (see
+  :mod:`pdr_sim.step_pattern`).
+- Curved swing: the along-track displacement s becomes the angle ϑ = s/r on a circle of
+  radius r (section II-B): p = c + r·(cos α, sin α), α = α₀ ± s/r, and the heading turns
+  with it, ψ = ψ₀ ± s/r. Velocity r·α̇·(−sin α, cos α), acceleration
+  r·α̈·(−sin α, cos α) − r·α̇²·(cos α, sin α).
+- Turn in place: ψ = ψ₀ + Δψ·(1 − cos(πτ/T))/2, position fixed.
+
+Per-stride parameters are drawn once from the scenario's variation (normal, clipped to
+at least 20 % of the mean so that no stride is impossible) with its seed.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pdr_sim.scenario import Scenario, StepSpec
+from pdr_sim.step_pattern import Channel, FittedPattern, Swing, basic_swing, swing_phase
+from pdr_sim.trajectory import Trajectory
+
+REST, STRAIGHT, CURVE, TURN = 0, 1, 2, 3
+_STEP_KEYS = ("length_m", "height_m", "swing_s", "stance_s", "pitch_max_rad")
+
+
+@dataclass(frozen=True)
+class Phases:
+    """Phase table, arrays of length P: start time [s], duration [s], kind, start position
+    (P, 3), start yaw [rad], and per-phase parameters (stride length, height, pitch max,
+    signed curvature 1/r [1/m] (+ left), turn angle [rad])."""
+
+    start: np.ndarray
+    duration: np.ndarray
+    kind: np.ndarray
+    position: np.ndarray
+    yaw: np.ndarray
+    length: np.ndarray
+    height: np.ndarray
+    pitch_max: np.ndarray
+    curvature: np.ndarray
+    turn: np.ndarray
+    end_time: float
+    end_position: np.ndarray
+    end_yaw: float
+
+    @property
+    def path_length_m(self) -> float:
+        """Horizontal distance travelled by the foot [m]."""
+        return float(self.length[self.kind != REST].sum())
+
+    @property
+    def heading_change_rad(self) -> float:
+        """Total change of heading [rad], counter-clockwise positive."""
+        return float((self.length * self.curvature).sum() + self.turn.sum())
+
+
+def draw_strides(scenario: Scenario) -> list[StepSpec]:
+    """The parameters of every stride, in order, with the scenario's seeded variation."""
+    rng = np.random.default_rng(scenario.seed)
+    strides = []
+    for segment in scenario.segments:
+        base = segment.step or scenario.step
+        for _ in range(segment.steps if segment.type in ("straight", "curve") else 0):
+            noise = rng.standard_normal(len(_STEP_KEYS))
+            values = {k: max(getattr(base, k) + getattr(scenario.variation, k) * e,
+                             0.2 * getattr(base, k)) for k, e in zip(_STEP_KEYS, noise,
+                                                                      strict=True)}
+            strides.append(StepSpec(**values))
+    return strides
+
+
+def build_phases(scenario: Scenario) -> Phases:
+    """The phase table of a scenario (a short Python loop over strides, not samples)."""
+    rows: list[tuple] = []
+    t = 0.0
+    position = np.asarray(scenario.initial.position_m, float)
+    yaw = np.radians(scenario.initial.yaw_deg)
+    strides = iter(draw_strides(scenario))
+    for segment in scenario.segments:
+        if segment.type == "standing":
+            rows.append((t, segment.duration_s, REST, position, yaw, 0, 0, 0, 0, 0))
+            t += segment.duration_s
+        elif segment.type == "turn":
+            turn = np.radians(segment.angle_deg)
+            rows.append((t, segment.duration_s, TURN, position, yaw, 0, 0, 0, 0, turn))
+            t += segment.duration_s
+            yaw += turn
+        else:
+            curvature = 0.0
+            if segment.type == "curve":
+                curvature = (1 if segment.direction == "left" else -1) / segment.radius_m
+            for _ in range(segment.steps):
+                stride = next(strides)
+                rows.append((t, stride.stance_s, REST, position, yaw, 0, 0, 0, 0, 0))
+                t += stride.stance_s
+                kind = CURVE if curvature else STRAIGHT
+                rows.append((t, stride.swing_s, kind, position, yaw, stride.length_m,
+                             stride.height_m, stride.pitch_max_rad, curvature, 0))
+                t += stride.swing_s
+                position, yaw = _swing_end(position, yaw, stride.length_m, curvature)
+    cols = list(zip(*rows, strict=True))
+    return Phases(*(np.asarray(c, float) for c in cols[:2]), np.asarray(cols[2], int),
+                  np.stack(cols[3]), *(np.asarray(c, float) for c in cols[4:]),
+                  end_time=t, end_position=position, end_yaw=float(yaw))
+
+
+def _swing_end(position: np.ndarray, yaw: float, length: float, curvature: float):
+    if curvature == 0:
+        return position + length * np.array([np.cos(yaw), np.sin(yaw), 0.0]), yaw
+    r = 1.0 / curvature
+    centre = position[:2] + r * np.array([-np.sin(yaw), np.cos(yaw)])
+    angle = np.arctan2(*(position[:2] - centre)[::-1]) + length * curvature
+    end = centre + abs(r) * np.array([np.cos(angle), np.sin(angle)])
+    return np.array([end[0], end[1], position[2]]), yaw + length * curvature
+
+
+@dataclass(frozen=True)
+class FootTrajectory:
+    """Trajectory model of a foot-mounted IMU walking a scenario."""
+
+    scenario: Scenario
+    fitted: FittedPattern | None = None
+
+    @property
+    def phases(self) -> Phases:
+        return build_phases(self.scenario)
+
+    def sample(self, rate_hz: float) -> Trajectory:
+        """All samples from t = 0 to the end of the last phase, at ``rate_hz``."""
+        phases = self.phases
+        n = int(np.floor(phases.end_time * rate_hz + 1e-9)) + 1
+        t = np.arange(n) / rate_hz
+        idx = np.clip(np.searchsorted(phases.start, t, side="right") - 1, 0, None)
+        tau = np.minimum(t - phases.start[idx], phases.duration[idx])
+        kind = phases.kind[idx]
+        p0, yaw0 = phases.position[idx], phases.yaw[idx]
+        swing = self._swing(tau, phases, idx, kind)
+        pos, vel, acc = np.zeros((3, n, 3))
+        pos[:] = p0
+        euler, rate = np.zeros((2, n, 3))
+        euler[:, 2] = yaw0
+        init = self.scenario.initial
+        euler[:, 0] += np.radians(init.roll_deg) + swing.roll.f
+        euler[:, 1] += np.radians(init.pitch_deg) + swing.pitch.f
+        rate[:, 0], rate[:, 1] = swing.roll.d1, swing.pitch.d1
+        pos[:, 2] += swing.z.f
+        vel[:, 2], acc[:, 2] = swing.z.d1, swing.z.d2
+
+        straight = kind == STRAIGHT
+        u = np.stack([np.cos(yaw0), np.sin(yaw0)], axis=1)
+        for out, ch in ((pos, swing.s.f), (vel, swing.s.d1), (acc, swing.s.d2)):
+            out[straight, :2] += ch[straight, None] * u[straight]
+
+        curve = kind == CURVE
+        k = phases.curvature[idx][curve]
+        r = 1.0 / k
+        centre = p0[curve, :2] + r[:, None] * np.stack([-np.sin(yaw0[curve]),
+                                                        np.cos(yaw0[curve])], axis=1)
+        alpha0 = yaw0[curve] - np.sign(k) * np.pi / 2
+        alpha = alpha0 + swing.s.f[curve] * k
+        alpha_d, alpha_dd = swing.s.d1[curve] * k, swing.s.d2[curve] * k
+        radial = np.stack([np.cos(alpha), np.sin(alpha)], axis=1)
+        tangent = np.stack([-np.sin(alpha), np.cos(alpha)], axis=1)
+        radius = np.abs(r)[:, None]
+        pos[curve, :2] = centre + radius * radial
+        vel[curve, :2] = radius * alpha_d[:, None] * tangent
+        acc[curve, :2] = radius * (alpha_dd[:, None] * tangent - alpha_d[:, None] ** 2 * radial)
+        euler[curve, 2] += swing.s.f[curve] * k
+        rate[curve, 2] = alpha_d
+
+        turn = kind == TURN
+        duration = phases.duration[idx][turn]
+        phase = np.pi * tau[turn] / duration
+        angle = phases.turn[idx][turn]
+        euler[turn, 2] += angle * (1 - np.cos(phase)) / 2
+        rate[turn, 2] = angle * np.pi / (2 * duration) * np.sin(phase)
+        return Trajectory(t, pos, vel, acc, euler, rate)
+
+    def _swing(self, tau: np.ndarray, phases: Phases, idx: np.ndarray, kind: np.ndarray
+               ) -> Swing:
+        """Swing channels for every sample; zero outside swings."""
+        moving = (kind == STRAIGHT) | (kind == CURVE)
+        length, duration = phases.length[idx], phases.duration[idx]
+        phase = swing_phase(tau, np.where(moving, duration, 1.0), self.scenario.timing)
+        if self.fitted is None:
+            swing = basic_swing(phase, length, phases.height[idx], phases.pitch_max[idx])
+        else:
+            swing = self.fitted.swing(phase, length)
+        mask = moving.astype(float)
+        return Swing(*(Channel(c.f * mask, c.d1 * mask, c.d2 * mask)
+                       for c in (swing.s, swing.z, swing.pitch, swing.roll)))

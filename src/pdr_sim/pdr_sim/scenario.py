@@ -1,0 +1,270 @@
+"""Walking scenarios: segments of standing, straight walking, curves and turns in place.
+
+A scenario is a YAML mapping (see ``pdr_sim/scenarios/*.yaml`` for the built-in ones):
+
+    name: square_loop
+    step:                    # defaults for every stride (000_fbd401126d10f515.txt, Fig. 4)
+      length_m: 1.3          # SL, stride length
+      height_m: 0.14         # SH
+      swing_s: 0.8           # t_u
+      stance_s: 0.4          # t_0
+      pitch_max_rad: 0.55    # θ_max
+    variation:               # per-stride standard deviations, drawn with ``seed``
+      length_m: 0.05
+    seed: 1
+    initial: {position_m: [0, 0, 0], roll_deg: 0, pitch_deg: 0, yaw_deg: 0}
+    pattern: basic           # or: fitted (then ``fitted_pattern: FILE.yaml`` from pdr-sim fit-steps)
+    timing: smooth           # or: linear, the paper's exact Eqs. (1)-(2) (see step_pattern)
+    environment:
+      latitude_deg: 48.15    # adds Earth rotation to the gyroscope (omit: none)
+      magnetic_field:
+        preset: munich       # north_pole | equator | munich, or vector_ut: [e, n, u]
+        cylinders: [{east_m: 3, north_m: 1, radius_m: 0.3, permeability: 200}]
+        distortion: table_3_3   # or {xi: .., l: [..], M: [[..], [..], [..]]}
+    segments:
+      - {type: standing, duration_s: 2}
+      - {type: straight, steps: 5}
+      - {type: curve, steps: 4, radius_m: 3, direction: left}
+      - {type: turn, angle_deg: 90, duration_s: 1.5}     # in place; positive = left
+
+A segment may carry its own ``step:`` mapping, overriding the defaults. Every key is
+checked: unknown keys, negative durations and impossible steps are refused with the key
+named; nothing is silently defaulted beyond the documented defaults above.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from pdr_core.errors import InputError
+from pdr_sim.step_pattern import TIMINGS
+
+BUILTIN = ("straight", "square_loop", "figure_eight", "long_mixed_walk")
+SEGMENT_TYPES = ("standing", "straight", "curve", "turn")
+
+
+@dataclass(frozen=True)
+class StepSpec:
+    """Stride parameters (000_fbd401126d10f515.txt, Eqs. (1)–(2)); defaults of its Fig. 4."""
+
+    length_m: float = 1.3
+    height_m: float = 0.14
+    swing_s: float = 0.8
+    stance_s: float = 0.4
+    pitch_max_rad: float = 0.55
+
+
+@dataclass(frozen=True)
+class InitialPose:
+    position_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    roll_deg: float = 0.0
+    pitch_deg: float = 0.0
+    yaw_deg: float = 0.0
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    east_m: float
+    north_m: float
+    radius_m: float
+    permeability: float = 200.0
+
+
+@dataclass(frozen=True)
+class MagneticFieldSpec:
+    preset: str | None = "munich"
+    vector_ut: tuple[float, float, float] | None = None
+    cylinders: tuple[Cylinder, ...] = ()
+    distortion: Any = None
+
+
+@dataclass(frozen=True)
+class Environment:
+    latitude_deg: float | None = None
+    magnetic_field: MagneticFieldSpec = field(default_factory=MagneticFieldSpec)
+
+
+@dataclass(frozen=True)
+class Segment:
+    type: str
+    steps: int = 0
+    duration_s: float = 0.0
+    radius_m: float = 0.0
+    direction: str = "left"
+    angle_deg: float = 0.0
+    step: StepSpec | None = None
+
+
+@dataclass(frozen=True)
+class Scenario:
+    name: str
+    segments: tuple[Segment, ...]
+    step: StepSpec = field(default_factory=StepSpec)
+    variation: StepSpec = field(default_factory=lambda: StepSpec(0.0, 0.0, 0.0, 0.0, 0.0))
+    seed: int = 0
+    initial: InitialPose = field(default_factory=InitialPose)
+    pattern: str = "basic"
+    fitted_pattern: str | None = None
+    timing: str = "smooth"
+    environment: Environment = field(default_factory=Environment)
+
+
+def _check_keys(data: Any, cls: type, where: str, required: tuple[str, ...] = ()) -> dict:
+    if not isinstance(data, Mapping):
+        raise InputError(where, f"expected a mapping, got {data!r}")
+    known = {f.name for f in fields(cls)}
+    for key in data:
+        if key not in known:
+            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(known))})")
+    for key in required:
+        if key not in data:
+            raise InputError(f"{where}.{key}", "required")
+    return dict(data)
+
+
+def _number(value: Any, where: str, minimum: float | None = None, strict: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise InputError(where, f"expected a number, got {value!r}")
+    if minimum is not None and (value <= minimum if strict else value < minimum):
+        raise InputError(where, f"must be {'>' if strict else '>='} {minimum}, got {value}")
+    return float(value)
+
+
+def _vector(value: Any, where: str) -> tuple[float, float, float]:
+    if not isinstance(value, list | tuple) or len(value) != 3:
+        raise InputError(where, f"expected a list of 3 numbers, got {value!r}")
+    return tuple(_number(v, where) for v in value)
+
+
+def _step(data: Any, where: str, base: StepSpec, variation: bool = False) -> StepSpec:
+    values = _check_keys(data, StepSpec, where)
+    positive = () if variation else ("length_m", "swing_s")
+    out = {}
+    for key, value in values.items():
+        strict = key in positive
+        out[key] = _number(value, f"{where}.{key}", minimum=0.0, strict=strict)
+    return replace(base, **out)
+
+
+def _segment(data: Any, where: str, step: StepSpec) -> Segment:
+    values = _check_keys(data, Segment, where, required=("type",))
+    kind = values["type"]
+    needs = {"standing": ("duration_s",), "straight": ("steps",),
+             "curve": ("steps", "radius_m", "direction"), "turn": ("angle_deg", "duration_s")}
+    if kind not in needs:
+        raise InputError(f"{where}.type", f"unknown segment type '{kind}' "
+                                          f"(known: {', '.join(SEGMENT_TYPES)})")
+    allowed = {"type", "step", *needs[kind]}
+    for key in values:
+        if key not in allowed:
+            raise InputError(f"{where}.{key}", f"not a key of a '{kind}' segment "
+                                               f"(keys: {', '.join(sorted(allowed))})")
+    for key in needs[kind]:
+        if key not in values:
+            raise InputError(f"{where}.{key}", f"required for a '{kind}' segment")
+    out: dict[str, Any] = {"type": kind}
+    if "steps" in values:
+        steps = values["steps"]
+        if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+            raise InputError(f"{where}.steps", f"must be a positive integer, got {steps!r}")
+        out["steps"] = steps
+    if "duration_s" in values:
+        out["duration_s"] = _number(values["duration_s"], f"{where}.duration_s", 0.0, strict=True)
+    if "radius_m" in values:
+        out["radius_m"] = _number(values["radius_m"], f"{where}.radius_m", 0.0, strict=True)
+    if "direction" in values:
+        if values["direction"] not in ("left", "right"):
+            raise InputError(f"{where}.direction", f"must be left or right, got "
+                                                   f"{values['direction']!r}")
+        out["direction"] = values["direction"]
+    if "angle_deg" in values:
+        out["angle_deg"] = _number(values["angle_deg"], f"{where}.angle_deg")
+    if "step" in values:
+        out["step"] = _step(values["step"], f"{where}.step", step)
+    return Segment(**out)
+
+
+def _magnetic_field(data: Any, where: str) -> MagneticFieldSpec:
+    values = _check_keys(data, MagneticFieldSpec, where)
+    out: dict[str, Any] = {}
+    if "vector_ut" in values:
+        out["vector_ut"] = _vector(values["vector_ut"], f"{where}.vector_ut")
+        out["preset"] = None
+    if "preset" in values:
+        if "vector_ut" in values:
+            raise InputError(f"{where}.preset", "give either preset or vector_ut, not both")
+        out["preset"] = values["preset"]
+    cylinders = []
+    for i, cyl in enumerate(values.get("cylinders") or []):
+        c = _check_keys(cyl, Cylinder, f"{where}.cylinders[{i}]",
+                        required=("east_m", "north_m", "radius_m"))
+        cylinders.append(Cylinder(
+            _number(c["east_m"], f"{where}.cylinders[{i}].east_m"),
+            _number(c["north_m"], f"{where}.cylinders[{i}].north_m"),
+            _number(c["radius_m"], f"{where}.cylinders[{i}].radius_m", 0.0, strict=True),
+            _number(c.get("permeability", 200.0), f"{where}.cylinders[{i}].permeability", 1.0)))
+    out["cylinders"] = tuple(cylinders)
+    if "distortion" in values:
+        out["distortion"] = values["distortion"]
+    return MagneticFieldSpec(**out)
+
+
+def scenario_from_dict(data: Any, where: str) -> Scenario:
+    """Validate a scenario mapping; InputError names the offending key as WHERE: key.path."""
+    values = _check_keys(data, Scenario, where, required=("segments",))
+    step = _step(values.get("step", {}), f"{where}: step", StepSpec())
+    variation = _step(values.get("variation", {}), f"{where}: variation",
+                      StepSpec(0.0, 0.0, 0.0, 0.0, 0.0), variation=True)
+    segments = values["segments"]
+    if not isinstance(segments, list) or not segments:
+        raise InputError(f"{where}: segments", "expected a non-empty list")
+    initial = _check_keys(values.get("initial", {}), InitialPose, f"{where}: initial")
+    pose = InitialPose(
+        position_m=_vector(initial.get("position_m", [0, 0, 0]), f"{where}: initial.position_m"),
+        **{k: _number(initial[k], f"{where}: initial.{k}") for k in
+           ("roll_deg", "pitch_deg", "yaw_deg") if k in initial})
+    pattern = values.get("pattern", "basic")
+    if pattern not in ("basic", "fitted"):
+        raise InputError(f"{where}: pattern", f"must be basic or fitted, got {pattern!r}")
+    if pattern == "fitted" and not values.get("fitted_pattern"):
+        raise InputError(f"{where}: fitted_pattern", "required with pattern: fitted")
+    timing = values.get("timing", "smooth")
+    if timing not in TIMINGS:
+        raise InputError(f"{where}: timing", f"must be one of {', '.join(TIMINGS)}, got {timing!r}")
+    env = _check_keys(values.get("environment", {}), Environment, f"{where}: environment")
+    environment = Environment(
+        latitude_deg=(_number(env["latitude_deg"], f"{where}: environment.latitude_deg")
+                      if env.get("latitude_deg") is not None else None),
+        magnetic_field=_magnetic_field(env.get("magnetic_field", {}),
+                                       f"{where}: environment.magnetic_field"))
+    seed = values.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError(f"{where}: seed", f"must be a non-negative integer, got {seed!r}")
+    return Scenario(
+        name=str(values.get("name", where)),
+        segments=tuple(_segment(s, f"{where}: segments[{i}]", step)
+                       for i, s in enumerate(segments)),
+        step=step, variation=variation, seed=seed, initial=pose, pattern=pattern,
+        fitted_pattern=values.get("fitted_pattern"), timing=timing, environment=environment)
+
+
+def load_scenario(name_or_path: str) -> tuple[Scenario, dict]:
+    """A built-in scenario by name, or a YAML file; returns it and its raw mapping."""
+    if name_or_path in BUILTIN:
+        text = resources.files("pdr_sim").joinpath(f"scenarios/{name_or_path}.yaml").read_text()
+        where = name_or_path
+    else:
+        path = Path(name_or_path)
+        if not path.is_file():
+            raise InputError(path, f"no such scenario file (built-in: {', '.join(BUILTIN)})")
+        text, where = path.read_text(), str(path)
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise InputError(where, f"invalid YAML ({exc})") from exc
+    return scenario_from_dict(data, where), data
