@@ -83,7 +83,7 @@ def gauss_markov(rng: np.random.Generator, shape: tuple[int, int, int], sigma: n
     003_05973562addf7331.txt, Eqs. (3.8)–(3.9): b_k = c·b_{k−1} + n_k with c = e^{−Δt/τ}
     and σ_n² = σ²·(1 − c²); the first value is drawn from the stationary distribution.
     """
-    runs, n, _ = shape
+    runs = shape[0]
     out = np.empty(shape)
     start = _normal(rng, (runs, 3)) * sigma
     innovations = _normal(rng, shape)

@@ -116,7 +116,8 @@ def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
     scales = {**_SCALES[sensor], **_COMMON}
     unknown = sorted(set(config) - set(scales))
     if unknown:
-        raise InputError(f"{where}.{unknown[0]}", f"unknown key (known: {', '.join(sorted(scales))})")
+        raise InputError(f"{where}.{unknown[0]}",
+                         f"unknown key (known: {', '.join(sorted(scales))})")
     values: dict[str, Any] = {}
     for key, raw in config.items():
         if key in _SCALAR_KEYS:
@@ -124,7 +125,8 @@ def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
                 raise InputError(f"{where}.{key}", f"must be a positive number, got {raw!r}")
             continue
         axes = tuple(v * scales[key] for v in _axes(raw, f"{where}.{key}"))
-        if key not in ("bias_deg_per_s", "bias_mg", "bias_ut", "scale_factor_ppm") and min(axes) < 0:
+        signed = key in ("bias_deg_per_s", "bias_mg", "bias_ut", "scale_factor_ppm")
+        if not signed and min(axes) < 0:
             raise InputError(f"{where}.{key}", f"must be >= 0, got {raw!r}")
         values[key] = axes
     fields: dict[str, Any] = {_FIELDS[k]: v for k, v in values.items() if k in _FIELDS}

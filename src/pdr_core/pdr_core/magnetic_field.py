@@ -30,7 +30,7 @@ PRESETS_T = {  # 003_05973562addf7331.txt, Table 3.1, ENU
 }
 TABLE_3_3 = {  # 003_05973562addf7331.txt, Table 3.3 (M made symmetric: M32 = M23)
     "xi": 0.9472,
-    "l": (-0.0860, -0.0871, -0.1537),
+    "offset": (-0.0860, -0.0871, -0.1537),
     "M": ((0.9958, 0.0017, -0.0006), (0.0017, 0.9992, -0.0007), (-0.0006, -0.0007, 1.0050)),
 }
 
@@ -89,18 +89,19 @@ def homogeneous(name_or_vector: str | tuple[float, float, float]) -> np.ndarray:
 
 @dataclass(frozen=True)
 class IronDistortion:
-    """Hard/soft-iron distortion (ξ, l [in units of |H∞|], M) as Table 3.3."""
+    """Hard/soft-iron distortion as Table 3.3: ξ, the offset l [in units of |H∞|], M."""
 
     xi: float
-    l: tuple[float, float, float]
+    offset: tuple[float, float, float]
     M: tuple[tuple[float, float, float], ...]
 
     def distort(self, mu_t: np.ndarray, field_norm_t: float) -> np.ndarray:
         """Raw readings [T] from calibrated ones μ [T], (N, 3)."""
         m_inv = np.linalg.inv(np.asarray(self.M))
-        return field_norm_t * ((mu_t / field_norm_t) @ m_inv.T / self.xi + np.asarray(self.l))
+        return field_norm_t * ((mu_t / field_norm_t) @ m_inv.T / self.xi
+                               + np.asarray(self.offset))
 
     def correct(self, raw_t: np.ndarray, field_norm_t: float) -> np.ndarray:
         """Calibrated readings [T] from raw ones: |H∞|·ξ·M·(raw/|H∞| − l)."""
-        return field_norm_t * self.xi * ((raw_t / field_norm_t - np.asarray(self.l))
+        return field_norm_t * self.xi * ((raw_t / field_norm_t - np.asarray(self.offset))
                                          @ np.asarray(self.M).T)

@@ -49,10 +49,10 @@ def fit_ellipsoid(raw_t: np.ndarray, field_norm_t: float) -> IronDistortion:
         return p[:3], w + np.triu(w, 1).T
 
     def residual(p: np.ndarray) -> np.ndarray:
-        l, w = unpack(p)
-        return np.linalg.norm((u - l) @ w.T, axis=1) - 1.0
+        offset, w = unpack(p)
+        return np.linalg.norm((u - offset) @ w.T, axis=1) - 1.0
 
     fit = least_squares(residual, np.concatenate([centre, w0[iu]]), method="lm")
-    l, w = unpack(fit.x)
+    offset, w = unpack(fit.x)
     xi = np.cbrt(np.linalg.det(w))
-    return IronDistortion(xi=float(xi), l=tuple(l), M=tuple(map(tuple, w / xi)))
+    return IronDistortion(xi=float(xi), offset=tuple(offset), M=tuple(map(tuple, w / xi)))

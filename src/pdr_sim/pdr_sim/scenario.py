@@ -13,14 +13,14 @@ A scenario is a YAML mapping (see ``pdr_sim/scenarios/*.yaml`` for the built-in 
       length_m: 0.05
     seed: 1
     initial: {position_m: [0, 0, 0], roll_deg: 0, pitch_deg: 0, yaw_deg: 0}
-    pattern: basic           # or: fitted (then ``fitted_pattern: FILE.yaml`` from pdr-sim fit-steps)
+    pattern: basic           # or fitted, with fitted_pattern: FILE.yaml (pdr-sim fit-steps)
     timing: smooth           # or: linear, the paper's exact Eqs. (1)-(2) (see step_pattern)
     environment:
       latitude_deg: 48.15    # adds Earth rotation to the gyroscope (omit: none)
       magnetic_field:
         preset: munich       # north_pole | equator | munich, or vector_ut: [e, n, u]
         cylinders: [{east_m: 3, north_m: 1, radius_m: 0.3, permeability: 200}]
-        distortion: table_3_3   # or {xi: .., l: [..], M: [[..], [..], [..]]}
+        distortion: table_3_3   # or {xi: .., offset: [..], M: [[..], [..], [..]]}
     segments:
       - {type: standing, duration_s: 2}
       - {type: straight, steps: 5}

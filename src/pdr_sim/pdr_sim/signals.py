@@ -22,7 +22,7 @@ STANDARD_GRAVITY_MPS2 = 9.80665
 
 def specific_force(traj: Trajectory, gravity_mps2: float = STANDARD_GRAVITY_MPS2) -> np.ndarray:
     """f_b [m/s²], 000 Eq. (6)."""
-    return traj.attitude.inv().apply(traj.acceleration + [0.0, 0.0, gravity_mps2])
+    return traj.attitude.inv().apply(traj.acceleration + np.array([0.0, 0.0, gravity_mps2]))
 
 
 def angular_rate(traj: Trajectory, latitude_deg: float | None = None) -> np.ndarray:

@@ -87,10 +87,11 @@ def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDi
     elif isinstance(spec.distortion, dict):
         try:
             distortion = IronDistortion(xi=float(spec.distortion["xi"]),
-                                        l=tuple(spec.distortion["l"]),
+                                        offset=tuple(spec.distortion["offset"]),
                                         M=tuple(map(tuple, spec.distortion["M"])))
         except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"{where}.distortion", f"needs xi, l [3], M [3x3] ({exc})") from exc
+            raise InputError(f"{where}.distortion",
+                             f"needs xi, offset [3], M [3x3] ({exc})") from exc
     elif spec.distortion is not None:
         raise InputError(f"{where}.distortion", f"table_3_3 or a mapping, got {spec.distortion!r}")
     return MagneticField(tuple(h_inf), cylinders), distortion

@@ -84,7 +84,7 @@ def test_analytic_acceleration_matches_finite_differences(name, timing):
     traj = model.sample(rate)
     fd = (traj.position[2:] - 2 * traj.position[1:-1] + traj.position[:-2]) * rate**2
     ok = interior(traj, model.phases, rate)[1:-1]
-    f_fd = traj.attitude[1:-1].inv().apply(fd + [0, 0, G])[ok]
+    f_fd = traj.attitude[1:-1].inv().apply(fd + np.array([0, 0, G]))[ok]
     f = signals.specific_force(traj)[1:-1][ok]
     assert np.abs(f_fd - f).max() / np.abs(f).max() < 1e-6
 
