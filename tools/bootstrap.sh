@@ -33,7 +33,9 @@ fix_cmake_exports() {
   local inc np
   inc="$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')"
   np="$("$venv/bin/python" -c 'import numpy; print(numpy.get_include())')"
-  grep -rl --include='*.cmake' '/opt/python/cp311-cp311' "$venv/share" 2>/dev/null | while read -r f; do
+  local files
+  files="$(grep -rl --include='*.cmake' '/opt/python/cp311-cp311' "$venv/share" || true)"
+  for f in $files; do
     sed -i \
       -e "s#/opt/python/cp311-cp311/lib/python3.11/site-packages/numpy/_core/include#${np}#g" \
       -e "s#/opt/python/cp311-cp311/include/python3.11#${inc}#g" "$f"

@@ -1,7 +1,9 @@
 """Allan deviation of static inertial data and the noise parameters read from it.
 
-:func:`allan_deviation` computes the overlapping Allan deviation (``allantools.oadev``)
-of a rate signal (gyroscope [rad/s] or accelerometer [m/s²]). :func:`noise_parameters`
+:func:`allan_deviation` computes the overlapping Allan deviation of a rate signal
+(gyroscope [rad/s] or accelerometer [m/s²]), vectorised over the cluster times with
+cumulative sums (``allantools`` would do the same, but it pulls numpydoc and an old
+Sphinx whose distutils hook breaks colcon's setup.py calls). :func:`noise_parameters`
 reads the classic parameters off the curve:
 
 - white noise density N (ARW / VRW) = σ_A(τ = 1 s);
@@ -22,19 +24,27 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import allantools
 import numpy as np
 from scipy.optimize import brentq
 
 
 def allan_deviation(rate: np.ndarray, rate_hz: float, points_per_decade: int = 12
                     ) -> tuple[np.ndarray, np.ndarray]:
-    """Overlapping Allan deviation of one axis: (τ [s], σ_A [unit]), τ from 1/f_s to N/(10 f_s)."""
+    """Overlapping Allan deviation of one axis: (τ [s], σ_A [unit]), τ from 1/f_s to N/(10 f_s).
+
+    With θ the cumulative integral of the rate and m samples per cluster (τ = m/f_s):
+    σ²(τ) = Σ_k (θ_{k+2m} − 2θ_{k+m} + θ_k)² / (2 τ² (N − 2m)).
+    """
     n = len(rate)
     decades = np.log10(max(n / 10, 2))
-    m = np.unique(np.round(np.logspace(0, decades, int(decades * points_per_decade) + 1)))
-    taus, adev, _, _ = allantools.oadev(np.asarray(rate, float), rate=rate_hz, data_type="freq",
-                                        taus=m / rate_hz)
+    clusters = np.unique(np.round(np.logspace(0, decades, int(decades * points_per_decade) + 1))
+                         ).astype(int)
+    theta = np.concatenate([[0.0], np.cumsum(np.asarray(rate, float))]) / rate_hz
+    taus = clusters / rate_hz
+    adev = np.empty(len(clusters))
+    for i, m in enumerate(clusters):
+        d = theta[2 * m:] - 2 * theta[m:-m] + theta[:-2 * m]
+        adev[i] = np.sqrt(np.mean(d * d) / (2 * taus[i] ** 2))
     return taus, adev
 
 
@@ -58,7 +68,9 @@ def noise_parameters(taus: np.ndarray, adev: np.ndarray, rate_hz: float) -> Nois
     beta, t_beta = float(adev[i_min]), float(taus[i_min])
     slope = np.gradient(log_a, log_t)
     rising = (np.arange(len(taus)) > i_min) & (slope > 0.35)
-    k = float(np.median(adev[rising] * np.sqrt(3.0 / taus[rising]))) if rising.any() else np.nan
+    # A random walk keeps rising to the end of the curve; a Gauss–Markov bump does not.
+    walk = rising.any() and bool(rising[-3:].all())
+    k = float(np.median(adev[rising] * np.sqrt(3.0 / taus[rising]))) if walk else np.nan
     tau_samples = t_beta * rate_hz
     return NoiseParameters(white, beta, t_beta, k, tau_samples, beta / np.sqrt(tau_samples))
 

@@ -1,6 +1,8 @@
 """``pdr-sim``: offline tools of the simulator package (no ROS graph needed).
 
 Subcommands:
+    generate     simulate a scenario -> bag (imu/data, imu/mag, ground_truth/pose).
+    allan        Allan deviation and noise parameters of static data (bag or CSV).
     import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose).
     info         topics, types, message counts and time span of a bag.
 
@@ -14,6 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, write_batches
@@ -26,10 +29,135 @@ from pdr_core.csv_import import (
     import_csv,
 )
 from pdr_core.errors import InputError, run_cli
+from pdr_core.imu_profiles import PROFILES
+from pdr_sim import plots
+from pdr_sim.allan_report import allan_report
+from pdr_sim.foot_trajectory import FootTrajectory
+from pdr_sim.overrides import with_overrides
+from pdr_sim.scenario import BUILTIN, load_scenario, scenario_from_dict
+from pdr_sim.simulation import SimulationConfig, simulate, simulation_record
 
 
 def _columns(text: str) -> tuple[str, ...]:
     return tuple(c.strip() for c in text.split(",")) if text else ()
+
+
+def _add_generate(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "generate", help="simulate a walk and write its bag",
+        description="Simulate the IMU of a walking pedestrian along a scenario and write "
+                    "imu/data, imu/mag and ground_truth/pose (every sample) to a bag. The "
+                    "complete configuration is stored in the bag's metadata "
+                    "(custom_data 'pdr.simulation') so the run can be reproduced.")
+    p.add_argument("--placement", default="foot", choices=["foot", "pocket"])
+    p.add_argument("--scenario", default="straight",
+                   help=f"built-in ({', '.join(BUILTIN)}) or a YAML file")
+    p.add_argument("--imu", default="xsens_mtw", help=f"profile ({', '.join(PROFILES)})")
+    p.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz], 50-1000")
+    p.add_argument("--seed", type=int, default=0, help="seed of the sensor errors")
+    p.add_argument("--gravity", type=float, default=9.80665, help="local gravity [m/s²]")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scenario value, e.g. step.length_m=1.2 or "
+                        "segments[1].steps=20 (YAML value; repeatable)")
+    p.add_argument("--imu-set", action="append", default=[], metavar="SENSOR.KEY=VALUE",
+                   help="override a profile value, e.g. gyro.arw_deg_per_sqrt_h=1.0")
+    p.add_argument("--out", type=Path, required=True, help="output bag directory")
+    p.add_argument("--overwrite", action="store_true")
+    p.add_argument("--plot", type=Path, metavar="DIR",
+                   help="also write DIR/trajectory.png and DIR/signals.png")
+    p.set_defaults(func=_run_generate)
+
+
+def _run_generate(args: argparse.Namespace) -> int:
+    scenario, data = load_scenario(args.scenario)
+    if args.set:
+        data = with_overrides(data, args.set, "--set")
+        scenario = scenario_from_dict(data, f"{args.scenario} (with --set)")
+    overrides = with_overrides({}, args.imu_set, "--imu-set")
+    config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
+                              args.gravity, args.placement)
+    sim = simulate(config)
+    write_batches(args.out, {topics.IMU_DATA: sim.imu, topics.IMU_MAG: sim.mag,
+                             topics.GROUND_TRUTH_POSE: sim.pose}, overwrite=args.overwrite,
+                  custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(config),
+                                                                sort_keys=False)})
+    phases = FootTrajectory(scenario).phases
+    print(f"{args.out}: {scenario.name}, {len(sim.imu)} samples at {args.rate:g} Hz "
+          f"({sim.trajectory.t[-1]:.1f} s), path {phases.path_length_m:.2f} m, heading change "
+          f"{np.degrees(phases.heading_change_rad):.1f} deg, imu {args.imu}, seed {args.seed}")
+    if args.plot:
+        args.plot.mkdir(parents=True, exist_ok=True)
+        title = f"{scenario.name}, {args.imu}, {args.rate:g} Hz"
+        plots.trajectory_png(sim.trajectory, args.plot / "trajectory.png", title)
+        plots.signals_png(sim.trajectory.t, sim.imu["angular_velocity"],
+                          sim.imu["linear_acceleration"], sim.mag["magnetic_field"],
+                          args.plot / "signals.png", title)
+        print(f"plots: {args.plot / 'trajectory.png'}, {args.plot / 'signals.png'}")
+    return 0
+
+
+def _add_allan(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "allan", help="Allan deviation of static data",
+        description="Overlapping Allan deviation of static gyroscope and accelerometer data "
+                    "from a bag (imu/data) or a CSV (same column options as import-csv). "
+                    "Prints ARW/VRW at τ = 1 s, bias instability β and t_β, random walk, and "
+                    "the AR(1) parameters of thesis Eqs. (3.10)-(3.11); writes a table and a "
+                    "log-log PNG.")
+    p.add_argument("source", type=Path, help="bag directory or CSV file")
+    p.add_argument("--topic", default=topics.IMU_DATA)
+    p.add_argument("--out", type=Path, help="write DIR/allan.csv and DIR/allan.png")
+    _add_csv_format(p, required=False)
+    p.set_defaults(func=_run_allan)
+
+
+def _run_allan(args: argparse.Namespace) -> int:
+    if args.source.is_file() and args.source.suffix.lower() == ".csv":
+        if not args.acc_cols:
+            raise InputError("--acc-cols", "required for a CSV source")
+        imu = import_csv(args.source, _csv_format(args)).imu
+    else:
+        imu = BagReader(args.source).read(args.topic)
+    if len(imu) < 100:
+        raise InputError(args.source, f"{len(imu)} samples are too few for an Allan deviation")
+    report = allan_report(imu)
+    print(report.table())
+    if args.out:
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "allan.csv").write_text(report.csv())
+        report.plot(args.out / "allan.png", str(args.source))
+        print(f"wrote {args.out / 'allan.csv'} and {args.out / 'allan.png'}")
+    return 0
+
+
+def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
+    p.add_argument("--no-header", dest="header", action="store_false",
+                   help="the first row is data, not column names")
+    p.add_argument("--time-col", default="0", help="time column (default: first column)")
+    p.add_argument("--time-unit", default="s", choices=sorted(TIME_UNITS_S))
+    p.add_argument("--time-offset-s", type=float, default=0.0, help="added to every stamp")
+    p.add_argument("--acc-cols", type=_columns, required=required, help="accelerometer x,y,z")
+    p.add_argument("--acc-unit", default="mps2", choices=sorted(ACC_UNITS_MPS2))
+    p.add_argument("--gyro-cols", type=_columns, default=(),
+                   help="gyroscope x,y,z (omit when the log has none)")
+    p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS))
+    p.add_argument("--axes", type=_columns, default=("x", "y", "z"),
+                   help="sensor axis remap, e.g. -y,x,z means out_x=-in_y, out_y=in_x")
+    p.add_argument("--drop-invalid", action="store_true",
+                   help="drop NaN/Inf rows and non-increasing stamps instead of failing")
+    p.add_argument("--drop-duplicates", action="store_true",
+                   help="drop rows that repeat the previous row exactly (time and values)")
+
+
+def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
+    if len(args.axes) != 3:
+        raise InputError("--axes", f"needs 3 entries, got {','.join(args.axes)}")
+    return CsvImuFormat(
+        time_col=args.time_col, time_unit=args.time_unit, acc_cols=args.acc_cols,
+        acc_unit=args.acc_unit, gyro_cols=args.gyro_cols, gyro_unit=args.gyro_unit,
+        pos_cols=getattr(args, "pos_cols", ()), pos_unit=getattr(args, "pos_unit", "m"),
+        axes=args.axes, header=args.header, time_offset_s=args.time_offset_s,
+        drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates)
 
 
 def _add_import_csv(sub: argparse._SubParsersAction) -> None:
@@ -41,37 +169,15 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
     p.add_argument("csv", type=Path, help="input CSV file")
     p.add_argument("--out", type=Path, required=True, help="output bag directory")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output")
-    p.add_argument("--no-header", dest="header", action="store_false",
-                   help="the first row is data, not column names")
-    p.add_argument("--time-col", default="0", help="time column (default: first column)")
-    p.add_argument("--time-unit", default="s", choices=sorted(TIME_UNITS_S))
-    p.add_argument("--time-offset-s", type=float, default=0.0, help="added to every stamp")
-    p.add_argument("--acc-cols", type=_columns, required=True, help="accelerometer x,y,z")
-    p.add_argument("--acc-unit", default="mps2", choices=sorted(ACC_UNITS_MPS2))
-    p.add_argument("--gyro-cols", type=_columns, default=(),
-                   help="gyroscope x,y,z (omit when the log has none)")
-    p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS))
+    _add_csv_format(p)
     p.add_argument("--pos-cols", type=_columns, default=(),
                    help="ground-truth position x,y,z (map frame, z up)")
     p.add_argument("--pos-unit", default="m", choices=sorted(POS_UNITS_M))
-    p.add_argument("--axes", type=_columns, default=("x", "y", "z"),
-                   help="sensor axis remap, e.g. -y,x,z means out_x=-in_y, out_y=in_x")
-    p.add_argument("--drop-invalid", action="store_true",
-                   help="drop NaN/Inf rows and non-increasing stamps instead of failing")
-    p.add_argument("--drop-duplicates", action="store_true",
-                   help="drop rows that repeat the previous row exactly (time and values)")
     p.set_defaults(func=_run_import_csv)
 
 
 def _run_import_csv(args: argparse.Namespace) -> int:
-    if len(args.axes) != 3:
-        raise InputError("--axes", f"needs 3 entries, got {','.join(args.axes)}")
-    fmt = CsvImuFormat(
-        time_col=args.time_col, time_unit=args.time_unit, acc_cols=args.acc_cols,
-        acc_unit=args.acc_unit, gyro_cols=args.gyro_cols, gyro_unit=args.gyro_unit,
-        pos_cols=args.pos_cols, pos_unit=args.pos_unit, axes=args.axes, header=args.header,
-        time_offset_s=args.time_offset_s, drop_invalid=args.drop_invalid,
-        drop_duplicates=args.drop_duplicates)
+    fmt = _csv_format(args)
     result = import_csv(args.csv, fmt)
     batches = {topics.IMU_DATA: result.imu}
     if result.pose is not None:
@@ -117,6 +223,8 @@ def parser() -> argparse.ArgumentParser:
     """The ``pdr-sim`` argument parser."""
     top = argparse.ArgumentParser(prog="pdr-sim", description=__doc__.split("\n")[0])
     sub = top.add_subparsers(dest="command", required=True)
+    _add_generate(sub)
+    _add_allan(sub)
     _add_import_csv(sub)
     _add_info(sub)
     return top

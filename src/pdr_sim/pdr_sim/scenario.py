@@ -114,16 +114,21 @@ class Scenario:
     environment: Environment = field(default_factory=Environment)
 
 
+def _key(where: str, key: str) -> str:
+    """``FILE: a.b`` paths: the file is followed by a colon, nested keys by dots."""
+    return f"{where} {key}" if where.endswith(":") else f"{where}.{key}"
+
+
 def _check_keys(data: Any, cls: type, where: str, required: tuple[str, ...] = ()) -> dict:
     if not isinstance(data, Mapping):
         raise InputError(where, f"expected a mapping, got {data!r}")
     known = {f.name for f in fields(cls)}
     for key in data:
         if key not in known:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(known))})")
+            raise InputError(_key(where, key), f"unknown key (known: {', '.join(sorted(known))})")
     for key in required:
         if key not in data:
-            raise InputError(f"{where}.{key}", "required")
+            raise InputError(_key(where, key), "required")
     return dict(data)
 
 
@@ -216,7 +221,7 @@ def _magnetic_field(data: Any, where: str) -> MagneticFieldSpec:
 
 def scenario_from_dict(data: Any, where: str) -> Scenario:
     """Validate a scenario mapping; InputError names the offending key as WHERE: key.path."""
-    values = _check_keys(data, Scenario, where, required=("segments",))
+    values = _check_keys(data, Scenario, f"{where}:", required=("segments",))
     step = _step(values.get("step", {}), f"{where}: step", StepSpec())
     variation = _step(values.get("variation", {}), f"{where}: variation",
                       StepSpec(0.0, 0.0, 0.0, 0.0, 0.0), variation=True)

@@ -1,0 +1,70 @@
+"""PNG figures of the simulator: trajectory and signals (like 000_fbd401126d10f515.txt,
+Figs. 1 and 4) and Allan deviations. Matplotlib with the Agg backend (no display)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from pdr_sim.trajectory import Trajectory  # noqa: E402
+
+
+def trajectory_png(traj: Trajectory, path: Path, title: str) -> None:
+    """Top view, height, and position/attitude against time."""
+    fig, ax = plt.subplots(2, 2, figsize=(12, 8))
+    ax[0, 0].plot(traj.position[:, 0], traj.position[:, 1])
+    ax[0, 0].set(xlabel="east [m]", ylabel="north [m]", title="top view", aspect="equal")
+    for i, name in enumerate("ENU"):
+        ax[0, 1].plot(traj.t, traj.position[:, i], label=name)
+    ax[0, 1].set(xlabel="t [s]", ylabel="position [m]", title="position (Fig. 1a)")
+    ax[0, 1].legend()
+    for i, name in enumerate(("roll", "pitch", "yaw")):
+        ax[1, 0].plot(traj.t, np.degrees(traj.euler[:, i]), label=name)
+    ax[1, 0].set(xlabel="t [s]", ylabel="[deg]", title="attitude (Fig. 1b)")
+    ax[1, 0].legend()
+    ax[1, 1].plot(traj.t, np.linalg.norm(traj.velocity, axis=1))
+    ax[1, 1].set(xlabel="t [s]", ylabel="|v| [m/s]", title="speed")
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def signals_png(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, mag: np.ndarray,
+                path: Path, title: str, window_s: float = 4.0) -> None:
+    """Accelerometer, gyroscope and magnetometer over the first strides (Fig. 4)."""
+    first_motion = np.flatnonzero(np.abs(gyro).max(axis=1) > 0.5)
+    start = t[first_motion[0]] - 0.5 if len(first_motion) else t[0]
+    sel = (t >= start) & (t <= start + window_s)
+    fig, ax = plt.subplots(3, 1, figsize=(10, 9), sharex=True)
+    for i, name in enumerate("xyz"):
+        ax[0].plot(t[sel], accel[sel, i], label=name)
+        ax[1].plot(t[sel], gyro[sel, i], label=name)
+        ax[2].plot(t[sel], mag[sel, i] * 1e6, label=name)
+    ax[0].set(ylabel="specific force [m/s²]", title="accelerometer (Fig. 4a)")
+    ax[1].set(ylabel="rate [rad/s]", title="gyroscope (Fig. 4b)")
+    ax[2].set(ylabel="field [µT]", xlabel="t [s]", title="magnetometer")
+    for a in ax:
+        a.legend(loc="upper right")
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def allan_png(curves: dict[str, tuple[np.ndarray, np.ndarray]], path: Path, ylabel: str,
+              title: str) -> None:
+    """Log-log Allan deviation curves, one per axis."""
+    fig, ax = plt.subplots(figsize=(8, 6))
+    for name, (taus, adev) in curves.items():
+        ax.loglog(taus, adev, label=name)
+    ax.set(xlabel="τ [s]", ylabel=ylabel, title=title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
