@@ -25,6 +25,7 @@ import yaml
 from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, SeekingReader
 from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 
 from pdr_core import cdr
 from pdr_core.batch import MessageBatch
@@ -184,8 +185,9 @@ class BagWriter:
     """
 
     def __init__(self, path: str | Path, *, overwrite: bool = False,
-                 custom_data: dict[str, str] | None = None) -> None:
+                 custom_data: dict[str, str] | None = None, compress: bool = False) -> None:
         self.path = Path(path)
+        self.compress = compress
         if self.path.exists() and not overwrite:
             raise InputError(self.path, "output exists already (remove it or pass --overwrite)")
         self.custom_data = custom_data or {}
@@ -201,6 +203,8 @@ class BagWriter:
                               storage_plugin=StoragePlugin.MCAP)
         for key, value in self.custom_data.items():
             self._writer.set_custom_data(key, value)
+        if self.compress:
+            self._writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
         self._writer.open()
         return self
 
@@ -238,10 +242,12 @@ class BagWriter:
 
 def write_batches(path: str | Path, batches: dict[str, MessageBatch],
                   generic: dict[str, tuple[str, list[tuple[int, Any]]]] | None = None,
-                  *, overwrite: bool = False, custom_data: dict[str, str] | None = None) -> None:
+                  *, overwrite: bool = False, custom_data: dict[str, str] | None = None,
+                  compress: bool = False) -> None:
     """Write a bag holding ``batches`` (topic -> fixed-layout batch, logged at their stamps)
     and ``generic`` (topic -> (msgtype, [(log time ns, rosbags message)])), merged in
-    log-time order so that streaming readers replay them as recorded."""
+    log-time order so that streaming readers replay them as recorded. ``compress``
+    zstd-compresses the MCAP chunks."""
     streams: list[Iterator[tuple[int, str, str, bytes]]] = []
     for topic, batch in batches.items():
         raws = cdr.encode(batch)
@@ -249,7 +255,8 @@ def write_batches(path: str | Path, batches: dict[str, MessageBatch],
                            [batch.msgtype] * len(raws), raws, strict=True))
     for topic, (msgtype, items) in (generic or {}).items():
         streams.append(((t, topic, msgtype, cdr.encode_generic(m)) for t, m in items))
-    with BagWriter(path, overwrite=overwrite, custom_data=custom_data) as writer:
+    with BagWriter(path, overwrite=overwrite, custom_data=custom_data,
+                   compress=compress) as writer:
         for topic, batch in batches.items():
             writer.add_topic(topic, batch.msgtype)
         for topic, (msgtype, _) in (generic or {}).items():

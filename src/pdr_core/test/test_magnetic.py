@@ -4,7 +4,14 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from pdr_core.magnetic_field import (
-    PRESETS_T, TABLE_3_3, UT, Cylinder, IronDistortion, MagneticField, homogeneous)
+    PRESETS_T,
+    TABLE_3_3,
+    UT,
+    Cylinder,
+    IronDistortion,
+    MagneticField,
+    homogeneous,
+)
 from pdr_core.magnetometer_calibration import fit_ellipsoid
 
 

@@ -63,6 +63,7 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
                    help="override a profile value, e.g. gyro.arw_deg_per_sqrt_h=1.0")
     p.add_argument("--out", type=Path, required=True, help="output bag directory")
     p.add_argument("--overwrite", action="store_true")
+    p.add_argument("--compress", action="store_true", help="zstd-compress the MCAP chunks")
     p.add_argument("--plot", type=Path, metavar="DIR",
                    help="also write DIR/trajectory.png and DIR/signals.png")
     p.set_defaults(func=_run_generate)
@@ -79,6 +80,7 @@ def _run_generate(args: argparse.Namespace) -> int:
     sim = simulate(config)
     write_batches(args.out, {topics.IMU_DATA: sim.imu, topics.IMU_MAG: sim.mag,
                              topics.GROUND_TRUTH_POSE: sim.pose}, overwrite=args.overwrite,
+                  compress=args.compress,
                   custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(config),
                                                                 sort_keys=False)})
     phases = FootTrajectory(scenario).phases

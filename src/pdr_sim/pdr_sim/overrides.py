@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import itertools
 import re
 from collections.abc import Iterable
 from typing import Any
@@ -37,7 +38,7 @@ def with_overrides(data: dict, assignments: Iterable[str], option: str) -> dict:
             raise InputError(option, f"expected KEY=VALUE, got '{assignment}'")
         parts = _path(key.strip(), option)
         node: Any = out
-        for part, following in zip(parts[:-1], parts[1:], strict=True):
+        for part, following in itertools.pairwise(parts):
             try:
                 if isinstance(part, int):
                     node = node[part]

@@ -7,10 +7,10 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from pdr_sim.trajectory import Trajectory  # noqa: E402
+from pdr_sim.trajectory import Trajectory
 
 
 def trajectory_png(traj: Trajectory, path: Path, title: str) -> None:

@@ -1,0 +1,24 @@
+"""The sample bags in bags/ are reproduced bit for bit by the command in bags/README.md."""
+from __future__ import annotations
+
+import shlex
+
+from pdr_core.bag import BagReader
+from wstest import ROOT
+
+
+def readme_command(bag: str) -> list[str]:
+    text = (ROOT / "bags" / "README.md").read_text()
+    block = text.split(f"## {bag}", 1)[1].split("```bash", 1)[1].split("```", 1)[0]
+    return shlex.split(block.replace("\\\n", " "))
+
+
+def test_foot_walk_is_reproduced(procs, tmp_path):
+    command = readme_command("foot_walk")
+    assert command[:3] == ["./ws", "pdr-sim", "generate"] and command[-2] == "--out"
+    result = procs.run(*command[1:-1], str(tmp_path / "again"))
+    assert result.returncode == 0, result.stderr
+    committed = list(BagReader(ROOT / "bags" / "foot_walk").raw_messages())
+    regenerated = list(BagReader(tmp_path / "again").raw_messages())
+    assert len(committed) == 3 * 6095
+    assert committed == regenerated
