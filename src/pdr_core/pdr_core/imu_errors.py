@@ -110,16 +110,21 @@ def corrupt(true: np.ndarray, errors: TriadErrors, rate_hz: float, rng: np.rando
     n = len(true)
     dt = 1.0 / rate_hz
     shape = (n_runs, n, 3)
-    out = np.broadcast_to(true @ errors.distortion.T, shape).copy()
+    distorted = true if np.array_equal(errors.distortion, np.eye(3)) else true @ errors.distortion.T
+    out = np.empty(shape)
+    out[:] = distorted
     out += np.asarray(errors.bias) + _normal(rng, (n_runs, 1, 3)) * np.asarray(errors.bias_sigma)
     if any(errors.gm_sigma):
         out += gauss_markov(rng, shape, np.asarray(errors.gm_sigma),
                             np.asarray(errors.gm_tau_s), dt)
     if any(errors.random_walk_density):
-        steps = _normal(rng, shape) * (np.asarray(errors.random_walk_density) * np.sqrt(dt))
+        steps = _normal(rng, shape)
+        steps *= (np.asarray(errors.random_walk_density) * np.sqrt(dt)).astype(np.float32)
         out += np.cumsum(steps, axis=1, dtype=np.float64)
     if any(errors.white_density):
-        out += _normal(rng, shape) * (np.asarray(errors.white_density) * np.sqrt(rate_hz))
+        white = _normal(rng, shape)
+        white *= (np.asarray(errors.white_density) * np.sqrt(rate_hz)).astype(np.float32)
+        out += white
     if np.isfinite(errors.saturation):
         np.clip(out, -errors.saturation, errors.saturation, out=out)
     if errors.quantum > 0:

@@ -64,16 +64,19 @@ class MagneticField:
         horizontal = np.hypot(h_inf[0], h_inf[1])
         if not self.cylinders or horizontal == 0:
             return out
-        u_n = h_inf[:2] / horizontal            # the unperturbed horizontal direction
-        u_e = np.array([u_n[1], -u_n[0]])       # 90° clockwise of it (east for H∞ north)
-        for c in self.cylinders:
-            d = position_m[:, :2] - [c.east_m, c.north_m]
-            x, y = d @ u_e, d @ u_n               # offsets along u_E and u_N
-            r = np.maximum(np.hypot(x, y), c.radius_m)
-            rho = np.arctan2(x, y)
-            k = (c.permeability - 1) / (c.permeability + 1) * c.radius_m / r
-            out[:, :2] += horizontal * k[:, None] * (np.sin(2 * rho)[:, None] * u_e
-                                                     + np.cos(2 * rho)[:, None] * u_n)
+        # In complex form, w = y + i·x (offsets along u_N and u_E) gives
+        # w² = (y² − x²) + i·2xy = r²·(cos 2ρ + i·sin 2ρ) for ρ = arctan(x/y): no trigonometry.
+        u = complex(h_inf[1], h_inf[0]) / horizontal       # north + i·east of H∞'s direction
+        axes = np.array([complex(c.north_m, c.east_m) for c in self.cylinders])
+        here = position_m[:, 1] + 1j * position_m[:, 0]
+        w = (here[:, None] - axes) * u.conjugate()
+        radius = np.array([c.radius_m for c in self.cylinders])
+        mu_r = np.array([c.permeability for c in self.cylinders])
+        r2 = np.maximum(w.real * w.real + w.imag * w.imag, radius * radius)
+        k = horizontal * (mu_r - 1) / (mu_r + 1) * radius / (r2 * np.sqrt(r2))
+        delta = (k * (w * w)).sum(axis=1) * u              # back to north + i·east
+        out[:, 0] += delta.imag
+        out[:, 1] += delta.real
         return out
 
 

@@ -14,8 +14,17 @@ from scipy.spatial.transform import Rotation
 
 
 def rotation_from_euler(roll: np.ndarray, pitch: np.ndarray, yaw: np.ndarray) -> Rotation:
-    """C_b^n from roll, pitch, yaw [rad] (ZYX intrinsic)."""
-    return Rotation.from_euler("ZYX", np.stack([yaw, pitch, roll], axis=-1))
+    """C_b^n from roll, pitch, yaw [rad] (ZYX intrinsic).
+
+    Same as ``Rotation.from_euler("ZYX", [yaw, pitch, roll])``, through the closed-form
+    quaternion q = q_z(ψ)·q_y(θ)·q_x(φ), which is several times faster on long arrays.
+    """
+    cr, sr = np.cos(np.asarray(roll) / 2), np.sin(np.asarray(roll) / 2)
+    cp, sp = np.cos(np.asarray(pitch) / 2), np.sin(np.asarray(pitch) / 2)
+    cy, sy = np.cos(np.asarray(yaw) / 2), np.sin(np.asarray(yaw) / 2)
+    quat = np.stack([sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+                     cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy], axis=-1)
+    return Rotation.from_quat(quat)
 
 
 def body_rate_from_euler(roll, pitch, yaw, roll_rate, pitch_rate, yaw_rate) -> np.ndarray:

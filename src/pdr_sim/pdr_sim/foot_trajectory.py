@@ -20,11 +20,12 @@ at least 20 % of the mean so that no stride is impossible) with its seed.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from pdr_sim.scenario import Scenario, StepSpec
-from pdr_sim.step_pattern import Channel, FittedPattern, Swing, basic_swing, swing_phase
+from pdr_sim.step_pattern import FittedPattern, basic_swing, swing_phase
 from pdr_sim.trajectory import Trajectory
 
 REST, STRAIGHT, CURVE, TURN = 0, 1, 2, 3
@@ -122,6 +123,11 @@ def _swing_end(position: np.ndarray, yaw: float, length: float, curvature: float
     return np.array([end[0], end[1], position[2]]), yaw + length * curvature
 
 
+def sample_times(duration_s: float, rate_hz: float) -> np.ndarray:
+    """Times [s] of the samples from 0 to ``duration_s`` at ``rate_hz``."""
+    return np.arange(int(np.floor(duration_s * rate_hz + 1e-9)) + 1) / rate_hz
+
+
 @dataclass(frozen=True)
 class FootTrajectory:
     """Trajectory model of a foot-mounted IMU walking a scenario."""
@@ -129,71 +135,83 @@ class FootTrajectory:
     scenario: Scenario
     fitted: FittedPattern | None = None
 
-    @property
+    @cached_property
     def phases(self) -> Phases:
         return build_phases(self.scenario)
 
+    @property
+    def duration_s(self) -> float:
+        return self.phases.end_time
+
     def sample(self, rate_hz: float) -> Trajectory:
         """All samples from t = 0 to the end of the last phase, at ``rate_hz``."""
+        return self.at(sample_times(self.duration_s, rate_hz))
+
+    def at(self, t: np.ndarray) -> Trajectory:
+        """The trajectory at times ``t`` [s] (0 ≤ t ≤ duration).
+
+        Rest samples keep their phase's pose; swing and turn samples are evaluated on
+        their own index subsets, so no work is spent on samples that do not move.
+        """
         phases = self.phases
-        n = int(np.floor(phases.end_time * rate_hz + 1e-9)) + 1
-        t = np.arange(n) / rate_hz
+        n = len(t)
         idx = np.clip(np.searchsorted(phases.start, t, side="right") - 1, 0, None)
-        tau = np.minimum(t - phases.start[idx], phases.duration[idx])
         kind = phases.kind[idx]
-        p0, yaw0 = phases.position[idx], phases.yaw[idx]
-        swing = self._swing(tau, phases, idx, kind)
-        pos, vel, acc = np.zeros((3, n, 3))
-        pos[:] = p0
-        euler, rate = np.zeros((2, n, 3))
-        euler[:, 2] = yaw0
-        init = self.scenario.initial
-        euler[:, 0] += np.radians(init.roll_deg) + swing.roll.f
-        euler[:, 1] += np.radians(init.pitch_deg) + swing.pitch.f
-        rate[:, 0], rate[:, 1] = swing.roll.d1, swing.pitch.d1
-        pos[:, 2] += swing.z.f
-        vel[:, 2], acc[:, 2] = swing.z.d1, swing.z.d2
+        pos = phases.position[idx]
+        vel, acc, rate = np.zeros((3, n, 3))
+        euler = np.empty((n, 3))
+        euler[:, 0] = np.radians(self.scenario.initial.roll_deg)
+        euler[:, 1] = np.radians(self.scenario.initial.pitch_deg)
+        euler[:, 2] = phases.yaw[idx]
+        swinging = np.flatnonzero((kind == STRAIGHT) | (kind == CURVE))
+        self._add_swing(t, swinging, idx[swinging], kind[swinging], pos, vel, acc, euler, rate)
+        turning = np.flatnonzero(kind == TURN)
+        phase_of = idx[turning]
+        duration = phases.duration[phase_of]
+        angle = phases.turn[phase_of]
+        x = np.pi * np.minimum(t[turning] - phases.start[phase_of], duration) / duration
+        euler[turning, 2] += angle * (1 - np.cos(x)) / 2
+        rate[turning, 2] = angle * np.pi / (2 * duration) * np.sin(x)
+        return Trajectory(t, pos, vel, acc, euler, rate)
+
+    def _add_swing(self, t, rows, phase_of, kind, pos, vel, acc, euler, rate) -> None:
+        """Add the swing pattern to the samples ``rows`` (in place)."""
+        phases = self.phases
+        tau = np.minimum(t[rows] - phases.start[phase_of], phases.duration[phase_of])
+        phase = swing_phase(tau, phases.duration[phase_of], self.scenario.timing)
+        length = phases.length[phase_of]
+        if self.fitted is None:
+            swing = basic_swing(phase, length, phases.height[phase_of],
+                                phases.pitch_max[phase_of])
+        else:
+            swing = self.fitted.swing(phase, length)
+        pos[rows, 2] += swing.z.f
+        vel[rows, 2], acc[rows, 2] = swing.z.d1, swing.z.d2
+        euler[rows, 0] += swing.roll.f
+        euler[rows, 1] += swing.pitch.f
+        rate[rows, 0], rate[rows, 1] = swing.roll.d1, swing.pitch.d1
+        yaw0 = phases.yaw[phase_of]
 
         straight = kind == STRAIGHT
-        u = np.stack([np.cos(yaw0), np.sin(yaw0)], axis=1)
-        for out, ch in ((pos, swing.s.f), (vel, swing.s.d1), (acc, swing.s.d2)):
-            out[straight, :2] += ch[straight, None] * u[straight]
+        r_st = rows[straight]
+        u = np.stack([np.cos(yaw0[straight]), np.sin(yaw0[straight])], axis=1)
+        pos[r_st, :2] += swing.s.f[straight, None] * u
+        vel[r_st, :2] = swing.s.d1[straight, None] * u
+        acc[r_st, :2] = swing.s.d2[straight, None] * u
 
-        curve = kind == CURVE
-        k = phases.curvature[idx][curve]
+        curve = ~straight
+        r_cu = rows[curve]
+        k = phases.curvature[phase_of[curve]]
         r = 1.0 / k
-        centre = p0[curve, :2] + r[:, None] * np.stack([-np.sin(yaw0[curve]),
-                                                        np.cos(yaw0[curve])], axis=1)
-        alpha0 = yaw0[curve] - np.sign(k) * np.pi / 2
-        alpha = alpha0 + swing.s.f[curve] * k
+        yc = yaw0[curve]
+        centre = pos[r_cu, :2] + r[:, None] * np.stack([-np.sin(yc), np.cos(yc)], axis=1)
+        alpha = yc - np.sign(k) * np.pi / 2 + swing.s.f[curve] * k
         alpha_d, alpha_dd = swing.s.d1[curve] * k, swing.s.d2[curve] * k
         radial = np.stack([np.cos(alpha), np.sin(alpha)], axis=1)
         tangent = np.stack([-np.sin(alpha), np.cos(alpha)], axis=1)
         radius = np.abs(r)[:, None]
-        pos[curve, :2] = centre + radius * radial
-        vel[curve, :2] = radius * alpha_d[:, None] * tangent
-        acc[curve, :2] = radius * (alpha_dd[:, None] * tangent - alpha_d[:, None] ** 2 * radial)
-        euler[curve, 2] += swing.s.f[curve] * k
-        rate[curve, 2] = alpha_d
-
-        turn = kind == TURN
-        duration = phases.duration[idx][turn]
-        phase = np.pi * tau[turn] / duration
-        angle = phases.turn[idx][turn]
-        euler[turn, 2] += angle * (1 - np.cos(phase)) / 2
-        rate[turn, 2] = angle * np.pi / (2 * duration) * np.sin(phase)
-        return Trajectory(t, pos, vel, acc, euler, rate)
-
-    def _swing(self, tau: np.ndarray, phases: Phases, idx: np.ndarray, kind: np.ndarray
-               ) -> Swing:
-        """Swing channels for every sample; zero outside swings."""
-        moving = (kind == STRAIGHT) | (kind == CURVE)
-        length, duration = phases.length[idx], phases.duration[idx]
-        phase = swing_phase(tau, np.where(moving, duration, 1.0), self.scenario.timing)
-        if self.fitted is None:
-            swing = basic_swing(phase, length, phases.height[idx], phases.pitch_max[idx])
-        else:
-            swing = self.fitted.swing(phase, length)
-        mask = moving.astype(float)
-        return Swing(*(Channel(c.f * mask, c.d1 * mask, c.d2 * mask)
-                       for c in (swing.s, swing.z, swing.pitch, swing.roll)))
+        pos[r_cu, :2] = centre + radius * radial
+        vel[r_cu, :2] = radius * alpha_d[:, None] * tangent
+        acc[r_cu, :2] = radius * (alpha_dd[:, None] * tangent - alpha_d[:, None] ** 2 * radial)
+        euler[r_cu, 2] += swing.s.f[curve] * k
+        rate[r_cu, 2] = alpha_d

@@ -22,7 +22,7 @@ STANDARD_GRAVITY_MPS2 = 9.80665
 
 def specific_force(traj: Trajectory, gravity_mps2: float = STANDARD_GRAVITY_MPS2) -> np.ndarray:
     """f_b [m/s²], 000 Eq. (6)."""
-    return traj.attitude.inv().apply(traj.acceleration + np.array([0.0, 0.0, gravity_mps2]))
+    return traj.to_body(traj.acceleration + np.array([0.0, 0.0, gravity_mps2]))
 
 
 def angular_rate(traj: Trajectory, latitude_deg: float | None = None) -> np.ndarray:
@@ -31,10 +31,10 @@ def angular_rate(traj: Trajectory, latitude_deg: float | None = None) -> np.ndar
     if latitude_deg is not None:
         lat = np.radians(latitude_deg)
         earth = EARTH_RATE_RADPS * np.array([0.0, np.cos(lat), np.sin(lat)])
-        rate = rate + traj.attitude.inv().apply(earth)
+        rate = rate + traj.to_body(earth)
     return rate
 
 
 def magnetic_field(traj: Trajectory, field: MagneticField) -> np.ndarray:
     """μ [T] in the body frame, 003 Eq. (3.26) (noise is added by the error model)."""
-    return traj.attitude.inv().apply(field.at(traj.position))
+    return traj.to_body(field.at(traj.position))

@@ -10,6 +10,8 @@ run can be reproduced from its bag.
 """
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -23,13 +25,14 @@ from pdr_core.magnetic_field import TABLE_3_3, Cylinder, IronDistortion, Magneti
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, POSE_STAMPED
 from pdr_core.rotations import quaternion_xyzw
 from pdr_sim import signals
-from pdr_sim.foot_trajectory import FootTrajectory
+from pdr_sim.foot_trajectory import FootTrajectory, sample_times
 from pdr_sim.scenario import MagneticFieldSpec, Scenario
-from pdr_sim.trajectory import Trajectory
+from pdr_sim.trajectory import Trajectory, TrajectoryModel
 
 START_TIME_NS = 1_700_000_000 * 1_000_000_000   # stamps start here (2023-11-14T22:13:20Z)
 MIN_RATE_HZ, MAX_RATE_HZ = 50.0, 1000.0
 IMU_FRAME, MAP_FRAME = "imu_link", "map"
+WORKERS = max(1, min(4, os.cpu_count() or 1))
 
 
 @dataclass(frozen=True)
@@ -98,33 +101,51 @@ def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDi
 
 
 def _covariance(density: tuple[float, float, float], rate_hz: float, n: int) -> np.ndarray:
-    cov = np.zeros((n, 9))
-    cov[:, [0, 4, 8]] = np.square(density) * rate_hz
-    return cov
+    """(n, 9) read-only rows of the white-noise covariance per sample [unit²]."""
+    return np.broadcast_to(np.diag(np.square(density) * rate_hz).ravel(), (n, 9))
 
 
-def simulate(config: SimulationConfig, errors: ImuErrors | None = None) -> Simulation:
-    """Run the simulation (errors default to the configured profile)."""
+def _true_signals(model: TrajectoryModel, t: np.ndarray, config: SimulationConfig,
+                  field_model: MagneticField) -> tuple[Trajectory, np.ndarray, np.ndarray,
+                                                       np.ndarray]:
+    traj = model.at(t)
+    return (traj, signals.angular_rate(traj, config.scenario.environment.latitude_deg),
+            signals.specific_force(traj, config.gravity_mps2),
+            signals.magnetic_field(traj, field_model))
+
+
+def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
+             workers: int = WORKERS) -> Simulation:
+    """Run the simulation (errors default to the configured profile).
+
+    The trajectory and true signals are computed on ``workers`` threads over consecutive
+    blocks of samples, and the three sensors' errors on one thread each (NumPy releases
+    the GIL in its array loops). Each sensor draws from its own generator spawned from
+    the seed, so the result depends only on the configuration, not on ``workers``.
+    """
     errors = errors or profile(config.imu, config.imu_overrides)
-    traj = FootTrajectory(config.scenario).sample(config.rate_hz)
-    env = config.scenario.environment
-    field_model, distortion = magnetic_environment(env.magnetic_field)
-    true_gyro = signals.angular_rate(traj, env.latitude_deg)
-    true_accel = signals.specific_force(traj, config.gravity_mps2)
-    true_mag = signals.magnetic_field(traj, field_model)
-    rng = np.random.default_rng(config.seed)
-    gyro = corrupt(true_gyro, errors.gyro, config.rate_hz, rng)
-    accel = corrupt(true_accel, errors.accel, config.rate_hz, rng)
-    mag = corrupt(true_mag, errors.mag, config.rate_hz, rng)
+    model = FootTrajectory(config.scenario)
+    field_model, distortion = magnetic_environment(config.scenario.environment.magnetic_field)
+    blocks = np.array_split(sample_times(model.duration_s, config.rate_hz), workers)
+    with ThreadPoolExecutor(workers) as pool:
+        parts = list(pool.map(lambda t: _true_signals(model, t, config, field_model), blocks))
+        traj = Trajectory.concatenate([p[0] for p in parts])
+        true_gyro, true_accel, true_mag = (np.concatenate([p[i] for p in parts])
+                                           for i in (1, 2, 3))
+        rngs = np.random.default_rng(config.seed).spawn(3)
+        gyro, accel, mag = pool.map(
+            lambda args: corrupt(args[0], args[1], config.rate_hz, args[2]),
+            zip((true_gyro, true_accel, true_mag), (errors.gyro, errors.accel, errors.mag),
+                rngs, strict=True))
     if distortion is not None:
         mag = distortion.distort(mag, float(np.linalg.norm(field_model.h_inf_t)))
     n = len(traj.t)
     stamps = START_TIME_NS + np.round(traj.t * 1e9).astype(np.int64)
-    no_orientation = np.zeros((n, 9))
-    no_orientation[:, 0] = -1.0
+    no_orientation = np.zeros(9)
+    no_orientation[0] = -1.0
     imu = MessageBatch(IMU, stamps, IMU_FRAME, {
-        "orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)),
-        "orientation_covariance": no_orientation,
+        "orientation": np.broadcast_to([0.0, 0.0, 0.0, 1.0], (n, 4)),
+        "orientation_covariance": np.broadcast_to(no_orientation, (n, 9)),
         "angular_velocity": gyro,
         "angular_velocity_covariance": _covariance(errors.gyro.white_density, config.rate_hz, n),
         "linear_acceleration": accel,

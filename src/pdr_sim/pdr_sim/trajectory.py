@@ -10,6 +10,7 @@ angles (see :mod:`pdr_core.rotations`), time [s].
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Protocol
 
 import numpy as np
@@ -33,10 +34,30 @@ class Trajectory:
     euler: np.ndarray
     euler_rate: np.ndarray
 
-    @property
+    @classmethod
+    def concatenate(cls, parts: list[Trajectory]) -> Trajectory:
+        """One trajectory from consecutive pieces (keeping attitudes already computed)."""
+        out = cls(*(np.concatenate([getattr(p, f) for p in parts])
+                    for f in ("t", "position", "velocity", "acceleration", "euler",
+                              "euler_rate")))
+        if all("attitude" in p.__dict__ for p in parts):
+            out.__dict__["attitude"] = Rotation.concatenate([p.attitude for p in parts])
+        return out
+
+    @cached_property
     def attitude(self) -> Rotation:
-        """C_b^n for every sample."""
+        """C_b^n for every sample (computed once)."""
         return rotation_from_euler(*self.euler.T)
+
+    @cached_property
+    def matrix(self) -> np.ndarray:
+        """C_b^n as (N, 3, 3) matrices."""
+        return self.attitude.as_matrix()
+
+    def to_body(self, v_n: np.ndarray) -> np.ndarray:
+        """C_b^nᵀ·v for navigation-frame vectors (N, 3) or one vector (3,): (N, 3)."""
+        v_n = np.broadcast_to(v_n, (len(self.t), 3))
+        return np.einsum("nji,nj->ni", self.matrix, v_n)
 
     @property
     def body_rate(self) -> np.ndarray:
@@ -45,6 +66,9 @@ class Trajectory:
 
 
 class TrajectoryModel(Protocol):
-    """Anything that samples a trajectory at a given rate."""
+    """Anything that gives a trajectory at any times within its duration."""
 
-    def sample(self, rate_hz: float) -> Trajectory: ...
+    @property
+    def duration_s(self) -> float: ...
+
+    def at(self, t: np.ndarray) -> Trajectory: ...

@@ -1,0 +1,71 @@
+"""``pdr-sim generate`` and ``pdr-sim allan`` as a user runs them (issue 3)."""
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+import yaml
+
+from pdr_core.bag import BagReader
+
+
+def test_two_hour_static_allan_recovers_the_xsens_mtw_noise(procs, tmp_path):
+    """Acceptance 2: ARW, VRW and bias instability within 10 % of the configuration."""
+    scenario = tmp_path / "static.yaml"
+    scenario.write_text("segments: [{type: standing, duration_s: 7200}]\n")
+    made = procs.run("pdr-sim", "generate", "--scenario", str(scenario), "--imu", "xsens_mtw",
+                     "--rate", "100", "--seed", "5", "--out", str(tmp_path / "bag"))
+    assert made.returncode == 0, made.stderr
+    result = procs.run("pdr-sim", "allan", str(tmp_path / "bag"), "--out", str(tmp_path / "a"))
+    assert result.returncode == 0, result.stderr
+    print(result.stdout)
+    rows = list(csv.reader((tmp_path / "a" / "allan.csv").read_text().splitlines()))
+    gyro = {r[0]: dict(zip(rows[0], r, strict=True)) for r in rows[1:4]}
+    accel = {r[0]: dict(zip(rows[4], r, strict=True)) for r in rows[5:8]}
+    for row in gyro.values():
+        assert float(row["arw_deg_per_sqrt_h"]) == pytest.approx(0.6, rel=0.1)
+        assert float(row["bias_instability_deg_per_h"]) == pytest.approx(10.0, rel=0.1)
+    for row in accel.values():
+        assert float(row["vrw_ug_per_sqrt_hz"]) == pytest.approx(200.0, rel=0.1)
+        assert float(row["bias_instability_mg"]) == pytest.approx(0.1, rel=0.1)
+    assert (tmp_path / "a" / "allan.png").stat().st_size > 10_000
+
+
+def test_generate_records_its_configuration_and_plots(procs, tmp_path):
+    result = procs.run("pdr-sim", "generate", "--scenario", "figure_eight", "--imu", "vn200",
+                       "--rate", "200", "--seed", "9", "--set", "step.length_m=1.2",
+                       "--imu-set", "gyro.arw_deg_per_sqrt_h=0.5", "--out",
+                       str(tmp_path / "bag"), "--plot", str(tmp_path / "png"))
+    assert result.returncode == 0, result.stderr
+    assert "path 24.00 m" in result.stdout, "20 strides of the overridden 1.2 m"
+    meta = yaml.safe_load((tmp_path / "bag" / "metadata.yaml").read_text())
+    record = yaml.safe_load(meta["rosbag2_bagfile_information"]["custom_data"]["pdr.simulation"])
+    assert record["imu_profile"] == "vn200" and record["seed"] == 9 and record["rate_hz"] == 200
+    assert record["scenario"]["step"]["length_m"] == 1.2
+    assert record["imu_overrides"] == {"gyro": {"arw_deg_per_sqrt_h": 0.5}}
+    reader = BagReader(tmp_path / "bag")
+    imu, pose = reader.read("/imu/data"), reader.read("/ground_truth/pose")
+    assert len(imu) == len(pose) == len(reader.read("/imu/mag"))
+    np.testing.assert_array_equal(imu.stamp_ns, pose.stamp_ns)
+    assert np.diff(imu.stamp_ns).max() == 5_000_000
+    for png in ("trajectory.png", "signals.png"):
+        assert (tmp_path / "png" / png).stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--imu", "mti_9000"], "--imu: unknown profile 'mti_9000'"),
+    (["--rate", "20"], "--rate: must be within 50-1000 Hz"),
+    (["--set", "step.height_m=-0.1"], "step.height_m: must be >= 0.0"),
+    (["--set", "step.swing_s=0"], "step.swing_s: must be > 0.0"),
+    (["--set", "segments[0].duration_s=-2"], "segments[0].duration_s: must be > 0.0"),
+    (["--set", "stride.length_m=1"], "stride: unknown key"),
+    (["--imu-set", "gyro.arw=1"], "xsens_mtw.gyro.arw: unknown key"),
+    (["--placement", "pocket"], "--placement: 'pocket' is not available yet"),
+])
+def test_generate_refuses_bad_input_by_name(procs, tmp_path, args, message):
+    result = procs.run("pdr-sim", "generate", "--out", str(tmp_path / "bag"), *args)
+    assert result.returncode == 2
+    [line] = result.stderr.strip().splitlines()
+    assert line.startswith("pdr-sim: error: ") and message in line
+    assert not (tmp_path / "bag").exists()
