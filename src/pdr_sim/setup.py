@@ -24,5 +24,6 @@ setup(
         "pdr-sim = pdr_sim.cli:main",
         "bag_play = pdr_sim.nodes.bag_play:main",
         "bag_record = pdr_sim.nodes.bag_record:main",
+        "imu_sim = pdr_sim.nodes.imu_sim:main",
     ]},
 )

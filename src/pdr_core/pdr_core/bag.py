@@ -9,7 +9,8 @@ before the damage and then raises :class:`InputError` naming the file. Writing u
 a hidden temporary directory that is renamed into place only when the bag is complete,
 so a failure never leaves half-written output.
 
-Public: :class:`RawMessage`, :class:`BagReader`, :class:`BagWriter`, :func:`write_batches`.
+Public: :class:`RawMessage`, :class:`BagReader`, :class:`BagWriter`,
+:func:`merged_messages`, :func:`write_batches`.
 """
 from __future__ import annotations
 
@@ -240,27 +241,32 @@ class BagWriter:
         self._writer.write(self._connections[topic], int(log_time_ns), data)
 
 
+def merged_messages(batches: dict[str, MessageBatch],
+                    generic: dict[str, tuple[str, list[tuple[int, Any]]]] | None = None
+                    ) -> Iterator[RawMessage]:
+    """Serialized messages of ``batches`` (topic -> fixed-layout batch, logged at their
+    stamps) and ``generic`` (topic -> (msgtype, [(log time ns, rosbags message)])), merged
+    in log-time order."""
+    streams: list[Iterator[RawMessage]] = []
+    for topic, batch in batches.items():
+        streams.append(RawMessage(topic, batch.msgtype, t, data) for t, data in
+                       zip(batch.stamp_ns.tolist(), cdr.encode(batch), strict=True))
+    for topic, (msgtype, items) in (generic or {}).items():
+        streams.append(RawMessage(topic, msgtype, t, cdr.encode_generic(m)) for t, m in items)
+    return heapq.merge(*streams, key=lambda m: m.log_time_ns)
+
+
 def write_batches(path: str | Path, batches: dict[str, MessageBatch],
                   generic: dict[str, tuple[str, list[tuple[int, Any]]]] | None = None,
                   *, overwrite: bool = False, custom_data: dict[str, str] | None = None,
                   compress: bool = False) -> None:
-    """Write a bag holding ``batches`` (topic -> fixed-layout batch, logged at their stamps)
-    and ``generic`` (topic -> (msgtype, [(log time ns, rosbags message)])), merged in
-    log-time order so that streaming readers replay them as recorded. ``compress``
-    zstd-compresses the MCAP chunks."""
-    streams: list[Iterator[tuple[int, str, str, bytes]]] = []
-    for topic, batch in batches.items():
-        raws = cdr.encode(batch)
-        streams.append(zip(batch.stamp_ns.tolist(), [topic] * len(raws),
-                           [batch.msgtype] * len(raws), raws, strict=True))
-    for topic, (msgtype, items) in (generic or {}).items():
-        streams.append(((t, topic, msgtype, cdr.encode_generic(m)) for t, m in items))
+    """Write a bag of :func:`merged_messages` (so that streaming readers replay the topics
+    interleaved as recorded). ``compress`` zstd-compresses the MCAP chunks."""
     with BagWriter(path, overwrite=overwrite, custom_data=custom_data,
                    compress=compress) as writer:
         for topic, batch in batches.items():
             writer.add_topic(topic, batch.msgtype)
         for topic, (msgtype, _) in (generic or {}).items():
             writer.add_topic(topic, msgtype)
-        for log_time, topic, msgtype, data in heapq.merge(*streams, key=lambda m: m[0]):
-            writer.write_raw(topic, msgtype, log_time, data)
-
+        for message in merged_messages(batches, generic):
+            writer.write_raw(message.topic, message.msgtype, message.log_time_ns, message.data)

@@ -1,0 +1,109 @@
+"""Timed publishing of serialized messages: the shared engine of ``bag_play`` and
+``imu_sim``.
+
+Parameters it declares on its node:
+    rate (float, 1.0): speed factor over the message log times; 0 publishes as fast as
+        the subscribers keep up (reliable delivery, waiting for acknowledgements every
+        ``ack_every`` messages).
+    clock (bool, false): also publish ``/clock`` (rosgraph_msgs/Clock) at each log time.
+    wait_for_subscribers (int, 0): before publishing, wait until every publisher has this
+        many subscribers (a start handshake: nothing goes out before discovery).
+    wait_timeout_s (float, 30.0): give up waiting after this long.
+    ack_every (int, 100): with rate 0, messages between acknowledgement waits.
+
+Publishers are reliable and transient-local (depth 1000): a subscriber whose side of
+discovery completes after the publisher already counts it still gets the first messages.
+Messages go out as raw CDR, so subscribers receive them bit for bit.
+"""
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Iterable
+from pathlib import Path
+
+from ament_index_python.packages import get_package_share_directory
+from rclpy.duration import Duration
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from pdr_core import topics as bag_topics
+from pdr_core.bag import RawMessage
+from pdr_sim.nodes.ros_types import message_class
+
+RELIABLE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+_NS = 1_000_000_000
+
+
+def use_fast_heartbeats() -> None:
+    """Point Fast DDS at the players' profile (5 ms heartbeats, so acknowledgements come
+    quickly) unless the user chose a profile already. Call before ``rclpy.init``."""
+    profile = Path(get_package_share_directory("pdr_sim")) / "config" / "bag_play_fastdds.xml"
+    os.environ.setdefault("FASTRTPS_DEFAULT_PROFILES_FILE", str(profile))
+
+
+class Playback:
+    """Publishes a time-ordered stream of :class:`RawMessage` from ``node``."""
+
+    def __init__(self, node: Node) -> None:
+        self.node = node
+        self.rate = float(node.declare_parameter("rate", 1.0).value)
+        self.clock = bool(node.declare_parameter("clock", False).value)
+        self.wait_for_subscribers = int(node.declare_parameter("wait_for_subscribers", 0).value)
+        self.wait_timeout_s = float(node.declare_parameter("wait_timeout_s", 30.0).value)
+        self.ack_every = max(1, int(node.declare_parameter("ack_every", 100).value))
+        self.published = 0
+        self.publishers: dict = {}
+        self.clock_pub = None
+        if self.rate < 0:
+            raise ValueError(f"rate must be >= 0, got {self.rate}")
+
+    def advertise(self, topic_types: dict[str, str]) -> None:
+        """Create a publisher per bag topic (published relative to the namespace)."""
+        self.publishers = {t: self.node.create_publisher(message_class(msgtype),
+                                                         bag_topics.graph_name(t), RELIABLE)
+                           for t, msgtype in topic_types.items()}
+        if self.clock:
+            self.clock_pub = self.node.create_publisher(message_class("rosgraph_msgs/msg/Clock"),
+                                                        bag_topics.CLOCK, RELIABLE)
+
+    def wait_for_subscribers_or_timeout(self) -> bool:
+        """True once every publisher has its subscribers (or none are required)."""
+        if self.wait_for_subscribers <= 0:
+            return True
+        deadline = time.monotonic() + self.wait_timeout_s
+        while min(p.get_subscription_count() for p in self.publishers.values()) \
+                < self.wait_for_subscribers:
+            if time.monotonic() > deadline:
+                self.node.get_logger().error(
+                    f"no {self.wait_for_subscribers} subscriber(s) after {self.wait_timeout_s} s")
+                return False
+            time.sleep(0.01)
+        return True
+
+    def wait_acked(self) -> None:
+        for pub in self.publishers.values():
+            pub.wait_for_all_acked(Duration(seconds=self.wait_timeout_s))
+
+    def publish(self, messages: Iterable[RawMessage]) -> None:
+        """Publish every message at its log time scaled by ``rate`` (exceptions of the
+        iterator propagate after what came before was published)."""
+        clock_msg = message_class("rosgraph_msgs/msg/Clock")() if self.clock_pub else None
+        start_wall = start_log = None
+        for message in messages:
+            if start_log is None:
+                start_wall, start_log = time.monotonic(), message.log_time_ns
+            if self.rate > 0:
+                delay = (start_wall + (message.log_time_ns - start_log) / _NS / self.rate
+                         - time.monotonic())
+                if delay > 0:
+                    time.sleep(delay)
+            if self.clock_pub is not None:
+                clock_msg.clock.sec, clock_msg.clock.nanosec = divmod(message.log_time_ns, _NS)
+                self.clock_pub.publish(clock_msg)
+            self.publishers[message.topic].publish(message.data)
+            self.published += 1
+            if self.rate == 0 and self.published % self.ack_every == 0:
+                self.wait_acked()
