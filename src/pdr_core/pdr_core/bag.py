@@ -247,13 +247,21 @@ def merged_messages(batches: dict[str, MessageBatch],
     """Serialized messages of ``batches`` (topic -> fixed-layout batch, logged at their
     stamps) and ``generic`` (topic -> (msgtype, [(log time ns, rosbags message)])), merged
     in log-time order."""
-    streams: list[Iterator[RawMessage]] = []
-    for topic, batch in batches.items():
-        streams.append(RawMessage(topic, batch.msgtype, t, data) for t, data in
-                       zip(batch.stamp_ns.tolist(), cdr.encode(batch), strict=True))
-    for topic, (msgtype, items) in (generic or {}).items():
-        streams.append(RawMessage(topic, msgtype, t, cdr.encode_generic(m)) for t, m in items)
+    streams = [_batch_messages(topic, batch) for topic, batch in batches.items()]
+    streams += [_generic_messages(topic, msgtype, items)
+                for topic, (msgtype, items) in (generic or {}).items()]
     return heapq.merge(*streams, key=lambda m: m.log_time_ns)
+
+
+def _batch_messages(topic: str, batch: MessageBatch) -> Iterator[RawMessage]:
+    for t, data in zip(batch.stamp_ns.tolist(), cdr.encode(batch), strict=True):
+        yield RawMessage(topic, batch.msgtype, t, data)
+
+
+def _generic_messages(topic: str, msgtype: str, items: list[tuple[int, Any]]
+                      ) -> Iterator[RawMessage]:
+    for t, msg in items:
+        yield RawMessage(topic, msgtype, t, cdr.encode_generic(msg))
 
 
 def write_batches(path: str | Path, batches: dict[str, MessageBatch],

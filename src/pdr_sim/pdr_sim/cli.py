@@ -3,6 +3,7 @@
 Subcommands:
     generate     simulate a scenario -> bag (imu/data, imu/mag, ground_truth/pose).
     allan        Allan deviation and noise parameters of static data (bag or CSV).
+    fit-steps    fit the raised-cosine step pattern (Eqs. 3-5) to recorded foot positions.
     import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose).
     info         topics, types, message counts and time span of a bag.
 
@@ -32,10 +33,10 @@ from pdr_core.errors import InputError, run_cli
 from pdr_core.imu_profiles import PROFILES
 from pdr_sim import plots
 from pdr_sim.allan_report import allan_report
-from pdr_sim.foot_trajectory import FootTrajectory
 from pdr_sim.overrides import with_overrides
 from pdr_sim.scenario import BUILTIN, load_scenario, scenario_from_dict
-from pdr_sim.simulation import SimulationConfig, simulate, simulation_record
+from pdr_sim.simulation import SimulationConfig, foot_model, simulate, simulation_record
+from pdr_sim.step_fit import cut_steps, fit_pattern, pattern_to_dict, rms_error
 
 
 def _columns(text: str) -> tuple[str, ...]:
@@ -83,7 +84,7 @@ def _run_generate(args: argparse.Namespace) -> int:
                   compress=args.compress,
                   custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(config),
                                                                 sort_keys=False)})
-    phases = FootTrajectory(scenario).phases
+    phases = foot_model(scenario).phases
     print(f"{args.out}: {scenario.name}, {len(sim.imu)} samples at {args.rate:g} Hz "
           f"({sim.trajectory.t[-1]:.1f} s), path {phases.path_length_m:.2f} m, heading change "
           f"{np.degrees(phases.heading_change_rad):.1f} deg, imu {args.imu}, seed {args.seed}")
@@ -129,6 +130,39 @@ def _run_allan(args: argparse.Namespace) -> int:
         (args.out / "allan.csv").write_text(report.csv())
         report.plot(args.out / "allan.png", str(args.source))
         print(f"wrote {args.out / 'allan.csv'} and {args.out / 'allan.png'}")
+    return 0
+
+
+def _add_fit_steps(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "fit-steps", help="fit step patterns to recorded foot positions",
+        description="Cut the steps of a recorded foot trajectory (ground_truth/pose of a "
+                    "bag, e.g. VICON imported with import-csv), align them, drop false "
+                    "steps and fit the raised cosines of Eqs. (3)-(4) by Levenberg-"
+                    "Marquardt (Eq. 5). The pattern file is used by scenarios with "
+                    "'pattern: fitted'.")
+    p.add_argument("bag", type=Path, help="bag with foot positions")
+    p.add_argument("--topic", default=topics.GROUND_TRUTH_POSE)
+    p.add_argument("--out", type=Path, required=True, help="pattern YAML to write")
+    p.add_argument("--plot", type=Path, help="PNG of the steps and the fit (Fig. 2)")
+    p.set_defaults(func=_run_fit_steps)
+
+
+def _run_fit_steps(args: argparse.Namespace) -> int:
+    poses = BagReader(args.bag).read(args.topic)
+    steps = cut_steps(poses.t_s, poses["pose.position"])
+    try:
+        pattern = fit_pattern(steps)
+    except ValueError as exc:
+        raise InputError(args.bag, str(exc)) from exc
+    args.out.write_text(yaml.safe_dump(pattern_to_dict(pattern), sort_keys=False))
+    rms_along, rms_up = rms_error(steps, pattern)
+    print(f"{args.bag}: {len(steps.t)} steps fitted, {len(steps.rejected)} rejected; swing "
+          f"{pattern.swing_s:.3f} s; RMS residual along-track {rms_along:.3f} m, height "
+          f"{rms_up:.3f} m; wrote {args.out}")
+    if args.plot:
+        plots.step_fit_png(steps.t, steps.xyz, pattern.s, pattern.z, args.plot, str(args.bag))
+        print(f"plot: {args.plot}")
     return 0
 
 
@@ -227,6 +261,7 @@ def parser() -> argparse.ArgumentParser:
     sub = top.add_subparsers(dest="command", required=True)
     _add_generate(sub)
     _add_allan(sub)
+    _add_fit_steps(sub)
     _add_import_csv(sub)
     _add_info(sub)
     return top

@@ -56,6 +56,26 @@ def signals_png(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, mag: np.ndar
     plt.close(fig)
 
 
+def step_fit_png(times: list[np.ndarray], xyz: list[np.ndarray], along, up, path: Path,
+                 title: str) -> None:
+    """Aligned recorded steps (dotted) and the fitted patterns (like 000's Fig. 2a)."""
+    fig, ax = plt.subplots(1, 2, figsize=(12, 5))
+    for t, p in zip(times, xyz, strict=True):
+        ax[0].plot(t, p[:, 0], ":", color="grey", lw=0.8)
+        ax[1].plot(t, p[:, 2], ":", color="grey", lw=0.8)
+    grid = np.linspace(0, max(t[-1] for t in times), 300)
+    ax[0].plot(grid, along(grid).f, "r", lw=2, label="Eq. (4) fit")
+    ax[1].plot(grid, up(grid).f, "r", lw=2, label="Eq. (3) fit")
+    ax[0].set(xlabel="t since swing start [s]", ylabel="along-track [m]", title="P_x")
+    ax[1].set(xlabel="t since swing start [s]", ylabel="height [m]", title="P_z")
+    for a in ax:
+        a.legend()
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def allan_png(curves: dict[str, tuple[np.ndarray, np.ndarray]], path: Path, ylabel: str,
               title: str) -> None:
     """Log-log Allan deviation curves, one per axis."""

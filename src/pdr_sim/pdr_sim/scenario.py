@@ -13,7 +13,8 @@ A scenario is a YAML mapping (see ``pdr_sim/scenarios/*.yaml`` for the built-in 
       length_m: 0.05
     seed: 1
     initial: {position_m: [0, 0, 0], roll_deg: 0, pitch_deg: 0, yaw_deg: 0}
-    pattern: basic           # or fitted, with fitted_pattern: FILE.yaml (pdr-sim fit-steps)
+    pattern: basic           # or fitted, with fitted_pattern: FILE.yaml (pdr-sim fit-steps),
+                             # a path relative to the scenario file
     timing: smooth           # or: linear, the paper's exact Eqs. (1)-(2) (see step_pattern)
     environment:
       latitude_deg: 48.15    # adds Earth rotation to the gyroscope (omit: none)
@@ -272,4 +273,8 @@ def load_scenario(name_or_path: str) -> tuple[Scenario, dict]:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         raise InputError(where, f"invalid YAML ({exc})") from exc
-    return scenario_from_dict(data, where), data
+    scenario = scenario_from_dict(data, where)
+    if scenario.fitted_pattern and name_or_path not in BUILTIN:
+        resolved = Path(name_or_path).parent / scenario.fitted_pattern
+        scenario = replace(scenario, fitted_pattern=str(resolved))
+    return scenario, data

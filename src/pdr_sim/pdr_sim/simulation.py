@@ -27,6 +27,7 @@ from pdr_core.rotations import quaternion_xyzw
 from pdr_sim import signals
 from pdr_sim.foot_trajectory import FootTrajectory, sample_times
 from pdr_sim.scenario import MagneticFieldSpec, Scenario
+from pdr_sim.step_fit import pattern_from_file
 from pdr_sim.trajectory import Trajectory, TrajectoryModel
 
 START_TIME_NS = 1_700_000_000 * 1_000_000_000   # stamps start here (2023-11-14T22:13:20Z)
@@ -100,6 +101,17 @@ def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDi
     return MagneticField(tuple(h_inf), cylinders), distortion
 
 
+def foot_model(scenario: Scenario) -> FootTrajectory:
+    """The foot trajectory of a scenario, with its fitted step pattern if it has one."""
+    if scenario.pattern != "fitted":
+        return FootTrajectory(scenario)
+    try:
+        return FootTrajectory(scenario, fitted=pattern_from_file(scenario.fitted_pattern))
+    except (OSError, KeyError, TypeError, ValueError) as exc:
+        raise InputError(scenario.fitted_pattern, f"cannot read the fitted pattern ({exc})") \
+            from exc
+
+
 def _covariance(density: tuple[float, float, float], rate_hz: float, n: int) -> np.ndarray:
     """(n, 9) read-only rows of the white-noise covariance per sample [unit²]."""
     return np.broadcast_to(np.diag(np.square(density) * rate_hz).ravel(), (n, 9))
@@ -124,7 +136,7 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
     the seed, so the result depends only on the configuration, not on ``workers``.
     """
     errors = errors or profile(config.imu, config.imu_overrides)
-    model = FootTrajectory(config.scenario)
+    model = foot_model(config.scenario)
     field_model, distortion = magnetic_environment(config.scenario.environment.magnetic_field)
     blocks = np.array_split(sample_times(model.duration_s, config.rate_hz), workers)
     with ThreadPoolExecutor(workers) as pool:
