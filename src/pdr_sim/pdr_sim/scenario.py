@@ -43,6 +43,7 @@ from typing import Any
 import yaml
 
 from pdr_core.errors import InputError
+from pdr_core.magnetic_field import Cylinder
 from pdr_sim.step_pattern import TIMINGS
 
 BUILTIN = ("straight", "square_loop", "figure_eight", "long_mixed_walk")
@@ -66,14 +67,6 @@ class InitialPose:
     roll_deg: float = 0.0
     pitch_deg: float = 0.0
     yaw_deg: float = 0.0
-
-
-@dataclass(frozen=True)
-class Cylinder:
-    east_m: float
-    north_m: float
-    radius_m: float
-    permeability: float = 200.0
 
 
 @dataclass(frozen=True)

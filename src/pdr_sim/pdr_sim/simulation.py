@@ -21,7 +21,7 @@ from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.imu_errors import ImuErrors, corrupt
 from pdr_core.imu_profiles import PROFILES, profile
-from pdr_core.magnetic_field import TABLE_3_3, Cylinder, IronDistortion, MagneticField, homogeneous
+from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, MagneticField, homogeneous
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, POSE_STAMPED
 from pdr_core.rotations import quaternion_xyzw
 from pdr_sim import signals
@@ -83,8 +83,6 @@ def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDi
             np.asarray(spec.vector_ut) * 1e-6
     except ValueError as exc:
         raise InputError(f"{where}.preset", str(exc)) from exc
-    cylinders = tuple(Cylinder(c.east_m, c.north_m, c.radius_m, c.permeability)
-                      for c in spec.cylinders)
     distortion = None
     if spec.distortion == "table_3_3":
         distortion = IronDistortion(**TABLE_3_3)
@@ -98,7 +96,7 @@ def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDi
                              f"needs xi, offset [3], M [3x3] ({exc})") from exc
     elif spec.distortion is not None:
         raise InputError(f"{where}.distortion", f"table_3_3 or a mapping, got {spec.distortion!r}")
-    return MagneticField(tuple(h_inf), cylinders), distortion
+    return MagneticField(tuple(h_inf), spec.cylinders), distortion
 
 
 def foot_model(scenario: Scenario) -> FootTrajectory:

@@ -12,21 +12,17 @@ it and exits with status 1. Bad parameters or an unreadable bag exit with status
 """
 from __future__ import annotations
 
-import sys
-
-import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from pdr_core import topics as bag_topics
 from pdr_core.bag import BagReader
 from pdr_core.errors import InputError
-from pdr_sim.nodes.playback import Playback, use_fast_heartbeats
+from pdr_sim.nodes.playback import Playback, run_player
 
 
 class BagPlayer(Node):
-    """Publishes one bag; :meth:`play` returns the process exit status."""
+    """Publishes one bag; :meth:`run` returns the process exit status."""
 
     def __init__(self) -> None:
         super().__init__("bag_play")
@@ -35,7 +31,7 @@ class BagPlayer(Node):
                              or [])
         self.playback = Playback(self)
 
-    def play(self) -> int:
+    def run(self) -> int:
         if not self.bag_path:
             self.get_logger().error("parameter 'bag' is required (-p bag:=PATH)")
             return 2
@@ -63,24 +59,7 @@ class BagPlayer(Node):
 
 
 def main(args: list[str] | None = None) -> None:
-    use_fast_heartbeats()
-    rclpy.init(args=args)
-    status = 1
-    node = None
-    try:
-        node = BagPlayer()
-        status = node.play()
-    except ValueError as exc:
-        print(f"bag_play: error: {exc}", file=sys.stderr)
-        status = 2
-    except (KeyboardInterrupt, ExternalShutdownException):
-        status = 130
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    sys.exit(status)
-
+    run_player("bag_play", BagPlayer, args)
 
 if __name__ == "__main__":
     main()

@@ -16,16 +16,12 @@ those of ``pdr-sim generate`` with the same configuration.
 """
 from __future__ import annotations
 
-import sys
-
-import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 from pdr_core import topics
 from pdr_core.bag import merged_messages
 from pdr_core.errors import InputError
-from pdr_sim.nodes.playback import Playback, use_fast_heartbeats
+from pdr_sim.nodes.playback import Playback, run_player
 from pdr_sim.scenario import load_scenario
 from pdr_sim.simulation import SimulationConfig, simulate
 
@@ -65,24 +61,7 @@ class ImuSim(Node):
 
 
 def main(args: list[str] | None = None) -> None:
-    use_fast_heartbeats()
-    rclpy.init(args=args)
-    status = 1
-    node = None
-    try:
-        node = ImuSim()
-        status = node.run()
-    except ValueError as exc:
-        print(f"imu_sim: error: {exc}", file=sys.stderr)
-        status = 2
-    except (KeyboardInterrupt, ExternalShutdownException):
-        status = 130
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    sys.exit(status)
-
+    run_player("imu_sim", ImuSim, args)
 
 if __name__ == "__main__":
     main()

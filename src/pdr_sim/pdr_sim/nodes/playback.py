@@ -18,12 +18,15 @@ Messages go out as raw CDR, so subscribers receive them bit for bit.
 from __future__ import annotations
 
 import os
+import sys
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
+import rclpy
 from ament_index_python.packages import get_package_share_directory
 from rclpy.duration import Duration
+from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
@@ -42,6 +45,28 @@ def use_fast_heartbeats() -> None:
     quickly) unless the user chose a profile already. Call before ``rclpy.init``."""
     profile = Path(get_package_share_directory("pdr_sim")) / "config" / "bag_play_fastdds.xml"
     os.environ.setdefault("FASTRTPS_DEFAULT_PROFILES_FILE", str(profile))
+
+
+def run_player(name: str, make_node: Callable[[], Node], args: list[str] | None) -> None:
+    """``main`` of a player node: fast heartbeats, init, ``node.run()`` as exit status
+    (2 for bad parameters, 130 on interrupt), clean shutdown."""
+    use_fast_heartbeats()
+    rclpy.init(args=args)
+    status = 1
+    node = None
+    try:
+        node = make_node()
+        status = node.run()
+    except ValueError as exc:
+        print(f"{name}: error: {exc}", file=sys.stderr)
+        status = 2
+    except (KeyboardInterrupt, ExternalShutdownException):
+        status = 130
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    sys.exit(status)
 
 
 class Playback:
