@@ -69,3 +69,22 @@ def test_generate_refuses_bad_input_by_name(procs, tmp_path, args, message):
     [line] = result.stderr.strip().splitlines()
     assert line.startswith("pdr-sim: error: ") and message in line
     assert not (tmp_path / "bag").exists()
+
+
+def test_allan_reads_a_csv_and_names_missing_columns(procs, tmp_path):
+    rng = np.random.default_rng(0)
+    n = 60_000  # 10 min at 100 Hz
+    data = np.column_stack([np.arange(n) / 100.0, rng.normal(0, 0.01, (n, 3)),
+                            rng.normal(0, 0.02, (n, 3)) + [0, 0, 9.81]])
+    csv_path = tmp_path / "static.csv"
+    np.savetxt(csv_path, data, delimiter=",", header="t,gx,gy,gz,ax,ay,az", comments="")
+    result = procs.run("pdr-sim", "allan", str(csv_path), "--time-col", "t",
+                       "--gyro-cols", "gx,gy,gz", "--acc-cols", "ax,ay,az")
+    assert result.returncode == 0, result.stderr
+    rows = result.stdout.strip().splitlines()
+    assert [r.split()[0] for r in rows] == ["gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y",
+                                            "accel_z"]
+    arw = float(rows[0].split("arw_deg_per_sqrt_h=")[1].split()[0])
+    assert arw == pytest.approx(0.01 * 0.1 * 180 / np.pi * 60, rel=0.1), "σ/√f_s in °/√h"
+    missing = procs.run("pdr-sim", "allan", str(csv_path), "--time-col", "t")
+    assert missing.returncode == 2 and "--acc-cols: required for a CSV source" in missing.stderr
