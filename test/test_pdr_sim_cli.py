@@ -88,3 +88,22 @@ def test_allan_reads_a_csv_and_names_missing_columns(procs, tmp_path):
     assert arw == pytest.approx(0.01 * 0.1 * 180 / np.pi * 60, rel=0.1), "σ/√f_s in °/√h"
     missing = procs.run("pdr-sim", "allan", str(csv_path), "--time-col", "t")
     assert missing.returncode == 2 and "--acc-cols: required for a CSV source" in missing.stderr
+
+
+@pytest.mark.parametrize("case", ["missing", "corrupt", "unknown_topic"])
+def test_bag_errors_are_one_line_naming_the_file(procs, tmp_path, case):
+    bag = tmp_path / "bag"
+    if case != "missing":
+        made = procs.run("pdr-sim", "generate", "--scenario", "square_loop", "--out", str(bag))
+        assert made.returncode == 0, made.stderr
+    if case == "corrupt":
+        mcap = bag / "bag.mcap"
+        mcap.write_bytes(mcap.read_bytes()[:5000])
+    args = ["--topic", "/nope"] if case == "unknown_topic" else []
+    result = procs.run("pdr-sim", "allan", str(bag), *args)
+    assert result.returncode == 2
+    [line] = result.stderr.strip().splitlines()
+    expected = {"missing": f"{bag}: no such bag",
+                "corrupt": f"{bag / 'bag.mcap'}: corrupt MCAP after 0 messages",
+                "unknown_topic": f"{bag}: no topic /nope (the bag has: "}[case]
+    assert line.startswith(f"pdr-sim: error: {expected}")
