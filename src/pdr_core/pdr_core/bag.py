@@ -1,10 +1,11 @@
 """Reading and writing rosbag2 bags in MCAP storage, as NumPy batches or raw CDR.
 
 A bag is a rosbag2 directory (``metadata.yaml`` + ``*.mcap``), as ``ros2 bag`` writes it;
-a bare ``.mcap`` file is read too. Reading uses the ``mcap`` library: the indexed reader
-yields messages in log-time order, and when the summary at the end of the file is missing
-(a recording cut short, a damaged tail) the streaming reader yields every message
-before the damage and then raises :class:`InputError` naming the file. Writing uses
+a bare ``.mcap`` file is read too. Intact bags are read in log-time order by rosbags'
+indexed reader; when that fails before the first message (the summary at the end of the
+file is missing: a recording cut short, a damaged tail), the ``mcap`` library's
+streaming reader yields every message before the damage and then raises
+:class:`InputError` naming the file. Writing uses
 ``rosbags`` (valid ``metadata.yaml``, ROS 2 message definitions in the MCAP schemas) into
 a hidden temporary directory that is renamed into place only when the bag is complete,
 so a failure never leaves half-written output.
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import heapq
 import shutil
+import struct
 import tempfile
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
@@ -25,8 +27,9 @@ from typing import Any
 import yaml
 from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, SeekingReader
-from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
+from rosbags.rosbag2.errors import ReaderError
 
 from pdr_core import cdr
 from pdr_core.batch import MessageBatch
@@ -34,7 +37,8 @@ from pdr_core.errors import InputError
 from pdr_core.msgtypes import typestore
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
-_READ_ERRORS = (McapError, EOFError, ValueError, KeyError, OSError, AssertionError)
+_READ_ERRORS = (McapError, ReaderError, EOFError, ValueError, KeyError, OSError,
+                AssertionError, struct.error)
 
 
 @dataclass(frozen=True)
@@ -117,8 +121,28 @@ class BagReader:
         """
         wanted = list(self.topics) if topics is None else list(topics)
         self.require_topics(wanted)
+        if self.path.is_dir():
+            yielded = 0
+            try:
+                for message in self._indexed_messages(wanted):
+                    yield message
+                    yielded += 1
+                return
+            except _READ_ERRORS as exc:
+                if yielded:
+                    raise InputError(self.path, f"corrupt MCAP after {yielded} messages "
+                                                f"({exc!r})") from exc
         streams = [self._file_messages(file, wanted) for file in self.files]
         yield from heapq.merge(*streams, key=lambda m: m.log_time_ns)
+
+    def _indexed_messages(self, topics: list[str]) -> Iterator[RawMessage]:
+        """Fast path for intact bags: rosbags' indexed reader (about 4x the ``mcap``
+        library's rate); raises on any damage, and :meth:`raw_messages` falls back to the
+        streaming reader when nothing was read yet."""
+        with Reader(self.path) as reader:
+            connections = [c for c in reader.connections if c.topic in topics]
+            for connection, timestamp, data in reader.messages(connections=connections):
+                yield RawMessage(connection.topic, connection.msgtype, timestamp, data)
 
     def _file_messages(self, file: Path, topics: list[str]) -> Iterator[RawMessage]:
         count = 0

@@ -135,9 +135,7 @@ def decode(msgtype: str, raws: list[bytes]) -> MessageBatch:
     frame_id = np.empty(n, dtype=object)
     fields = {leaf.path: np.empty((n,) if leaf.count == 1 else (n, leaf.count), leaf.dtype)
               for leaf in leaves}
-    keys = np.stack([lengths, strlen], axis=1) if n else np.zeros((0, 2), np.int64)
-    for length, slen in np.unique(keys, axis=0):
-        idx = np.flatnonzero((lengths == length) & (strlen == slen))
+    for length, slen, idx in _groups(lengths, strlen):
         dtype = _record_dtype(msgtype, int(slen) - 1)
         if length < dtype.itemsize:
             raise ValueError(f"{msgtype}: message of {length} bytes, layout needs {dtype.itemsize}")
@@ -147,11 +145,39 @@ def decode(msgtype: str, raws: list[bytes]) -> MessageBatch:
             rows = buf[starts[idx, None] + np.arange(length)]
         view = np.ascontiguousarray(rows[:, :dtype.itemsize]).view(dtype).ravel()
         stamp_ns[idx] = view["sec"].astype(np.int64) * _NS + view["nanosec"]
-        frames, inverse = np.unique(view["frame"], return_inverse=True)
-        frame_id[idx] = np.array([f.decode() for f in frames], dtype=object)[inverse]
+        frame_id[idx] = _decoded_frames(view["frame"])
         for leaf in leaves:
             fields[leaf.path][idx] = view[leaf.path]
     return MessageBatch(msgtype, stamp_ns, frame_id.astype(str), fields)
+
+
+def _groups(lengths: np.ndarray, strlen: np.ndarray):
+    """(length, frame length, indices) of the messages sharing a byte layout; one group
+    without sorting in the usual case of a single layout."""
+    if len(lengths) and (lengths == lengths[0]).all() and (strlen == strlen[0]).all():
+        yield int(lengths[0]), int(strlen[0]), np.arange(len(lengths))
+        return
+    keys = np.stack([lengths, strlen], axis=1)
+    for length, slen in np.unique(keys, axis=0):
+        yield int(length), int(slen), np.flatnonzero((lengths == length) & (strlen == slen))
+
+
+def _decoded_frames(raw: np.ndarray) -> np.ndarray:
+    """frame_id strings from their null-terminated bytes (one decode per distinct value)."""
+    if (raw == raw[0]).all():
+        return np.full(len(raw), raw[0].decode(), dtype=object)
+    frames, inverse = np.unique(raw, return_inverse=True)
+    return np.array([f.decode() for f in frames], dtype=object)[inverse]
+
+
+def _frame_groups(frame_id: np.ndarray):
+    """(frame, indices) per distinct frame_id; no sorting when there is only one."""
+    if len(frame_id) and (frame_id == frame_id[0]).all():
+        yield str(frame_id[0]), np.arange(len(frame_id))
+        return
+    frames, inverse = np.unique(frame_id, return_inverse=True)
+    for k, frame in enumerate(frames):
+        yield str(frame), np.flatnonzero(inverse == k)
 
 
 def encode(batch: MessageBatch) -> list[bytes]:
@@ -160,23 +186,25 @@ def encode(batch: MessageBatch) -> list[bytes]:
     n = len(batch)
     out: list[bytes] = [b""] * n
     sec, nanosec = np.divmod(batch.stamp_ns, _NS)
-    frames, inverse = np.unique(batch.frame_id, return_inverse=True)
-    for k, frame in enumerate(frames):
-        encoded = str(frame).encode()
-        idx = np.flatnonzero(inverse == k)
+    for frame, idx in _frame_groups(batch.frame_id):
+        encoded = frame.encode()
         dtype = _record_dtype(batch.msgtype, len(encoded))
+        select = slice(None) if len(idx) == n else idx
         rec = np.zeros(len(idx), dtype)
         rec["cdr"] = np.frombuffer(_CDR_LE, np.uint8)
-        rec["sec"] = sec[idx]
-        rec["nanosec"] = nanosec[idx]
+        rec["sec"] = sec[select]
+        rec["nanosec"] = nanosec[select]
         rec["strlen"] = len(encoded) + 1
         rec["frame"] = encoded
         for leaf in leaves:
-            rec[leaf.path] = batch.fields[leaf.path][idx]
-        blob = memoryview(rec.tobytes())
+            rec[leaf.path] = batch.fields[leaf.path][select]
+        blob = rec.tobytes()
         size = dtype.itemsize
-        for j, i in enumerate(idx):
-            out[i] = bytes(blob[j * size:(j + 1) * size])
+        pieces = [blob[i:i + size] for i in range(0, len(blob), size)]
+        if len(idx) == n:
+            return pieces
+        for i, piece in zip(idx.tolist(), pieces, strict=True):
+            out[i] = piece
     return out
 
 
