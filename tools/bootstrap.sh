@@ -72,5 +72,8 @@ ensure_build() {
   echo "$want" > install/.pdr-stamp
 }
 
+# One bootstrap at a time: ./ws processes started together wait for each other.
+exec 9>"$root/.bootstrap.lock"
+flock 9
 ensure_venv
 ensure_build
