@@ -1,0 +1,185 @@
+"""Zero-velocity (stance) detectors behind one interface, vectorised over samples.
+
+Every detector is a frozen dataclass with its parameters and a method
+``detect(accel, gyro, rate_hz) -> Stance`` taking specific force (N, 3) [m/s²] and angular
+rate (N, 3) [rad/s] in the body frame, and returning a boolean stance mask and the test
+statistic per sample. Windows are in samples.
+
+- :class:`Paper000Detector`: 000_fbd401126d10f515.txt, Eqs. (15)–(19): acceleration
+  magnitude band (C1), angular-rate threshold (C2), standard deviation of |a| over the
+  last W1+1 samples (C3), their product filtered by a median over the last W2+1 samples.
+  ``variant="limited"`` multiplies the median by the current conditions (the limited
+  window); ``variant="retarded"`` uses W1 = W2 = W centred on the sample (the retarded
+  window, a delay of W/2 samples for a causal implementation).
+- :class:`ShoeDetector`: the stance hypothesis optimal detector (GLRT) of
+  004_1269ce0256f0c590.txt, section II (Skog et al. 2010):
+  T = 1/W·Σ (‖y_a − g·ȳ_a/‖ȳ_a‖‖²/σ_a² + ‖y_ω‖²/σ_ω²) < γ.
+- :class:`MovingVarianceDetector` (1/(σ_a²W)·Σ‖y_a − ȳ_a‖²), :class:`MagnitudeDetector`
+  (1/(σ_a²W)·Σ(‖y_a‖ − g)²) and :class:`AngularRateEnergyDetector` (1/(σ_ω²W)·Σ‖y_ω‖²),
+  Skog et al. 2010, for comparison; all over centred windows of W samples.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+from scipy.ndimage import uniform_filter1d
+
+STANDARD_GRAVITY_MPS2 = 9.80665
+# pdr_msgs/Stance detector identifiers
+DETECTOR_IDS = {"original": 0, "limited": 1, "retarded": 2, "shoe": 3, "moving_variance": 4,
+                "magnitude": 5, "angular_rate_energy": 6}
+
+
+@dataclass(frozen=True)
+class Stance:
+    """Per-sample stance decision (N,) bool, the detector's statistic (N,), and the
+    pdr_msgs/Stance detector identifier."""
+
+    mask: np.ndarray
+    statistic: np.ndarray
+    detector: int
+
+
+class StanceDetector(Protocol):
+    """What the filter needs of a detector."""
+
+    def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance: ...
+
+
+def trailing_mean(x: np.ndarray, samples: int) -> np.ndarray:
+    """Mean over the last ``samples`` samples (k − samples + 1 .. k), along axis 0."""
+    return uniform_filter1d(np.asarray(x, float), samples, axis=0, mode="nearest",
+                            origin=(samples - 1) // 2)
+
+
+def centred_mean(x: np.ndarray, samples: int) -> np.ndarray:
+    """Mean over ``samples`` samples centred on k, along axis 0."""
+    return uniform_filter1d(np.asarray(x, float), samples, axis=0, mode="nearest")
+
+
+def _check_window(name: str, value: int) -> None:
+    if value < 1:
+        raise ValueError(f"{name} must be >= 1 sample, got {value}")
+
+
+@dataclass(frozen=True)
+class Paper000Detector:
+    """000, Eqs. (15)–(19) and its limited / retarded windows (see the module docstring).
+
+    Thresholds: |a| in (acc_low_mps2, acc_high_mps2), |ω| < rate_max_radps, std of |a|
+    over W1+1 samples < acc_std_max_mps2; median over W2+1 samples. The paper gives no
+    values; the defaults suit 100 Hz walking data.
+    """
+
+    acc_low_mps2: float = 9.0
+    acc_high_mps2: float = 11.0
+    rate_max_radps: float = 0.87
+    acc_std_max_mps2: float = 0.5
+    w1: int = 15
+    w2: int = 11
+    variant: str = "original"
+
+    def __post_init__(self) -> None:
+        if self.variant not in ("original", "limited", "retarded"):
+            raise ValueError(f"variant must be original, limited or retarded, got "
+                             f"{self.variant!r}")
+        _check_window("w1", self.w1)
+        _check_window("w2", self.w2)
+
+    def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
+        norm_a = np.linalg.norm(accel, axis=1)
+        c1 = (self.acc_low_mps2 < norm_a) & (norm_a < self.acc_high_mps2)
+        c2 = np.linalg.norm(gyro, axis=1) < self.rate_max_radps
+        if self.variant == "retarded":
+            window = max(self.w1, self.w2) + 1
+            mean, mean_sq = centred_mean(norm_a, window), centred_mean(norm_a**2, window)
+        else:
+            mean, mean_sq = trailing_mean(norm_a, self.w1 + 1), trailing_mean(norm_a**2,
+                                                                              self.w1 + 1)
+        std = np.sqrt(np.maximum(mean_sq - mean**2, 0.0))
+        conditions = c1 & c2 & (std < self.acc_std_max_mps2)
+        if self.variant == "retarded":
+            votes = centred_mean(conditions, max(self.w1, self.w2) + 1)
+        else:
+            votes = trailing_mean(conditions, self.w2 + 1)
+        mask = votes > 0.5
+        if self.variant == "limited":
+            mask &= conditions
+        return Stance(mask, votes, DETECTOR_IDS[self.variant])
+
+
+@dataclass(frozen=True)
+class ShoeDetector:
+    """SHOE / GLRT (004, section II): σ_a [m/s²], σ_ω [rad/s], window W, threshold γ.
+
+    With the default σ, γ = 1e5 admits |ω| up to 0.55 rad/s or an acceleration residual of
+    3 m/s² over the window; γ scales with 1/σ², so change σ and γ together.
+    """
+
+    sigma_acc_mps2: float = 0.01
+    sigma_rate_radps: float = 0.1 * np.pi / 180
+    window: int = 5
+    threshold: float = 1.0e5
+    gravity_mps2: float = STANDARD_GRAVITY_MPS2
+
+    def __post_init__(self) -> None:
+        _check_window("window", self.window)
+
+    def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
+        w = self.window
+        mean_a = centred_mean(accel, w)
+        unit = mean_a / np.linalg.norm(mean_a, axis=1, keepdims=True)
+        # 1/W·Σ‖y − g·u‖² = mean‖y‖² − 2g·u·mean(y) + g², with u fixed over the window
+        acc_term = (centred_mean(np.sum(accel**2, axis=1), w)
+                    - 2 * self.gravity_mps2 * np.sum(unit * mean_a, axis=1)
+                    + self.gravity_mps2**2)
+        rate_term = centred_mean(np.sum(gyro**2, axis=1), w)
+        statistic = acc_term / self.sigma_acc_mps2**2 + rate_term / self.sigma_rate_radps**2
+        return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["shoe"])
+
+
+@dataclass(frozen=True)
+class MovingVarianceDetector:
+    """Acceleration moving variance (Skog et al. 2010)."""
+
+    sigma_acc_mps2: float = 0.01
+    window: int = 5
+    threshold: float = 1.0e2
+
+    def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
+        mean_a = centred_mean(accel, self.window)
+        variance = (centred_mean(np.sum(accel**2, axis=1), self.window)
+                    - np.sum(mean_a**2, axis=1))
+        statistic = np.maximum(variance, 0.0) / self.sigma_acc_mps2**2
+        return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["moving_variance"])
+
+
+@dataclass(frozen=True)
+class MagnitudeDetector:
+    """Acceleration magnitude (Skog et al. 2010)."""
+
+    sigma_acc_mps2: float = 0.01
+    window: int = 5
+    threshold: float = 5.0e3
+    gravity_mps2: float = STANDARD_GRAVITY_MPS2
+
+    def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
+        deviation = (np.linalg.norm(accel, axis=1) - self.gravity_mps2) ** 2
+        statistic = centred_mean(deviation, self.window) / self.sigma_acc_mps2**2
+        return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["magnitude"])
+
+
+@dataclass(frozen=True)
+class AngularRateEnergyDetector:
+    """Angular-rate energy (Skog et al. 2010)."""
+
+    sigma_rate_radps: float = 0.1 * np.pi / 180
+    window: int = 5
+    threshold: float = 1.0e4
+
+    def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
+        statistic = centred_mean(np.sum(gyro**2, axis=1), self.window) / self.sigma_rate_radps**2
+        return Stance(statistic < self.threshold, statistic,
+                      DETECTOR_IDS["angular_rate_energy"])
