@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdr_core.rotations import skew
+from pdr_core.rotations import rotation_from_euler, skew
 from pdr_ins_ekf.attitude_update import closed_form_increments
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
@@ -171,7 +171,6 @@ def initial_attitude(accel: np.ndarray, yaw_rad: float) -> np.ndarray:
     f = accel.mean(axis=0)
     roll = np.arctan2(f[1], f[2])
     pitch = np.arctan2(-f[0], np.hypot(f[1], f[2]))
-    from pdr_core.rotations import rotation_from_euler
     return rotation_from_euler(np.array([roll]), np.array([pitch]), np.array([yaw_rad])
                                ).as_matrix()[0]
 
