@@ -1,0 +1,61 @@
+"""Trajectory error metrics of ../shared/INTERFACES.md (the ``report.json`` fields).
+
+The estimate and the truth, both (N, 3) ENU [m] at the same stamps, are compared after
+removing the start offset and rotating the estimate about the vertical so that its
+horizontal displacement matches the truth's at the first sample where the estimate is
+0.8 m from its start (heading is unobservable from the IMU alone).
+
+- ``mean_error_3d_m``: mean Euclidean error;
+- ``armse_3d_m`` / ``armse_2d_m``: the pyshoe papers' metric: per sample the RMS over the
+  axes (Euclidean error / √3, or the horizontal error / √2), then the mean over samples;
+- ``final_error_m`` and ``final_error_pct`` (of the true path length ``distance_m``).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+ALIGN_DISTANCE_M = 0.8
+
+
+def aligned(estimate: np.ndarray, truth: np.ndarray, distance_m: float = ALIGN_DISTANCE_M
+            ) -> np.ndarray:
+    """The estimate with the start offset removed and rotated about the vertical onto the
+    truth (start offset removed too), (N, 3)."""
+    est = estimate - estimate[0]
+    ref = truth - truth[0]
+    far = np.flatnonzero(np.linalg.norm(est[:, :2], axis=1) >= distance_m)
+    if not len(far):
+        return est
+    k = far[0]
+    angle = np.arctan2(ref[k, 1], ref[k, 0]) - np.arctan2(est[k, 1], est[k, 0])
+    c, s = np.cos(angle), np.sin(angle)
+    return np.column_stack([c * est[:, 0] - s * est[:, 1], s * est[:, 0] + c * est[:, 1],
+                            est[:, 2]])
+
+
+def path_length(position: np.ndarray) -> float:
+    """Length [m] of a sampled path."""
+    return float(np.linalg.norm(np.diff(position, axis=0), axis=1).sum())
+
+
+def error_report(t_s: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None) -> dict:
+    """The report fields of INTERFACES.md; without truth: duration, estimated distance and
+    the start-end gap."""
+    report = {"duration_s": float(t_s[-1] - t_s[0])}
+    if truth is None:
+        report["distance_m"] = path_length(estimate)
+        report["loop_gap_m"] = float(np.linalg.norm(estimate[-1] - estimate[0]))
+        return report
+    est = aligned(estimate, truth)
+    ref = truth - truth[0]
+    error = est - ref
+    norm3 = np.linalg.norm(error, axis=1)
+    norm2 = np.linalg.norm(error[:, :2], axis=1)
+    distance = path_length(truth)
+    report |= {"distance_m": distance,
+               "final_error_m": float(norm3[-1]),
+               "final_error_pct": float(100 * norm3[-1] / distance) if distance else 0.0,
+               "mean_error_3d_m": float(norm3.mean()),
+               "armse_3d_m": float((norm3 / np.sqrt(3)).mean()),
+               "armse_2d_m": float((norm2 / np.sqrt(2)).mean())}
+    return report

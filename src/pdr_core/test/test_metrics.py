@@ -1,0 +1,38 @@
+"""Report metrics of INTERFACES.md."""
+import numpy as np
+import pytest
+
+from pdr_core.metrics import aligned, error_report
+
+
+def test_rotated_and_shifted_estimate_has_no_error():
+    t = np.linspace(0, 10, 101)
+    truth = np.column_stack([t, np.sin(t), 0.1 * t])
+    angle = 0.7
+    rot = np.array([[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0],
+                    [0, 0, 1]])
+    estimate = truth @ rot.T + [5.0, -3.0, 1.0]
+    np.testing.assert_allclose(aligned(estimate, truth), truth - truth[0], atol=1e-12)
+    report = error_report(t, estimate, truth)
+    assert report["armse_3d_m"] == pytest.approx(0.0, abs=1e-12)
+    assert report["duration_s"] == 10.0
+
+
+def test_armse_follows_the_pyshoe_definition():
+    t = np.arange(4.0)
+    truth = np.column_stack([np.arange(4.0) * 1.0, np.zeros(4), np.zeros(4)])
+    estimate = truth + [[0, 0, 0], [0, 0, 0.3], [0, 0, 0.3], [0, 0, 0.6]]
+    report = error_report(t, estimate, truth)
+    errors = np.array([0, 0.3, 0.3, 0.6])
+    assert report["armse_3d_m"] == pytest.approx((errors / np.sqrt(3)).mean())
+    assert report["armse_2d_m"] == pytest.approx(0.0)
+    assert report["final_error_m"] == pytest.approx(0.6)
+    assert report["final_error_pct"] == pytest.approx(20.0)
+    assert report["mean_error_3d_m"] == pytest.approx(0.3)
+
+
+def test_without_truth_the_loop_gap_is_reported():
+    estimate = np.array([[0, 0, 0], [3, 0, 0], [3, 4, 0], [0.1, 0, 0]], float)
+    report = error_report(np.arange(4.0), estimate, None)
+    assert report == {"duration_s": 3.0, "distance_m": pytest.approx(3 + 4 + np.hypot(2.9, 4)),
+                      "loop_gap_m": pytest.approx(0.1)}

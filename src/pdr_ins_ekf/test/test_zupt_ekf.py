@@ -1,0 +1,56 @@
+"""The ZUPT EKF on the simulator's noiseless walk (000_fbd401126d10f515.txt, IV-A)."""
+import numpy as np
+import pytest
+
+from pdr_ins_ekf.zero_velocity import Paper000Detector
+from pdr_ins_ekf.zupt_ekf import FilterConfig, ZuptEkf, run
+from pdr_sim.scenario import scenario_from_dict
+from pdr_sim.simulation import SimulationConfig, simulate
+
+WALK = {"segments": [{"type": "standing", "duration_s": 2.0}, {"type": "straight", "steps": 100},
+                     {"type": "standing", "duration_s": 1.0}]}
+
+
+@pytest.fixture(scope="module")
+def noiseless_walk():
+    sim = simulate(SimulationConfig(scenario_from_dict(WALK, "walk"), WALK, "ideal", {}, 100.0))
+    return sim.imu.t_s - sim.imu.t_s[0], sim.imu["linear_acceleration"], \
+        sim.imu["angular_velocity"], sim.trajectory.position
+
+
+def final_error(walk, variant):
+    t, accel, gyro, truth = walk
+    stance = Paper000Detector(variant=variant).detect(accel, gyro, 100.0).mask
+    out = run(t, accel, gyro, stance, FilterConfig(), slice(0, 100))
+    return out.position[-1] - truth[-1]
+
+
+def test_retarded_window_ends_100_steps_within_a_centimetre(noiseless_walk):
+    assert np.linalg.norm(final_error(noiseless_walk, "retarded")) < 0.01
+
+
+def test_original_detector_leaves_a_growing_along_track_error(noiseless_walk):
+    original = final_error(noiseless_walk, "original")
+    limited = final_error(noiseless_walk, "limited")
+    retarded = final_error(noiseless_walk, "retarded")
+    assert original[0] < -0.5, "the stance stretched into the swing shortens every step"
+    assert abs(retarded[0]) < abs(limited[0]) < abs(original[0]) / 10
+
+
+def test_configuration_is_checked():
+    with pytest.raises(ValueError, match="ZARU needs the gyro bias states"):
+        FilterConfig(zaru=True)
+    with pytest.raises(ValueError, match="bias_model must be one of"):
+        FilterConfig(bias_model="flicker")
+
+
+def test_fifteen_states_estimate_a_gyro_bias_with_zaru():
+    config = FilterConfig(bias_model="random_walk", zaru=True)
+    ekf = ZuptEkf(config, np.eye(3))
+    bias = np.array([0.01, -0.02, 0.005])
+    for _ in range(2000):
+        ekf.predict(np.array([0.0, 0.0, 9.80665]), bias, 0.01)
+        ekf.zupt()
+        ekf.zaru(bias)
+    np.testing.assert_allclose(ekf.b[3:], bias, atol=1e-4)
+    assert np.allclose(ekf.P, ekf.P.T) and np.linalg.eigvalsh(ekf.P).min() >= 0
