@@ -43,6 +43,8 @@ class CsvImuFormat:
         pos_cols: three ground-truth position columns, or (); ``pos_unit`` m, cm or mm.
         axes: sensor-axis remap applied to acc and gyro, e.g. ("-y", "x", "z") means
             out_x = -in_y, out_y = in_x, out_z = in_z.
+        acc_axes, gyro_axes: a remap for one sensor only, replacing ``axes`` for it (for
+            logs whose accelerometer and gyroscope triads differ in sign or order).
         header: whether the first row holds column names.
         time_offset_s: added to every stamp.
         drop_invalid: drop NaN/Inf rows and non-increasing stamps instead of failing.
@@ -58,6 +60,8 @@ class CsvImuFormat:
     pos_cols: tuple[str, ...] = ()
     pos_unit: str = "m"
     axes: tuple[str, str, str] = ("x", "y", "z")
+    acc_axes: tuple[str, str, str] | None = None
+    gyro_axes: tuple[str, str, str] | None = None
     header: bool = True
     time_offset_s: float = 0.0
     drop_invalid: bool = False
@@ -169,7 +173,8 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
                          ("--pos-cols", fmt.pos_cols)):
         if cols and len(cols) != 3:
             raise InputError(option, f"needs 3 columns (x,y,z), got {len(cols)}")
-    remap = axis_matrix(fmt.axes)
+    acc_remap = axis_matrix(fmt.acc_axes or fmt.axes)
+    gyro_remap = axis_matrix(fmt.gyro_axes or fmt.axes)
     names, table = _read_table(path, fmt)
 
     def columns(cols: tuple[str, ...]) -> np.ndarray:
@@ -180,8 +185,9 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
         return table[:, idx]
 
     t_s = columns((fmt.time_col,))[:, 0] * time_scale + fmt.time_offset_s
-    acc = columns(fmt.acc_cols) * acc_scale @ remap.T
-    gyro = columns(fmt.gyro_cols) * gyro_scale @ remap.T if fmt.gyro_cols else np.zeros_like(acc)
+    acc = columns(fmt.acc_cols) * acc_scale @ acc_remap.T
+    gyro = (columns(fmt.gyro_cols) * gyro_scale @ gyro_remap.T if fmt.gyro_cols
+            else np.zeros_like(acc))
     pos = columns(fmt.pos_cols) * pos_scale if fmt.pos_cols else None
     values = np.hstack([acc, gyro] + ([pos] if pos is not None else []))
     keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)

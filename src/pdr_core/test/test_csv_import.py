@@ -49,6 +49,14 @@ def test_axis_remap_with_signs(tmp_path):
     np.testing.assert_allclose(result.imu["linear_acceleration"][0], [1.0, -0.0, 0.0])
 
 
+def test_per_sensor_remap(tmp_path):
+    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), gyro_cols=("gx", "gy", "gz"),
+                       gyro_unit="deg/s", acc_axes=("-x", "-y", "-z"))
+    result = import_csv(write_csv(tmp_path / "k.csv", rows()), fmt)
+    np.testing.assert_allclose(result.imu["linear_acceleration"][0], [0.0, 0.0, -1.0])
+    np.testing.assert_allclose(result.imu["angular_velocity"][0], [np.pi / 2, 0.0, 0.0])
+
+
 @pytest.mark.parametrize("axes", [("x", "x", "z"), ("x", "y", "w")])
 def test_bad_axes(axes):
     with pytest.raises(InputError, match="--axes"):

@@ -179,6 +179,10 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
     p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS))
     p.add_argument("--axes", type=_columns, default=("x", "y", "z"),
                    help="sensor axis remap, e.g. -y,x,z means out_x=-in_y, out_y=in_x")
+    p.add_argument("--acc-axes", type=_columns, default=None,
+                   help="remap of the accelerometer only (replaces --axes for it)")
+    p.add_argument("--gyro-axes", type=_columns, default=None,
+                   help="remap of the gyroscope only (replaces --axes for it)")
     p.add_argument("--drop-invalid", action="store_true",
                    help="drop NaN/Inf rows and non-increasing stamps instead of failing")
     p.add_argument("--drop-duplicates", action="store_true",
@@ -186,13 +190,16 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
 
 
 def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
-    if len(args.axes) != 3:
-        raise InputError("--axes", f"needs 3 entries, got {','.join(args.axes)}")
+    for option, axes in (("--axes", args.axes), ("--acc-axes", args.acc_axes),
+                         ("--gyro-axes", args.gyro_axes)):
+        if axes is not None and len(axes) != 3:
+            raise InputError(option, f"needs 3 entries, got {','.join(axes)}")
     return CsvImuFormat(
         time_col=args.time_col, time_unit=args.time_unit, acc_cols=args.acc_cols,
         acc_unit=args.acc_unit, gyro_cols=args.gyro_cols, gyro_unit=args.gyro_unit,
         pos_cols=getattr(args, "pos_cols", ()), pos_unit=getattr(args, "pos_unit", "m"),
-        axes=args.axes, header=args.header, time_offset_s=args.time_offset_s,
+        axes=args.axes, acc_axes=args.acc_axes, gyro_axes=args.gyro_axes,
+        header=args.header, time_offset_s=args.time_offset_s,
         drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates)
 
 
