@@ -252,6 +252,12 @@ class BagWriter:
     def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> None:
         self.close(commit=exc_type is None)
 
+    @property
+    def staging(self) -> Path:
+        """The bag directory being written; files put there move with it to ``path``."""
+        assert self._tmp is not None, "BagWriter not open"
+        return self._tmp / self.path.name
+
     def add_topic(self, topic: str, msgtype: str) -> None:
         """Declare ``topic`` of type ``msgtype`` (idempotent)."""
         if topic not in self._connections:

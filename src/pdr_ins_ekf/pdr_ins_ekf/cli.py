@@ -1,6 +1,7 @@
 """``pdr-ekf``: offline tools of the foot-mounted INS (no ROS graph needed).
 
 Subcommands:
+    run BAG --out OUT     the ZUPT EKF on imu/data: output bag, report.json, PNG.
     study mechanization   pure-INS position error per attitude method and rate
                           (000_fbd401126d10f515.txt, Fig. 6): table, CSV and PNG.
 
@@ -9,16 +10,71 @@ Errors in the input exit with status 2 and one line naming the problem.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from pdr_core import topics
+from pdr_core.bag import BagReader, BagWriter, merged_messages
+from pdr_core.cdr import encode_generic
 from pdr_core.errors import InputError, run_cli
+from pdr_core.metrics import error_report
+from pdr_core.msgtypes import PATH
 from pdr_ins_ekf import plots
 from pdr_ins_ekf.attitude_update import METHODS
+from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.mechanization_study import RATES_HZ, run_study
+from pdr_ins_ekf.offline import navigate, output_batches, step_path, truth_at
 from pdr_ins_ekf.strapdown import INTEGRATIONS
 from pdr_sim.simulation import MAX_RATE_HZ, MIN_RATE_HZ
+
+
+def _add_run(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "run", help="run the foot navigator on a bag",
+        description="Run the ZUPT-aided INS on imu/data of a bag. Writes OUT/ as a bag with "
+                    "pdr/foot/pose, velocity, stance and path, and OUT/report.json with the "
+                    "metrics of INTERFACES.md (against ground_truth/pose when the bag has it).")
+    p.add_argument("bag", type=Path)
+    p.add_argument("--out", type=Path, required=True)
+    p.add_argument("--config", type=Path, help="YAML configuration (see pdr_ins_ekf.config)")
+    p.add_argument("--imu-topic", default=topics.IMU_DATA)
+    p.add_argument("--truth-topic", default=topics.GROUND_TRUTH_POSE)
+    p.add_argument("--plot", action="store_true", help="also write OUT/path.png")
+    p.add_argument("--overwrite", action="store_true")
+    p.set_defaults(func=_run_run)
+
+
+def _run_run(args: argparse.Namespace) -> int:
+    config = load_run_config(args.config)
+    reader = BagReader(args.bag)
+    has_truth = args.truth_topic in reader.topics
+    wanted = [args.imu_topic] + ([args.truth_topic] if has_truth else [])
+    batches = reader.read_batches(wanted)
+    result = navigate(batches[args.imu_topic], config)
+    truth = None
+    if has_truth:
+        truth = truth_at(batches[args.truth_topic], result.stamp_ns)
+    t_s = (result.stamp_ns - result.stamp_ns[0]) * 1e-9
+    report = error_report(t_s, result.output.position, truth)
+    report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
+               "dropped": result.counts}
+    outputs = output_batches(result)
+    with BagWriter(args.out, overwrite=args.overwrite) as writer:
+        for topic, batch in outputs.items():
+            writer.add_topic(topic, batch.msgtype)
+        writer.add_topic("/pdr/foot/path", PATH)
+        for message in merged_messages(outputs):
+            writer.write_raw(message.topic, message.msgtype, message.log_time_ns, message.data)
+        stamp, path = step_path(result)
+        writer.write_raw("/pdr/foot/path", PATH, stamp, encode_generic(path))
+        (writer.staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+        if args.plot:
+            plots.path_png(t_s, result.output.position, truth, writer.staging / "path.png",
+                           str(args.bag))
+    print(json.dumps(report, indent=2))
+    return 0
 
 
 def _add_study(sub: argparse._SubParsersAction) -> None:
@@ -53,6 +109,7 @@ def _run_mechanization(args: argparse.Namespace) -> int:
 def parser() -> argparse.ArgumentParser:
     top = argparse.ArgumentParser(prog="pdr-ekf", description=__doc__.split("\n")[0])
     sub = top.add_subparsers(dest="command", required=True)
+    _add_run(sub)
     _add_study(sub)
     return top
 

@@ -4,11 +4,37 @@ from __future__ import annotations
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from pdr_core.metrics import aligned
 from pdr_ins_ekf.mechanization_study import MechanizationStudy
+
+
+def path_png(t: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None, path: Path,
+             title: str) -> None:
+    """Top view and height of the estimate (aligned as the report) against the truth, and
+    the error over time."""
+    fig, ax = plt.subplots(1, 3 if truth is not None else 2, figsize=(16, 5))
+    est = aligned(estimate, truth) if truth is not None else estimate - estimate[0]
+    ax[0].plot(est[:, 0], est[:, 1], label="estimate")
+    ax[1].plot(t, est[:, 2], label="estimate")
+    if truth is not None:
+        ref = truth - truth[0]
+        ax[0].plot(ref[:, 0], ref[:, 1], "k--", label="truth")
+        ax[1].plot(t, ref[:, 2], "k--", label="truth")
+        ax[2].plot(t, np.linalg.norm(est - ref, axis=1))
+        ax[2].set(xlabel="t [s]", ylabel="3D error [m]", title="error")
+    ax[0].set(xlabel="x [m]", ylabel="y [m]", title="top view", aspect="equal")
+    ax[1].set(xlabel="t [s]", ylabel="z [m]", title="height")
+    for a in ax[:2]:
+        a.legend()
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
 
 
 def mechanization_png(study: MechanizationStudy, path: Path) -> None:

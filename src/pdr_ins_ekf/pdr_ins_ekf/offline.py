@@ -1,0 +1,150 @@
+"""The foot navigator on a whole recording: input checks, alignment, filter, outputs.
+
+:func:`navigate` takes an ``imu/data`` batch and returns a :class:`FootRun`; the message
+batches of the outputs (``pdr/foot/pose``, ``velocity``, ``stance``, ``path``) come from
+:func:`output_batches`. Bad input never stops the run silently:
+
+- samples with NaN/Inf are dropped and counted; so are stamps that do not increase;
+- gaps longer than ``max_gap_s`` are propagated (the covariance grows with the gap) and
+  counted;
+- data in the wrong units is refused at alignment: a specific force at rest near 1
+  (g instead of m/s²) or far from 9.81, or a gyroscope at rest above 0.2 rad/s (deg/s
+  instead of rad/s, or a broken sensor).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from pdr_core.batch import MessageBatch
+from pdr_core.errors import InputError
+from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANCE_STAMPED
+from pdr_core.nav_path import path_message
+from pdr_ins_ekf.config import RunConfig
+from pdr_ins_ekf.zupt_ekf import FilterOutput, run
+
+STANCE = "pdr_msgs/msg/Stance"
+MAP_FRAME = "map"
+UNKNOWN_VARIANCE = 1e6
+
+
+@dataclass
+class FootRun:
+    """Result of :func:`navigate` over the kept samples (stamps ``stamp_ns``)."""
+
+    stamp_ns: np.ndarray
+    stance: np.ndarray
+    statistic: np.ndarray
+    detector: int
+    output: FilterOutput
+    counts: dict[str, int] = field(default_factory=dict)
+
+
+def clean_samples(imu: MessageBatch) -> tuple[np.ndarray, dict[str, int]]:
+    """Indices of the usable samples and the counts of the dropped ones."""
+    accel, gyro = imu["linear_acceleration"], imu["angular_velocity"]
+    finite = np.isfinite(accel).all(axis=1) & np.isfinite(gyro).all(axis=1)
+    stamps = np.where(finite, imu.stamp_ns, np.iinfo(np.int64).min)
+    later = np.concatenate(([True], stamps[1:] > np.maximum.accumulate(stamps)[:-1]))
+    keep = finite & later
+    return np.flatnonzero(keep), {"non_finite": int((~finite).sum()),
+                                  "stamp_not_increasing": int((finite & ~later).sum())}
+
+
+def alignment_window(stance: np.ndarray, t_s: np.ndarray, min_s: float) -> slice:
+    """The first stationary run lasting at least ``min_s`` seconds."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], stance.astype(int), [0]))))
+    for start, stop in zip(edges[::2], edges[1::2], strict=True):
+        if t_s[stop - 1] - t_s[start] >= min_s:
+            return slice(int(start), int(stop))
+    raise InputError("imu/data", f"no stationary period of {min_s:g} s to align on")
+
+
+def check_units(accel: np.ndarray, gyro: np.ndarray) -> None:
+    """Refuse data in the wrong units. The median |f| of any walk or rest is near g; a
+    foot turns at up to about 35 rad/s (2000 °/s): a median |f| near 1 gives away data
+    in g, a 99th percentile of |ω| above 50 data in deg/s."""
+    f = float(np.median(np.linalg.norm(accel, axis=1)))
+    if 0.5 < f < 2.0:
+        raise InputError("imu/data", f"median specific force is {f:.3f}: the accelerometer "
+                                     "looks like it is in g, not m/s²")
+    w = float(np.percentile(np.linalg.norm(gyro, axis=1), 99))
+    if w > 50.0:
+        raise InputError("imu/data", f"99th percentile of the angular rate is {w:.1f}: the "
+                                     "gyroscope looks like it is in deg/s, not rad/s")
+
+
+def check_rest(accel: np.ndarray, gyro: np.ndarray) -> None:
+    """Refuse an alignment window that is not at rest under 1 g."""
+    f = float(np.linalg.norm(accel.mean(axis=0)))
+    if not 8.8 < f < 10.8:
+        raise InputError("imu/data", f"specific force at rest is {f:.3f} m/s², expected 9.81")
+    w = float(np.linalg.norm(gyro.mean(axis=0)))
+    if w > 0.2:
+        raise InputError("imu/data", f"angular rate at rest is {w:.3f} rad/s: not at rest")
+
+
+def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
+    """Detect stance, align on the first stationary period and filter from there on."""
+    keep, counts = clean_samples(imu)
+    stamp_ns = imu.stamp_ns[keep]
+    t = (stamp_ns - stamp_ns[0]) * 1e-9
+    accel, gyro = imu["linear_acceleration"][keep], imu["angular_velocity"][keep]
+    rate = (len(t) - 1) / t[-1] if len(t) > 1 else 0.0
+    if len(t) < 10 or rate <= 0:
+        raise InputError("imu/data", f"{len(t)} usable samples are too few")
+    check_units(accel, gyro)
+    result = config.detector.detect(accel, gyro, rate)
+    window = alignment_window(result.mask, t, config.alignment_min_s)
+    check_rest(accel[window], gyro[window])
+    start = window.start
+    counts["before_alignment"] = start
+    counts["gaps"] = int((np.diff(t) > config.max_gap_s).sum())
+    aligned = slice(0, window.stop - start)
+    output = run(t[start:], accel[start:], gyro[start:], result.mask[start:], config.filter,
+                 aligned, np.radians(config.initial_yaw_deg))
+    return FootRun(stamp_ns[start:], result.mask[start:], result.statistic[start:],
+                   result.detector, output, counts)
+
+
+def truth_at(truth: MessageBatch, stamp_ns: np.ndarray) -> np.ndarray:
+    """Ground-truth positions (N, 3) at ``stamp_ns``, linearly interpolated."""
+    t = (truth.stamp_ns - stamp_ns[0]) * 1e-9
+    q = (stamp_ns - stamp_ns[0]) * 1e-9
+    return np.column_stack([np.interp(q, t, truth["pose.position"][:, i]) for i in range(3)])
+
+
+def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, MessageBatch]:
+    """``pdr/foot/pose``, ``velocity`` and ``stance`` batches with covariances."""
+    out = run_.output
+    n = len(run_.stamp_ns)
+    pose_cov = np.zeros((n, 6, 6))
+    pose_cov[:, :3, :3] = out.position_cov
+    pose_cov[:, 3:, 3:] = out.variance[:, 6:9, None] * np.eye(3)
+    twist_cov = np.zeros((n, 6, 6))
+    twist_cov[:, :3, :3] = out.velocity_cov
+    twist_cov[:, 3:, 3:] = np.eye(3) * UNKNOWN_VARIANCE  # angular rate is not estimated
+    quat = Rotation.from_matrix(out.attitude).as_quat()
+    return {
+        "/pdr/foot/pose": MessageBatch(POSE_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, {
+            "pose.pose.position": out.position, "pose.pose.orientation": quat,
+            "pose.covariance": pose_cov.reshape(n, 36)}),
+        "/pdr/foot/velocity": MessageBatch(TWIST_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, {
+            "twist.twist.linear": out.velocity, "twist.twist.angular": np.zeros((n, 3)),
+            "twist.covariance": twist_cov.reshape(n, 36)}),
+        "/pdr/foot/stance": MessageBatch(STANCE, run_.stamp_ns, "imu_link", {
+            "stationary": run_.stance, "statistic": run_.statistic,
+            "detector": np.full(n, run_.detector, np.uint8)}),
+    }
+
+
+def step_path(run_: FootRun, frame: str = MAP_FRAME) -> tuple[int, object]:
+    """The ``pdr/foot/path`` of the whole run, one pose per step (at each stance onset),
+    stamped with the last sample."""
+    onsets = np.flatnonzero(run_.stance[1:] & ~run_.stance[:-1]) + 1
+    poses = MessageBatch("geometry_msgs/msg/PoseStamped", run_.stamp_ns[onsets], frame, {
+        "pose.position": run_.output.position[onsets],
+        "pose.orientation": Rotation.from_matrix(run_.output.attitude[onsets]).as_quat()})
+    return int(run_.stamp_ns[-1]), path_message(poses, int(run_.stamp_ns[-1]), frame)
