@@ -6,6 +6,7 @@ CLIs turn it into that line on stderr and exit status 2 (:func:`run_cli`).
 """
 from __future__ import annotations
 
+import argparse
 import sys
 from collections.abc import Callable, Sequence
 
@@ -30,3 +31,13 @@ def run_cli(prog: str, main: Callable[[Sequence[str] | None], int],
     except InputError as exc:
         print(f"{prog}: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
+
+
+def dispatch(prog: str, parser: argparse.ArgumentParser,
+             argv: Sequence[str] | None = None) -> None:
+    """Parse ``argv`` and exit with the status of the chosen subcommand's ``func``."""
+    def main(args: Sequence[str] | None) -> int:
+        namespace = parser.parse_args(args)
+        return namespace.func(namespace)
+
+    sys.exit(run_cli(prog, main, argv))

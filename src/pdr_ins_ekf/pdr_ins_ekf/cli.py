@@ -11,14 +11,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, merged_messages
 from pdr_core.cdr import encode_generic
-from pdr_core.errors import InputError, run_cli
+from pdr_core.errors import InputError, dispatch
 from pdr_core.metrics import error_report
 from pdr_core.msgtypes import PATH
 from pdr_ins_ekf import plots
@@ -114,14 +113,8 @@ def parser() -> argparse.ArgumentParser:
     return top
 
 
-def _main(argv: Sequence[str] | None) -> int:
-    args = parser().parse_args(argv)
-    return args.func(args)
-
-
 def main(argv: Sequence[str] | None = None) -> None:
-    sys.exit(run_cli("pdr-ekf", _main, argv))
-
+    dispatch("pdr-ekf", parser(), argv)
 
 if __name__ == "__main__":
     main()

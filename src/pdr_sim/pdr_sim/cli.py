@@ -29,7 +29,7 @@ from pdr_core.csv_import import (
     CsvImuFormat,
     import_csv,
 )
-from pdr_core.errors import InputError, run_cli
+from pdr_core.errors import InputError, dispatch
 from pdr_core.imu_profiles import PROFILES
 from pdr_sim import plots
 from pdr_sim.allan_report import allan_report
@@ -274,14 +274,8 @@ def parser() -> argparse.ArgumentParser:
     return top
 
 
-def _main(argv: Sequence[str] | None) -> int:
-    args = parser().parse_args(argv)
-    return args.func(args)
-
-
 def main(argv: Sequence[str] | None = None) -> None:
-    sys.exit(run_cli("pdr-sim", _main, argv))
-
+    dispatch("pdr-sim", parser(), argv)
 
 if __name__ == "__main__":
     main()
