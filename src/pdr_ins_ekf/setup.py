@@ -19,5 +19,6 @@ setup(
     maintainer_email="maintainers@pdr-stack.org",
     description="See package.xml.",
     license="Apache-2.0",
-    entry_points={"console_scripts": ["pdr-ekf = pdr_ins_ekf.cli:main"]},
+    entry_points={"console_scripts": ["pdr-ekf = pdr_ins_ekf.cli:main",
+                                     "zupt_ekf = pdr_ins_ekf.nodes.zupt_ekf:main"]},
 )

@@ -43,9 +43,23 @@ class Stance:
 
 
 class StanceDetector(Protocol):
-    """What the filter needs of a detector."""
+    """What the filter needs of a detector: the vectorised decision, and how many samples
+    before and after a sample its decision depends on (for causal, buffered use)."""
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance: ...
+
+    @property
+    def context(self) -> tuple[int, int]: ...
+
+
+class _CentredWindow:
+    """Context of a detector with one centred window of ``window`` samples."""
+
+    window: int
+
+    @property
+    def context(self) -> tuple[int, int]:
+        return self.window // 2, (self.window - 1) // 2
 
 
 def trailing_mean(x: np.ndarray, samples: int) -> np.ndarray:
@@ -88,6 +102,13 @@ class Paper000Detector:
         _check_window("w1", self.w1)
         _check_window("w2", self.w2)
 
+    @property
+    def context(self) -> tuple[int, int]:
+        if self.variant == "retarded":
+            window = max(self.w1, self.w2) + 1
+            return 2 * (window // 2), 2 * ((window - 1) // 2)
+        return self.w1 + self.w2, 0
+
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
         norm_a = np.linalg.norm(accel, axis=1)
         c1 = (self.acc_low_mps2 < norm_a) & (norm_a < self.acc_high_mps2)
@@ -111,7 +132,7 @@ class Paper000Detector:
 
 
 @dataclass(frozen=True)
-class ShoeDetector:
+class ShoeDetector(_CentredWindow):
     """SHOE / GLRT (004, section II): σ_a [m/s²], σ_ω [rad/s], window W, threshold γ.
 
     With the default σ, γ = 1e5 admits |ω| up to 0.55 rad/s or an acceleration residual of
@@ -141,7 +162,7 @@ class ShoeDetector:
 
 
 @dataclass(frozen=True)
-class MovingVarianceDetector:
+class MovingVarianceDetector(_CentredWindow):
     """Acceleration moving variance (Skog et al. 2010)."""
 
     sigma_acc_mps2: float = 0.01
@@ -157,7 +178,7 @@ class MovingVarianceDetector:
 
 
 @dataclass(frozen=True)
-class MagnitudeDetector:
+class MagnitudeDetector(_CentredWindow):
     """Acceleration magnitude (Skog et al. 2010)."""
 
     sigma_acc_mps2: float = 0.01
@@ -172,7 +193,7 @@ class MagnitudeDetector:
 
 
 @dataclass(frozen=True)
-class AngularRateEnergyDetector:
+class AngularRateEnergyDetector(_CentredWindow):
     """Angular-rate energy (Skog et al. 2010)."""
 
     sigma_rate_radps: float = 0.1 * np.pi / 180

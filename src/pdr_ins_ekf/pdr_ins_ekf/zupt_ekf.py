@@ -157,6 +157,22 @@ class ZuptEkf:
             self.b = self.b + dx[9:15]
         self.prev_a = self.C @ self.prev_f
 
+    @classmethod
+    def aligned(cls, config: FilterConfig, accel_rest: np.ndarray, gyro_rest: np.ndarray,
+                yaw_rad: float = 0.0) -> ZuptEkf:
+        """A filter aligned on samples at rest: roll and pitch from the mean specific
+        force, gyro bias from the mean rate, the given yaw."""
+        return cls(config, initial_attitude(accel_rest, yaw_rad),
+                   gyro_bias=gyro_rest.mean(axis=0))
+
+    def step(self, f: np.ndarray, w: np.ndarray, dt: float, stance: bool) -> None:
+        """One sample: propagate over dt (0 for the first), then the pseudo-measurements."""
+        self.predict(f, w, dt)
+        if stance:
+            self.zupt()
+            if self.config.zaru:
+                self.zaru(w)
+
     def zupt(self) -> None:
         """Zero-velocity pseudo-measurement."""
         self._update(-self.v, self._H_zupt, self.config.zupt_sigma_mps)
@@ -179,21 +195,13 @@ def run(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
         config: FilterConfig, alignment: slice, yaw_rad: float = 0.0) -> FilterOutput:
     """Filter a whole recording: stamps t (N,) [s], specific force and rate (N, 3), the
     stance mask (N,) and the samples to align on (at rest)."""
-    ekf = ZuptEkf(config, initial_attitude(accel[alignment], yaw_rad),
-                  gyro_bias=gyro[alignment].mean(axis=0))
+    ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
     n, m = len(t), config.states
     out = FilterOutput(np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3, 3)),
                        np.empty((n, 6)), np.empty((n, m)), np.empty((n, 3, 3)),
                        np.empty((n, 3, 3)))
     for k in range(n):
-        if k:
-            ekf.predict(accel[k], gyro[k], t[k] - t[k - 1])
-        else:
-            ekf.predict(accel[0], gyro[0], 0.0)
-        if stance[k]:
-            ekf.zupt()
-            if config.zaru:
-                ekf.zaru(gyro[k])
+        ekf.step(accel[k], gyro[k], t[k] - t[k - 1] if k else 0.0, bool(stance[k]))
         out.position[k], out.velocity[k], out.attitude[k], out.bias[k] = ekf.p, ekf.v, ekf.C, ekf.b
         out.variance[k] = np.diag(ekf.P)
         out.position_cov[k], out.velocity_cov[k] = ekf.P[0:3, 0:3], ekf.P[3:6, 3:6]

@@ -1,0 +1,153 @@
+"""Node ``zupt_ekf``: the foot navigator on ``imu/data``, live.
+
+Subscribes ``imu/data`` (sensor_msgs/Imu) and publishes, per sample, ``pdr/foot/pose``
+(PoseWithCovarianceStamped), ``pdr/foot/velocity`` (TwistWithCovarianceStamped) and
+``pdr/foot/stance`` (pdr_msgs/Stance), and at the end of every step ``pdr/foot/path``
+(one pose per step). Serves ``~/reset`` (std_srvs/Trigger).
+
+Parameters: ``config`` (navigator YAML, see pdr_ins_ekf.config; default the installed
+config/foot_ekf.yaml), ``frame_id`` ("map"), ``imu_durability`` (volatile or
+transient_local, to match the publisher).
+
+Estimates lag the input by the detector's look-ahead (a few samples) and agree with
+``pdr-ekf run`` on the same data. Bad samples (NaN/Inf, stamps going backwards) are
+dropped and counted with a throttled warning; data in g or deg/s is refused at alignment
+with an error, and nothing is navigated until ``~/reset``.
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import rclpy
+from ament_index_python.packages import get_package_share_directory
+from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, TwistWithCovarianceStamped
+from nav_msgs.msg import Path as PathMsg
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from scipy.spatial.transform import Rotation
+from sensor_msgs.msg import Imu
+from std_srvs.srv import Trigger
+
+from pdr_core.errors import InputError
+from pdr_ins_ekf.config import load_run_config
+from pdr_ins_ekf.offline import UNKNOWN_VARIANCE
+from pdr_ins_ekf.streaming import Estimate, StreamingNavigator
+from pdr_msgs.msg import Stance
+
+_NS = 1_000_000_000
+
+
+class ZuptEkfNode(Node):
+    """Adapter from Imu messages to the streaming navigator and back to messages."""
+
+    def __init__(self) -> None:
+        super().__init__("zupt_ekf")
+        path = self.declare_parameter("config", "").value or str(
+            Path(get_package_share_directory("pdr_ins_ekf")) / "config" / "foot_ekf.yaml")
+        self.frame_id = self.declare_parameter("frame_id", "map").value
+        durability = self.declare_parameter("imu_durability", "volatile").value
+        self.navigator = StreamingNavigator(load_run_config(path))
+        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL
+                         if durability == "transient_local" else DurabilityPolicy.VOLATILE)
+        self.create_subscription(Imu, "imu/data", self.on_imu, qos)
+        out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+        self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pdr/foot/pose", out)
+        self.velocity_pub = self.create_publisher(TwistWithCovarianceStamped,
+                                                  "pdr/foot/velocity", out)
+        self.stance_pub = self.create_publisher(Stance, "pdr/foot/stance", out)
+        self.path_pub = self.create_publisher(PathMsg, "pdr/foot/path", out)
+        self.create_service(Trigger, "~/reset", self.on_reset)
+        self.path = PathMsg()
+        self.path.header.frame_id = self.frame_id
+        self.previous_stance = False
+        self.reported: dict[str, int] = {}
+        self.get_logger().info(f"zupt_ekf: configuration {path}")
+
+    def on_imu(self, msg: Imu) -> None:
+        a, w = msg.linear_acceleration, msg.angular_velocity
+        stamp = msg.header.stamp.sec * _NS + msg.header.stamp.nanosec
+        estimates = self.navigator.push(stamp, (a.x, a.y, a.z), (w.x, w.y, w.z))
+        for estimate in estimates:
+            self.publish(estimate)
+        self.report_problems()
+
+    def report_problems(self) -> None:
+        for key, count in self.navigator.counts.items():
+            if count > self.reported.get(key, 0):
+                self.get_logger().warning(f"imu/data: {count} samples with {key} so far",
+                                          throttle_duration_sec=5.0)
+                self.reported[key] = count
+        if self.navigator.failed is not None:
+            self.get_logger().error(f"not navigating: {self.navigator.failed}",
+                                    throttle_duration_sec=5.0)
+
+    def publish(self, e: Estimate) -> None:
+        sec, nanosec = divmod(e.stamp_ns, _NS)
+        q = Rotation.from_matrix(e.attitude).as_quat()
+        pose = PoseWithCovarianceStamped()
+        pose.header.stamp.sec, pose.header.stamp.nanosec = sec, nanosec
+        pose.header.frame_id = self.frame_id
+        p = pose.pose.pose
+        p.position.x, p.position.y, p.position.z = map(float, e.position)
+        p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = map(float, q)
+        cov = [0.0] * 36
+        for i in range(3):
+            for j in range(3):
+                cov[6 * i + j] = float(e.covariance[i, j])
+            cov[7 * (i + 3)] = float(e.covariance[6 + i, 6 + i])
+        pose.pose.covariance = cov
+        self.pose_pub.publish(pose)
+        twist = TwistWithCovarianceStamped()
+        twist.header = pose.header
+        v = twist.twist.twist.linear
+        v.x, v.y, v.z = map(float, e.velocity)
+        tcov = [0.0] * 36
+        for i in range(3):
+            for j in range(3):
+                tcov[6 * i + j] = float(e.covariance[3 + i, 3 + j])
+            tcov[7 * (i + 3)] = UNKNOWN_VARIANCE
+        twist.twist.covariance = tcov
+        self.velocity_pub.publish(twist)
+        stance = Stance(stationary=e.stance, statistic=e.statistic, detector=e.detector)
+        stance.header.stamp = pose.header.stamp
+        stance.header.frame_id = "imu_link"
+        self.stance_pub.publish(stance)
+        if e.stance and not self.previous_stance:
+            step = PoseStamped(header=pose.header, pose=p)
+            self.path.poses.append(step)
+            self.path.header.stamp = pose.header.stamp
+            self.path_pub.publish(self.path)
+        self.previous_stance = e.stance
+
+    def on_reset(self, request: Trigger.Request, response: Trigger.Response):
+        self.navigator.reset()
+        self.path.poses = []
+        self.previous_stance = False
+        response.success, response.message = True, "navigator reset"
+        return response
+
+
+def main(args: list[str] | None = None) -> None:
+    rclpy.init(args=args)
+    node = None
+    status = 0
+    try:
+        node = ZuptEkfNode()
+        rclpy.spin(node)
+    except InputError as exc:
+        print(f"zupt_ekf: error: {exc}", file=sys.stderr)
+        status = 2
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    sys.exit(status)
+
+
+if __name__ == "__main__":
+    main()
