@@ -68,3 +68,15 @@ def test_unknown_configuration_key_is_named(procs, tmp_path):
                        str(tmp_path / "out"), "--config", str(config))
     assert result.returncode == 2
     assert f"{config}.detector.w3: unknown key" in result.stderr
+
+
+def test_evaluate_reproduces_the_run_report(procs, tmp_path):
+    bag = ROOT / "bags" / "foot_walk"
+    assert procs.run("pdr-ekf", "run", str(bag), "--out", str(tmp_path / "out")).returncode == 0
+    result = procs.run("pdr-ekf", "evaluate", str(tmp_path / "out"), "--truth", str(bag),
+                       "--plot", str(tmp_path / "e.png"))
+    assert result.returncode == 0, result.stderr
+    evaluated = json.loads(result.stdout.split("plot:")[0])
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    for key in REPORT_KEYS:
+        assert evaluated[key] == pytest.approx(report[key], rel=1e-12)

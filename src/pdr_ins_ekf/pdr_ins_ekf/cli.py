@@ -2,6 +2,8 @@
 
 Subcommands:
     run BAG --out OUT     the ZUPT EKF on imu/data: output bag, report.json, PNG.
+    evaluate BAG --truth TRUTH_BAG
+                          the report of recorded pdr/foot/pose against ground truth.
     study mechanization   pure-INS position error per attitude method and rate
                           (000_fbd401126d10f515.txt, Fig. 6): table, CSV and PNG.
 
@@ -76,6 +78,31 @@ def _run_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_evaluate(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "evaluate", help="report of recorded estimates against ground truth",
+        description="Compute the report of INTERFACES.md for the poses of a bag (e.g. "
+                    "recorded from zupt_ekf) against ground_truth/pose of another bag.")
+    p.add_argument("bag", type=Path, help="bag with the estimated poses")
+    p.add_argument("--truth", type=Path, required=True, help="bag with ground_truth/pose")
+    p.add_argument("--topic", default="/pdr/foot/pose")
+    p.add_argument("--plot", type=Path, help="PNG of the estimate against the truth")
+    p.set_defaults(func=_run_evaluate)
+
+
+def _run_evaluate(args: argparse.Namespace) -> int:
+    estimate = BagReader(args.bag).read(args.topic)
+    truth = truth_at(BagReader(args.truth).read(topics.GROUND_TRUTH_POSE), estimate.stamp_ns)
+    t_s = (estimate.stamp_ns - estimate.stamp_ns[0]) * 1e-9
+    position = estimate["pose.pose.position"]
+    report = error_report(t_s, position, truth)
+    print(json.dumps(report, indent=2))
+    if args.plot:
+        plots.path_png(t_s, position, truth, args.plot, str(args.bag))
+        print(f"plot: {args.plot}")
+    return 0
+
+
 def _add_study(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("study", help="reproduce the studies of the papers")
     studies = p.add_subparsers(dest="study", required=True)
@@ -109,6 +136,7 @@ def parser() -> argparse.ArgumentParser:
     top = argparse.ArgumentParser(prog="pdr-ekf", description=__doc__.split("\n")[0])
     sub = top.add_subparsers(dest="command", required=True)
     _add_run(sub)
+    _add_evaluate(sub)
     _add_study(sub)
     return top
 
