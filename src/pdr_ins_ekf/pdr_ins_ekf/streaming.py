@@ -21,7 +21,7 @@ import numpy as np
 
 from pdr_core.errors import InputError
 from pdr_ins_ekf.config import RunConfig
-from pdr_ins_ekf.offline import check_rest
+from pdr_ins_ekf.offline import check_rest, check_units
 from pdr_ins_ekf.zupt_ekf import ZuptEkf
 
 
@@ -72,6 +72,7 @@ class StreamingNavigator:
         self.next_filtered = 0
         self.failed: UnitsError | None = None
         self.detector_id = 0
+        self.units_checked = False
         for key in self.counts:
             self.counts[key] = 0
 
@@ -107,6 +108,8 @@ class StreamingNavigator:
         while self.offset + len(self.stance) <= last:
             self._decide(self.offset + len(self.stance))
         if self.ekf is None and self.failed is None:
+            self._check_units(final)
+        if self.ekf is None and self.failed is None:
             self._try_align(final)
         if self.ekf is None:
             return []
@@ -127,6 +130,19 @@ class StreamingNavigator:
 
     def _t(self, k: int) -> float:
         return (self.stamps[k - self.offset] - self.first_stamp) * 1e-9
+
+    def _check_units(self, final: bool) -> None:
+        """Before alignment, once ``alignment_min_s`` of data is in: refuse g and deg/s
+        (as offline does on the whole record), so that a detector that never fires on
+        such data cannot leave the node waiting silently."""
+        if self.units_checked or not self.stamps or (
+                not final and self._t(self.received - 1) < self.config.alignment_min_s):
+            return
+        self.units_checked = True
+        try:
+            check_units(np.array(self.accel), np.array(self.gyro))
+        except InputError as exc:
+            self.failed = UnitsError(exc.source, exc.problem)
 
     def _try_align(self, final: bool) -> None:
         """Align on the first stationary run lasting alignment_min_s, once it has ended

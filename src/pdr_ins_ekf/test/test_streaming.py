@@ -1,0 +1,63 @@
+"""The streaming navigator (the node's core): same numbers as offline, bad input handled."""
+import numpy as np
+import pytest
+
+from pdr_core.bag import BagReader
+from pdr_ins_ekf.config import RunConfig, run_config
+from pdr_ins_ekf.offline import navigate
+from pdr_ins_ekf.streaming import StreamingNavigator
+
+
+@pytest.fixture(scope="module")
+def imu(request):
+    root = request.config.rootpath
+    return BagReader(root / "bags" / "foot_walk").read("/imu/data")
+
+
+def stream(navigator, imu, indices=None):
+    out = []
+    for k in range(len(imu)) if indices is None else indices:
+        out += navigator.push(int(imu.stamp_ns[k]), imu["linear_acceleration"][k],
+                              imu["angular_velocity"][k])
+    return out + navigator.flush()
+
+
+@pytest.mark.parametrize("detector", ["retarded", "limited", "shoe"])
+def test_stream_equals_offline(imu, detector):
+    config = run_config({"detector": {"type": detector}})
+    offline = navigate(imu, config)
+    live = stream(StreamingNavigator(config), imu)
+    assert len(live) == len(offline.stamp_ns)
+    np.testing.assert_array_equal([e.position for e in live], offline.output.position)
+
+
+def test_bad_samples_are_dropped_and_counted(imu):
+    navigator = StreamingNavigator(RunConfig())
+    bad = imu.take(np.arange(len(imu)))  # a copy
+    bad["linear_acceleration"][100] = np.nan
+    out = stream(navigator, bad, list(range(500)) + [450, 499] + list(range(500, len(bad))))
+    assert navigator.counts == {"non_finite": 1, "stamp_not_increasing": 2, "gaps": 0}
+    assert len(out) == len(bad) - 1
+
+
+def test_gap_is_counted_and_propagated(imu):
+    navigator = StreamingNavigator(RunConfig())
+    out = stream(navigator, imu, list(range(1000)) + list(range(1050, len(imu))))
+    assert navigator.counts["gaps"] == 1 and len(out) == len(imu) - 50
+
+
+def test_data_in_g_is_refused_at_alignment(imu):
+    navigator = StreamingNavigator(run_config({"detector": {"type": "shoe"}}))
+    scaled = imu.take(np.arange(len(imu)))
+    scaled.fields["linear_acceleration"] = scaled["linear_acceleration"] / 9.80665
+    assert stream(navigator, scaled) == []
+    assert "the accelerometer looks like it is in g" in str(navigator.failed)
+    navigator.reset()
+    assert navigator.failed is None and len(stream(navigator, imu)) == len(imu)
+
+
+def test_memory_stays_bounded(imu):
+    navigator = StreamingNavigator(RunConfig())
+    stream(navigator, imu)
+    left, right = RunConfig().detector.context
+    assert len(navigator.stamps) <= left + right + 2
