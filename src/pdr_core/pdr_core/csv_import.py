@@ -45,6 +45,8 @@ class CsvImuFormat:
             out_x = -in_y, out_y = in_x, out_z = in_z.
         acc_axes, gyro_axes: a remap for one sensor only, replacing ``axes`` for it (for
             logs whose accelerometer and gyroscope triads differ in sign or order).
+        pos_axes: remap of the ground-truth positions into a right-handed, z-up map frame
+            (a motion-capture frame may be left-handed: ``-x,y,z`` mirrors it).
         header: whether the first row holds column names.
         time_offset_s: added to every stamp.
         drop_invalid: drop NaN/Inf rows and non-increasing stamps instead of failing.
@@ -62,6 +64,7 @@ class CsvImuFormat:
     axes: tuple[str, str, str] = ("x", "y", "z")
     acc_axes: tuple[str, str, str] | None = None
     gyro_axes: tuple[str, str, str] | None = None
+    pos_axes: tuple[str, str, str] = ("x", "y", "z")
     header: bool = True
     time_offset_s: float = 0.0
     drop_invalid: bool = False
@@ -188,7 +191,8 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     acc = columns(fmt.acc_cols) * acc_scale @ acc_remap.T
     gyro = (columns(fmt.gyro_cols) * gyro_scale @ gyro_remap.T if fmt.gyro_cols
             else np.zeros_like(acc))
-    pos = columns(fmt.pos_cols) * pos_scale if fmt.pos_cols else None
+    pos = columns(fmt.pos_cols) * pos_scale @ axis_matrix(fmt.pos_axes).T if fmt.pos_cols \
+        else None
     values = np.hstack([acc, gyro] + ([pos] if pos is not None else []))
     keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)
 

@@ -121,3 +121,10 @@ def test_unknown_unit(tmp_path):
     fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), acc_unit="furlong")
     with pytest.raises(InputError, match="--acc-unit: unknown unit 'furlong'"):
         import_csv(write_csv(tmp_path / "j.csv", rows()), fmt)
+
+
+def test_position_remap(tmp_path):
+    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"),
+                       pos_cols=("px", "py", "pz"), pos_axes=("-x", "y", "z"))
+    result = import_csv(write_csv(tmp_path / "m.csv", rows()), fmt)
+    np.testing.assert_array_equal(result.pose["pose.position"][:, 0], -np.arange(5))

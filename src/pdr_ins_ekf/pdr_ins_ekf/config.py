@@ -46,13 +46,37 @@ class RunConfig:
     max_gap_s: float = 0.1
 
 
+def _typed(value: Any, kind: str, where: str) -> Any:
+    """``value`` as the field's type; numbers written like 1.0e6, which YAML 1.1 reads
+    as strings, are accepted."""
+    if kind in ("float", "int"):
+        if isinstance(value, str):
+            try:
+                value = float(value)
+            except ValueError:
+                raise InputError(where, f"expected a number, got {value!r}") from None
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise InputError(where, f"expected a number, got {value!r}")
+        if kind == "int":
+            if value != int(value):
+                raise InputError(where, f"expected an integer, got {value!r}")
+            return int(value)
+        return float(value)
+    if kind == "bool" and not isinstance(value, bool):
+        raise InputError(where, f"expected true or false, got {value!r}")
+    if kind == "str" and not isinstance(value, str):
+        raise InputError(where, f"expected a string, got {value!r}")
+    return value
+
+
 def _build(cls: type, values: dict, where: str) -> Any:
-    known = {f.name for f in fields(cls)}
+    kinds = {f.name: str(f.type) for f in fields(cls)}
     for key in values:
-        if key not in known:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(known))})")
+        if key not in kinds:
+            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(kinds))})")
+    typed = {k: _typed(v, kinds[k], f"{where}.{k}") for k, v in values.items()}
     try:
-        return cls(**values)
+        return cls(**typed)
     except (TypeError, ValueError) as exc:
         raise InputError(where, str(exc)) from exc
 
@@ -64,7 +88,7 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
     for key in data:
         if key not in top:
             raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(top))})")
-    out: dict[str, Any] = {k: float(v) for k, v in data.items()
+    out: dict[str, Any] = {k: _typed(v, "float", f"{where}.{k}") for k, v in data.items()
                            if k in ("alignment_min_s", "initial_yaw_deg", "max_gap_s")}
     if "detector" in data:
         detector = dict(data["detector"] or {})

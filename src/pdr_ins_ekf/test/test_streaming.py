@@ -61,3 +61,13 @@ def test_memory_stays_bounded(imu):
     stream(navigator, imu)
     left, right = RunConfig().detector.context
     assert len(navigator.stamps) <= left + right + 2
+
+
+def test_configuration_values_are_typed():
+    from pdr_core.errors import InputError
+    config = run_config({"detector": {"type": "shoe", "threshold": "1.0e6", "window": 7}})
+    assert config.detector.threshold == 1.0e6 and config.detector.window == 7
+    with pytest.raises(InputError, match=r"config.detector.window: expected an integer"):
+        run_config({"detector": {"type": "shoe", "window": 2.5}})
+    with pytest.raises(InputError, match=r"config.filter.zaru: expected true or false"):
+        run_config({"filter": {"zaru": "yes"}})

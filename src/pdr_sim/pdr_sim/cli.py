@@ -178,7 +178,7 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
                    help="gyroscope x,y,z (omit when the log has none)")
     p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS))
     p.add_argument("--axes", type=_columns, default=("x", "y", "z"),
-                   help="sensor axis remap, e.g. -y,x,z means out_x=-in_y, out_y=in_x")
+                   help="sensor axis remap, e.g. --axes=-y,x,z means out_x=-in_y, out_y=in_x")
     p.add_argument("--acc-axes", type=_columns, default=None,
                    help="remap of the accelerometer only (replaces --axes for it)")
     p.add_argument("--gyro-axes", type=_columns, default=None,
@@ -198,6 +198,7 @@ def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
         time_col=args.time_col, time_unit=args.time_unit, acc_cols=args.acc_cols,
         acc_unit=args.acc_unit, gyro_cols=args.gyro_cols, gyro_unit=args.gyro_unit,
         pos_cols=getattr(args, "pos_cols", ()), pos_unit=getattr(args, "pos_unit", "m"),
+        pos_axes=getattr(args, "pos_axes", ("x", "y", "z")),
         axes=args.axes, acc_axes=args.acc_axes, gyro_axes=args.gyro_axes,
         header=args.header, time_offset_s=args.time_offset_s,
         drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates)
@@ -216,6 +217,9 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--pos-cols", type=_columns, default=(),
                    help="ground-truth position x,y,z (map frame, z up)")
     p.add_argument("--pos-unit", default="m", choices=sorted(POS_UNITS_M))
+    p.add_argument("--pos-axes", type=_columns, default=("x", "y", "z"),
+                   help="remap of the positions into a right-handed z-up frame, "
+                        "e.g. --pos-axes=-x,y,z")
     p.set_defaults(func=_run_import_csv)
 
 
