@@ -38,6 +38,11 @@ _NS = 1_000_000_000
 _HEADER = ("header", "std_msgs/msg/Header")
 
 
+def known_type(msgtype: str) -> bool:
+    """True when the typestore (ROS 2 Jazzy + pdr_msgs) can describe ``msgtype``."""
+    return msgtype in typestore().fielddefs
+
+
 def has_header(msgtype: str) -> bool:
     """True when the first field of ``msgtype`` is a std_msgs/Header."""
     _, fields = typestore().fielddefs[msgtype]
@@ -92,6 +97,11 @@ class BagRecorder(Node):
             if full not in graph:
                 continue
             msgtype = graph[full][0]
+            if not known_type(msgtype):
+                self.get_logger().error(f"cannot record {full}: type {msgtype} is not in the "
+                                        "typestore (ROS 2 Jazzy and pdr_msgs)",
+                                        throttle_duration_sec=10.0)
+                continue
             qos = matching_qos(self.get_publishers_info_by_topic(full))
             self.create_subscription(message_class(msgtype), topic,
                                      self._callback(bag_topics.bag_name(topic), msgtype),
