@@ -6,16 +6,20 @@ into an :class:`~pdr_core.imu_errors.ImuErrors` in SI units; unknown keys and ne
 densities are refused with the key named. Keys:
 
 gyro:  arw_deg_per_sqrt_h, bias_deg_per_s, bias_sigma_deg_per_s,
-       bias_instability_deg_per_h, bias_correlation_time_s, rrw_deg_per_s_per_sqrt_h,
-       scale_factor_ppm, misalignment_mrad, range_deg_per_s, resolution_deg_per_s
+       bias_instability_deg_per_h | gauss_markov_sigma_deg_per_s, bias_correlation_time_s,
+       rrw_deg_per_s_per_sqrt_h, scale_factor_ppm, misalignment_mrad, range_deg_per_s,
+       resolution_deg_per_s
 accel: vrw_ug_per_sqrt_hz | vrw_mps_per_sqrt_h, bias_mg, bias_sigma_mg,
-       bias_instability_mg, bias_correlation_time_s, random_walk_mps2_per_sqrt_h,
-       scale_factor_ppm, misalignment_mrad, range_g, resolution_mg
+       bias_instability_mg | gauss_markov_sigma_mg, bias_correlation_time_s,
+       random_walk_mps2_per_sqrt_h, scale_factor_ppm, misalignment_mrad, range_g,
+       resolution_mg
 mag:   noise_ut_per_sqrt_hz, bias_ut, bias_sigma_ut, scale_factor_ppm, misalignment_mrad,
        range_ut, resolution_ut
 
-A bias instability β becomes a Gauss–Markov bias with the given correlation time whose
-σ makes the minimum of the modelled Allan deviation equal β
+The Gauss–Markov (AR(1)) bias of 003_05973562addf7331.txt, Eqs. (3.8)–(3.9) is given
+either directly, by its σ (``gauss_markov_sigma_*``) and correlation time τ, or by a bias
+instability β: then σ is chosen so that the first minimum of the modelled Allan deviation
+equals β
 (:func:`pdr_core.allan.gm_sigma_for_bias_instability`), so ``pdr-sim allan`` on static
 data reads β back. Misalignment is given as the three small angles (about x, y, z) of a
 non-orthogonality that couples the axes: M = [[0, −γz, γy], [γz, 0, −γx], [−γy, γx, 0]]
@@ -80,11 +84,13 @@ _SCALES = {
     "gyro": {"arw_deg_per_sqrt_h": units.arw_to_si(1), "bias_deg_per_s": units.DEG,
              "bias_sigma_deg_per_s": units.DEG,
              "bias_instability_deg_per_h": units.deg_per_h_to_si(1),
+             "gauss_markov_sigma_deg_per_s": units.DEG,
              "rrw_deg_per_s_per_sqrt_h": units.rrw_to_si(1),
              "range_deg_per_s": units.DEG, "resolution_deg_per_s": units.DEG},
     "accel": {"vrw_ug_per_sqrt_hz": units.ug_per_sqrt_hz_to_si(1),
               "vrw_mps_per_sqrt_h": units.vrw_to_si(1), "bias_mg": units.mg_to_si(1),
               "bias_sigma_mg": units.mg_to_si(1), "bias_instability_mg": units.mg_to_si(1),
+              "gauss_markov_sigma_mg": units.mg_to_si(1),
               "random_walk_mps2_per_sqrt_h": 1 / units.SQRT_HOUR,
               "range_g": units.STANDARD_GRAVITY_MPS2, "resolution_mg": units.mg_to_si(1)},
     "mag": {"noise_ut_per_sqrt_hz": 1e-6, "bias_ut": 1e-6, "bias_sigma_ut": 1e-6,
@@ -98,6 +104,7 @@ _FIELDS = {  # config key (after unit scaling) -> TriadErrors field
     "bias_sigma_deg_per_s": "bias_sigma", "bias_sigma_mg": "bias_sigma",
     "bias_sigma_ut": "bias_sigma", "rrw_deg_per_s_per_sqrt_h": "random_walk_density",
     "random_walk_mps2_per_sqrt_h": "random_walk_density", "scale_factor_ppm": "scale_factor",
+    "gauss_markov_sigma_deg_per_s": "gm_sigma", "gauss_markov_sigma_mg": "gm_sigma",
 }
 _SCALAR_KEYS = {"range_deg_per_s", "range_g", "range_ut", "resolution_deg_per_s",
                 "resolution_mg", "resolution_ut"}
@@ -134,6 +141,14 @@ def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
         gx, gy, gz = values["misalignment_mrad"]
         fields["misalignment"] = ((0.0, gz, gy), (gz, 0.0, gx), (gy, gx, 0.0))
     instability = next((k for k in values if k.startswith("bias_instability")), None)
+    direct = next((k for k in values if k.startswith("gauss_markov_sigma")), None)
+    if instability and direct:
+        raise InputError(f"{where}.{direct}", f"give either {instability} or {direct}")
+    if direct:
+        tau = values.get("bias_correlation_time_s")
+        if tau is None:
+            raise InputError(f"{where}.bias_correlation_time_s", f"required with {direct}")
+        fields["gm_tau_s"] = tau
     if instability:
         tau = values.get("bias_correlation_time_s")
         if tau is None or min(tau) <= 0:

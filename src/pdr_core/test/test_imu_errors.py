@@ -62,12 +62,22 @@ def test_profile_allan_reading_matches_configuration():
         assert np.median(np.abs(adev / model - 1)[taus < 100]) < 0.05
 
 
+def test_gauss_markov_sigma_and_tau_directly():
+    errors = imu_errors({"gyro": {"gauss_markov_sigma_deg_per_s": 0.01,
+                                  "bias_correlation_time_s": [50, 60, 70]}})
+    np.testing.assert_allclose(errors.gyro.gm_sigma, np.radians(0.01))
+    assert errors.gyro.gm_tau_s == (50.0, 60.0, 70.0)
+
+
 @pytest.mark.parametrize("config, key", [
     ({"gyro": {"arw_deg_per_sqrt_h": -1}}, "p.gyro.arw_deg_per_sqrt_h"),
     ({"gyro": {"arw_deg_per_sqrt": 1}}, "p.gyro.arw_deg_per_sqrt"),
     ({"baro": {}}, "p.baro"),
     ({"accel": {"bias_instability_mg": 0.1}}, "p.accel.bias_correlation_time_s"),
     ({"accel": {"bias_mg": [1, 2]}}, "p.accel.bias_mg"),
+    ({"accel": {"gauss_markov_sigma_mg": 0.1}}, "p.accel.bias_correlation_time_s"),
+    ({"gyro": {"gauss_markov_sigma_deg_per_s": 0.1, "bias_instability_deg_per_h": 5,
+               "bias_correlation_time_s": 100}}, "p.gyro.gauss_markov_sigma_deg_per_s"),
 ])
 def test_bad_profile_configuration_names_the_key(config, key):
     with pytest.raises(InputError) as err:
