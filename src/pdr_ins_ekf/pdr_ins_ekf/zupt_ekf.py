@@ -27,6 +27,7 @@ import numpy as np
 
 from pdr_core.rotations import rotation_from_euler, skew
 from pdr_ins_ekf.attitude_update import closed_form_increments
+from pdr_ins_ekf.compiled_filter import BIAS_MODEL_CODES, filter_loop
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
 
@@ -194,15 +195,13 @@ def initial_attitude(accel: np.ndarray, yaw_rad: float) -> np.ndarray:
 def run(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
         config: FilterConfig, alignment: slice, yaw_rad: float = 0.0) -> FilterOutput:
     """Filter a whole recording: stamps t (N,) [s], specific force and rate (N, 3), the
-    stance mask (N,) and the samples to align on (at rest)."""
+    stance mask (N,) and the samples to align on (at rest). The loop runs compiled
+    (:mod:`pdr_ins_ekf.compiled_filter`), with the equations of :meth:`ZuptEkf.step`."""
     ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
-    n, m = len(t), config.states
-    out = FilterOutput(np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3, 3)),
-                       np.empty((n, 6)), np.empty((n, m)), np.empty((n, 3, 3)),
-                       np.empty((n, 3, 3)))
-    for k in range(n):
-        ekf.step(accel[k], gyro[k], t[k] - t[k - 1] if k else 0.0, bool(stance[k]))
-        out.position[k], out.velocity[k], out.attitude[k], out.bias[k] = ekf.p, ekf.v, ekf.C, ekf.b
-        out.variance[k] = np.diag(ekf.P)
-        out.position_cov[k], out.velocity_cov[k] = ekf.P[0:3, 0:3], ekf.P[3:6, 3:6]
-    return out
+    c = config
+    return FilterOutput(*filter_loop(
+        np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
+        np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), c.zaru,
+        ekf.C, ekf.b, ekf.P, c.acc_noise, c.gyro_noise, c.acc_bias_noise, c.gyro_bias_noise,
+        c.bias_tau_s, BIAS_MODEL_CODES[c.bias_model], c.zupt_sigma_mps, c.zaru_sigma_radps,
+        c.gravity_mps2))
