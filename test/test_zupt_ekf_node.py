@@ -9,7 +9,7 @@ import pytest
 
 from pdr_core.bag import BagReader
 from pdr_ins_ekf.config import RunConfig
-from wstest import ROOT, log_text
+from wstest import ROOT, log_text, wait_for_log
 
 pytestmark = pytest.mark.ros
 CONFIG = ROOT / "src" / "pdr_ins_ekf" / "config" / "foot_ekf.yaml"
@@ -27,6 +27,7 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                            f"max_messages:={2 * expected}", name="record")
     node = procs.start("zupt_ekf", "--ros-args", "-p", f"config:={CONFIG}", "-p",
                        "imu_durability:=transient_local", name="zupt_ekf")
+    wait_for_log(recorder, "recording /pdr/foot/pose", "recording /pdr/foot/stance")
     played = procs.run("bag_play", "--ros-args", "-p", f"bag:={bag}", "-p",
                        "topics:=[/imu/data]", "-p", "rate:=0.0", "-p", "wait_for_subscribers:=1")
     assert played.returncode == 0, played.stderr

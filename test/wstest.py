@@ -4,6 +4,7 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,6 +48,15 @@ class Processes:
             if proc.poll() is None:
                 proc.kill()
                 proc.wait()
+
+
+def wait_for_log(proc: subprocess.Popen, *texts: str, timeout: float = 60.0) -> None:
+    """Wait until the process's log holds every one of ``texts`` (a start handshake)."""
+    deadline = time.monotonic() + timeout
+    while not all(t in log_text(proc) for t in texts):
+        if proc.poll() is not None or time.monotonic() > deadline:
+            raise AssertionError(f"{proc.args[1]} never logged {texts}:\n{log_text(proc)}")
+        time.sleep(0.05)
 
 
 def log_text(proc: subprocess.Popen) -> str:

@@ -35,6 +35,12 @@ recorder=$!
 "$root/ws" zupt_ekf --ros-args -p config:="$config" -p imu_durability:=transient_local \
   > "$out/zupt_ekf.log" 2>&1 &
 node=$!
+# start playing once the recorder listens to the navigator's outputs
+for _ in $(seq 600); do
+  grep -q "recording /pdr/foot/stance" "$out/bag_record.log" && \
+    grep -q "recording /pdr/foot/pose" "$out/bag_record.log" && break
+  sleep 0.1
+done
 "$root/ws" bag_play --ros-args -p bag:="$out/simulated" -p "topics:=[/imu/data]" \
   -p rate:=0.0 -p wait_for_subscribers:=1
 wait "$recorder"

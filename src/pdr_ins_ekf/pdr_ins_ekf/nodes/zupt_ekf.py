@@ -53,7 +53,9 @@ class ZuptEkfNode(Node):
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
         self.create_subscription(Imu, "imu/data", self.on_imu, qos)
-        out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+        # transient local: a recorder that joins late still gets the last 1000 estimates
+        out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pdr/foot/pose", out)
         self.velocity_pub = self.create_publisher(TwistWithCovarianceStamped,
                                                   "pdr/foot/velocity", out)
