@@ -1,11 +1,13 @@
-"""The ZUPT EKF loop of :func:`pdr_ins_ekf.zupt_ekf.run`, compiled with numba.
+"""The ZUPT EKF's equations as compiled kernels (numba), shared by the offline loop and
+the one-sample steps of :class:`pdr_ins_ekf.zupt_ekf.ZuptEkf` (the live node).
 
-Offline, all samples are filtered in one compiled call: the same equations, in the same
-order, as :class:`pdr_ins_ekf.zupt_ekf.ZuptEkf` (trapezoidal mechanization, first-order
-F and Q, Joseph-form ZUPT/ZARU updates, symmetrised covariance, orthonormalised attitude).
-The Python class remains the reference and the live node's engine; a test holds the two
-to 1e-9 m. The first call compiles (a few seconds) and caches the machine code beside
-this module.
+State arrays are changed in place: position p, velocity v (3,), attitude C (3, 3), biases
+b (6,) [accelerometer, gyroscope], covariance P (n, n), and ``prev`` (3, 3), whose rows
+are the previous bias-corrected specific force, rate and navigation-frame specific force
+(the trapezoidal mechanization needs them). ``params`` holds, in order: accelerometer
+and gyro noise densities, accelerometer and gyro bias noise densities, the Gauss–Markov
+correlation time [s], the bias model code (:data:`BIAS_MODEL_CODES`) and gravity [m/s²].
+The first call compiles (seconds) and caches the machine code beside this module.
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ def _skew(v):
 
 @njit(cache=True)
 def _rodrigues(w, dt):
+    """exp([w×]·dt), 000_fbd401126d10f515.txt, Eq. (12)."""
     norm = np.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
     big = _skew(w)
     if norm > 0:
@@ -34,9 +37,53 @@ def _rodrigues(w, dt):
 
 
 @njit(cache=True)
-def _update(p, v, C, b, P, z, rows, sigma):
-    """Joseph-form update with H selecting three ``rows`` of the error state; corrects
-    p, v, C, b and P in place."""
+def start(C, b, prev, f, w):
+    """Set ``prev`` from the first sample."""
+    prev[0] = f - b[:3]
+    prev[1] = w - b[3:]
+    prev[2] = C @ prev[0]
+
+
+@njit(cache=True)
+def predict(p, v, C, b, P, prev, f, w, dt, params):
+    """Trapezoidal mechanization over dt, then P = F·P·Fᵀ + Q (symmetrised)."""
+    acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise, tau, bias_model, gravity = params
+    n = P.shape[0]
+    f_c = f - b[:3]
+    w_c = w - b[3:]
+    C[:, :] = C @ _rodrigues((prev[1] + w_c) / 2, dt)
+    a_now = C @ f_c
+    v_new = v + ((prev[2] + a_now) / 2 - np.array([0.0, 0.0, gravity])) * dt
+    p += (v + v_new) / 2 * dt
+    v[:] = v_new
+    prev[0] = f_c
+    prev[1] = w_c
+    prev[2] = a_now
+    F = np.eye(n)
+    F[0:3, 3:6] = np.eye(3) * dt
+    F[3:6, 6:9] = _skew(a_now) * dt
+    Q = np.zeros((n, n))
+    q_acc = np.eye(3) * acc_noise**2 * dt
+    q_gyro = np.eye(3) * gyro_noise**2 * dt
+    if n == 15:
+        F[3:6, 9:12] = -C * dt
+        F[6:9, 12:15] = C * dt
+        if bias_model == 2:
+            F[9:15, 9:15] -= np.eye(6) * dt / tau
+        Q[9:12, 9:12] = np.eye(3) * acc_bias_noise**2 * dt
+        Q[12:15, 12:15] = np.eye(3) * gyro_bias_noise**2 * dt
+        q_acc = C @ q_acc @ C.T
+        q_gyro = C @ q_gyro @ C.T
+    Q[3:6, 3:6] = q_acc
+    Q[6:9, 6:9] = q_gyro
+    P[:, :] = F @ P @ F.T + Q
+    P[:, :] = (P + P.T) / 2
+
+
+@njit(cache=True)
+def update(p, v, C, b, P, prev, z, rows, sigma):
+    """Joseph-form update with H selecting the three error states from ``rows``, then
+    the closed-loop compensation of 001_5b5dbf275b14cf0a.txt, Eq. (8)."""
     n = P.shape[0]
     H = np.zeros((3, n))
     for i in range(3):
@@ -55,72 +102,30 @@ def _update(p, v, C, b, P, z, rows, sigma):
     C[:, :] = u @ vt
     if n == 15:
         b += dx[9:15]
+    prev[2] = C @ prev[0]
 
 
 @njit(cache=True)
-def filter_loop(t, accel, gyro, stance, zaru, C0, b0, P0, acc_noise, gyro_noise,
-                acc_bias_noise, gyro_bias_noise, bias_tau_s, bias_model, zupt_sigma,
-                zaru_sigma, gravity):
+def filter_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, zaru_sigma):
     """All samples: returns position, velocity (N, 3), attitude (N, 3, 3), bias (N, 6),
     covariance diagonal (N, n) and position and velocity covariance (N, 3, 3)."""
     N = t.shape[0]
     n = P0.shape[0]
-    p = np.zeros(3)
-    v = np.zeros(3)
-    C = C0.copy()
-    b = b0.copy()
-    P = P0.copy()
-    g = np.array([0.0, 0.0, gravity])
-    pos = np.empty((N, 3))
-    vel = np.empty((N, 3))
-    att = np.empty((N, 3, 3))
-    bias = np.empty((N, 6))
+    p, v = np.zeros(3), np.zeros(3)
+    C, b, P = C0.copy(), b0.copy(), P0.copy()
+    prev = np.empty((3, 3))
+    start(C, b, prev, accel[0], gyro[0])
+    pos, vel, bias = np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 6))
+    att, pcov, vcov = np.empty((N, 3, 3)), np.empty((N, 3, 3)), np.empty((N, 3, 3))
     var = np.empty((N, n))
-    pcov = np.empty((N, 3, 3))
-    vcov = np.empty((N, 3, 3))
-    prev_f = accel[0] - b[:3]
-    prev_w = gyro[0] - b[3:]
-    prev_a = C @ prev_f
     for k in range(N):
-        dt = t[k] - t[k - 1] if k else 0.0
-        f_c = accel[k] - b[:3]
-        w_c = gyro[k] - b[3:]
-        a_prev = prev_a
-        C = C @ _rodrigues((prev_w + w_c) / 2, dt)
-        a_now = C @ f_c
-        v_new = v + ((a_prev + a_now) / 2 - g) * dt
-        p = p + (v + v_new) / 2 * dt
-        v = v_new
-        prev_f, prev_w, prev_a = f_c, w_c, a_now
-        F = np.eye(n)
-        F[0:3, 3:6] = np.eye(3) * dt
-        F[3:6, 6:9] = _skew(a_now) * dt
-        Q = np.zeros((n, n))
-        q_acc = np.eye(3) * acc_noise**2 * dt
-        q_gyro = np.eye(3) * gyro_noise**2 * dt
-        if n == 15:
-            F[3:6, 9:12] = -C * dt
-            F[6:9, 12:15] = C * dt
-            if bias_model == 2:
-                F[9:15, 9:15] -= np.eye(6) * dt / bias_tau_s
-            Q[9:12, 9:12] = np.eye(3) * acc_bias_noise**2 * dt
-            Q[12:15, 12:15] = np.eye(3) * gyro_bias_noise**2 * dt
-            q_acc = C @ q_acc @ C.T
-            q_gyro = C @ q_gyro @ C.T
-        Q[3:6, 3:6] = q_acc
-        Q[6:9, 6:9] = q_gyro
-        P = F @ P @ F.T + Q
-        P = (P + P.T) / 2
+        predict(p, v, C, b, P, prev, accel[k], gyro[k], t[k] - t[k - 1] if k else 0.0,
+                params)
         if stance[k]:
-            _update(p, v, C, b, P, -v, 3, zupt_sigma)
-            prev_a = C @ prev_f
+            update(p, v, C, b, P, prev, -v, 3, zupt_sigma)
             if zaru:
-                _update(p, v, C, b, P, gyro[k] - b[3:], 12, zaru_sigma)
-                prev_a = C @ prev_f
-        pos[k] = p
-        vel[k] = v
-        att[k] = C
-        bias[k] = b
+                update(p, v, C, b, P, prev, gyro[k] - b[3:], 12, zaru_sigma)
+        pos[k], vel[k], att[k], bias[k] = p, v, C, b
         for i in range(n):
             var[k, i] = P[i, i]
         pcov[k] = P[0:3, 0:3]

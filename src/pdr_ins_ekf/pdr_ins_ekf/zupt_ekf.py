@@ -25,9 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdr_core.rotations import rotation_from_euler, skew
-from pdr_ins_ekf.attitude_update import closed_form_increments
-from pdr_ins_ekf.compiled_filter import BIAS_MODEL_CODES, filter_loop
+from pdr_core.rotations import rotation_from_euler
+from pdr_ins_ekf import compiled_filter as kernels
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
 
@@ -85,78 +84,34 @@ class FilterOutput:
 
 
 class ZuptEkf:
-    """The filter state and one-sample step; :func:`run` drives it over arrays."""
+    """The filter state and one-sample step (the live node's engine); the equations are
+    the compiled kernels of :mod:`pdr_ins_ekf.compiled_filter`, which :func:`run` also
+    loops over, so both give the same numbers."""
 
     def __init__(self, config: FilterConfig, attitude: np.ndarray, gyro_bias=(0.0, 0.0, 0.0),
                  position=(0.0, 0.0, 0.0)) -> None:
         self.config = config
-        n = config.states
         self.p = np.asarray(position, float).copy()
         self.v = np.zeros(3)
-        self.C = np.asarray(attitude, float).copy()
+        self.C = np.ascontiguousarray(attitude, float).copy()
         self.b = np.concatenate([np.zeros(3), np.asarray(gyro_bias, float)])
         sig = ([config.init_pos_sigma_m] * 3 + [config.init_vel_sigma_mps] * 3
                + [config.init_att_sigma_rad] * 2 + [config.init_yaw_sigma_rad])
-        if n == 15:
+        if config.states == 15:
             sig += [config.init_acc_bias_sigma] * 3 + [config.init_gyro_bias_sigma] * 3
         self.P = np.diag(np.square(sig))
-        self.prev_f = None
-        self.prev_w = None
-        self._H_zupt = np.zeros((3, n))
-        self._H_zupt[:, 3:6] = np.eye(3)
-        if n == 15:
-            self._H_zaru = np.zeros((3, n))
-            self._H_zaru[:, 12:15] = np.eye(3)
+        self.prev = np.empty((3, 3))
+        self.started = False
+        self.params = kernel_params(config)
 
     def predict(self, f: np.ndarray, w: np.ndarray, dt: float) -> None:
         """Propagate the nominal state (trapezoidal) and the covariance over dt."""
-        cfg = self.config
-        f_c, w_c = f - self.b[:3], w - self.b[3:]
-        if self.prev_f is None:
-            self.prev_f, self.prev_w, self.prev_a = f_c, w_c, self.C @ f_c
-        g = np.array([0.0, 0.0, cfg.gravity_mps2])
-        a_prev = self.prev_a
-        self.C = self.C @ closed_form_increments(((self.prev_w + w_c) / 2)[None], dt)[0]
-        a_now = self.C @ f_c
-        v_new = self.v + ((a_prev + a_now) / 2 - g) * dt
-        self.p = self.p + (self.v + v_new) / 2 * dt
-        self.v = v_new
-        self.prev_f, self.prev_w, self.prev_a = f_c, w_c, a_now
-        n = cfg.states
-        F = np.eye(n)
-        F[0:3, 3:6] = np.eye(3) * dt
-        F[3:6, 6:9] = skew(a_now) * dt
-        Q = np.zeros((n, n))
-        Q[3:6, 3:6] = np.eye(3) * cfg.acc_noise**2 * dt
-        Q[6:9, 6:9] = np.eye(3) * cfg.gyro_noise**2 * dt
-        if n == 15:
-            F[3:6, 9:12] = -self.C * dt
-            F[6:9, 12:15] = self.C * dt
-            if cfg.bias_model == "gauss_markov":
-                F[9:15, 9:15] -= np.eye(6) * dt / cfg.bias_tau_s
-            Q[9:12, 9:12] = np.eye(3) * cfg.acc_bias_noise**2 * dt
-            Q[12:15, 12:15] = np.eye(3) * cfg.gyro_bias_noise**2 * dt
-            Q[3:6, 3:6] = self.C @ Q[3:6, 3:6] @ self.C.T
-            Q[6:9, 6:9] = self.C @ Q[6:9, 6:9] @ self.C.T
-        self.P = F @ self.P @ F.T + Q
-        self.P = (self.P + self.P.T) / 2
-
-    def _update(self, z: np.ndarray, H: np.ndarray, sigma: float) -> None:
-        R = np.eye(len(z)) * sigma**2
-        S = H @ self.P @ H.T + R
-        K = np.linalg.solve(S, H @ self.P).T
-        dx = K @ z
-        I_KH = np.eye(len(dx)) - K @ H
-        self.P = I_KH @ self.P @ I_KH.T + K @ R @ K.T
-        self.P = (self.P + self.P.T) / 2
-        self.p = self.p + dx[0:3]
-        self.v = self.v + dx[3:6]
-        self.C = (np.eye(3) - skew(dx[6:9])) @ self.C
-        u, _, vt = np.linalg.svd(self.C)
-        self.C = u @ vt
-        if len(dx) == 15:
-            self.b = self.b + dx[9:15]
-        self.prev_a = self.C @ self.prev_f
+        f, w = np.asarray(f, float), np.asarray(w, float)
+        if not self.started:
+            kernels.start(self.C, self.b, self.prev, f, w)
+            self.started = True
+        kernels.predict(self.p, self.v, self.C, self.b, self.P, self.prev, f, w, dt,
+                        self.params)
 
     @classmethod
     def aligned(cls, config: FilterConfig, accel_rest: np.ndarray, gyro_rest: np.ndarray,
@@ -175,12 +130,21 @@ class ZuptEkf:
                 self.zaru(w)
 
     def zupt(self) -> None:
-        """Zero-velocity pseudo-measurement."""
-        self._update(-self.v, self._H_zupt, self.config.zupt_sigma_mps)
+        """Zero-velocity pseudo-measurement: z = −v̂ observes δv."""
+        kernels.update(self.p, self.v, self.C, self.b, self.P, self.prev, -self.v, 3,
+                       self.config.zupt_sigma_mps)
 
     def zaru(self, w: np.ndarray) -> None:
-        """Zero-angular-rate pseudo-measurement (15 states)."""
-        self._update(w - self.b[3:], self._H_zaru, self.config.zaru_sigma_radps)
+        """Zero-angular-rate pseudo-measurement (15 states): z = ω − b̂_g observes δb_g."""
+        kernels.update(self.p, self.v, self.C, self.b, self.P, self.prev,
+                       np.asarray(w, float) - self.b[3:], 12, self.config.zaru_sigma_radps)
+
+
+def kernel_params(config: FilterConfig) -> np.ndarray:
+    """The ``params`` array of :mod:`pdr_ins_ekf.compiled_filter`."""
+    return np.array([config.acc_noise, config.gyro_noise, config.acc_bias_noise,
+                     config.gyro_bias_noise, config.bias_tau_s,
+                     kernels.BIAS_MODEL_CODES[config.bias_model], config.gravity_mps2])
 
 
 def initial_attitude(accel: np.ndarray, yaw_rad: float) -> np.ndarray:
@@ -198,10 +162,7 @@ def run(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
     stance mask (N,) and the samples to align on (at rest). The loop runs compiled
     (:mod:`pdr_ins_ekf.compiled_filter`), with the equations of :meth:`ZuptEkf.step`."""
     ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
-    c = config
-    return FilterOutput(*filter_loop(
+    return FilterOutput(*kernels.filter_loop(
         np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
-        np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), c.zaru,
-        ekf.C, ekf.b, ekf.P, c.acc_noise, c.gyro_noise, c.acc_bias_noise, c.gyro_bias_noise,
-        c.bias_tau_s, BIAS_MODEL_CODES[c.bias_model], c.zupt_sigma_mps, c.zaru_sigma_radps,
-        c.gravity_mps2))
+        np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), config.zaru,
+        ekf.C, ekf.b, ekf.P, ekf.params, config.zupt_sigma_mps, config.zaru_sigma_radps))
