@@ -8,20 +8,9 @@ import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader
-from wstest import SHARED_DATA
+from wstest import PYSHOE, PYSHOE_ARGS, SHARED_DATA, XIO, XIO_ARGS
 
-PYSHOE = sorted((SHARED_DATA / "foot" / "pyshoe_vicon").glob("*.csv"))
-XIO = SHARED_DATA / "foot" / "xio_gait_tracking" / "short_walk.csv"
 OXFORD = next((SHARED_DATA / "pocket" / "oxford_step_counter").glob("user1_frontpocket_*.csv"))
-
-PYSHOE_ARGS = ["--time-col", "t_s", "--acc-cols", "acc_x_mps2,acc_y_mps2,acc_z_mps2",
-               "--gyro-cols", "gyr_x_radps,gyr_y_radps,gyr_z_radps",
-               "--pos-cols", "gt_x_m,gt_y_m,gt_z_m"]
-XIO_ARGS = ["--time-col", "Time (s)",
-            "--acc-cols", "Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)",
-            "--acc-unit", "g",
-            "--gyro-cols", "Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s)",
-            "--gyro-unit", "deg/s", "--drop-duplicates"]
 OXFORD_ARGS = ["--no-header", "--time-col", "0", "--time-unit", "ns", "--acc-cols", "1,2,3"]
 
 

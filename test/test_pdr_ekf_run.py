@@ -7,14 +7,11 @@ import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader, write_batches
-from wstest import ROOT, SHARED_DATA
+from wstest import ROOT, XIO, XIO_COLUMNS
 
 REPORT_KEYS = {"duration_s", "distance_m", "final_error_m", "final_error_pct",
                "mean_error_3d_m", "armse_3d_m", "armse_2d_m"}
-XIO = SHARED_DATA / "foot" / "xio_gait_tracking" / "short_walk.csv"
-XIO_COLUMNS = ["--time-col", "Time (s)", "--drop-duplicates",
-               "--acc-cols", "Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)",
-               "--gyro-cols", "Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s)"]
+
 
 
 def test_sample_bag_outputs_and_report(procs, tmp_path):

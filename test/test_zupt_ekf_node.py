@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader
-from pdr_ins_ekf.config import RunConfig
+from pdr_ins_ekf.config import load_run_config
 from wstest import ROOT, log_text, wait_for_log
 
 pytestmark = pytest.mark.ros
@@ -20,7 +20,7 @@ def test_live_node_equals_offline_run(procs, tmp_path):
     offline = procs.run("pdr-ekf", "run", str(bag), "--out", str(tmp_path / "offline"),
                         "--config", str(CONFIG))
     assert offline.returncode == 0, offline.stderr
-    lag = RunConfig().detector.context[1]  # the live node holds back its look-ahead
+    lag = load_run_config(CONFIG).detector.context[1]  # the live node holds back its look-ahead
     expected = 6095 - lag
     recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
                            "topics:=[pdr/foot/pose, pdr/foot/stance]", "-p",

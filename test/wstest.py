@@ -15,6 +15,18 @@ if not SHARED_DATA.is_dir():
     raise FileNotFoundError(f"{SHARED_DATA}: the shared recordings are missing; clone the "
                             "repository beside shared/ or set PDR_SHARED_DATA")
 
+# Import arguments of the recordings (README, "Recording, replay and import")
+PYSHOE = sorted((SHARED_DATA / "foot" / "pyshoe_vicon").glob("*.csv"))
+PYSHOE_ARGS = ["--time-col", "t_s", "--acc-cols", "acc_x_mps2,acc_y_mps2,acc_z_mps2",
+               "--gyro-cols", "gyr_x_radps,gyr_y_radps,gyr_z_radps",
+               "--pos-cols", "gt_x_m,gt_y_m,gt_z_m"]
+PYSHOE_NAV_ARGS = [*PYSHOE_ARGS, "--pos-axes=-x,y,z"]  # the VICON frame is mirrored
+XIO = SHARED_DATA / "foot" / "xio_gait_tracking" / "short_walk.csv"
+XIO_COLUMNS = ["--time-col", "Time (s)", "--drop-duplicates",
+               "--acc-cols", "Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)",
+               "--gyro-cols", "Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s)"]
+XIO_ARGS = [*XIO_COLUMNS, "--acc-unit", "g", "--gyro-unit", "deg/s"]
+
 
 class Processes:
     """Starts ``./ws`` executables in one ROS domain; stops what is left at teardown."""

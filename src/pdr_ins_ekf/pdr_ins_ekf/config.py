@@ -22,6 +22,7 @@ import yaml
 
 from pdr_core.errors import InputError
 from pdr_ins_ekf.zero_velocity import (
+    AdaptiveShoeDetector,
     AngularRateEnergyDetector,
     MagnitudeDetector,
     MovingVarianceDetector,
@@ -33,6 +34,7 @@ from pdr_ins_ekf.zupt_ekf import FilterConfig
 
 DETECTORS = {"original": Paper000Detector, "limited": Paper000Detector,
              "retarded": Paper000Detector, "shoe": ShoeDetector,
+             "adaptive_shoe": AdaptiveShoeDetector,
              "moving_variance": MovingVarianceDetector, "magnitude": MagnitudeDetector,
              "angular_rate_energy": AngularRateEnergyDetector}
 
@@ -104,11 +106,17 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
     return RunConfig(**out)
 
 
+def default_config_path() -> Path:
+    """The installed ``config/foot_ekf.yaml``: the documented default of the node and the
+    CLI (the dataclass defaults are plain, paper-like values for simulated data)."""
+    from ament_index_python.packages import get_package_share_directory
+
+    return Path(get_package_share_directory("pdr_ins_ekf")) / "config" / "foot_ekf.yaml"
+
+
 def load_run_config(path: str | Path | None) -> RunConfig:
-    """The configuration of a YAML file, or the defaults."""
-    if path is None:
-        return RunConfig()
-    path = Path(path)
+    """The configuration of a YAML file, or of :func:`default_config_path`."""
+    path = Path(path) if path else default_config_path()
     if not path.is_file():
         raise InputError(path, "no such configuration file")
     try:

@@ -22,7 +22,7 @@ def stream(navigator, imu, indices=None):
     return out + navigator.flush()
 
 
-@pytest.mark.parametrize("detector", ["retarded", "limited", "shoe"])
+@pytest.mark.parametrize("detector", ["retarded", "limited", "shoe", "adaptive_shoe"])
 def test_stream_equals_offline(imu, detector):
     config = run_config({"detector": {"type": detector}})
     offline = navigate(imu, config)

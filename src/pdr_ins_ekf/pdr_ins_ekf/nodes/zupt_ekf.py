@@ -17,10 +17,8 @@ with an error, and nothing is navigated until ``~/reset``.
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import rclpy
-from ament_index_python.packages import get_package_share_directory
 from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, TwistWithCovarianceStamped
 from nav_msgs.msg import Path as PathMsg
 from rclpy.executors import ExternalShutdownException
@@ -44,8 +42,7 @@ class ZuptEkfNode(Node):
 
     def __init__(self) -> None:
         super().__init__("zupt_ekf")
-        path = self.declare_parameter("config", "").value or str(
-            Path(get_package_share_directory("pdr_ins_ekf")) / "config" / "foot_ekf.yaml")
+        path = self.declare_parameter("config", "").value
         self.frame_id = self.declare_parameter("frame_id", "map").value
         durability = self.declare_parameter("imu_durability", "volatile").value
         self.navigator = StreamingNavigator(load_run_config(path))
