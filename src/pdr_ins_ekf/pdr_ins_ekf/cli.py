@@ -39,7 +39,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                     "metrics of INTERFACES.md (against ground_truth/pose when the bag has it).")
     p.add_argument("bag", type=Path)
     p.add_argument("--out", type=Path, required=True)
-    p.add_argument("--config", type=Path, help="YAML configuration (see pdr_ins_ekf.config); default: the installed "
+    p.add_argument("--config", type=Path,
+                   help="YAML configuration (see pdr_ins_ekf.config); default: the installed "
                         "config/foot_ekf.yaml")
     p.add_argument("--imu-topic", default=topics.IMU_DATA)
     p.add_argument("--truth-topic", default=topics.GROUND_TRUTH_POSE)
