@@ -77,3 +77,16 @@ def test_evaluate_reproduces_the_run_report(procs, tmp_path):
     report = json.loads((tmp_path / "out" / "report.json").read_text())
     for key in REPORT_KEYS:
         assert evaluated[key] == pytest.approx(report[key], rel=1e-12)
+
+
+def test_smoother_adds_the_smoothed_path_and_report(procs, tmp_path):
+    bag = ROOT / "bags" / "foot_walk"
+    result = procs.run("pdr-ekf", "run", str(bag), "--out", str(tmp_path / "out"),
+                       "--smoother", "segmented", "--plot")
+    assert result.returncode == 0, result.stderr
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert report["smoothed"].keys() >= REPORT_KEYS | {"segments"}
+    paths = BagReader(tmp_path / "out").read_messages("/pdr/foot/smoothed_path")
+    assert len(paths) == report["smoothed"]["segments"] > 30
+    assert sum(len(path.poses) for _, path in paths) == report["samples"]
+    assert (tmp_path / "out" / "smoothing.png").stat().st_size > 10_000

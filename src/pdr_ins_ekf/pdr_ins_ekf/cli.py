@@ -1,7 +1,8 @@
 """``pdr-ekf``: offline tools of the foot-mounted INS (no ROS graph needed).
 
 Subcommands:
-    run BAG --out OUT     the ZUPT EKF on imu/data: output bag, report.json, PNG.
+    run BAG --out OUT     the ZUPT EKF on imu/data: output bag, report.json, PNG;
+                          --smoother segmented|full adds the RTS-smoothed trajectory.
     evaluate BAG --truth TRUTH_BAG
                           the report of recorded pdr/foot/pose against ground truth.
     study mechanization   pure-INS position error per attitude method and rate
@@ -12,6 +13,7 @@ Errors in the input exit with status 2 and one line naming the problem.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 from collections.abc import Sequence
 from pathlib import Path
@@ -26,8 +28,15 @@ from pdr_ins_ekf import plots
 from pdr_ins_ekf.attitude_update import METHODS
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.mechanization_study import RATES_HZ, run_study
-from pdr_ins_ekf.offline import navigate, output_batches, step_path, truth_at
+from pdr_ins_ekf.offline import (
+    navigate,
+    output_batches,
+    smoothed_paths,
+    step_path,
+    truth_at,
+)
 from pdr_ins_ekf.strapdown import INTEGRATIONS
+from pdr_ins_ekf.zupt_ekf import SMOOTHER_MODES
 from pdr_sim.simulation import MAX_RATE_HZ, MIN_RATE_HZ
 
 
@@ -44,13 +53,20 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                         "config/foot_ekf.yaml")
     p.add_argument("--imu-topic", default=topics.IMU_DATA)
     p.add_argument("--truth-topic", default=topics.GROUND_TRUTH_POSE)
-    p.add_argument("--plot", action="store_true", help="also write OUT/path.png")
+    p.add_argument("--smoother", choices=SMOOTHER_MODES,
+                   help="RTS smoothing (001_5b5dbf275b14cf0a.txt): adds pdr/foot/smoothed_path "
+                        "and report key 'smoothed'; default: the configuration's smoother.mode")
+    p.add_argument("--plot", action="store_true",
+                   help="also write OUT/path.png (and OUT/smoothing.png when smoothing)")
     p.add_argument("--overwrite", action="store_true")
     p.set_defaults(func=_run_run)
 
 
 def _run_run(args: argparse.Namespace) -> int:
     config = load_run_config(args.config)
+    if args.smoother:
+        config = dataclasses.replace(
+            config, smoother=dataclasses.replace(config.smoother, mode=args.smoother))
     reader = BagReader(args.bag)
     has_truth = args.truth_topic in reader.topics
     wanted = [args.imu_topic] + ([args.truth_topic] if has_truth else [])
@@ -63,6 +79,10 @@ def _run_run(args: argparse.Namespace) -> int:
     report = error_report(t_s, result.output.position, truth)
     report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
                "dropped": result.counts}
+    smoothed = [] if result.smoothed is None else smoothed_paths(result)
+    if result.smoothed is not None:
+        report["smoothed"] = error_report(t_s, result.smoothed.position, truth)
+        report["smoothed"]["segments"] = len(smoothed)
     outputs = output_batches(result)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
         for topic, batch in outputs.items():
@@ -72,10 +92,14 @@ def _run_run(args: argparse.Namespace) -> int:
             writer.write_raw(message.topic, message.msgtype, message.log_time_ns, message.data)
         stamp, path = step_path(result)
         writer.write_raw("/pdr/foot/path", PATH, stamp, encode_generic(path))
+        for stamp, path in smoothed:
+            writer.write_raw("/pdr/foot/smoothed_path", PATH, stamp, encode_generic(path))
         (writer.staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
         if args.plot:
             plots.path_png(t_s, result.output.position, truth, writer.staging / "path.png",
                            str(args.bag))
+            if result.smoothed is not None:
+                plots.smoothing_png(t_s, result, writer.staging / "smoothing.png")
     print(json.dumps(report, indent=2))
     return 0
 

@@ -45,10 +45,9 @@ def start(C, b, prev, f, w):
 
 
 @njit(cache=True)
-def predict(p, v, C, b, P, prev, f, w, dt, params):
-    """Trapezoidal mechanization over dt, then P = F·P·Fᵀ + Q (symmetrised)."""
-    acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise, tau, bias_model, gravity = params
-    n = P.shape[0]
+def mechanize(p, v, C, b, prev, f, w, dt, gravity):
+    """Trapezoidal strapdown step of the nominal state over dt (001_5b5dbf275b14cf0a.txt,
+    Eqs. (1)–(5)); returns the navigation-frame specific force."""
     f_c = f - b[:3]
     w_c = w - b[3:]
     C[:, :] = C @ _rodrigues((prev[1] + w_c) / 2, dt)
@@ -59,6 +58,14 @@ def predict(p, v, C, b, P, prev, f, w, dt, params):
     prev[0] = f_c
     prev[1] = w_c
     prev[2] = a_now
+    return a_now
+
+
+@njit(cache=True)
+def transition(C, a_now, dt, n, params):
+    """Error-state transition F = I + A·dt and process noise Q over dt (module
+    docstring of :mod:`pdr_ins_ekf.zupt_ekf`)."""
+    acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise, tau, bias_model, _ = params
     F = np.eye(n)
     F[0:3, 3:6] = np.eye(3) * dt
     F[3:6, 6:9] = _skew(a_now) * dt
@@ -76,14 +83,23 @@ def predict(p, v, C, b, P, prev, f, w, dt, params):
         q_gyro = C @ q_gyro @ C.T
     Q[3:6, 3:6] = q_acc
     Q[6:9, 6:9] = q_gyro
-    P[:, :] = F @ P @ F.T + Q
-    P[:, :] = (P + P.T) / 2
+    return F, Q
 
 
 @njit(cache=True)
-def update(p, v, C, b, P, prev, z, rows, sigma):
-    """Joseph-form update with H selecting the three error states from ``rows``, then
-    the closed-loop compensation of 001_5b5dbf275b14cf0a.txt, Eq. (8)."""
+def predict(p, v, C, b, P, prev, f, w, dt, params):
+    """Trapezoidal mechanization over dt, then P = F·P·Fᵀ + Q (symmetrised); returns F."""
+    a_now = mechanize(p, v, C, b, prev, f, w, dt, params[6])
+    F, Q = transition(C, a_now, dt, P.shape[0], params)
+    P[:, :] = F @ P @ F.T + Q
+    P[:, :] = (P + P.T) / 2
+    return F
+
+
+@njit(cache=True)
+def correct(dx, P, innovation, rows, sigma):
+    """Kalman update of the error state dx and, in Joseph form, of P with a direct
+    measurement of the three states from ``rows`` (noise σ per axis)."""
     n = P.shape[0]
     H = np.zeros((3, n))
     for i in range(3):
@@ -91,17 +107,31 @@ def update(p, v, C, b, P, prev, z, rows, sigma):
     R = np.eye(3) * sigma**2
     S = H @ P @ H.T + R
     K = np.linalg.solve(S, H @ P).T
-    dx = K @ z
+    dx += K @ innovation
     IKH = np.eye(n) - K @ H
     P[:, :] = IKH @ P @ IKH.T + K @ R @ K.T
     P[:, :] = (P + P.T) / 2
+
+
+@njit(cache=True)
+def compensate(p, v, C, b, dx):
+    """Feed the error state back into the nominal state (001, Eq. (8))."""
     p += dx[0:3]
     v += dx[3:6]
     C[:, :] = (np.eye(3) - _skew(dx[6:9])) @ C
     u, _, vt = np.linalg.svd(C)
     C[:, :] = u @ vt
-    if n == 15:
+    if dx.shape[0] == 15:
         b += dx[9:15]
+
+
+@njit(cache=True)
+def update(p, v, C, b, P, prev, z, rows, sigma):
+    """Joseph-form update with H selecting the three error states from ``rows``, then
+    the closed-loop compensation of 001_5b5dbf275b14cf0a.txt, Eq. (8)."""
+    dx = np.zeros(P.shape[0])
+    correct(dx, P, z, rows, sigma)
+    compensate(p, v, C, b, dx)
     prev[2] = C @ prev[0]
 
 

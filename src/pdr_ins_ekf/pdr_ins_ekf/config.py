@@ -6,6 +6,8 @@
       <its parameters>              # e.g. w1: 15 (see the detector's class)
     filter:                         # pdr_ins_ekf.zupt_ekf.FilterConfig fields
       acc_noise: 0.002
+    smoother:                       # pdr_ins_ekf.zupt_ekf.SmootherConfig fields
+      mode: none                    # none | segmented | full
     alignment_min_s: 0.5            # shortest stationary period to align on [s]
     initial_yaw_deg: 0.0            # heading is unobservable: the start heading
     max_gap_s: 0.1                  # longer gaps between samples are warned about
@@ -30,7 +32,7 @@ from pdr_ins_ekf.zero_velocity import (
     ShoeDetector,
     StanceDetector,
 )
-from pdr_ins_ekf.zupt_ekf import FilterConfig
+from pdr_ins_ekf.zupt_ekf import FilterConfig, SmootherConfig
 
 DETECTORS = {"original": Paper000Detector, "limited": Paper000Detector,
              "retarded": Paper000Detector, "shoe": ShoeDetector,
@@ -43,6 +45,7 @@ DETECTORS = {"original": Paper000Detector, "limited": Paper000Detector,
 class RunConfig:
     detector: StanceDetector = field(default_factory=lambda: Paper000Detector(variant="retarded"))
     filter: FilterConfig = field(default_factory=FilterConfig)
+    smoother: SmootherConfig = field(default_factory=SmootherConfig)
     alignment_min_s: float = 0.5
     initial_yaw_deg: float = 0.0
     max_gap_s: float = 0.1
@@ -103,6 +106,9 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
         out["detector"] = _build(DETECTORS[kind], detector, f"{where}.detector")
     if "filter" in data:
         out["filter"] = _build(FilterConfig, dict(data["filter"] or {}), f"{where}.filter")
+    if "smoother" in data:
+        out["smoother"] = _build(SmootherConfig, dict(data["smoother"] or {}),
+                                 f"{where}.smoother")
     return RunConfig(**out)
 
 

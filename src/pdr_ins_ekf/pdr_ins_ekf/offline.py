@@ -23,7 +23,7 @@ from pdr_core.errors import InputError
 from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANCE_STAMPED
 from pdr_core.nav_path import path_message
 from pdr_ins_ekf.config import RunConfig
-from pdr_ins_ekf.zupt_ekf import FilterOutput, run
+from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
 STANCE = "pdr_msgs/msg/Stance"
 MAP_FRAME = "map"
@@ -40,6 +40,7 @@ class FootRun:
     detector: int
     output: FilterOutput
     counts: dict[str, int] = field(default_factory=dict)
+    smoothed: SmoothedOutput | None = None
 
 
 def clean_samples(imu: MessageBatch) -> tuple[np.ndarray, dict[str, int]]:
@@ -103,10 +104,13 @@ def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
     counts["before_alignment"] = start
     counts["gaps"] = int((np.diff(t) > config.max_gap_s).sum())
     aligned = slice(0, window.stop - start)
-    output = run(t[start:], accel[start:], gyro[start:], result.mask[start:], config.filter,
-                 aligned, np.radians(config.initial_yaw_deg))
+    args = (t[start:], accel[start:], gyro[start:], result.mask[start:], config.filter)
+    yaw = np.radians(config.initial_yaw_deg)
+    output = run(*args, aligned, yaw)
+    smoothed = (None if config.smoother.mode == "none"
+                else smooth(*args, config.smoother, aligned, yaw))
     return FootRun(stamp_ns[start:], result.mask[start:], result.statistic[start:],
-                   result.detector, output, counts)
+                   result.detector, output, counts, smoothed)
 
 
 def truth_at(truth: MessageBatch, stamp_ns: np.ndarray) -> np.ndarray:
@@ -138,6 +142,22 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, MessageBa
             "stationary": run_.stance, "statistic": run_.statistic,
             "detector": np.full(n, run_.detector, np.uint8)}),
     }
+
+
+def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, object]]:
+    """``pdr/foot/smoothed_path``: one Path per smoother segment with every sample's
+    smoothed pose, stamped (and logged) at the segment's last sample."""
+    out = run_.smoothed
+    quat = Rotation.from_matrix(out.attitude).as_quat()
+    paths, first = [], 0
+    for end in out.segment_ends.tolist():
+        part = slice(first, end + 1)
+        poses = MessageBatch("geometry_msgs/msg/PoseStamped", run_.stamp_ns[part], frame, {
+            "pose.position": out.position[part], "pose.orientation": quat[part]})
+        stamp = int(run_.stamp_ns[end])
+        paths.append((stamp, path_message(poses, stamp, frame)))
+        first = end + 1
+    return paths
 
 
 def step_path(run_: FootRun, frame: str = MAP_FRAME) -> tuple[int, object]:

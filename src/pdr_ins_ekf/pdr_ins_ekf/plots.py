@@ -37,6 +37,31 @@ def path_png(t: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None, path
     plt.close(fig)
 
 
+def smoothing_png(t: np.ndarray, run_, path: Path, steps: int = 6) -> None:
+    """Filtered against smoothed trajectory over a few steps in the middle of the walk,
+    top view and height (001_5b5dbf275b14cf0a.txt, Figs. 3–4): the filter jumps at every
+    ZUPT onset, the smoother does not."""
+    onsets = np.flatnonzero(run_.stance[1:] & ~run_.stance[:-1]) + 1
+    middle = len(onsets) // 2
+    first = onsets[max(0, middle - steps // 2)] if len(onsets) else 0
+    last = onsets[min(len(onsets) - 1, middle + steps // 2)] if len(onsets) else len(t)
+    part = slice(first, last + 1)
+    filtered, smoothed = run_.output.position[part], run_.smoothed.position[part]
+    fig, ax = plt.subplots(1, 2, figsize=(14, 5))
+    ax[0].plot(filtered[:, 0], filtered[:, 1], ".-", ms=2, label="filter")
+    ax[0].plot(smoothed[:, 0], smoothed[:, 1], ".-", ms=2, label="smoothed")
+    ax[1].plot(t[part], filtered[:, 2], label="filter")
+    ax[1].plot(t[part], smoothed[:, 2], label="smoothed")
+    ax[0].set(xlabel="x [m]", ylabel="y [m]", title="top view", aspect="equal")
+    ax[1].set(xlabel="t [s]", ylabel="z [m]", title="height")
+    for a in ax:
+        a.legend()
+    fig.suptitle(f"RTS smoothing, {steps} steps")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def mechanization_png(study: MechanizationStudy, path: Path) -> None:
     """Final position error against sample rate per attitude method (000, Fig. 6)."""
     fig, ax = plt.subplots(figsize=(8, 6))

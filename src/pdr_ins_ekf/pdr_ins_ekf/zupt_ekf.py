@@ -27,6 +27,7 @@ import numpy as np
 
 from pdr_core.rotations import rotation_from_euler
 from pdr_ins_ekf import compiled_filter as kernels
+from pdr_ins_ekf import compiled_smoother
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
 
@@ -81,6 +82,49 @@ class FilterOutput:
     variance: np.ndarray
     position_cov: np.ndarray
     velocity_cov: np.ndarray
+
+
+SMOOTHER_MODES = ("none", "segmented", "full")
+
+
+@dataclass(frozen=True)
+class SmootherConfig:
+    """RTS smoothing (001_5b5dbf275b14cf0a.txt, section III; :mod:`compiled_smoother`).
+
+    ``segmented`` cuts a segment ``tau_s`` seconds after Σ diag(P_v) falls below
+    ``gamma_s_m2ps2`` at a ZUPT; ``full`` smooths the whole record at once (τs = ∞; memory
+    grows with the record). ``gamma_s_m2ps2`` must lie between the velocity variance just
+    before a ZUPT and at the end of a stance, which depend on the filter's noise: 1.5e-5
+    suits the FilterConfig defaults, 3e-4 the shipped foot_ekf.yaml.
+    ``zero_heading_position`` zeroes the heading–position cross-covariance after each
+    prediction (the paper's remedy for sharp smoothing corrections); the covariance is
+    then no longer the filter's, and the smoothed heading stops following position
+    corrections.
+    """
+
+    mode: str = "none"
+    gamma_s_m2ps2: float = 1.5e-5
+    tau_s: float = 0.04
+    zero_heading_position: bool = False
+
+    def __post_init__(self) -> None:
+        if self.mode not in SMOOTHER_MODES:
+            raise ValueError(f"mode must be one of {', '.join(SMOOTHER_MODES)}, "
+                             f"got {self.mode!r}")
+        if self.gamma_s_m2ps2 <= 0 or self.tau_s < 0:
+            raise ValueError("need gamma_s_m2ps2 > 0 and tau_s >= 0")
+
+
+@dataclass
+class SmoothedOutput:
+    """Smoothed position, velocity (N, 3), attitude C_b^n (N, 3, 3), smoothed velocity
+    variances (N, 3) and the index of each segment's last sample."""
+
+    position: np.ndarray
+    velocity: np.ndarray
+    attitude: np.ndarray
+    velocity_variance: np.ndarray
+    segment_ends: np.ndarray
 
 
 class ZuptEkf:
@@ -166,3 +210,17 @@ def run(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
         np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
         np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), config.zaru,
         ekf.C, ekf.b, ekf.P, ekf.params, config.zupt_sigma_mps, config.zaru_sigma_radps))
+
+
+def smooth(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
+           config: FilterConfig, smoother: SmootherConfig, alignment: slice,
+           yaw_rad: float = 0.0) -> SmoothedOutput:
+    """The 3-pass smoother of :mod:`pdr_ins_ekf.compiled_smoother` over a recording, from
+    the same alignment and equations as :func:`run`."""
+    ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
+    tau = np.inf if smoother.mode == "full" else smoother.tau_s
+    return SmoothedOutput(*compiled_smoother.smoother_loop(
+        np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
+        np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), config.zaru,
+        ekf.C, ekf.b, ekf.P, ekf.params, config.zupt_sigma_mps, config.zaru_sigma_radps,
+        smoother.zero_heading_position, smoother.gamma_s_m2ps2, tau))

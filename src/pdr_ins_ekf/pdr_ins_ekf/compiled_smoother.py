@@ -1,0 +1,160 @@
+"""Rauch–Tung–Striebel smoothing of the ZUPT-aided INS as compiled kernels (numba): the
+3-pass algorithm of 001_5b5dbf275b14cf0a.txt, section III and Alg. 1.
+
+1. Forward, open loop (:func:`open_loop_step`): the nominal state is mechanized without
+   feedback and the deviation state is propagated, δx̂ₙ|ₙ₋₁ = Fₙ·δx̂ₙ₋₁|ₙ₋₁, and updated
+   by the ZUPT (innovation −v̂ₙ − δv̂ₙ|ₙ₋₁) and, with 15 states, the ZARU.
+   The segment ends τs seconds after Σ diag(P_v) has crossed γs from above at a ZUPT
+   (section III-B). "At a ZUPT" is ours: on a foot, the yaw and tilt uncertainty times the
+   foot's velocity makes Σ diag(P_v) peak mid-swing and fall again before the ZUPT, and
+   the paper's rule alone would cut the step in two there.
+2. Backward (:func:`smooth_segment`), Eq. (9) on the deviation states:
+   Aₙ = Pₙ|ₙ·Fₙ₊₁ᵀ·Pₙ₊₁|ₙ⁻¹, δx̂ₙ|ₑ = δx̂ₙ|ₙ + Aₙ(δx̂ₙ₊₁|ₑ − δx̂ₙ₊₁|ₙ),
+   Pₙ|ₑ = Pₙ|ₙ + Aₙ(Pₙ₊₁|ₑ − Pₙ₊₁|ₙ)Aₙᵀ.
+3. Compensation: each sample's nominal state is corrected by its smoothed deviation
+   (p̂ += δp̂, v̂ += δv̂, Ĉ ← (I − [δθ̂×])Ĉ); the loop is closed at the segment's last
+   sample, where the next segment starts with δx̂ = 0 and the filtered P.
+
+With τs = ∞ the whole record is one segment (full-data-set smoothing). ``seg`` is the
+segment store: its arrays are indexed by the sample's position in the current segment and
+grow (doubling) when a segment is longer than they are, so memory is bounded by the
+longest segment, not by the record.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from pdr_ins_ekf.compiled_filter import _skew, compensate, correct, mechanize, start, transition
+
+# rule: [γs, τs, Σ diag(P_v) of the previous sample, c] (c: time since the crossing [s])
+RULE_GAMMA, RULE_TAU, RULE_PREVIOUS, RULE_CLOCK = range(4)
+
+
+@njit(cache=True)
+def new_segment_store(capacity, n):
+    """Arrays for ``capacity`` samples of a segment: nominal p, v (cap, 3), C (cap, 3, 3),
+    b (cap, 6), predicted and filtered deviations (cap, n), their covariances and the
+    transitions (cap, n, n)."""
+    return (np.empty((capacity, 3)), np.empty((capacity, 3)), np.empty((capacity, 3, 3)),
+            np.empty((capacity, 6)), np.empty((capacity, n)), np.empty((capacity, n)),
+            np.empty((capacity, n, n)), np.empty((capacity, n, n)), np.empty((capacity, n, n)))
+
+
+@njit(cache=True)
+def grown(seg, needed):
+    """``seg`` with room for ``needed`` samples (contents kept)."""
+    capacity = seg[0].shape[0]
+    if needed <= capacity:
+        return seg
+    bigger = new_segment_store(max(needed, 2 * capacity), seg[4].shape[1])
+    bigger[0][:capacity] = seg[0]
+    bigger[1][:capacity] = seg[1]
+    bigger[2][:capacity] = seg[2]
+    bigger[3][:capacity] = seg[3]
+    bigger[4][:capacity] = seg[4]
+    bigger[5][:capacity] = seg[5]
+    bigger[6][:capacity] = seg[6]
+    bigger[7][:capacity] = seg[7]
+    bigger[8][:capacity] = seg[8]
+    return bigger
+
+
+@njit(cache=True)
+def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, params,
+                   zupt_sigma, zaru_sigma, zero_heading_position, rule):
+    """Pass 1 for one sample, stored at segment position j; returns True when the
+    segmentation rule ends the segment at this sample."""
+    n = P.shape[0]
+    a_now = mechanize(p, v, C, b, prev, f, w, dt, params[6])
+    F, Q = transition(C, a_now, dt, n, params)
+    dx[:] = F @ dx
+    P[:, :] = F @ P @ F.T + Q
+    P[:, :] = (P + P.T) / 2
+    if zero_heading_position:
+        P[0:3, 8] = 0.0
+        P[8, 0:3] = 0.0
+    seg[8][j] = F
+    seg[6][j] = P
+    seg[4][j] = dx
+    if stance:
+        correct(dx, P, -v - dx[3:6], 3, zupt_sigma)
+        if zaru:
+            correct(dx, P, w - b[3:] - dx[12:15], 12, zaru_sigma)
+    seg[0][j] = p
+    seg[1][j] = v
+    seg[2][j] = C
+    seg[3][j] = b
+    seg[5][j] = dx
+    seg[7][j] = P
+    variance = P[3, 3] + P[4, 4] + P[5, 5]
+    if rule[RULE_CLOCK] > 0:
+        rule[RULE_CLOCK] += dt
+    if stance and rule[RULE_PREVIOUS] > rule[RULE_GAMMA] >= variance and rule[RULE_CLOCK] == 0:
+        rule[RULE_CLOCK] = dt
+    rule[RULE_PREVIOUS] = variance
+    return rule[RULE_CLOCK] > rule[RULE_TAU]
+
+
+@njit(cache=True)
+def smooth_segment(seg, m, pos, vel, att, vel_var):
+    """Passes 2 and 3 over the segment's m samples: smoothed, compensated position,
+    velocity, attitude (m, …) and the smoothed velocity variances (m, 3)."""
+    dxs = seg[5][m - 1].copy()
+    Ps = seg[7][m - 1].copy()
+    for j in range(m - 1, -1, -1):
+        if j < m - 1:
+            A = np.linalg.solve(seg[6][j + 1], seg[8][j + 1] @ seg[7][j]).T
+            dxs = seg[5][j] + A @ (dxs - seg[4][j + 1])
+            Ps = seg[7][j] + A @ (Ps - seg[6][j + 1]) @ A.T
+        pos[j] = seg[0][j] + dxs[0:3]
+        vel[j] = seg[1][j] + dxs[3:6]
+        C = (np.eye(3) - _skew(dxs[6:9])) @ seg[2][j]
+        u, _, vt = np.linalg.svd(C)
+        att[j] = u @ vt
+        vel_var[j, 0] = Ps[3, 3]
+        vel_var[j, 1] = Ps[4, 4]
+        vel_var[j, 2] = Ps[5, 5]
+
+
+@njit(cache=True)
+def close_loop(p, v, C, b, dx, prev):
+    """Pass 3 at the segment's last sample: feed the deviation back, restart from zero."""
+    compensate(p, v, C, b, dx)
+    prev[2] = C @ prev[0]
+    dx[:] = 0.0
+
+
+@njit(cache=True)
+def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, zaru_sigma,
+                  zero_heading_position, gamma_s, tau_s):
+    """All samples: smoothed position, velocity (N, 3), attitude (N, 3, 3), velocity
+    variances (N, 3) and the index of each segment's last sample."""
+    N = t.shape[0]
+    n = P0.shape[0]
+    p, v, dx = np.zeros(3), np.zeros(3), np.zeros(n)
+    C, b, P = C0.copy(), b0.copy(), P0.copy()
+    prev = np.empty((3, 3))
+    start(C, b, prev, accel[0], gyro[0])
+    pos, vel = np.empty((N, 3)), np.empty((N, 3))
+    att, vel_var = np.empty((N, 3, 3)), np.empty((N, 3))
+    ends = np.empty(N, np.int64)
+    segments = 0
+    seg = new_segment_store(1024, n)
+    rule = np.array([gamma_s, tau_s, 0.0, 0.0])
+    first = 0
+    for k in range(N):
+        j = k - first
+        seg = grown(seg, j + 1)
+        cut = open_loop_step(seg, j, p, v, C, b, dx, P, prev, accel[k], gyro[k],
+                             t[k] - t[k - 1] if k else 0.0, stance[k], zaru, params,
+                             zupt_sigma, zaru_sigma, zero_heading_position, rule)
+        if cut or k == N - 1:
+            smooth_segment(seg, j + 1, pos[first:k + 1], vel[first:k + 1], att[first:k + 1],
+                           vel_var[first:k + 1])
+            close_loop(p, v, C, b, dx, prev)
+            ends[segments] = k
+            segments += 1
+            first = k + 1
+            rule[RULE_CLOCK] = 0.0
+    return pos, vel, att, vel_var, ends[:segments]
