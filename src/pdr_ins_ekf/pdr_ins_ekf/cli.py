@@ -79,10 +79,11 @@ def _run_run(args: argparse.Namespace) -> int:
     report = error_report(t_s, result.output.position, truth)
     report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
                "dropped": result.counts}
-    smoothed = [] if result.smoothed is None else smoothed_paths(result)
+    smoothed = []
     if result.smoothed is not None:
-        report["smoothed"] = error_report(t_s, result.smoothed.position, truth)
-        report["smoothed"]["segments"] = len(smoothed)
+        smoothed = smoothed_paths(result)
+        report["smoothed"] = error_report(t_s, result.smoothed.position, truth) | {
+            "segments": len(smoothed)}
     outputs = output_batches(result)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
         for topic, batch in outputs.items():

@@ -205,11 +205,8 @@ def run(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
     """Filter a whole recording: stamps t (N,) [s], specific force and rate (N, 3), the
     stance mask (N,) and the samples to align on (at rest). The loop runs compiled
     (:mod:`pdr_ins_ekf.compiled_filter`), with the equations of :meth:`ZuptEkf.step`."""
-    ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
     return FilterOutput(*kernels.filter_loop(
-        np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
-        np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), config.zaru,
-        ekf.C, ekf.b, ekf.P, ekf.params, config.zupt_sigma_mps, config.zaru_sigma_radps))
+        *_loop_inputs(t, accel, gyro, stance, config, alignment, yaw_rad)))
 
 
 def smooth(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
@@ -217,10 +214,17 @@ def smooth(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarra
            yaw_rad: float = 0.0) -> SmoothedOutput:
     """The 3-pass smoother of :mod:`pdr_ins_ekf.compiled_smoother` over a recording, from
     the same alignment and equations as :func:`run`."""
-    ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
     tau = np.inf if smoother.mode == "full" else smoother.tau_s
     return SmoothedOutput(*compiled_smoother.smoother_loop(
-        np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
-        np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), config.zaru,
-        ekf.C, ekf.b, ekf.P, ekf.params, config.zupt_sigma_mps, config.zaru_sigma_radps,
+        *_loop_inputs(t, accel, gyro, stance, config, alignment, yaw_rad),
         smoother.zero_heading_position, smoother.gamma_s_m2ps2, tau))
+
+
+def _loop_inputs(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
+                 config: FilterConfig, alignment: slice, yaw_rad: float) -> tuple:
+    """The leading arguments of the compiled loops: contiguous inputs, then the aligned
+    initial state and the noise parameters."""
+    ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
+    return (np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
+            np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), config.zaru,
+            ekf.C, ekf.b, ekf.P, ekf.params, config.zupt_sigma_mps, config.zaru_sigma_radps)
