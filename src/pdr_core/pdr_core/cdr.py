@@ -12,8 +12,8 @@ per-message Python work beyond splitting the buffer. The result is byte-identica
 Types with strings or sequences after the header (``nav_msgs/Path``) go through
 ``rosbags``: see :func:`decode_generic` and :mod:`pdr_core.bag`.
 
-Public: :func:`fixed_layout`, :func:`decode`, :func:`encode`, :func:`decode_generic`,
-:func:`encode_generic`.
+Public: :func:`fixed_layout`, :func:`decode`, :func:`encode`, :func:`encode_rows`,
+:func:`decode_generic`, :func:`encode_generic`.
 """
 from __future__ import annotations
 
@@ -180,26 +180,33 @@ def _frame_groups(frame_id: np.ndarray):
         yield str(frame), np.flatnonzero(inverse == k)
 
 
+def encode_rows(batch: MessageBatch, frame: str, select: slice | np.ndarray = slice(None)
+                ) -> np.ndarray:
+    """The CDR of the selected messages of a fixed-layout batch, all in ``frame``, as one
+    (n, message size) uint8 array: row i is message i, encapsulation header included."""
+    leaves = _require_fixed(batch.msgtype)
+    encoded = frame.encode()
+    dtype = _record_dtype(batch.msgtype, len(encoded))
+    sec, nanosec = np.divmod(batch.stamp_ns[select], _NS)
+    rec = np.zeros(len(sec), dtype)
+    rec["cdr"] = np.frombuffer(_CDR_LE, np.uint8)
+    rec["sec"] = sec
+    rec["nanosec"] = nanosec
+    rec["strlen"] = len(encoded) + 1
+    rec["frame"] = encoded
+    for leaf in leaves:
+        rec[leaf.path] = batch.fields[leaf.path][select]
+    return rec.view(np.uint8).reshape(len(rec), dtype.itemsize)
+
+
 def encode(batch: MessageBatch) -> list[bytes]:
     """Serialize every message of a fixed-layout batch to CDR, in order."""
-    leaves = _require_fixed(batch.msgtype)
     n = len(batch)
     out: list[bytes] = [b""] * n
-    sec, nanosec = np.divmod(batch.stamp_ns, _NS)
     for frame, idx in _frame_groups(batch.frame_id):
-        encoded = frame.encode()
-        dtype = _record_dtype(batch.msgtype, len(encoded))
         select = slice(None) if len(idx) == n else idx
-        rec = np.zeros(len(idx), dtype)
-        rec["cdr"] = np.frombuffer(_CDR_LE, np.uint8)
-        rec["sec"] = sec[select]
-        rec["nanosec"] = nanosec[select]
-        rec["strlen"] = len(encoded) + 1
-        rec["frame"] = encoded
-        for leaf in leaves:
-            rec[leaf.path] = batch.fields[leaf.path][select]
-        blob = rec.tobytes()
-        size = dtype.itemsize
+        rows = encode_rows(batch, frame, select)
+        blob, size = rows.tobytes(), rows.shape[1]
         pieces = [blob[i:i + size] for i in range(0, len(blob), size)]
         if len(idx) == n:
             return pieces

@@ -1,8 +1,10 @@
 """nav_msgs/Path to and from a PoseStamped MessageBatch.
 
-A Path carries a sequence of PoseStamped, so it has no fixed CDR layout; it is built and
-read through ``rosbags`` message objects (one per pose). Paths are published per step
-or per smoothed segment, far below the IMU rate.
+A Path carries a sequence of PoseStamped, so it has no fixed CDR layout as a whole; it is
+read through ``rosbags`` message objects (one per pose). :func:`encode_path` writes it
+without them: when the poses share one frame_id, every pose after the first has the byte
+layout of a stand-alone PoseStamped (:func:`pdr_core.cdr.encode_rows`), so a path of
+every sample of a smoothed segment costs one vectorised encode.
 """
 from __future__ import annotations
 
@@ -10,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from pdr_core import cdr
 from pdr_core.batch import MessageBatch
 from pdr_core.msgtypes import PATH, POSE_STAMPED, typestore
 
@@ -37,6 +40,31 @@ def path_message(poses: MessageBatch, stamp_ns: int, frame_id: str) -> Any:
                               poses["pose.position"].tolist(), poses["pose.orientation"].tolist(),
                               strict=True)]
     return types[PATH](header=_header(stamp_ns, frame_id), poses=items)
+
+
+def encode_path(poses: MessageBatch, stamp_ns: int, frame_id: str) -> bytes:
+    """The CDR of :func:`path_message` (byte for byte), vectorised over the poses.
+
+    XCDR1 aligns each float64 to 8 bytes from the start of the payload. A stand-alone
+    PoseStamped starts at payload offset 0; inside the Path, pose k > 0 starts where pose
+    k − 1 ended, on a multiple of 8 too, so its bytes are the stand-alone message's without
+    the 4-byte encapsulation header. Only the first pose, which follows the 4-byte pose
+    count, may need a different padding before its float64s.
+    """
+    frames = np.unique(poses.frame_id)
+    if len(frames) != 1:
+        return cdr.encode_generic(path_message(poses, stamp_ns, frame_id))
+    empty = cdr.encode_generic(typestore().types[PATH](header=_header(stamp_ns, frame_id),
+                                                       poses=[]))
+    rows = cdr.encode_rows(poses, str(frames[0]))[:, 4:]
+    start = len(empty) - 4                      # payload offset of the first pose
+    stamp_and_frame = 12 + len(str(frames[0]).encode()) + 1
+    pad = -(start + stamp_and_frame) % 8
+    first = rows[0]
+    first_padded = np.concatenate([first[:stamp_and_frame], np.zeros(pad, np.uint8),
+                                   first[-56:]])  # Point + Quaternion: 7 float64
+    count = np.uint32(len(poses)).tobytes()
+    return empty[:-4] + count + first_padded.tobytes() + rows[1:].tobytes()
 
 
 def path_poses(msg: Any) -> MessageBatch:

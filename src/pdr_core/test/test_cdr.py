@@ -123,3 +123,19 @@ def test_big_endian_is_refused():
     raw = cdr.encode(batch)[0]
     with pytest.raises(ValueError, match="little-endian"):
         cdr.decode(batch.msgtype, [b"\x00\x00" + raw[2:]])
+
+
+@given(path_frame=st.text(alphabet="abcdefghij_/0123456789", max_size=23),
+       pose_frames=st.lists(st.text(alphabet="abcdefghij_/0123456789", max_size=23),
+                            min_size=1, max_size=2),
+       n=st.integers(0, 6), seed=st.integers(0, 2**32 - 1))
+@settings(max_examples=80, deadline=None)
+def test_encode_path_matches_rosbags_byte_for_byte(path_frame, pose_frames, n, seed):
+    """Both paddings of the first pose (frame lengths of either parity), one or several
+    pose frames (the generic fallback) and the empty path."""
+    from pdr_core.nav_path import encode_path, path_message
+    rng = np.random.default_rng(seed)
+    poses = random_batch("geometry_msgs/msg/PoseStamped", n, rng, pose_frames)
+    stamp = int(rng.integers(0, (2**31 - 1) * 10**9))
+    assert encode_path(poses, stamp, path_frame) == cdr.encode_generic(
+        path_message(poses, stamp, path_frame))

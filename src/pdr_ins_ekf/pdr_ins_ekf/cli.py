@@ -20,7 +20,6 @@ from pathlib import Path
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, merged_messages
-from pdr_core.cdr import encode_generic
 from pdr_core.errors import InputError, dispatch
 from pdr_core.metrics import error_report
 from pdr_core.msgtypes import PATH
@@ -92,9 +91,9 @@ def _run_run(args: argparse.Namespace) -> int:
         for message in merged_messages(outputs):
             writer.write_raw(message.topic, message.msgtype, message.log_time_ns, message.data)
         stamp, path = step_path(result)
-        writer.write_raw("/pdr/foot/path", PATH, stamp, encode_generic(path))
+        writer.write_raw("/pdr/foot/path", PATH, stamp, path)
         for stamp, path in smoothed:
-            writer.write_raw("/pdr/foot/smoothed_path", PATH, stamp, encode_generic(path))
+            writer.write_raw("/pdr/foot/smoothed_path", PATH, stamp, path)
         (writer.staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
         if args.plot:
             plots.path_png(t_s, result.output.position, truth, writer.staging / "path.png",

@@ -21,7 +21,7 @@ from scipy.spatial.transform import Rotation
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANCE_STAMPED
-from pdr_core.nav_path import path_message
+from pdr_core.nav_path import encode_path
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
@@ -144,9 +144,9 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, MessageBa
     }
 
 
-def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, object]]:
-    """``pdr/foot/smoothed_path``: one Path per smoother segment with every sample's
-    smoothed pose, stamped (and logged) at the segment's last sample."""
+def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, bytes]]:
+    """``pdr/foot/smoothed_path``: one Path (CDR) per smoother segment with every
+    sample's smoothed pose, stamped (and logged) at the segment's last sample."""
     out = run_.smoothed
     quat = Rotation.from_matrix(out.attitude).as_quat()
     paths, first = [], 0
@@ -155,16 +155,16 @@ def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, obj
         poses = MessageBatch("geometry_msgs/msg/PoseStamped", run_.stamp_ns[part], frame, {
             "pose.position": out.position[part], "pose.orientation": quat[part]})
         stamp = int(run_.stamp_ns[end])
-        paths.append((stamp, path_message(poses, stamp, frame)))
+        paths.append((stamp, encode_path(poses, stamp, frame)))
         first = end + 1
     return paths
 
 
-def step_path(run_: FootRun, frame: str = MAP_FRAME) -> tuple[int, object]:
-    """The ``pdr/foot/path`` of the whole run, one pose per step (at each stance onset),
-    stamped with the last sample."""
+def step_path(run_: FootRun, frame: str = MAP_FRAME) -> tuple[int, bytes]:
+    """The ``pdr/foot/path`` (CDR) of the whole run, one pose per step (at each stance
+    onset), stamped with the last sample."""
     onsets = np.flatnonzero(run_.stance[1:] & ~run_.stance[:-1]) + 1
     poses = MessageBatch("geometry_msgs/msg/PoseStamped", run_.stamp_ns[onsets], frame, {
         "pose.position": run_.output.position[onsets],
         "pose.orientation": Rotation.from_matrix(run_.output.attitude[onsets]).as_quat()})
-    return int(run_.stamp_ns[-1]), path_message(poses, int(run_.stamp_ns[-1]), frame)
+    return int(run_.stamp_ns[-1]), encode_path(poses, int(run_.stamp_ns[-1]), frame)
