@@ -62,54 +62,59 @@ def mechanize(p, v, C, b, prev, f, w, dt, gravity):
 
 
 @njit(cache=True)
-def transition(C, a_now, dt, n, params):
-    """Error-state transition F = I + A·dt and process noise Q over dt (module
-    docstring of :mod:`pdr_ins_ekf.zupt_ekf`)."""
-    acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise, tau, bias_model, _ = params
-    F = np.eye(n)
-    F[0:3, 3:6] = np.eye(3) * dt
-    F[3:6, 6:9] = _skew(a_now) * dt
-    Q = np.zeros((n, n))
-    q_acc = np.eye(3) * acc_noise**2 * dt
-    q_gyro = np.eye(3) * gyro_noise**2 * dt
+def apply_transition(M, C, a_now, dt, params):
+    """F·M for the error-state transition F = I + A·dt over dt (module docstring of
+    :mod:`pdr_ins_ekf.zupt_ekf`), M (n, k), without forming F: F is the identity plus
+    four 3×3 blocks (δp/δv, δv/δθ = [fⁿ×], and with 15 states δv/δb_a = −Ĉ,
+    δθ/δb_g = Ĉ) and, for Gauss–Markov biases, −dt/τ on the bias diagonal."""
+    out = M.copy()
+    out[0:3] += dt * M[3:6]
+    out[3:6] += (_skew(a_now) * dt) @ M[6:9]
+    if M.shape[0] == 15:
+        out[3:6] -= (C * dt) @ M[9:12]
+        out[6:9] += (C * dt) @ M[12:15]
+        if params[5] == 2:
+            out[9:15] -= (dt / params[4]) * M[9:15]
+    return out
+
+
+@njit(cache=True)
+def propagate(P, C, a_now, dt, params):
+    """P ← F·P·Fᵀ + Q (symmetrised), Q = G·diag(σ²)·Gᵀ·dt. The noise is isotropic in the
+    body frame, so its rotation by Ĉ leaves Q diagonal."""
+    acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise = params[0:4]
+    n = P.shape[0]
+    P[:, :] = apply_transition(apply_transition(P, C, a_now, dt, params).T, C, a_now, dt,
+                               params)
+    for i in range(3):
+        P[3 + i, 3 + i] += acc_noise**2 * dt
+        P[6 + i, 6 + i] += gyro_noise**2 * dt
     if n == 15:
-        F[3:6, 9:12] = -C * dt
-        F[6:9, 12:15] = C * dt
-        if bias_model == 2:
-            F[9:15, 9:15] -= np.eye(6) * dt / tau
-        Q[9:12, 9:12] = np.eye(3) * acc_bias_noise**2 * dt
-        Q[12:15, 12:15] = np.eye(3) * gyro_bias_noise**2 * dt
-        q_acc = C @ q_acc @ C.T
-        q_gyro = C @ q_gyro @ C.T
-    Q[3:6, 3:6] = q_acc
-    Q[6:9, 6:9] = q_gyro
-    return F, Q
+        for i in range(3):
+            P[9 + i, 9 + i] += acc_bias_noise**2 * dt
+            P[12 + i, 12 + i] += gyro_bias_noise**2 * dt
+    P[:, :] = (P + P.T) / 2
 
 
 @njit(cache=True)
 def predict(p, v, C, b, P, prev, f, w, dt, params):
-    """Trapezoidal mechanization over dt, then P = F·P·Fᵀ + Q (symmetrised); returns F."""
+    """Trapezoidal mechanization over dt, then the covariance (:func:`propagate`)."""
     a_now = mechanize(p, v, C, b, prev, f, w, dt, params[6])
-    F, Q = transition(C, a_now, dt, P.shape[0], params)
-    P[:, :] = F @ P @ F.T + Q
-    P[:, :] = (P + P.T) / 2
-    return F
+    propagate(P, C, a_now, dt, params)
 
 
 @njit(cache=True)
 def correct(dx, P, innovation, rows, sigma):
     """Kalman update of the error state dx and, in Joseph form, of P with a direct
-    measurement of the three states from ``rows`` (noise σ per axis)."""
-    n = P.shape[0]
-    H = np.zeros((3, n))
-    for i in range(3):
-        H[i, rows + i] = 1.0
-    R = np.eye(3) * sigma**2
-    S = H @ P @ H.T + R
-    K = np.linalg.solve(S, H @ P).T
+    measurement of the three states from ``rows`` (noise σ per axis).
+
+    H only selects states, so H·P, P·Hᵀ and H·P·Hᵀ are slices of P and the Joseph form
+    (I − KH)·P·(I − KH)ᵀ + K·R·Kᵀ costs O(n²) instead of O(n³)."""
+    S = P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2
+    K = np.linalg.solve(S, P[rows:rows + 3, :]).T
     dx += K @ innovation
-    IKH = np.eye(n) - K @ H
-    P[:, :] = IKH @ P @ IKH.T + K @ R @ K.T
+    M = P - K @ P[rows:rows + 3, :]
+    P[:, :] = M - M[:, rows:rows + 3] @ K.T + sigma**2 * (K @ K.T)
     P[:, :] = (P + P.T) / 2
 
 

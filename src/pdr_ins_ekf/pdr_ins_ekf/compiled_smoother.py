@@ -25,7 +25,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_ins_ekf.compiled_filter import _skew, compensate, correct, mechanize, start, transition
+from pdr_ins_ekf.compiled_filter import (
+    _rodrigues,
+    apply_transition,
+    compensate,
+    correct,
+    mechanize,
+    propagate,
+    start,
+)
 
 # rule: [γs, τs, Σ diag(P_v) of the previous sample, c] (c: time since the crossing [s])
 RULE_GAMMA, RULE_TAU, RULE_PREVIOUS, RULE_CLOCK = range(4)
@@ -34,11 +42,12 @@ RULE_GAMMA, RULE_TAU, RULE_PREVIOUS, RULE_CLOCK = range(4)
 @njit(cache=True)
 def new_segment_store(capacity, n):
     """Arrays for ``capacity`` samples of a segment: nominal p, v (cap, 3), C (cap, 3, 3),
-    b (cap, 6), predicted and filtered deviations (cap, n), their covariances and the
-    transitions (cap, n, n)."""
+    b (cap, 6), predicted and filtered deviations (cap, n), their covariances (cap, n, n)
+    and what the transition Fₙ is rebuilt from in the backward pass: the navigation-frame
+    specific force and dt (cap, 4)."""
     return (np.empty((capacity, 3)), np.empty((capacity, 3)), np.empty((capacity, 3, 3)),
             np.empty((capacity, 6)), np.empty((capacity, n)), np.empty((capacity, n)),
-            np.empty((capacity, n, n)), np.empty((capacity, n, n)), np.empty((capacity, n, n)))
+            np.empty((capacity, n, n)), np.empty((capacity, n, n)), np.empty((capacity, 4)))
 
 
 @njit(cache=True)
@@ -65,16 +74,14 @@ def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, para
                    zupt_sigma, zaru_sigma, zero_heading_position, rule):
     """Pass 1 for one sample, stored at segment position j; returns True when the
     segmentation rule ends the segment at this sample."""
-    n = P.shape[0]
     a_now = mechanize(p, v, C, b, prev, f, w, dt, params[6])
-    F, Q = transition(C, a_now, dt, n, params)
-    dx[:] = F @ dx
-    P[:, :] = F @ P @ F.T + Q
-    P[:, :] = (P + P.T) / 2
+    dx[:] = apply_transition(dx.reshape(-1, 1), C, a_now, dt, params)[:, 0]
+    propagate(P, C, a_now, dt, params)
     if zero_heading_position:
         P[0:3, 8] = 0.0
         P[8, 0:3] = 0.0
-    seg[8][j] = F
+    seg[8][j, 0:3] = a_now
+    seg[8][j, 3] = dt
     seg[6][j] = P
     seg[4][j] = dx
     if stance:
@@ -97,21 +104,23 @@ def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, para
 
 
 @njit(cache=True)
-def smooth_segment(seg, m, pos, vel, att, vel_var):
+def smooth_segment(seg, m, params, pos, vel, att, vel_var):
     """Passes 2 and 3 over the segment's m samples: smoothed, compensated position,
-    velocity, attitude (m, …) and the smoothed velocity variances (m, 3)."""
+    velocity, attitude (m, …) and the smoothed velocity variances (m, 3). The attitude
+    correction is applied as the rotation exp(−[δθ×]), exact to first order like
+    (I − [δθ×]) and orthonormal without a re-orthonormalisation."""
     dxs = seg[5][m - 1].copy()
     Ps = seg[7][m - 1].copy()
     for j in range(m - 1, -1, -1):
         if j < m - 1:
-            A = np.linalg.solve(seg[6][j + 1], seg[8][j + 1] @ seg[7][j]).T
+            FP = apply_transition(seg[7][j], seg[2][j + 1], seg[8][j + 1, 0:3],
+                                  seg[8][j + 1, 3], params)
+            A = np.linalg.solve(seg[6][j + 1], FP).T
             dxs = seg[5][j] + A @ (dxs - seg[4][j + 1])
             Ps = seg[7][j] + A @ (Ps - seg[6][j + 1]) @ A.T
         pos[j] = seg[0][j] + dxs[0:3]
         vel[j] = seg[1][j] + dxs[3:6]
-        C = (np.eye(3) - _skew(dxs[6:9])) @ seg[2][j]
-        u, _, vt = np.linalg.svd(C)
-        att[j] = u @ vt
+        att[j] = _rodrigues(-dxs[6:9], 1.0) @ seg[2][j]
         vel_var[j, 0] = Ps[3, 3]
         vel_var[j, 1] = Ps[4, 4]
         vel_var[j, 2] = Ps[5, 5]
@@ -140,7 +149,7 @@ def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, 
     att, vel_var = np.empty((N, 3, 3)), np.empty((N, 3))
     ends = np.empty(N, np.int64)
     segments = 0
-    seg = new_segment_store(1024, n)
+    seg = new_segment_store(N if np.isinf(tau_s) else min(N, 1024), n)
     rule = np.array([gamma_s, tau_s, 0.0, 0.0])
     first = 0
     for k in range(N):
@@ -150,8 +159,8 @@ def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, 
                              t[k] - t[k - 1] if k else 0.0, stance[k], zaru, params,
                              zupt_sigma, zaru_sigma, zero_heading_position, rule)
         if cut or k == N - 1:
-            smooth_segment(seg, j + 1, pos[first:k + 1], vel[first:k + 1], att[first:k + 1],
-                           vel_var[first:k + 1])
+            smooth_segment(seg, j + 1, params, pos[first:k + 1], vel[first:k + 1],
+                           att[first:k + 1], vel_var[first:k + 1])
             close_loop(p, v, C, b, dx, prev)
             ends[segments] = k
             segments += 1
