@@ -15,10 +15,11 @@
    (p̂ += δp̂, v̂ += δv̂, Ĉ ← (I − [δθ̂×])Ĉ); the loop is closed at the segment's last
    sample, where the next segment starts with δx̂ = 0 and the filtered P.
 
-With τs = ∞ the whole record is one segment (full-data-set smoothing). ``seg`` is the
-segment store: its arrays are indexed by the sample's position in the current segment and
-grow (doubling) when a segment is longer than they are, so memory is bounded by the
-longest segment, not by the record.
+Full-data-set smoothing (τs = ∞ for the smoothing lag) runs one backward pass over the
+record; see :func:`smoother_loop` for why its forward pass still closes the loop.
+``seg`` is the segment store: its arrays are indexed by the sample's position in the
+current segment and grow (doubling) when a segment is longer than they are, so memory is
+bounded by the longest segment, not by the record (except in the full mode).
 """
 from __future__ import annotations
 
@@ -136,9 +137,14 @@ def close_loop(p, v, C, b, dx, prev):
 
 @njit(cache=True)
 def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, zaru_sigma,
-                  zero_heading_position, gamma_s, tau_s):
+                  zero_heading_position, gamma_s, tau_s, full):
     """All samples: smoothed position, velocity (N, 3), attitude (N, 3, 3), velocity
-    variances (N, 3) and the index of each segment's last sample."""
+    variances (N, 3) and the index of each smoothed segment's last sample.
+
+    ``full``: one backward pass over the whole record. The forward pass still closes the
+    loop at every segment end, so the nominal state never drifts far from the truth and
+    the linearisation stays as good as in the segmented mode; across a loop closure
+    δx̂ₑ₊₁|ₑ = Fₑ₊₁·0 = 0 about the corrected state, and the same recursion carries on."""
     N = t.shape[0]
     n = P0.shape[0]
     p, v, dx = np.zeros(3), np.zeros(3), np.zeros(n)
@@ -149,7 +155,7 @@ def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, 
     att, vel_var = np.empty((N, 3, 3)), np.empty((N, 3))
     ends = np.empty(N, np.int64)
     segments = 0
-    seg = new_segment_store(N if np.isinf(tau_s) else min(N, 1024), n)
+    seg = new_segment_store(N if full else min(N, 1024), n)
     rule = np.array([gamma_s, tau_s, 0.0, 0.0])
     first = 0
     for k in range(N):
@@ -158,12 +164,13 @@ def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, 
         cut = open_loop_step(seg, j, p, v, C, b, dx, P, prev, accel[k], gyro[k],
                              t[k] - t[k - 1] if k else 0.0, stance[k], zaru, params,
                              zupt_sigma, zaru_sigma, zero_heading_position, rule)
-        if cut or k == N - 1:
+        if (cut and not full) or k == N - 1:
             smooth_segment(seg, j + 1, params, pos[first:k + 1], vel[first:k + 1],
                            att[first:k + 1], vel_var[first:k + 1])
-            close_loop(p, v, C, b, dx, prev)
             ends[segments] = k
             segments += 1
             first = k + 1
+        if cut or k == N - 1:
+            close_loop(p, v, C, b, dx, prev)
             rule[RULE_CLOCK] = 0.0
     return pos, vel, att, vel_var, ends[:segments]

@@ -92,10 +92,11 @@ class SmootherConfig:
     """RTS smoothing (001_5b5dbf275b14cf0a.txt, section III; :mod:`compiled_smoother`).
 
     ``segmented`` cuts a segment ``tau_s`` seconds after Σ diag(P_v) falls below
-    ``gamma_s_m2ps2`` at a ZUPT; ``full`` smooths the whole record at once (τs = ∞; memory
-    grows with the record). ``gamma_s_m2ps2`` must lie between the velocity variance just
-    before a ZUPT and at the end of a stance, which depend on the filter's noise: 1.5e-5
-    suits the FilterConfig defaults, 3e-4 the shipped foot_ekf.yaml.
+    ``gamma_s_m2ps2`` at a ZUPT; ``full`` smooths the whole record in one backward pass
+    (memory grows with the record), its forward pass closing the loop at the same cuts.
+    ``gamma_s_m2ps2`` must lie between the velocity variance just before a ZUPT and at
+    the end of a stance, which depend on the filter's noise: 1.5e-5 suits the
+    FilterConfig defaults, 3e-4 the shipped foot_ekf.yaml.
     ``zero_heading_position`` zeroes the heading–position cross-covariance after each
     prediction (the paper's remedy for sharp smoothing corrections); the covariance is
     then no longer the filter's, and the smoothed heading stops following position
@@ -214,10 +215,10 @@ def smooth(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarra
            yaw_rad: float = 0.0) -> SmoothedOutput:
     """The 3-pass smoother of :mod:`pdr_ins_ekf.compiled_smoother` over a recording, from
     the same alignment and equations as :func:`run`."""
-    tau = np.inf if smoother.mode == "full" else smoother.tau_s
     return SmoothedOutput(*compiled_smoother.smoother_loop(
         *_loop_inputs(t, accel, gyro, stance, config, alignment, yaw_rad),
-        smoother.zero_heading_position, smoother.gamma_s_m2ps2, tau))
+        smoother.zero_heading_position, smoother.gamma_s_m2ps2, smoother.tau_s,
+        smoother.mode == "full"))
 
 
 def _loop_inputs(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,

@@ -72,3 +72,9 @@ def test_bad_smoother_configuration():
         SmootherConfig("fixed_lag")
     with pytest.raises(ValueError, match="gamma_s_m2ps2 > 0"):
         SmootherConfig("segmented", gamma_s_m2ps2=0.0)
+
+
+def test_segmented_and_full_smoothing_agree_within_2_cm(walk):
+    _, _, smoothed = walk
+    difference = smoothed["segmented"].position - smoothed["full"].position
+    assert np.sqrt(np.mean(np.sum(difference**2, axis=1))) < 0.02
