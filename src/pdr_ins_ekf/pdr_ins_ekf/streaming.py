@@ -22,7 +22,7 @@ import numpy as np
 from pdr_core.errors import InputError
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.offline import check_rest, check_units
-from pdr_ins_ekf.zupt_ekf import ZuptEkf
+from pdr_ins_ekf.zupt_ekf import SegmentSmoother, SmoothedSegment, ZuptEkf
 
 
 class UnitsError(InputError):
@@ -49,6 +49,11 @@ class StreamingNavigator:
 
     Samples are kept from the oldest one still needed (by the detector's context or the
     alignment search), so memory is bounded once the filter runs.
+
+    With ``config.smoother.mode`` "segmented", a :class:`SegmentSmoother` runs beside the
+    filter from the same aligned start; its finished segments wait in :attr:`smoothed`
+    (take them with :meth:`take_smoothed`), the last one at :meth:`flush`. "full" needs
+    the whole record and is refused.
     """
 
     config: RunConfig
@@ -56,6 +61,9 @@ class StreamingNavigator:
         "non_finite": 0, "stamp_not_increasing": 0, "gaps": 0})
 
     def __post_init__(self) -> None:
+        if self.config.smoother.mode == "full":
+            raise InputError("smoother.mode", "full smoothing needs the whole record: use "
+                                              "segmented live, or pdr-ekf run --smoother full")
         self.reset()
 
     def reset(self) -> None:
@@ -68,6 +76,8 @@ class StreamingNavigator:
         self.offset = 0
         self.first_stamp = 0
         self.ekf: ZuptEkf | None = None
+        self.smoother: SegmentSmoother | None = None
+        self.smoothed: list[SmoothedSegment] = []
         self.filter_start = 0
         self.next_filtered = 0
         self.failed: UnitsError | None = None
@@ -102,7 +112,17 @@ class StreamingNavigator:
 
     def flush(self) -> list[Estimate]:
         """At the end of the input: decide and filter the remaining samples."""
-        return self._advance(self.received - 1, final=True)
+        out = self._advance(self.received - 1, final=True)
+        if self.smoother is not None:
+            last = self.smoother.finish()
+            if last is not None:
+                self.smoothed.append(last)
+        return out
+
+    def take_smoothed(self) -> list[SmoothedSegment]:
+        """The smoothed segments finished since the last call."""
+        out, self.smoothed = self.smoothed, []
+        return out
 
     def _advance(self, last: int, final: bool) -> list[Estimate]:
         while self.offset + len(self.stance) <= last:
@@ -161,6 +181,9 @@ class StreamingNavigator:
                     return
                 self.ekf = ZuptEkf.aligned(self.config.filter, a, w,
                                            np.radians(self.config.initial_yaw_deg))
+                if self.config.smoother.mode == "segmented":
+                    self.smoother = SegmentSmoother(self.config.filter, self.config.smoother,
+                                                    self.ekf)
                 self.filter_start = self.next_filtered = int(start)
                 return
 
@@ -168,6 +191,11 @@ class StreamingNavigator:
         i = k - self.offset
         dt = self._t(k) - self._t(k - 1) if k > self.filter_start else 0.0
         self.ekf.step(self.accel[i], self.gyro[i], dt, self.stance[i])
+        if self.smoother is not None:
+            segment = self.smoother.step(self.stamps[i], self.accel[i], self.gyro[i], dt,
+                                         self.stance[i])
+            if segment is not None:
+                self.smoothed.append(segment)
         self.next_filtered = k + 1
         return Estimate(self.stamps[i], self.ekf.p.copy(), self.ekf.v.copy(),
                         self.ekf.C.copy(), self.ekf.P.copy(), self.stance[i],

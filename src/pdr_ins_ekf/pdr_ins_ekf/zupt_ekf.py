@@ -128,6 +128,74 @@ class SmoothedOutput:
     segment_ends: np.ndarray
 
 
+@dataclass
+class SmoothedSegment:
+    """One smoothed segment of the live smoother: stamps (m,) [ns], position (m, 3),
+    attitude C_b^n (m, 3, 3) and smoothed velocity variances (m, 3)."""
+
+    stamp_ns: np.ndarray
+    position: np.ndarray
+    attitude: np.ndarray
+    velocity_variance: np.ndarray
+
+
+class SegmentSmoother:
+    """The segmented 3-pass smoother one sample at a time (the node's
+    ``pdr/foot/smoothed_path``), with the kernels of :func:`smooth`, so that it gives
+    the offline segments exactly. Memory: the store of the longest segment so far."""
+
+    def __init__(self, config: FilterConfig, smoother: SmootherConfig, start: ZuptEkf
+                 ) -> None:
+        self.config = config
+        self.params = kernel_params(config)
+        self.p, self.v = np.zeros(3), np.zeros(3)
+        self.C, self.b, self.P = start.C.copy(), start.b.copy(), start.P.copy()
+        self.dx = np.zeros(self.P.shape[0])
+        self.prev = np.empty((3, 3))
+        self.store = compiled_smoother.new_segment_store(1024, self.P.shape[0])
+        self.rule = np.array([smoother.gamma_s_m2ps2, smoother.tau_s, 0.0, 0.0])
+        self.zero_heading_position = smoother.zero_heading_position
+        self.stamps: list[int] = []
+        self.started = False
+
+    @property
+    def store_bytes(self) -> int:
+        """Bytes held by the segment store."""
+        return sum(array.nbytes for array in self.store)
+
+    def step(self, stamp_ns: int, f: np.ndarray, w: np.ndarray, dt: float, stance: bool
+             ) -> SmoothedSegment | None:
+        """One sample (dt = 0 for the first); the segment when this sample ends one."""
+        f, w = np.asarray(f, float), np.asarray(w, float)
+        if not self.started:
+            kernels.start(self.C, self.b, self.prev, f, w)
+            self.started = True
+        j = len(self.stamps)
+        self.store = compiled_smoother.grown(self.store, j + 1)
+        self.stamps.append(int(stamp_ns))
+        c = self.config
+        cut = compiled_smoother.open_loop_step(
+            self.store, j, self.p, self.v, self.C, self.b, self.dx, self.P, self.prev, f, w,
+            float(dt), bool(stance), c.zaru, self.params, c.zupt_sigma_mps,
+            c.zaru_sigma_radps, self.zero_heading_position, self.rule)
+        return self.finish() if cut else None
+
+    def finish(self) -> SmoothedSegment | None:
+        """Smooth and close the current segment (at a cut, or at the end of the input)."""
+        m = len(self.stamps)
+        if not m:
+            return None
+        out = SmoothedSegment(np.array(self.stamps, np.int64), np.empty((m, 3)),
+                              np.empty((m, 3, 3)), np.empty((m, 3)))
+        compiled_smoother.smooth_segment(self.store, m, self.params, out.position,
+                                         np.empty((m, 3)), out.attitude,
+                                         out.velocity_variance)
+        compiled_smoother.close_loop(self.p, self.v, self.C, self.b, self.dx, self.prev)
+        self.rule[compiled_smoother.RULE_CLOCK] = 0.0
+        self.stamps = []
+        return out
+
+
 class ZuptEkf:
     """The filter state and one-sample step (the live node's engine); the equations are
     the compiled kernels of :mod:`pdr_ins_ekf.compiled_filter`, which :func:`run` also

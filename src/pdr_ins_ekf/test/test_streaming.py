@@ -31,6 +31,26 @@ def test_stream_equals_offline(imu, detector):
     np.testing.assert_array_equal([e.position for e in live], offline.output.position)
 
 
+def test_stream_smoother_equals_offline_segments(imu):
+    config = run_config({"smoother": {"mode": "segmented", "gamma_s_m2ps2": 3.0e-4},
+                         "filter": {"acc_noise": 0.02, "gyro_noise": 0.002}})
+    offline = navigate(imu, config).smoothed
+    navigator = StreamingNavigator(config)
+    stream(navigator, imu)
+    segments = navigator.take_smoothed()
+    ends = np.cumsum([len(s.stamp_ns) for s in segments]) - 1
+    np.testing.assert_array_equal(ends, offline.segment_ends)
+    np.testing.assert_array_equal(np.concatenate([s.position for s in segments]),
+                                  offline.position)
+    assert navigator.take_smoothed() == []
+
+
+def test_full_smoothing_is_refused_live():
+    from pdr_core.errors import InputError
+    with pytest.raises(InputError, match="full smoothing needs the whole record"):
+        StreamingNavigator(run_config({"smoother": {"mode": "full"}}))
+
+
 def test_bad_samples_are_dropped_and_counted(imu):
     navigator = StreamingNavigator(RunConfig())
     bad = imu.take(np.arange(len(imu)))  # a copy

@@ -3,11 +3,15 @@
 Subscribes ``imu/data`` (sensor_msgs/Imu) and publishes, per sample, ``pdr/foot/pose``
 (PoseWithCovarianceStamped), ``pdr/foot/velocity`` (TwistWithCovarianceStamped) and
 ``pdr/foot/stance`` (pdr_msgs/Stance), and at the end of every step ``pdr/foot/path``
-(one pose per step). Serves ``~/reset`` (std_srvs/Trigger).
+(one pose per step). With ``smoothed_path`` true it also publishes
+``pdr/foot/smoothed_path``: one Path per segment of the segmented RTS smoother
+(001_5b5dbf275b14cf0a.txt), with every sample's smoothed pose, as soon as the segment
+ends (its lag and its memory are bounded by the segment). Serves ``~/reset``
+(std_srvs/Trigger).
 
 Parameters: ``config`` (navigator YAML, see pdr_ins_ekf.config; default the installed
 config/foot_ekf.yaml), ``frame_id`` ("map"), ``imu_durability`` (volatile or
-transient_local, to match the publisher).
+transient_local, to match the publisher), ``smoothed_path`` (false).
 
 Estimates lag the input by the detector's look-ahead (a few samples) and agree with
 ``pdr-ekf run`` on the same data. Bad samples (NaN/Inf, stamps going backwards) are
@@ -16,6 +20,7 @@ with an error, and nothing is navigated until ``~/reset``.
 """
 from __future__ import annotations
 
+import dataclasses
 import sys
 
 import rclpy
@@ -32,6 +37,7 @@ from pdr_core.errors import InputError
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import UNKNOWN_VARIANCE
 from pdr_ins_ekf.streaming import Estimate, StreamingNavigator
+from pdr_ins_ekf.zupt_ekf import SmoothedSegment
 from pdr_msgs.msg import Stance
 
 _NS = 1_000_000_000
@@ -45,7 +51,11 @@ class ZuptEkfNode(Node):
         path = self.declare_parameter("config", "").value
         self.frame_id = self.declare_parameter("frame_id", "map").value
         durability = self.declare_parameter("imu_durability", "volatile").value
-        self.navigator = StreamingNavigator(load_run_config(path))
+        config = load_run_config(path)
+        smoothing = self.declare_parameter("smoothed_path", False).value
+        config = dataclasses.replace(config, smoother=dataclasses.replace(
+            config.smoother, mode="segmented" if smoothing else "none"))
+        self.navigator = StreamingNavigator(config)
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
@@ -58,6 +68,7 @@ class ZuptEkfNode(Node):
                                                   "pdr/foot/velocity", out)
         self.stance_pub = self.create_publisher(Stance, "pdr/foot/stance", out)
         self.path_pub = self.create_publisher(PathMsg, "pdr/foot/path", out)
+        self.smoothed_pub = self.create_publisher(PathMsg, "pdr/foot/smoothed_path", out)
         self.create_service(Trigger, "~/reset", self.on_reset)
         self.path = PathMsg()
         self.path.header.frame_id = self.frame_id
@@ -71,6 +82,8 @@ class ZuptEkfNode(Node):
         estimates = self.navigator.push(stamp, (a.x, a.y, a.z), (w.x, w.y, w.z))
         for estimate in estimates:
             self.publish(estimate)
+        for segment in self.navigator.take_smoothed():
+            self.publish_smoothed(segment)
         self.report_problems()
 
     def report_problems(self) -> None:
@@ -120,6 +133,23 @@ class ZuptEkfNode(Node):
             self.path.header.stamp = pose.header.stamp
             self.path_pub.publish(self.path)
         self.previous_stance = e.stance
+
+    def publish_smoothed(self, segment: SmoothedSegment) -> None:
+        """One Path with every sample's smoothed pose, stamped at the segment's end."""
+        path = PathMsg()
+        path.header.frame_id = self.frame_id
+        quats = Rotation.from_matrix(segment.attitude).as_quat()
+        for stamp, p, q in zip(segment.stamp_ns.tolist(), segment.position.tolist(),
+                               quats.tolist(), strict=True):
+            pose = PoseStamped()
+            pose.header.stamp.sec, pose.header.stamp.nanosec = divmod(stamp, _NS)
+            pose.header.frame_id = self.frame_id
+            position, orientation = pose.pose.position, pose.pose.orientation
+            position.x, position.y, position.z = p
+            orientation.x, orientation.y, orientation.z, orientation.w = q
+            path.poses.append(pose)
+        path.header.stamp = path.poses[-1].header.stamp
+        self.smoothed_pub.publish(path)
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
