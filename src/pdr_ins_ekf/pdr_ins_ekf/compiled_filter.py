@@ -84,8 +84,8 @@ def propagate(P, C, a_now, dt, params):
     body frame, so its rotation by Ĉ leaves Q diagonal."""
     acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise = params[0:4]
     n = P.shape[0]
-    P[:, :] = apply_transition(apply_transition(P, C, a_now, dt, params).T, C, a_now, dt,
-                               params)
+    FP_T = np.ascontiguousarray(apply_transition(P, C, a_now, dt, params).T)
+    P[:, :] = apply_transition(FP_T, C, a_now, dt, params)
     for i in range(3):
         P[3 + i, 3 + i] += acc_noise**2 * dt
         P[6 + i, 6 + i] += gyro_noise**2 * dt
@@ -111,10 +111,11 @@ def correct(dx, P, innovation, rows, sigma):
     H only selects states, so H·P, P·Hᵀ and H·P·Hᵀ are slices of P and the Joseph form
     (I − KH)·P·(I − KH)ᵀ + K·R·Kᵀ costs O(n²) instead of O(n³)."""
     S = P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2
-    K = np.linalg.solve(S, P[rows:rows + 3, :]).T
+    K_T = np.linalg.solve(S, np.ascontiguousarray(P[rows:rows + 3, :]))
+    K = np.ascontiguousarray(K_T.T)
     dx += K @ innovation
-    M = P - K @ P[rows:rows + 3, :]
-    P[:, :] = M - M[:, rows:rows + 3] @ K.T + sigma**2 * (K @ K.T)
+    M = P - K @ np.ascontiguousarray(P[rows:rows + 3, :])
+    P[:, :] = M - np.ascontiguousarray(M[:, rows:rows + 3]) @ K_T + sigma**2 * (K @ K_T)
     P[:, :] = (P + P.T) / 2
 
 
