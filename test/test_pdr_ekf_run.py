@@ -90,3 +90,27 @@ def test_smoother_adds_the_smoothed_path_and_report(procs, tmp_path):
     assert len(paths) == report["smoothed"]["segments"] > 30
     assert sum(len(path.poses) for _, path in paths) == report["samples"]
     assert (tmp_path / "out" / "smoothing.png").stat().st_size > 10_000
+
+
+def test_montecarlo_writes_fits_table_series_and_plot(procs, tmp_path):
+    result = procs.run("pdr-ekf", "montecarlo", "--source", "gyro_bias", "--runs", "50",
+                       "--steps", "10", "--out", str(tmp_path / "mc"))
+    assert result.returncode == 0, result.stderr
+    assert "gyro_bias: 50/50 runs" in result.stderr
+    lines = (tmp_path / "mc" / "fits.csv").read_text().splitlines()
+    assert lines[0] == "source,estimator,quantity,coefficient,exponent"
+    exponents = {line.split(",")[2]: float(line.split(",")[4]) for line in lines[1:]}
+    assert exponents["sigma_p"] == pytest.approx(3.0, abs=0.15)
+    assert exponents["sigma_yaw"] == pytest.approx(1.0, abs=0.15)
+    assert (tmp_path / "mc" / "growth.png").stat().st_size > 10_000
+    assert len((tmp_path / "mc" / "sigma.csv").read_text().splitlines()) > 100
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--acc-noise", "-0.1", "--source", "acc_noise"],
+     "--acc-noise: acc_noise_mps2_per_sqrt_hz must be a finite value >= 0"),
+    (["--runs", "1"], "--runs: need at least 2 runs")])
+def test_montecarlo_refuses_impossible_parameters(procs, args, message):
+    result = procs.run("pdr-ekf", "montecarlo", *args)
+    assert result.returncode == 2
+    assert message in result.stderr

@@ -62,6 +62,24 @@ def smoothing_png(t: np.ndarray, run_, path: Path, steps: int = 6) -> None:
     plt.close(fig)
 
 
+def error_growth_png(growths: dict, path: Path, title: str) -> None:
+    """σ_p(t) and σ_ψ(t) per error source, log-log (000, Eqs. (13)–(14))."""
+    fig, ax = plt.subplots(1, 2, figsize=(14, 5))
+    for source, growth in growths.items():
+        ax[0].loglog(growth.t_s, growth.sigma_p_m, label=source)
+        if growth.sigma_yaw_rad.max() > 0:
+            ax[1].loglog(growth.t_s, growth.sigma_yaw_rad, label=source)
+    ax[0].set(xlabel="t [s]", ylabel="σ_p [m]", title="position")
+    ax[1].set(xlabel="t [s]", ylabel="σ_ψ [rad]", title="yaw")
+    for a in ax:
+        a.grid(True, which="both", alpha=0.3)
+        a.legend()
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def mechanization_png(study: MechanizationStudy, path: Path) -> None:
     """Final position error against sample rate per attitude method (000, Fig. 6)."""
     fig, ax = plt.subplots(figsize=(8, 6))

@@ -1,0 +1,194 @@
+"""Monte-Carlo error analysis of pure INS mechanization, batched over runs
+(000_fbd401126d10f515.txt, section III-B, Eqs. (13)–(14), Table I).
+
+N noise realisations of one noiseless simulated walk are mechanized in one compiled call,
+parallel over runs (:func:`ins_batch`); each run is exactly :func:`ins_loop`, the
+single-run mechanization, on the same noisy samples. The spread over runs gives
+
+    σ_p(t) = √(1/N·Σᵢ ‖pᵢ(t) − p(t)‖²)   (Eq. (13), p from the start position)
+    σ_ψ(t) = √(1/N·Σᵢ (ψᵢ(t) − ψ(t))²)   (Eq. (14), wrapped to ±π)
+
+and a straight line in log-log, σ(t) ≈ c·tᵉ, per error source (:func:`power_law`).
+
+Error sources (SI, units in the names): white noise densities ``acc_noise_mps2_per_sqrt_hz``
+and ``gyro_noise_radps_per_sqrt_hz`` (per-sample std density/√Δt), and constant biases
+``acc_bias_mps2`` and ``gyro_bias_radps`` drawn per run and axis from N(0, σ²).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from pdr_ins_ekf.compiled_filter import mechanize, start
+from pdr_sim.scenario import scenario_from_dict
+from pdr_sim.simulation import SimulationConfig, simulate
+
+SOURCES = ("acc_noise", "gyro_noise", "acc_bias", "gyro_bias")
+
+
+@njit(cache=True)
+def ins_loop(t, accel, gyro, C0, gravity):
+    """Pure strapdown INS from rest at the origin with attitude C0: position (T, 3) and
+    yaw (T,) [rad], with the filter's trapezoidal mechanization."""
+    n = t.shape[0]
+    p, v, C, b = np.zeros(3), np.zeros(3), C0.copy(), np.zeros(6)
+    prev = np.empty((3, 3))
+    start(C, b, prev, accel[0], gyro[0])
+    pos, yaw = np.empty((n, 3)), np.empty(n)
+    for k in range(n):
+        mechanize(p, v, C, b, prev, accel[k], gyro[k], t[k] - t[k - 1] if k else 0.0,
+                  gravity)
+        pos[k] = p
+        yaw[k] = np.arctan2(C[1, 0], C[0, 0])
+    return pos, yaw
+
+
+@njit(cache=True, parallel=True)
+def ins_batch(t, accel, gyro, C0, gravity, keep):
+    """:func:`ins_loop` for every run of accel, gyro (runs, T, 3); position (runs, K, 3)
+    and yaw (runs, K) at the sample indices ``keep`` (K,)."""
+    runs = accel.shape[0]
+    pos = np.empty((runs, keep.shape[0], 3))
+    yaw = np.empty((runs, keep.shape[0]))
+    for r in prange(runs):
+        p, y = ins_loop(t, accel[r], gyro[r], C0, gravity)
+        for i in range(keep.shape[0]):
+            pos[r, i] = p[keep[i]]
+            yaw[r, i] = y[keep[i]]
+    return pos, yaw
+
+
+@dataclass(frozen=True)
+class NoiseLevels:
+    """The error sources of one study (zero: off)."""
+
+    acc_noise_mps2_per_sqrt_hz: float = 0.0
+    gyro_noise_radps_per_sqrt_hz: float = 0.0
+    acc_bias_mps2: float = 0.0
+    gyro_bias_radps: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, value in self.__dict__.items():
+            if not np.isfinite(value) or value < 0:
+                raise ValueError(f"{name} must be a finite value >= 0, got {value}")
+
+
+def noisy_signals(accel: np.ndarray, gyro: np.ndarray, rate_hz: float, noise: NoiseLevels,
+                  runs: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """``runs`` noisy copies (runs, T, 3) of the noiseless specific force and rate."""
+    shape = (runs, *accel.shape)
+    root_rate = np.sqrt(rate_hz)
+    a = accel + rng.standard_normal(shape) * noise.acc_noise_mps2_per_sqrt_hz * root_rate
+    a += rng.standard_normal((runs, 1, 3)) * noise.acc_bias_mps2
+    w = gyro + rng.standard_normal(shape) * noise.gyro_noise_radps_per_sqrt_hz * root_rate
+    w += rng.standard_normal((runs, 1, 3)) * noise.gyro_bias_radps
+    return a, w
+
+
+@dataclass(frozen=True)
+class ErrorGrowth:
+    """σ_p [m] and σ_ψ [rad] (Eqs. (13)–(14)) at times t [s] from the start."""
+
+    t_s: np.ndarray
+    sigma_p_m: np.ndarray
+    sigma_yaw_rad: np.ndarray
+
+
+def error_growth(t_s: np.ndarray, position: np.ndarray, yaw: np.ndarray,
+                 true_position: np.ndarray, true_yaw: np.ndarray) -> ErrorGrowth:
+    """Eqs. (13)–(14) over runs: position (runs, K, 3) and yaw (runs, K) against the
+    truth (K, 3) and (K,), both from the start."""
+    dp = position - true_position
+    dyaw = np.angle(np.exp(1j * (yaw - true_yaw)))
+    return ErrorGrowth(t_s, np.sqrt(np.mean(np.sum(dp**2, axis=2), axis=0)),
+                       np.sqrt(np.mean(dyaw**2, axis=0)))
+
+
+def power_law(t_s: np.ndarray, sigma: np.ndarray) -> tuple[float, float]:
+    """(c, e) of σ ≈ c·tᵉ by least squares in log-log over the samples with σ > 0."""
+    ok = (t_s > 0) & (sigma > 0)
+    if ok.sum() < 2:
+        return 0.0, 0.0
+    exponent, log_c = np.polyfit(np.log(t_s[ok]), np.log(sigma[ok]), 1)
+    return float(np.exp(log_c)), float(exponent)
+
+
+def log_spaced(n: int, first: int, count: int) -> np.ndarray:
+    """About ``count`` sample indices from ``first`` to n − 1, evenly spaced in log."""
+    return np.unique(np.geomspace(first, n - 1, count).astype(np.int64))
+
+
+@dataclass(frozen=True)
+class Walk:
+    """The noiseless signals of one simulated walk and its truth, from the start:
+    stamps t (T,) [s], specific force and rate (T, 3), attitude C_b^n at the start,
+    position (T, 3) [m] and yaw (T,) [rad]."""
+
+    t_s: np.ndarray
+    accel: np.ndarray
+    gyro: np.ndarray
+    rate_hz: float
+    start_attitude: np.ndarray
+    position: np.ndarray
+    yaw: np.ndarray
+
+
+def straight_walk(steps: int, rate_hz: float) -> Walk:
+    """The noiseless simulated straight walk of ``steps`` strides (basic pattern)."""
+    data = {"segments": [{"type": "straight", "steps": steps}]}
+    sim = simulate(SimulationConfig(scenario_from_dict(data, "walk"), data, "ideal", {},
+                                    rate_hz))
+    attitude = sim.trajectory.matrix
+    return Walk(sim.imu.t_s - sim.imu.t_s[0], sim.imu["linear_acceleration"],
+                sim.imu["angular_velocity"], rate_hz, attitude[0],
+                sim.trajectory.position - sim.trajectory.position[0],
+                np.arctan2(attitude[:, 1, 0], attitude[:, 0, 0]))
+
+
+@dataclass(frozen=True)
+class InsStudy:
+    """σ(t) against the truth (Eq. (13)–(14) as written) and against the noiseless
+    mechanization of the same walk (the error the source alone adds: the trapezoidal
+    mechanization has its own, deterministic error, which Eq. (13) includes)."""
+
+    against_truth: ErrorGrowth
+    noise_only: ErrorGrowth
+
+
+def ins_study(walk: Walk, noise: NoiseLevels, runs: int, seed: int = 0, block: int = 100,
+              points: int = 200, gravity_mps2: float = 9.80665, progress=None) -> InsStudy:
+    """``runs`` pure-INS runs in blocks of ``block`` (memory: block × T × 6 doubles),
+    sampled at ``points`` log-spaced times from 1 s; ``progress(done, runs)`` after each
+    block."""
+    if runs < 2:
+        raise ValueError(f"runs must be >= 2, got {runs}")
+    keep = log_spaced(len(walk.t_s), int(np.ceil(walk.rate_hz)), points)
+    rng = np.random.default_rng(seed)
+    clean_p, clean_yaw = ins_loop(walk.t_s, walk.accel, walk.gyro, walk.start_attitude,
+                                  gravity_mps2)
+    positions, yaws = [], []
+    for first in range(0, runs, block):
+        a, w = noisy_signals(walk.accel, walk.gyro, walk.rate_hz, noise,
+                             min(block, runs - first), rng)
+        p, y = ins_batch(walk.t_s, a, w, walk.start_attitude, gravity_mps2, keep)
+        positions.append(p)
+        yaws.append(y)
+        if progress is not None:
+            progress(first + len(p), runs)
+    p, y = np.concatenate(positions), np.concatenate(yaws)
+    t = walk.t_s[keep]
+    return InsStudy(error_growth(t, p, y, walk.position[keep], walk.yaw[keep]),
+                    error_growth(t, p, y, clean_p[keep], clean_yaw[keep]))
+
+
+def fits_rows(source: str, study: InsStudy) -> list[dict]:
+    """Rows of fits.csv for one source (estimator ``ins``, the noise-only growth)."""
+    growth = study.noise_only
+    rows = []
+    for quantity, sigma in (("sigma_p", growth.sigma_p_m), ("sigma_yaw", growth.sigma_yaw_rad)):
+        coefficient, exponent = power_law(growth.t_s, sigma)
+        rows.append({"source": source, "estimator": "ins", "quantity": quantity,
+                     "coefficient": coefficient, "exponent": exponent})
+    return rows
