@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -79,5 +80,5 @@ def test_apply_correction_service_across_processes(ros, domain_id):
         assert response.accepted
         assert response.message == "yaw 0.123 bias 2.00e-05 at 4.0,-5.0 cov 9.0"
     finally:
-        server.terminate()
+        server.send_signal(signal.SIGINT)  # the peer serves until SIGINT
         server.wait(timeout=30)
