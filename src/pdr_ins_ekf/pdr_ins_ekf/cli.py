@@ -134,11 +134,6 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     return 0
 
 
-_SOURCE_FIELDS = {"acc_noise": "acc_noise_mps2_per_sqrt_hz",
-                  "gyro_noise": "gyro_noise_radps_per_sqrt_hz",
-                  "acc_bias": "acc_bias_mps2", "gyro_bias": "gyro_bias_radps"}
-
-
 def _add_montecarlo(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "montecarlo", help="Monte-Carlo error growth of pure INS (000, Table I)",
@@ -174,7 +169,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
     for source in sources:
         level = getattr(args, source)
         try:
-            noise = NoiseLevels(**{_SOURCE_FIELDS[source]: level})
+            noise = NoiseLevels.only(source, level)
         except ValueError as exc:
             raise InputError(f"--{source.replace('_', '-')}", str(exc)) from None
 

@@ -74,6 +74,12 @@ class NoiseLevels:
             if not np.isfinite(value) or value < 0:
                 raise ValueError(f"{name} must be a finite value >= 0, got {value}")
 
+    @classmethod
+    def only(cls, source: str, level: float) -> NoiseLevels:
+        """One source of :data:`SOURCES` at ``level`` (in that field's unit), others off."""
+        field = next(f for f in cls.__dataclass_fields__ if f.startswith(source))
+        return cls(**{field: level})
+
 
 def noisy_signals(accel: np.ndarray, gyro: np.ndarray, rate_hz: float, noise: NoiseLevels,
                   runs: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
