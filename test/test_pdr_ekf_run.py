@@ -96,7 +96,7 @@ def test_montecarlo_writes_fits_table_series_and_plot(procs, tmp_path):
     result = procs.run("pdr-ekf", "montecarlo", "--source", "gyro_bias", "--runs", "50",
                        "--steps", "10", "--out", str(tmp_path / "mc"))
     assert result.returncode == 0, result.stderr
-    assert "gyro_bias: 50/50 runs" in result.stderr
+    assert "gyro_bias ins: 50/50 runs" in result.stderr
     lines = (tmp_path / "mc" / "fits.csv").read_text().splitlines()
     assert lines[0] == "source,estimator,quantity,coefficient,exponent"
     exponents = {line.split(",")[2]: float(line.split(",")[4]) for line in lines[1:]}
@@ -106,11 +106,67 @@ def test_montecarlo_writes_fits_table_series_and_plot(procs, tmp_path):
     assert len((tmp_path / "mc" / "sigma.csv").read_text().splitlines()) > 100
 
 
+def test_montecarlo_ekf_writes_paper_tables_and_consistency(procs, tmp_path):
+    result = procs.run("pdr-ekf", "montecarlo", "--source", "acc_noise", "--estimator",
+                       "ekf_original,ekf_limited", "--profile", "xsens_mti", "--runs", "4",
+                       "--steps", "10", "--out", str(tmp_path / "mc"))
+    assert result.returncode == 0, result.stderr
+    assert "acc_noise ekf_limited: 4/4 runs" in result.stderr
+    rows = [line.split(",") for line in
+            (tmp_path / "mc" / "fits.csv").read_text().splitlines()[1:]]
+    assert {(r[0], r[1], r[2]) for r in rows} == {
+        ("acc_noise", e, q) for e in ("ekf_original", "ekf_limited")
+        for q in ("sigma_p", "sigma_yaw")}
+    assert "| acc_noise | ekf_limited | sigma_p |" in result.stdout and "6e-4·t" in result.stdout
+    consistency = (tmp_path / "mc" / "consistency.csv").read_text().splitlines()
+    assert consistency[0].endswith("nees_position") and len(consistency) > 20
+
+
+def test_analytic_prints_the_papers_quantities_as_json(procs):
+    result = procs.run("pdr-ekf", "analytic", "--json", "--times", "10,100")
+    assert result.returncode == 0, result.stderr
+    out = json.loads(result.stdout)
+    assert out.keys() >= {"sigma_v_mps", "sigma_theta_rad", "sigma_gN_radps", "sigma_par_m",
+                          "sigma_perp_m", "sigma_yaw_rad"}
+    assert len(out["sigma_perp_m"]) == 2 and out["sigma_perp_m"][1] > out["sigma_perp_m"][0]
+    assert 1e-4 < out["sigma_v_mps"] < 1e-2
+
+
 @pytest.mark.parametrize("args, message", [
-    (["--acc-noise", "-0.1", "--source", "acc_noise"],
+    (["montecarlo", "--acc-noise", "-0.1", "--source", "acc_noise"],
      "--acc-noise: acc_noise_mps2_per_sqrt_hz must be a finite value >= 0"),
-    (["--runs", "1"], "--runs: need at least 2 runs")])
-def test_montecarlo_refuses_impossible_parameters(procs, args, message):
-    result = procs.run("pdr-ekf", "montecarlo", *args)
+    (["montecarlo", "--runs", "1"], "--runs: need at least 2 runs"),
+    (["montecarlo", "--estimator", "ekf_limited", "--rest-s", "0"],
+     "--rest-s: the EKF aligns on the standing period"),
+    (["analytic", "--t-stance-s", "0.6", "--t-stride-s", "0.5"],
+     "t_stance_s must be in (0, t_stride_s"),
+    (["analytic", "--vrw-mg-per-sqrt-hz", "-0.1"],
+     "--vrw-mg-per-sqrt-hz: a noise density must be"),
+    (["analytic", "--zupt-sigma-mps", "0"], "zupt_sigma_mps (r) must be > 0"),
+    (["analytic", "--times", "-5"], "times must be finite and >= 0 s"),
+    (["study", "sweep", "--runs", "1"], "need points >= 2, steps >= 3 and runs 0 or >= 2")])
+def test_analyses_refuse_impossible_parameters(procs, args, message):
+    result = procs.run("pdr-ekf", *args)
     assert result.returncode == 2
     assert message in result.stderr
+
+
+def test_sweep_writes_table_csv_and_figure(procs, tmp_path):
+    result = procs.run("pdr-ekf", "study", "sweep", "--points", "2", "--runs", "2",
+                       "--steps", "10", "--out", str(tmp_path / "sweep"))
+    assert result.returncode == 0, result.stderr
+    lines = (tmp_path / "sweep" / "sweep.csv").read_text().splitlines()
+    assert lines[0].startswith("parameter,value,quantity,analytic,simulated_mean")
+    assert len(lines) == 1 + 3 * 2 * 4
+    assert (tmp_path / "sweep" / "sweep.png").stat().st_size > 30_000
+
+
+def test_imu_profile_selects_the_shipped_configuration(procs, tmp_path):
+    result = procs.run("pdr-ekf", "run", str(ROOT / "bags" / "foot_walk"), "--out",
+                       str(tmp_path / "out"), "--imu-profile", "xsens_mtw")
+    assert result.returncode == 0, result.stderr
+    assert json.loads((tmp_path / "out" / "report.json").read_text())["armse_3d_m"] < 0.05
+    result = procs.run("pdr-ekf", "run", str(ROOT / "bags" / "foot_walk"), "--out",
+                       str(tmp_path / "other"), "--imu-profile", "bno055")
+    assert result.returncode == 2
+    assert "imu_profile: no configuration for 'bno055' (known: consumer_phone" in result.stderr

@@ -5,11 +5,15 @@ Subcommands:
                           --smoother segmented|full adds the RTS-smoothed trajectory.
     evaluate BAG --truth TRUTH_BAG
                           the report of recorded pdr/foot/pose against ground truth.
-    montecarlo --source S --runs N --out DIR
-                          pure-INS error growth over N noise realisations
-                          (000, Eqs. (13)–(14), Table I): fits, σ(t) CSV, PNG.
+    montecarlo --source S --estimator E --runs N --out DIR
+                          error growth of pure INS or the ZUPT EKF over N noise
+                          realisations (000, Eqs. (13)–(14), Tables I–III): fits,
+                          σ(t) and consistency CSV, PNG.
+    analytic              closed-form ZUPT error levels (004, Eqs. (38)-(57)).
     study mechanization   pure-INS position error per attitude method and rate
                           (000_fbd401126d10f515.txt, Fig. 6): table, CSV and PNG.
+    study sweep           analytic against EKF error levels over ARW, VRW, RRW
+                          (004_1269ce0256f0c590.txt, Figs. 3–6): table, CSV, PNG.
 
 Errors in the input exit with status 2 and one line naming the problem.
 """
@@ -18,7 +22,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import sys
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -28,10 +31,11 @@ from pdr_core.errors import InputError, dispatch
 from pdr_core.metrics import error_report
 from pdr_core.msgtypes import PATH
 from pdr_ins_ekf import plots
+from pdr_ins_ekf.analytic_cli import add_analytic, add_sweep
 from pdr_ins_ekf.attitude_update import METHODS
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.mechanization_study import RATES_HZ, run_study
-from pdr_ins_ekf.montecarlo import SOURCES, NoiseLevels, fits_rows, ins_study, straight_walk
+from pdr_ins_ekf.montecarlo_cli import add_montecarlo
 from pdr_ins_ekf.offline import (
     navigate,
     output_batches,
@@ -55,6 +59,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=Path,
                    help="YAML configuration (see pdr_ins_ekf.config); default: the installed "
                         "config/foot_ekf.yaml")
+    p.add_argument("--imu-profile", help="use the shipped config/foot_ekf_<PROFILE>.yaml "
+                                         "(xsens_mti, xsens_mtw, vn200, consumer_phone)")
     p.add_argument("--imu-topic", default=topics.IMU_DATA)
     p.add_argument("--truth-topic", default=topics.GROUND_TRUTH_POSE)
     p.add_argument("--smoother", choices=SMOOTHER_MODES,
@@ -67,7 +73,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 
 def _run_run(args: argparse.Namespace) -> int:
-    config = load_run_config(args.config)
+    config = load_run_config(args.config, args.imu_profile)
     if args.smoother:
         config = dataclasses.replace(
             config, smoother=dataclasses.replace(config.smoother, mode=args.smoother))
@@ -134,75 +140,6 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_montecarlo(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "montecarlo", help="Monte-Carlo error growth of pure INS (000, Table I)",
-        description="Mechanize N noisy copies of a noiseless simulated straight walk, one "
-                    "error source at a time, batched over runs; fit σ_p(t) and σ_ψ(t) "
-                    "(Eqs. (13)-(14)) with c·t^e in log-log. Fits are of the error the source "
-                    "adds (against the noiseless mechanization); sigma.csv has both.")
-    p.add_argument("--source", choices=(*SOURCES, "all"), default="all")
-    p.add_argument("--estimator", choices=("ins",), default="ins",
-                   help="ins (pure mechanization); the EKF is not batched yet")
-    p.add_argument("--runs", type=int, default=200)
-    p.add_argument("--steps", type=int, default=25, help="strides of the walk (1.2 s each)")
-    p.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz]")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--acc-noise", type=float, default=0.01, help="[m/s²/√Hz]")
-    p.add_argument("--gyro-noise", type=float, default=1e-3, help="[rad/s/√Hz]")
-    p.add_argument("--acc-bias", type=float, default=0.01, help="σ of the bias [m/s²]")
-    p.add_argument("--gyro-bias", type=float, default=1e-3, help="σ of the bias [rad/s]")
-    p.add_argument("--out", type=Path, help="write DIR/fits.csv, fits.md, sigma.csv and "
-                                            "growth.png")
-    p.set_defaults(func=_run_montecarlo)
-
-
-def _run_montecarlo(args: argparse.Namespace) -> int:
-    if args.runs < 2:
-        raise InputError("--runs", f"need at least 2 runs, got {args.runs}")
-    if args.steps < 1 or not MIN_RATE_HZ <= args.rate <= MAX_RATE_HZ:
-        raise InputError("--steps/--rate", f"need steps >= 1 and a rate in "
-                                           f"{MIN_RATE_HZ:g}-{MAX_RATE_HZ:g} Hz")
-    sources = SOURCES if args.source == "all" else (args.source,)
-    walk = straight_walk(args.steps, args.rate)
-    studies, rows = {}, []
-    for source in sources:
-        level = getattr(args, source)
-        try:
-            noise = NoiseLevels.only(source, level)
-        except ValueError as exc:
-            raise InputError(f"--{source.replace('_', '-')}", str(exc)) from None
-
-        def progress(done: int, total: int, source: str = source) -> None:
-            print(f"{source}: {done}/{total} runs", file=sys.stderr, flush=True)
-
-        studies[source] = ins_study(walk, noise, args.runs, args.seed, progress=progress)
-        rows += fits_rows(source, studies[source])
-    header = "| source | estimator | quantity | coefficient | exponent |\n|---|---|---|---|---|\n"
-    table = header + "".join(f"| {r['source']} | {r['estimator']} | {r['quantity']} | "
-                             f"{r['coefficient']:.4g} | {r['exponent']:.3f} |\n" for r in rows)
-    print(table, end="")
-    if args.out:
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "fits.md").write_text(table)
-        (args.out / "fits.csv").write_text(
-            "source,estimator,quantity,coefficient,exponent\n" + "".join(
-                f"{r['source']},{r['estimator']},{r['quantity']},{r['coefficient']:.6g},"
-                f"{r['exponent']:.6g}\n" for r in rows))
-        lines = ["source,t_s,sigma_p_m,sigma_yaw_rad,sigma_p_vs_truth_m,sigma_yaw_vs_truth_rad"]
-        for source, study in studies.items():
-            own, truth = study.noise_only, study.against_truth
-            lines += [f"{source},{t:.6g},{a:.6g},{b:.6g},{c:.6g},{d:.6g}" for t, a, b, c, d in
-                      zip(own.t_s, own.sigma_p_m, own.sigma_yaw_rad, truth.sigma_p_m,
-                          truth.sigma_yaw_rad, strict=True)]
-        (args.out / "sigma.csv").write_text("\n".join(lines) + "\n")
-        plots.error_growth_png({s: st.noise_only for s, st in studies.items()},
-                               args.out / "growth.png",
-                               f"pure INS, {args.runs} runs, {args.steps}-stride walk")
-        print(f"wrote {args.out}/fits.csv, fits.md, sigma.csv, growth.png")
-    return 0
-
-
 def _add_study(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("study", help="reproduce the studies of the papers")
     studies = p.add_subparsers(dest="study", required=True)
@@ -216,6 +153,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     m.add_argument("--integration", choices=INTEGRATIONS, default="trapezoidal")
     m.add_argument("--out", type=Path, help="write DIR/mechanization.csv and .png")
     m.set_defaults(func=_run_mechanization)
+    add_sweep(studies)
 
 
 def _run_mechanization(args: argparse.Namespace) -> int:
@@ -237,7 +175,8 @@ def parser() -> argparse.ArgumentParser:
     sub = top.add_subparsers(dest="command", required=True)
     _add_run(sub)
     _add_evaluate(sub)
-    _add_montecarlo(sub)
+    add_montecarlo(sub)
+    add_analytic(sub)
     _add_study(sub)
     return top
 

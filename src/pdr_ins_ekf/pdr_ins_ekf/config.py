@@ -11,8 +11,11 @@
     alignment_min_s: 0.5            # shortest stationary period to align on [s]
     initial_yaw_deg: 0.0            # heading is unobservable: the start heading
     max_gap_s: 0.1                  # longer gaps between samples are warned about
+    base: other.yaml                # optional: read that file first, override its keys
 
-Unknown keys are refused with their path; defaults are those of the dataclasses.
+Unknown keys are refused with their path; defaults are those of the dataclasses. The
+shipped ``foot_ekf.yaml`` is the default of the node and the CLI; ``foot_ekf_<profile>.yaml``
+adapt it to the IMU profiles of :mod:`pdr_core.imu_profiles` (``--imu-profile``).
 """
 from __future__ import annotations
 
@@ -112,20 +115,67 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
     return RunConfig(**out)
 
 
+def _config_dir() -> Path:
+    from ament_index_python.packages import get_package_share_directory
+
+    return Path(get_package_share_directory("pdr_ins_ekf")) / "config"
+
+
 def default_config_path() -> Path:
     """The installed ``config/foot_ekf.yaml``: the documented default of the node and the
     CLI (the dataclass defaults are plain, paper-like values for simulated data)."""
-    from ament_index_python.packages import get_package_share_directory
-
-    return Path(get_package_share_directory("pdr_ins_ekf")) / "config" / "foot_ekf.yaml"
+    return _config_dir() / "foot_ekf.yaml"
 
 
-def load_run_config(path: str | Path | None) -> RunConfig:
-    """The configuration of a YAML file, or of :func:`default_config_path`."""
-    path = Path(path) if path else default_config_path()
+def imu_profiles() -> list[str]:
+    """The IMU profiles with a shipped configuration ``config/foot_ekf_<profile>.yaml``."""
+    return sorted(p.stem.removeprefix("foot_ekf_") for p in _config_dir().glob("foot_ekf_*.yaml"))
+
+
+def profile_config_path(profile: str) -> Path:
+    """The shipped configuration for an IMU profile of :mod:`pdr_core.imu_profiles`."""
+    known = imu_profiles()
+    if profile not in known:
+        raise InputError("imu_profile", f"no configuration for '{profile}' (known: "
+                                        f"{', '.join(known)})")
+    return _config_dir() / f"foot_ekf_{profile}.yaml"
+
+
+def _merged(base: dict, override: dict) -> dict:
+    """``base`` with ``override`` on top, mapping by mapping."""
+    out = dict(base)
+    for key, value in override.items():
+        out[key] = (_merged(out[key], value) if isinstance(value, dict)
+                    and isinstance(out.get(key), dict) else value)
+    return out
+
+
+def _read(path: Path, seen: tuple[Path, ...] = ()) -> dict:
+    """A configuration file's mapping; ``base: FILE`` (relative to the file) is read first
+    and the file's own keys override it."""
     if not path.is_file():
         raise InputError(path, "no such configuration file")
+    if path.resolve() in seen:
+        raise InputError(path, "base files include each other")
     try:
-        return run_config(yaml.safe_load(path.read_text()), str(path))
+        data = yaml.safe_load(path.read_text()) or {}
     except yaml.YAMLError as exc:
         raise InputError(path, f"invalid YAML ({exc})") from exc
+    if not isinstance(data, dict):
+        raise InputError(path, "expected a mapping at the top level")
+    base = data.pop("base", None)
+    if base is None:
+        return data
+    return _merged(_read(path.parent / str(base), (*seen, path.resolve())), data)
+
+
+def load_run_config(path: str | Path | None = None, imu_profile: str | None = None
+                    ) -> RunConfig:
+    """The configuration of a YAML file, of an IMU profile (:func:`profile_config_path`),
+    or of :func:`default_config_path`."""
+    if path and imu_profile:
+        raise InputError("config", "give a configuration file or an IMU profile, not both")
+    if imu_profile:
+        path = profile_config_path(imu_profile)
+    path = Path(path) if path else default_config_path()
+    return run_config(_read(path), str(path))

@@ -12,7 +12,8 @@ and a straight line in log-log, σ(t) ≈ c·tᵉ, per error source (:func:`powe
 
 Error sources (SI, units in the names): white noise densities ``acc_noise_mps2_per_sqrt_hz``
 and ``gyro_noise_radps_per_sqrt_hz`` (per-sample std density/√Δt), and constant biases
-``acc_bias_mps2`` and ``gyro_bias_radps`` drawn per run and axis from N(0, σ²).
+``acc_bias_mps2`` and ``gyro_bias_radps`` drawn per run and axis from N(0, σ²), and the
+gyro bias random walk ``gyro_rrw_radps_per_sqrt_s`` (RRW of 004_1269ce0256f0c590.txt).
 """
 from __future__ import annotations
 
@@ -68,6 +69,7 @@ class NoiseLevels:
     gyro_noise_radps_per_sqrt_hz: float = 0.0
     acc_bias_mps2: float = 0.0
     gyro_bias_radps: float = 0.0
+    gyro_rrw_radps_per_sqrt_s: float = 0.0
 
     def __post_init__(self) -> None:
         for name, value in self.__dict__.items():
@@ -90,6 +92,9 @@ def noisy_signals(accel: np.ndarray, gyro: np.ndarray, rate_hz: float, noise: No
     a += rng.standard_normal((runs, 1, 3)) * noise.acc_bias_mps2
     w = gyro + rng.standard_normal(shape) * noise.gyro_noise_radps_per_sqrt_hz * root_rate
     w += rng.standard_normal((runs, 1, 3)) * noise.gyro_bias_radps
+    if noise.gyro_rrw_radps_per_sqrt_s > 0:
+        steps = rng.standard_normal(shape) * noise.gyro_rrw_radps_per_sqrt_s / root_rate
+        w += np.cumsum(steps, axis=1)
     return a, w
 
 
@@ -130,7 +135,8 @@ def log_spaced(n: int, first: int, count: int) -> np.ndarray:
 class Walk:
     """The noiseless signals of one simulated walk and its truth, from the start:
     stamps t (T,) [s], specific force and rate (T, 3), attitude C_b^n at the start,
-    position (T, 3) [m] and yaw (T,) [rad]."""
+    position (T, 3) [m], yaw (T,) [rad], the foot pitch (T,) [rad], whether the foot is
+    at rest (T,) and the standing time before the first stride [s]."""
 
     t_s: np.ndarray
     accel: np.ndarray
@@ -139,18 +145,29 @@ class Walk:
     start_attitude: np.ndarray
     position: np.ndarray
     yaw: np.ndarray
+    pitch: np.ndarray
+    at_rest: np.ndarray
+    rest_s: float = 0.0
 
 
-def straight_walk(steps: int, rate_hz: float) -> Walk:
-    """The noiseless simulated straight walk of ``steps`` strides (basic pattern)."""
-    data = {"segments": [{"type": "straight", "steps": steps}]}
+def straight_walk(steps: int, rate_hz: float, rest_s: float = 0.0,
+                  step: dict | None = None) -> Walk:
+    """The noiseless simulated straight walk of ``steps`` strides (basic pattern, the
+    scenario ``step`` mapping if given), after ``rest_s`` seconds standing."""
+    segments = [{"type": "straight", "steps": steps}]
+    if rest_s > 0:
+        segments.insert(0, {"type": "standing", "duration_s": rest_s})
+    data = {"segments": segments, **({"step": step} if step else {})}
     sim = simulate(SimulationConfig(scenario_from_dict(data, "walk"), data, "ideal", {},
                                     rate_hz))
     attitude = sim.trajectory.matrix
+    position = sim.trajectory.position - sim.trajectory.position[0]
+    moved = np.any(np.diff(position, axis=0) != 0, axis=1)
     return Walk(sim.imu.t_s - sim.imu.t_s[0], sim.imu["linear_acceleration"],
-                sim.imu["angular_velocity"], rate_hz, attitude[0],
-                sim.trajectory.position - sim.trajectory.position[0],
-                np.arctan2(attitude[:, 1, 0], attitude[:, 0, 0]))
+                sim.imu["angular_velocity"], rate_hz, attitude[0], position,
+                np.arctan2(attitude[:, 1, 0], attitude[:, 0, 0]),
+                np.arcsin(np.clip(-attitude[:, 2, 0], -1, 1)),
+                ~np.r_[moved, moved[-1]] & ~np.r_[moved[0], moved], rest_s)
 
 
 @dataclass(frozen=True)
@@ -187,14 +204,3 @@ def ins_study(walk: Walk, noise: NoiseLevels, runs: int, seed: int = 0, block: i
     t = walk.t_s[keep]
     return InsStudy(error_growth(t, p, y, walk.position[keep], walk.yaw[keep]),
                     error_growth(t, p, y, clean_p[keep], clean_yaw[keep]))
-
-
-def fits_rows(source: str, study: InsStudy) -> list[dict]:
-    """Rows of fits.csv for one source (estimator ``ins``, the noise-only growth)."""
-    growth = study.noise_only
-    rows = []
-    for quantity, sigma in (("sigma_p", growth.sigma_p_m), ("sigma_yaw", growth.sigma_yaw_rad)):
-        coefficient, exponent = power_law(growth.t_s, sigma)
-        rows.append({"source": source, "estimator": "ins", "quantity": quantity,
-                     "coefficient": coefficient, "exponent": exponent})
-    return rows

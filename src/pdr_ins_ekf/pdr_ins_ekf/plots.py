@@ -92,3 +92,32 @@ def mechanization_png(study: MechanizationStudy, path: Path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
+
+
+def sweep_png(points: list, path: Path) -> None:
+    """004, Figs. 3–6: σ_v and σ_θ against ARW, VRW and RRW, and σ_∥, σ_⊥ against RRW;
+    analytic lines, the filter's covariance as points with its fluctuation bars."""
+    rows = [(p, q) for p in ("arw", "vrw", "rrw") for q in ("sigma_v_mps", "sigma_theta_rad")]
+    rows += [("rrw", "sigma_par_m"), ("rrw", "sigma_perp_m")]
+    fig, axes = plt.subplots(4, 2, figsize=(12, 16))
+    for ax, (parameter, quantity) in zip(axes.flat, rows, strict=True):
+        chosen = [p for p in points if p.parameter == parameter]
+        x = [p.value for p in chosen]
+        ax.loglog(x, [p.analytic[quantity] for p in chosen], "b-", label="analytic")
+        mean, low, high = (np.array([p.simulated[quantity][i] for p in chosen])
+                           for i in range(3))
+        ax.errorbar(x, mean, yerr=[mean - low, high - mean], fmt="rs", capsize=3,
+                    label="EKF covariance")
+        if quantity == "sigma_par_m":
+            ax.loglog(x, [p.rederived_par_m for p in chosen], "b--",
+                      label="analytic, Eq. (56) re-derived")
+        carlo = [p.monte_carlo[quantity][0] for p in chosen if quantity in p.monte_carlo]
+        if len(carlo) == len(chosen):
+            ax.loglog(x, carlo, "g^", label="Monte-Carlo RMS")
+        ax.set(xlabel=f"{parameter.upper()}", ylabel=quantity)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("004, Figs. 3-6: analytic error levels against the ZUPT EKF")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)

@@ -3,7 +3,9 @@
 Every detector is a frozen dataclass with its parameters and a method
 ``detect(accel, gyro, rate_hz) -> Stance`` taking specific force (N, 3) [m/s²] and angular
 rate (N, 3) [rad/s] in the body frame, and returning a boolean stance mask and the test
-statistic per sample. Windows are in samples.
+statistic per sample. Windows are in samples. Time is axis 0 and components the last
+axis: ``accel`` and ``gyro`` of shape (N, R, 3) (R Monte-Carlo runs) give masks (N, R),
+each column exactly the decision on that run alone.
 
 - :class:`Paper000Detector`: 000_fbd401126d10f515.txt, Eqs. (15)–(19): acceleration
   magnitude band (C1), angular-rate threshold (C2), standard deviation of |a| over the
@@ -115,9 +117,9 @@ class Paper000Detector:
         return self.w1 + self.w2, 0
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
-        norm_a = np.linalg.norm(accel, axis=1)
+        norm_a = np.linalg.norm(accel, axis=-1)
         c1 = (self.acc_low_mps2 < norm_a) & (norm_a < self.acc_high_mps2)
-        c2 = np.linalg.norm(gyro, axis=1) < self.rate_max_radps
+        c2 = np.linalg.norm(gyro, axis=-1) < self.rate_max_radps
         if self.variant == "retarded":
             window = max(self.w1, self.w2) + 1
             mean, mean_sq = centred_mean(norm_a, window), centred_mean(norm_a**2, window)
@@ -156,12 +158,12 @@ class ShoeDetector(_CentredWindow):
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
         w = self.window
         mean_a = centred_mean(accel, w)
-        unit = mean_a / np.linalg.norm(mean_a, axis=1, keepdims=True)
+        unit = mean_a / np.linalg.norm(mean_a, axis=-1, keepdims=True)
         # 1/W·Σ‖y − g·u‖² = mean‖y‖² − 2g·u·mean(y) + g², with u fixed over the window
-        acc_term = (centred_mean(np.sum(accel**2, axis=1), w)
-                    - 2 * self.gravity_mps2 * np.sum(unit * mean_a, axis=1)
+        acc_term = (centred_mean(np.sum(accel**2, axis=-1), w)
+                    - 2 * self.gravity_mps2 * np.sum(unit * mean_a, axis=-1)
                     + self.gravity_mps2**2)
-        rate_term = centred_mean(np.sum(gyro**2, axis=1), w)
+        rate_term = centred_mean(np.sum(gyro**2, axis=-1), w)
         statistic = acc_term / self.sigma_acc_mps2**2 + rate_term / self.sigma_rate_radps**2
         return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["shoe"])
 
@@ -204,7 +206,7 @@ class AdaptiveShoeDetector:
         shoe = ShoeDetector(self.sigma_acc_mps2, self.sigma_rate_radps, self.window, 1.0,
                             self.gravity_mps2)
         statistic = shoe.detect(accel, gyro, rate_hz).statistic
-        floor = minimum_filter1d(statistic, self.span, mode="nearest")
+        floor = minimum_filter1d(statistic, self.span, axis=0, mode="nearest")
         threshold = np.clip(self.threshold_factor * floor, self.threshold_min,
                             self.threshold_max)
         return Stance(statistic < threshold, statistic, DETECTOR_IDS["adaptive_shoe"])
@@ -220,8 +222,8 @@ class MovingVarianceDetector(_CentredWindow):
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
         mean_a = centred_mean(accel, self.window)
-        variance = (centred_mean(np.sum(accel**2, axis=1), self.window)
-                    - np.sum(mean_a**2, axis=1))
+        variance = (centred_mean(np.sum(accel**2, axis=-1), self.window)
+                    - np.sum(mean_a**2, axis=-1))
         statistic = np.maximum(variance, 0.0) / self.sigma_acc_mps2**2
         return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["moving_variance"])
 
@@ -236,7 +238,7 @@ class MagnitudeDetector(_CentredWindow):
     gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
-        deviation = (np.linalg.norm(accel, axis=1) - self.gravity_mps2) ** 2
+        deviation = (np.linalg.norm(accel, axis=-1) - self.gravity_mps2) ** 2
         statistic = centred_mean(deviation, self.window) / self.sigma_acc_mps2**2
         return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["magnitude"])
 
@@ -250,6 +252,6 @@ class AngularRateEnergyDetector(_CentredWindow):
     threshold: float = 1.0e4
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
-        statistic = centred_mean(np.sum(gyro**2, axis=1), self.window) / self.sigma_rate_radps**2
+        statistic = centred_mean(np.sum(gyro**2, axis=-1), self.window) / self.sigma_rate_radps**2
         return Stance(statistic < self.threshold, statistic,
                       DETECTOR_IDS["angular_rate_energy"])

@@ -261,12 +261,14 @@ def kernel_params(config: FilterConfig) -> np.ndarray:
 
 
 def initial_attitude(accel: np.ndarray, yaw_rad: float) -> np.ndarray:
-    """C_b^n from the mean specific force at rest (roll, pitch) and a given yaw."""
-    f = accel.mean(axis=0)
-    roll = np.arctan2(f[1], f[2])
-    pitch = np.arctan2(-f[0], np.hypot(f[1], f[2]))
-    return rotation_from_euler(np.array([roll]), np.array([pitch]), np.array([yaw_rad])
-                               ).as_matrix()[0]
+    """C_b^n (3, 3) from the mean specific force at rest (roll, pitch) over the samples
+    of ``accel`` (n, 3) and a given yaw; for runs (R, n, 3), one per run (R, 3, 3)."""
+    f = accel.mean(axis=-2)
+    roll = np.arctan2(f[..., 1], f[..., 2])
+    pitch = np.arctan2(-f[..., 0], np.hypot(f[..., 1], f[..., 2]))
+    matrix = rotation_from_euler(np.atleast_1d(roll), np.atleast_1d(pitch),
+                                 np.full(np.atleast_1d(roll).shape, yaw_rad)).as_matrix()
+    return matrix.reshape(*f.shape[:-1], 3, 3)
 
 
 def run(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,

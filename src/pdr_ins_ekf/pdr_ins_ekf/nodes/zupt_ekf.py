@@ -10,7 +10,8 @@ ends (its lag and its memory are bounded by the segment). Serves ``~/reset``
 (std_srvs/Trigger).
 
 Parameters: ``config`` (navigator YAML, see pdr_ins_ekf.config; default the installed
-config/foot_ekf.yaml), ``frame_id`` ("map"), ``imu_durability`` (volatile or
+config/foot_ekf.yaml) or ``imu_profile`` (the shipped config/foot_ekf_<profile>.yaml),
+``frame_id`` ("map"), ``imu_durability`` (volatile or
 transient_local, to match the publisher), ``smoothed_path`` (false).
 
 Estimates lag the input by the detector's look-ahead (a few samples) and agree with
@@ -49,9 +50,10 @@ class ZuptEkfNode(Node):
     def __init__(self) -> None:
         super().__init__("zupt_ekf")
         path = self.declare_parameter("config", "").value
+        profile = self.declare_parameter("imu_profile", "").value
         self.frame_id = self.declare_parameter("frame_id", "map").value
         durability = self.declare_parameter("imu_durability", "volatile").value
-        config = load_run_config(path)
+        config = load_run_config(path, profile)
         smoothing = self.declare_parameter("smoothed_path", False).value
         config = dataclasses.replace(config, smoother=dataclasses.replace(
             config.smoother, mode="segmented" if smoothing else "none"))
@@ -74,7 +76,7 @@ class ZuptEkfNode(Node):
         self.path.header.frame_id = self.frame_id
         self.previous_stance = False
         self.reported: dict[str, int] = {}
-        self.get_logger().info(f"zupt_ekf: configuration {path}")
+        self.get_logger().info(f"zupt_ekf: configuration {path or profile or 'default'}")
 
     def on_imu(self, msg: Imu) -> None:
         a, w = msg.linear_acceleration, msg.angular_velocity
