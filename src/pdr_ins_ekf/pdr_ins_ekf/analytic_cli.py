@@ -142,24 +142,31 @@ def run_sweep(args: argparse.Namespace) -> int:
 
 
 def sweep_markdown(points: list, gait) -> str:
-    """Analytic against simulated per point and quantity, with the difference."""
+    """Analytic against simulated per point and quantity, with the difference; for σ_∥
+    also the re-derived Eq. (56), for σ_∥ and σ_⊥ the Monte-Carlo σ."""
     text = (f"gait measured on the walk: t_stance {gait.t_stance_s:.3f} s, t_stride "
             f"{gait.t_stride_s:.3f} s, a_c {gait.cos_pitch_mean:.3f}, a_s "
             f"{gait.sin_pitch_mean:.3f}, s_N {gait.stride_m:.2f} m\n\n"
-            "| swept | value | quantity | analytic | EKF (low-high) | difference |\n"
-            "|---|---:|---|---:|---:|---:|\n")
+            "| swept | value | quantity | analytic | EKF (low-high) | difference | notes |\n"
+            "|---|---:|---|---:|---:|---:|---|\n")
     for p in points:
         for q in error_sweep.QUANTITIES:
             mean, low, high = p.simulated[q]
+            notes = []
+            if q == "sigma_par_m":
+                notes.append(f"Eq. (56) re-derived {p.rederived_par_m:.3g} "
+                             f"({p.rederived_par_m / mean - 1:+.0%} from the EKF)")
+            if q in p.monte_carlo:
+                notes.append(f"Monte-Carlo σ {p.monte_carlo[q][0]:.3g}")
             text += (f"| {p.parameter} | {p.value:.3g} | {q} | {p.analytic[q]:.3g} | "
                      f"{mean:.3g} ({low:.3g}-{high:.3g}) | "
-                     f"{error_sweep.agreement(p, q):+.0%} |\n")
+                     f"{error_sweep.agreement(p, q):+.0%} | {'; '.join(notes)} |\n")
     return text
 
 
 def sweep_csv(points: list) -> str:
     lines = ["parameter,value,quantity,analytic,simulated_mean,simulated_low,simulated_high,"
-             "rederived_eq56,monte_carlo_rms"]
+             "rederived_eq56,monte_carlo_sigma"]
     for p in points:
         for q in error_sweep.QUANTITIES:
             extra = (p.rederived_par_m if q == "sigma_par_m" else "",

@@ -113,7 +113,7 @@ def sweep_png(points: list, path: Path) -> None:
                       label="analytic, Eq. (56) re-derived")
         carlo = [p.monte_carlo[quantity][0] for p in chosen if quantity in p.monte_carlo]
         if len(carlo) == len(chosen):
-            ax.loglog(x, carlo, "g^", label="Monte-Carlo RMS")
+            ax.loglog(x, carlo, "g^", label="Monte-Carlo σ")
         ax.set(xlabel=f"{parameter.upper()}", ylabel=quantity)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
