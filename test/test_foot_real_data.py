@@ -13,24 +13,35 @@ import numpy as np
 from wstest import PYSHOE, PYSHOE_NAV_ARGS, XIO, XIO_ARGS
 
 
-def run_report(procs, tmp_path, csv, import_args) -> dict:
+def run_report(procs, tmp_path, csv, import_args, *run_args) -> dict:
     bag, out = tmp_path / f"{csv.stem}_bag", tmp_path / f"{csv.stem}_out"
     imported = procs.run("pdr-sim", "import-csv", str(csv), "--out", str(bag), *import_args)
     assert imported.returncode == 0, imported.stderr
-    result = procs.run("pdr-ekf", "run", str(bag), "--out", str(out))
+    result = procs.run("pdr-ekf", "run", str(bag), "--out", str(out), *run_args)
     assert result.returncode == 0, result.stderr
     return json.loads((out / "report.json").read_text())
 
 
 def test_pyshoe_vicon_one_configuration_for_all_trials(procs, tmp_path):
     """Target: mean ARMSE <= 0.12 m, no trial above 0.30 m. The pyshoe EKF with one SHOE
-    threshold: mean 1.97 m; with the threshold tuned per trial (an oracle): 0.115 m."""
-    vicon_armse = {csv.stem: run_report(procs, tmp_path, csv, PYSHOE_NAV_ARGS)["armse_3d_m"]
-                   for csv in PYSHOE}
+    threshold: mean 1.97 m; with the threshold tuned per trial (an oracle): 0.115 m.
+
+    Smoothed too (issue 5, acceptance 2). Its mean ARMSE is 0.118 m against the filter's
+    0.115 m: ARMSE over a trial is mostly heading drift, which smoothing cannot see. Within
+    the steps, each step's heading removed, it is 39 % closer to the truth (mean 0.050 m
+    against 0.082 m)."""
+    reports = {csv.stem: run_report(procs, tmp_path, csv, PYSHOE_NAV_ARGS,
+                                    "--smoother", "segmented") for csv in PYSHOE}
+    vicon_armse = {k: r["armse_3d_m"] for k, r in reports.items()}
     print("armse_3d_m:", {k: round(v, 3) for k, v in vicon_armse.items()})
     assert len(vicon_armse) == 7
     assert np.mean(list(vicon_armse.values())) <= 0.12
     assert max(vicon_armse.values()) <= 0.30
+    within = np.mean([r["within_step_rmse_m"] for r in reports.values()])
+    smoothed = np.mean([r["smoothed"]["within_step_rmse_m"] for r in reports.values()])
+    print(f"within-step RMSE: filter {within:.4f} m, smoothed {smoothed:.4f} m; smoothed "
+          f"ARMSE {np.mean([r['smoothed']['armse_3d_m'] for r in reports.values()]):.4f} m")
+    assert smoothed <= 0.7 * within
 
 
 def test_xio_loop_gap(procs, tmp_path):

@@ -12,6 +12,8 @@ horizontal displacement matches the truth's at the first sample where the estima
 """
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 ALIGN_DISTANCE_M = 0.8
@@ -59,3 +61,25 @@ def error_report(t_s: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None
                "armse_3d_m": float((norm3 / np.sqrt(3)).mean()),
                "armse_2d_m": float((norm2 / np.sqrt(2)).mean())}
     return report
+
+
+def within_step_rmse(estimate: np.ndarray, truth: np.ndarray, cuts: np.ndarray) -> float:
+    """RMS [m] of the error within steps, each step's heading error removed: between
+    consecutive sample indices of ``cuts`` (e.g. the last stance sample before each
+    swing), both paths are taken from the step's first sample and the truth is rotated
+    about the vertical so that its displacement over the step points where the
+    estimate's does. What remains is the error a step adds beyond heading, which is
+    unobservable from the IMU alone and dominates any longer-range metric (issue 5: it
+    shows what smoothing changes within the steps)."""
+    errors = []
+    for a, b in itertools.pairwise(cuts):
+        est = estimate[a:b + 1] - estimate[a]
+        ref = truth[a:b + 1] - truth[a]
+        angle = np.arctan2(est[-1, 1], est[-1, 0]) - np.arctan2(ref[-1, 1], ref[-1, 0])
+        c, s = np.cos(angle), np.sin(angle)
+        turned = np.column_stack([c * ref[:, 0] - s * ref[:, 1], s * ref[:, 0] + c * ref[:, 1],
+                                  ref[:, 2]])
+        errors.append(np.sum((est - turned) ** 2, axis=1))
+    if not errors:
+        raise ValueError("need at least two cuts")
+    return float(np.sqrt(np.mean(np.concatenate(errors))))

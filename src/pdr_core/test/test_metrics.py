@@ -1,8 +1,10 @@
 """Report metrics of INTERFACES.md."""
+import itertools
+
 import numpy as np
 import pytest
 
-from pdr_core.metrics import aligned, error_report
+from pdr_core.metrics import aligned, error_report, within_step_rmse
 
 
 def test_rotated_and_shifted_estimate_has_no_error():
@@ -36,3 +38,23 @@ def test_without_truth_the_loop_gap_is_reported():
     report = error_report(np.arange(4.0), estimate, None)
     assert report == {"duration_s": 3.0, "distance_m": pytest.approx(3 + 4 + np.hypot(2.9, 4)),
                       "loop_gap_m": pytest.approx(0.1)}
+
+
+def test_within_step_error_ignores_each_steps_heading():
+    """Steps whose heading error drifts from step to step, but are otherwise exact, have
+    no within-step error; an offset in the middle of one step is counted."""
+    t = np.linspace(0, 4, 401)
+    truth = np.column_stack([t, 0.1 * np.sin(np.pi * t), 0.05 * np.abs(np.sin(np.pi * t))])
+    cuts = np.arange(0, 401, 100)
+    estimate = truth.copy()
+    for k, (a, b) in enumerate(itertools.pairwise(cuts)):
+        angle = 0.05 * (k + 1)
+        d = truth[a:b + 1] - truth[a]
+        c, s = np.cos(angle), np.sin(angle)
+        estimate[a:b + 1] = estimate[a] + np.column_stack(
+            [c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1], d[:, 2]])
+    assert within_step_rmse(estimate, truth, cuts) == pytest.approx(0.0, abs=1e-12)
+    estimate[150, 2] += 0.02
+    assert within_step_rmse(estimate, truth, cuts) == pytest.approx(0.02 / np.sqrt(404))
+    with pytest.raises(ValueError, match="two cuts"):
+        within_step_rmse(estimate, truth, cuts[:1])

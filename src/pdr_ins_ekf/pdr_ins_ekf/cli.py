@@ -25,10 +25,12 @@ import json
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
+
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, merged_messages
 from pdr_core.errors import InputError, dispatch
-from pdr_core.metrics import error_report
+from pdr_core.metrics import error_report, within_step_rmse
 from pdr_core.msgtypes import PATH
 from pdr_ins_ekf import plots
 from pdr_ins_ekf.analytic_cli import add_analytic, add_sweep
@@ -86,14 +88,14 @@ def _run_run(args: argparse.Namespace) -> int:
     if has_truth:
         truth = truth_at(batches[args.truth_topic], result.stamp_ns)
     t_s = (result.stamp_ns - result.stamp_ns[0]) * 1e-9
-    report = error_report(t_s, result.output.position, truth)
+    report = step_report(t_s, result.output.position, truth, result.stance)
     report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
                "dropped": result.counts}
     smoothed = []
     if result.smoothed is not None:
         smoothed = smoothed_paths(result)
-        report["smoothed"] = error_report(t_s, result.smoothed.position, truth) | {
-            "segments": len(smoothed)}
+        report["smoothed"] = step_report(t_s, result.smoothed.position, truth,
+                                         result.stance) | {"segments": len(smoothed)}
     outputs = output_batches(result)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
         for topic, batch in outputs.items():
@@ -113,6 +115,17 @@ def _run_run(args: argparse.Namespace) -> int:
                 plots.smoothing_png(t_s, result, writer.staging / "smoothing.png")
     print(json.dumps(report, indent=2))
     return 0
+
+
+def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,
+                stance: np.ndarray) -> dict:
+    """The report of INTERFACES.md, plus ``within_step_rmse_m`` (pdr_core.metrics) over
+    the steps between swings when there is a truth and at least one whole step."""
+    report = error_report(t_s, position, truth)
+    cuts = np.flatnonzero(stance[:-1] & ~stance[1:])
+    if truth is not None and len(cuts) >= 2:
+        report["within_step_rmse_m"] = within_step_rmse(position, truth, cuts)
+    return report
 
 
 def _add_evaluate(sub: argparse._SubParsersAction) -> None:
