@@ -8,7 +8,8 @@ horizontal displacement matches the truth's at the first sample where the estima
 - ``mean_error_3d_m``: mean Euclidean error;
 - ``armse_3d_m`` / ``armse_2d_m``: the pyshoe papers' metric: per sample the RMS over the
   axes (Euclidean error / √3, or the horizontal error / √2), then the mean over samples;
-- ``final_error_m`` and ``final_error_pct`` (of the true path length ``distance_m``).
+- ``final_error_m`` and ``final_error_pct`` (of the true path length ``distance_m``);
+- ``within_step_rmse_m`` (``pdr-ekf run``, beyond INTERFACES.md): :func:`within_step_rmse`.
 """
 from __future__ import annotations
 
