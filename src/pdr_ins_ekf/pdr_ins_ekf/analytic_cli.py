@@ -72,7 +72,10 @@ def model_from_args(args: argparse.Namespace) -> ZuptErrorModel:
                     args.sin_pitch_mean, args.stride_m)
         return ZuptErrorModel(noise, gait, args.zupt_sigma_mps, args.rate_hz)
     except ValueError as exc:
-        raise InputError("pdr-ekf analytic", str(exc)) from None
+        name = str(exc).split(" ")[0]
+        source = (f"--{name.replace('_', '-')}" if name in vars(args)
+                  else "--t-stance-s/--rate-hz")
+        raise InputError(source, str(exc)) from None
 
 
 def run_analytic(args: argparse.Namespace) -> int:
