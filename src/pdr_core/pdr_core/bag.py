@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, SeekingReader
@@ -31,7 +32,7 @@ from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.rosbag2.errors import ReaderError
 
-from pdr_core import cdr
+from pdr_core import cdr, mcap_bulk
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import typestore
@@ -270,6 +271,25 @@ class BagWriter:
         self.add_topic(topic, msgtype)
         self._writer.write(self._connections[topic], int(log_time_ns), data)
 
+    def write_merged(self, batches: dict[str, MessageBatch]) -> None:
+        """Append fixed-layout ``batches`` (topic -> batch, logged at their stamps) merged
+        in log-time order, as :func:`merged_messages` would. Batches with one frame_id and
+        sorted stamps go through :mod:`pdr_core.mcap_bulk` (vectorised, the same bytes);
+        others message by message."""
+        for topic, batch in batches.items():
+            self.add_topic(topic, batch.msgtype)
+        bulk = all(bool(np.all(b.frame_id == b.frame_id[:1]))
+                   and bool(np.all(np.diff(b.stamp_ns) >= 0)) for b in batches.values())
+        if not bulk:
+            for message in merged_messages(batches):
+                self.write_raw(message.topic, message.msgtype, message.log_time_ns,
+                               message.data)
+            return
+        full = {t: b for t, b in batches.items() if len(b)}
+        mcap_bulk.append(self._writer, [self._connections[t] for t in full],
+                         [b.stamp_ns for b in full.values()],
+                         [cdr.encode_rows(b, str(b.frame_id[0])) for b in full.values()])
+
 
 def merged_messages(batches: dict[str, MessageBatch],
                     generic: dict[str, tuple[str, list[tuple[int, Any]]]] | None = None
@@ -302,9 +322,12 @@ def write_batches(path: str | Path, batches: dict[str, MessageBatch],
     interleaved as recorded). ``compress`` zstd-compresses the MCAP chunks."""
     with BagWriter(path, overwrite=overwrite, custom_data=custom_data,
                    compress=compress) as writer:
+        if not generic:
+            writer.write_merged(batches)
+            return
         for topic, batch in batches.items():
             writer.add_topic(topic, batch.msgtype)
-        for topic, (msgtype, _) in (generic or {}).items():
+        for topic, (msgtype, _) in generic.items():
             writer.add_topic(topic, msgtype)
         for message in merged_messages(batches, generic):
             writer.write_raw(message.topic, message.msgtype, message.log_time_ns, message.data)

@@ -37,6 +37,11 @@ def make_imu():
 
 
 @pytest.fixture
+def make_pose():
+    return pose_batch
+
+
+@pytest.fixture
 def imu():
     return imu_batch(500)
 

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, BagWriter, merged_messages
+from pdr_core.bag import BagReader, BagWriter
 from pdr_core.errors import InputError, dispatch
 from pdr_core.metrics import error_report, within_step_rmse
 from pdr_core.msgtypes import PATH
@@ -98,11 +98,8 @@ def _run_run(args: argparse.Namespace) -> int:
                                          result.stance) | {"segments": len(smoothed)}
     outputs = output_batches(result)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
-        for topic, batch in outputs.items():
-            writer.add_topic(topic, batch.msgtype)
+        writer.write_merged(outputs)
         writer.add_topic("/pdr/foot/path", PATH)
-        for message in merged_messages(outputs):
-            writer.write_raw(message.topic, message.msgtype, message.log_time_ns, message.data)
         stamp, path = step_path(result)
         writer.write_raw("/pdr/foot/path", PATH, stamp, path)
         for stamp, path in smoothed:
