@@ -12,8 +12,8 @@ per-message Python work beyond splitting the buffer. The result is byte-identica
 Types with strings or sequences after the header (``nav_msgs/Path``) go through
 ``rosbags``: see :func:`decode_generic` and :mod:`pdr_core.bag`.
 
-Public: :func:`fixed_layout`, :func:`decode`, :func:`encode`, :func:`encode_rows`,
-:func:`decode_generic`, :func:`encode_generic`.
+Public: :func:`fixed_layout`, :func:`decode`, :func:`decode_rows`, :func:`encode`,
+:func:`encode_rows`, :func:`decode_generic`, :func:`encode_generic`.
 """
 from __future__ import annotations
 
@@ -120,10 +120,22 @@ def decode(msgtype: str, raws: list[bytes]) -> MessageBatch:
 
     Raises ValueError if a message is truncated or not little-endian CDR.
     """
+    lengths = np.fromiter((len(r) for r in raws), dtype=np.int64, count=len(raws))
+    return _decode_buffer(msgtype, np.frombuffer(b"".join(raws), dtype=np.uint8), lengths)
+
+
+def decode_rows(msgtype: str, rows: np.ndarray) -> MessageBatch:
+    """:func:`decode` of messages that all have one size, given as the rows of a
+    (n, size) uint8 array."""
+    n, size = rows.shape
+    return _decode_buffer(msgtype, np.ascontiguousarray(rows).reshape(-1),
+                          np.full(n, size, np.int64))
+
+
+def _decode_buffer(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> MessageBatch:
+    """Messages of ``lengths`` bytes back to back in ``buf``."""
     leaves = _require_fixed(msgtype)
-    n = len(raws)
-    lengths = np.fromiter((len(r) for r in raws), dtype=np.int64, count=n)
-    buf = np.frombuffer(b"".join(raws), dtype=np.uint8)
+    n = len(lengths)
     starts = np.concatenate(([0], np.cumsum(lengths)[:-1])) if n else np.zeros(0, np.int64)
     if n and lengths.min() < 16:
         raise ValueError(f"{msgtype}: message shorter than a CDR header")

@@ -1,25 +1,37 @@
-"""Vectorised appends of fixed-size messages to a rosbags MCAP writer.
+"""Vectorised MCAP I/O of fixed-size messages: appends to a rosbags writer, and reads
+through the chunk and message indexes.
 
 rosbags writes one message at a time, about 4 µs each in Python, which made writing the
 full-rate outputs of an hour of 200 Hz data the slowest part of ``pdr-ekf run``. Here the
 MCAP Message records of many messages are built with NumPy and handed to rosbags'
 ``McapWriter`` chunk by chunk, with its own chunking (a chunk is closed after the message
-that takes it past 1 MiB), so the file is byte-identical to writing the same messages one
-by one in the same order (tested in ``test_bag.py``).
+that takes it past 1 MiB, by :func:`close_chunk`, rosbags' own with the message index
+built by NumPy), so the file is byte-identical to writing the same messages one by one in
+the same order (tested in ``test_bag.py``, with and without zstd).
 
 This relies on rosbags 0.11.9 (pinned in ``tools/constraints.txt``): the pending chunk of
-``McapWriter`` (``chunk.bio``, ``chunk.msgs``, its time bounds), its file-wide time bounds
-and ``channel_stats``, and ``Writer``'s ``counts`` and time bounds. An upgrade that
+``McapWriter`` (``chunk.bio``, ``chunk.msgs``, its time bounds), its file-wide time bounds,
+``channel_stats``, ``bio``, ``chunks``, ``compression`` and ``compressor``, and
+``Writer``'s ``counts`` and time bounds. An upgrade that
 changes them fails that test.
+
+Reading (:func:`read_rows`) takes the summary of the ``mcap`` library's SeekingReader
+and gathers one channel's messages from each chunk with NumPy, by the offsets of its
+MessageIndex records (MCAP specification: records are opcode, uint64 length, content).
 """
 from __future__ import annotations
 
+import struct
+from collections import defaultdict
+from io import BytesIO
 from typing import Any
 
+import lz4.frame
 import numpy as np
+import zstandard
 
 CHUNK_LIMIT = 2**20  # rosbags closes a chunk once its records pass this many bytes
-OPCODE_MESSAGE = 0x05
+OPCODE_MESSAGE, OPCODE_CHUNK, OPCODE_MESSAGE_INDEX = 0x05, 0x06, 0x07
 
 
 def _record_dtype(payload: int) -> np.dtype:
@@ -58,7 +70,45 @@ def append(writer: Any, connections: list[Any], stamps: list[np.ndarray],
         base = ends[last - 1]
         first = last
         if storage.chunk.bio.tell() > CHUNK_LIMIT:
-            storage.close_chunk()
+            close_chunk(storage)
+
+
+def _string(text: str) -> bytes:
+    data = text.encode()
+    return struct.pack("<I", len(data)) + data
+
+
+def _record(opcode: int, content: bytes) -> bytes:
+    return struct.pack("<BQ", opcode, len(content)) + content
+
+
+def close_chunk(storage: Any) -> None:
+    """rosbags' ``McapWriter.close_chunk`` with the MessageIndex records built by NumPy
+    (rosbags writes each (time, offset) pair with two Python calls): the Chunk record,
+    one MessageIndex per channel in the order the channels first appear, and the
+    ChunkIndex kept for the summary; then a new, empty pending chunk."""
+    chunk = storage.chunk
+    records = chunk.bio.getvalue()
+    compressed = storage.compressor(records)
+    chunk_start = storage.bio.tell()
+    storage.bio.write(_record(OPCODE_CHUNK, struct.pack(
+        "<QQQI", chunk.message_start_time, chunk.message_end_time, len(records), 0)
+        + _string(storage.compression) + struct.pack("<Q", len(compressed)) + compressed))
+    chunk_end = storage.bio.tell()
+    offsets = []
+    for channel, entries in chunk.msgs.items():
+        offsets.append(struct.pack("<HQ", channel, storage.bio.tell()))
+        pairs = np.asarray(entries, dtype="<u8").reshape(-1, 2)
+        storage.bio.write(_record(OPCODE_MESSAGE_INDEX, struct.pack(
+            "<HI", channel, pairs.nbytes) + pairs.tobytes()))
+    index = BytesIO()  # positioned at its end: rosbags takes tell() as its length
+    index.write(struct.pack("<QQQQI", chunk.message_start_time, chunk.message_end_time,
+                            chunk_start, chunk_end - chunk_start, 10 * len(offsets))
+                + b"".join(offsets) + struct.pack("<Q", storage.bio.tell() - chunk_end)
+                + _string(storage.compression)
+                + struct.pack("<QQ", len(compressed), len(records)))
+    storage.chunks.append(index)
+    storage.chunk = type(chunk)(2**63 - 1, 0, BytesIO(), defaultdict(list))
 
 
 def _write_chunk(writer: Any, connections: list[Any], stamps: list[np.ndarray],
@@ -100,3 +150,62 @@ def _write_chunk(writer: Any, connections: list[Any], stamps: list[np.ndarray],
         writer.min_timestamp = min(writer.min_timestamp, low)
         writer.max_timestamp = max(writer.max_timestamp, high)
     chunk.bio.write(buffer.tobytes())
+
+
+def _chunk_records(stream: Any, index: Any) -> np.ndarray:
+    """The uncompressed records of the chunk of a ChunkIndex, as uint8."""
+    stream.seek(index.chunk_start_offset)
+    raw = stream.read(index.chunk_length)
+    # opcode, record length, start and end time, uncompressed size and CRC: 37 bytes
+    name_len = int.from_bytes(raw[37:41], "little")
+    compression = raw[41:41 + name_len].decode()
+    at = 41 + name_len + 8
+    data = raw[at:at + index.compressed_size]
+    if compression == "zstd":
+        data = zstandard.ZstdDecompressor().decompress(
+            data, max_output_size=index.uncompressed_size)
+    elif compression == "lz4":
+        data = lz4.frame.decompress(data)
+    elif compression:
+        raise ValueError(f"unknown chunk compression {compression!r}")
+    return np.frombuffer(data, np.uint8)
+
+
+def _message_index(stream: Any, offset: int) -> np.ndarray:
+    """(log time, offset in the chunk's records) pairs (n, 2) of a MessageIndex record."""
+    stream.seek(offset)
+    head = stream.read(15)  # opcode, record length, channel id, array byte length
+    size = int.from_bytes(head[11:15], "little")
+    return np.frombuffer(stream.read(size), "<u8").reshape(-1, 2)
+
+
+def _gather(values: np.ndarray, starts: np.ndarray, width: int) -> np.ndarray:
+    return values[starts[:, None] + np.arange(width)]
+
+
+def read_rows(stream: Any, summary: Any, channel_id: int) -> tuple[np.ndarray, np.ndarray]:
+    """Log times (n,) [ns] and serialized messages (n, size) uint8 of one channel of an
+    indexed MCAP file, in log-time order (ties in file order), through its chunk and
+    message indexes. Raises ValueError if the messages differ in size (then read them
+    one by one)."""
+    times, rows = [], []
+    for index in summary.chunk_indexes:
+        if channel_id not in index.message_index_offsets:
+            continue
+        entries = _message_index(stream, index.message_index_offsets[channel_id])
+        if not len(entries):
+            continue
+        records = _chunk_records(stream, index)
+        offsets = entries[:, 1].astype(np.int64)
+        lengths = _gather(records, offsets + 1, 8).copy().view("<u8").ravel()
+        if np.any(lengths != lengths[0]):
+            raise ValueError("messages of different sizes")
+        times.append(entries[:, 0].astype(np.int64))
+        rows.append(_gather(records, offsets + 31, int(lengths[0]) - 22))
+    if not rows:
+        return np.zeros(0, np.int64), np.zeros((0, 0), np.uint8)
+    if len({r.shape[1] for r in rows}) > 1:
+        raise ValueError("messages of different sizes")
+    log_time, data = np.concatenate(times), np.concatenate(rows)
+    order = np.argsort(log_time, kind="stable")
+    return log_time[order], data[order]
