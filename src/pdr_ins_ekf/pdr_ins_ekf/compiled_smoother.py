@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from pdr_ins_ekf import compiled_filter, kernel_cache
 from pdr_ins_ekf.compiled_filter import (
     _rodrigues,
     apply_transition,
@@ -35,6 +36,8 @@ from pdr_ins_ekf.compiled_filter import (
     propagate,
     start,
 )
+
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
 
 # rule: [γs, τs, Σ diag(P_v) of the previous sample, c] (c: time since the crossing [s])
 RULE_GAMMA, RULE_TAU, RULE_PREVIOUS, RULE_CLOCK = range(4)

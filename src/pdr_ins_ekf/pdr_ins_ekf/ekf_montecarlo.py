@@ -22,10 +22,13 @@ from numba import njit, prange
 from scipy.optimize import nnls
 
 from pdr_core import units
+from pdr_ins_ekf import compiled_filter, kernel_cache
 from pdr_ins_ekf.compiled_filter import filter_loop
 from pdr_ins_ekf.montecarlo import ErrorGrowth, NoiseLevels, Walk, error_growth, noisy_signals
 from pdr_ins_ekf.zero_velocity import Paper000Detector, StanceDetector
 from pdr_ins_ekf.zupt_ekf import FilterConfig, ZuptEkf, initial_attitude, kernel_params
+
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
 
 # 000, section IV-B: the XSens MTi of Tables II-III (3 °/√h, 122 µg/√Hz; constant biases
 # drawn per axis with σ 1.23 mg and 0.5 °/s)

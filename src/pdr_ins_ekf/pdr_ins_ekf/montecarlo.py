@@ -22,9 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from pdr_ins_ekf import compiled_filter, kernel_cache
 from pdr_ins_ekf.compiled_filter import mechanize, start
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
+
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
 
 SOURCES = ("acc_noise", "gyro_noise", "acc_bias", "gyro_bias")
 
