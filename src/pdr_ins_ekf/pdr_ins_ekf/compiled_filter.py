@@ -24,16 +24,28 @@ def _skew(v):
 
 @njit(cache=True)
 def _rodrigues(w, dt):
-    """exp([w×]·dt), 000_fbd401126d10f515.txt, Eq. (12)."""
-    norm = np.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
-    big = _skew(w)
+    """exp([w×]·dt), 000_fbd401126d10f515.txt, Eq. (12), written out as
+    I + s·[w×] + c·[w×]² with [w×]² = w·wᵀ − |w|²·I."""
+    norm2 = w[0] ** 2 + w[1] ** 2 + w[2] ** 2
+    norm = np.sqrt(norm2)
     if norm > 0:
         s = np.sin(norm * dt) / norm
-        c = (1 - np.cos(norm * dt)) / norm**2
+        c = (1 - np.cos(norm * dt)) / norm2
     else:
         s = dt
         c = dt**2 / 2
-    return np.eye(3) + s * big + c * (big @ big)
+    R = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            R[i, j] = c * w[i] * w[j]
+        R[i, i] += 1.0 - c * norm2
+    R[0, 1] -= s * w[2]
+    R[0, 2] += s * w[1]
+    R[1, 0] += s * w[2]
+    R[1, 2] -= s * w[0]
+    R[2, 0] -= s * w[1]
+    R[2, 1] += s * w[0]
+    return R
 
 
 @njit(cache=True)
@@ -47,17 +59,30 @@ def start(C, b, prev, f, w):
 @njit(cache=True)
 def mechanize(p, v, C, b, prev, f, w, dt, gravity):
     """Trapezoidal strapdown step of the nominal state over dt (001_5b5dbf275b14cf0a.txt,
-    Eqs. (1)–(5)); returns the navigation-frame specific force."""
-    f_c = f - b[:3]
-    w_c = w - b[3:]
-    C[:, :] = C @ _rodrigues((prev[1] + w_c) / 2, dt)
-    a_now = C @ f_c
-    v_new = v + ((prev[2] + a_now) / 2 - np.array([0.0, 0.0, gravity])) * dt
-    p += (v + v_new) / 2 * dt
-    v[:] = v_new
-    prev[0] = f_c
-    prev[1] = w_c
-    prev[2] = a_now
+    Eqs. (1)–(5)); returns the navigation-frame specific force. Loops over the three
+    axes: cheaper than NumPy's temporaries at this size."""
+    f_c = np.empty(3)
+    w_mid = np.empty(3)
+    for i in range(3):
+        f_c[i] = f[i] - b[i]
+        w_c = w[i] - b[3 + i]
+        w_mid[i] = (prev[1, i] + w_c) / 2
+        prev[1, i] = w_c
+    R = _rodrigues(w_mid, dt)
+    for i in range(3):
+        r0, r1, r2 = C[i, 0], C[i, 1], C[i, 2]
+        for j in range(3):
+            C[i, j] = r0 * R[0, j] + r1 * R[1, j] + r2 * R[2, j]
+    a_now = np.empty(3)
+    for i in range(3):
+        a_now[i] = C[i, 0] * f_c[0] + C[i, 1] * f_c[1] + C[i, 2] * f_c[2]
+    for i in range(3):
+        accel = (prev[2, i] + a_now[i]) / 2 - (gravity if i == 2 else 0.0)
+        v_new = v[i] + accel * dt
+        p[i] += (v[i] + v_new) / 2 * dt
+        v[i] = v_new
+        prev[0, i] = f_c[i]
+        prev[2, i] = a_now[i]
     return a_now
 
 
@@ -66,15 +91,28 @@ def apply_transition(M, C, a_now, dt, params):
     """F·M for the error-state transition F = I + A·dt over dt (module docstring of
     :mod:`pdr_ins_ekf.zupt_ekf`), M (n, k), without forming F: F is the identity plus
     four 3×3 blocks (δp/δv, δv/δθ = [fⁿ×], and with 15 states δv/δb_a = −Ĉ,
-    δθ/δb_g = Ĉ) and, for Gauss–Markov biases, −dt/τ on the bias diagonal."""
+    δθ/δb_g = Ĉ) and, for Gauss–Markov biases, −dt/τ on the bias diagonal. Loops, column
+    by column: a 3×3 block times a 3-vector is cheaper written out than as a BLAS call."""
+    n, k = M.shape
     out = M.copy()
-    out[0:3] += dt * M[3:6]
-    out[3:6] += (_skew(a_now) * dt) @ M[6:9]
-    if M.shape[0] == 15:
-        out[3:6] -= (C * dt) @ M[9:12]
-        out[6:9] += (C * dt) @ M[12:15]
-        if params[5] == 2:
-            out[9:15] -= (dt / params[4]) * M[9:15]
+    a0, a1, a2 = a_now[0], a_now[1], a_now[2]
+    decay = dt / params[4] if n == 15 and params[5] == 2 else 0.0
+    for j in range(k):
+        t0, t1, t2 = M[6, j], M[7, j], M[8, j]
+        out[0, j] += dt * M[3, j]
+        out[1, j] += dt * M[4, j]
+        out[2, j] += dt * M[5, j]
+        out[3, j] += dt * (a1 * t2 - a2 * t1)
+        out[4, j] += dt * (a2 * t0 - a0 * t2)
+        out[5, j] += dt * (a0 * t1 - a1 * t0)
+        if n == 15:
+            b0, b1, b2 = M[9, j], M[10, j], M[11, j]
+            g0, g1, g2 = M[12, j], M[13, j], M[14, j]
+            for i in range(3):
+                out[3 + i, j] -= dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
+                out[6 + i, j] += dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
+            for i in range(9, 15):
+                out[i, j] -= decay * M[i, j]
     return out
 
 
@@ -93,7 +131,11 @@ def propagate(P, C, a_now, dt, params):
         for i in range(3):
             P[9 + i, 9 + i] += acc_bias_noise**2 * dt
             P[12 + i, 12 + i] += gyro_bias_noise**2 * dt
-    P[:, :] = (P + P.T) / 2
+    for i in range(n):
+        for j in range(i + 1, n):
+            mean = (P[i, j] + P[j, i]) / 2
+            P[i, j] = mean
+            P[j, i] = mean
 
 
 @njit(cache=True)
@@ -104,19 +146,60 @@ def predict(p, v, C, b, P, prev, f, w, dt, params):
 
 
 @njit(cache=True)
+def _inverse3(S):
+    """Inverse of a 3×3 matrix by its adjugate (S is a symmetric positive-definite
+    innovation covariance here, well conditioned by the measurement noise)."""
+    inv = np.empty((3, 3))
+    inv[0, 0] = S[1, 1] * S[2, 2] - S[1, 2] * S[2, 1]
+    inv[0, 1] = S[0, 2] * S[2, 1] - S[0, 1] * S[2, 2]
+    inv[0, 2] = S[0, 1] * S[1, 2] - S[0, 2] * S[1, 1]
+    inv[1, 0] = S[1, 2] * S[2, 0] - S[1, 0] * S[2, 2]
+    inv[1, 1] = S[0, 0] * S[2, 2] - S[0, 2] * S[2, 0]
+    inv[1, 2] = S[0, 2] * S[1, 0] - S[0, 0] * S[1, 2]
+    inv[2, 0] = S[1, 0] * S[2, 1] - S[1, 1] * S[2, 0]
+    inv[2, 1] = S[0, 1] * S[2, 0] - S[0, 0] * S[2, 1]
+    inv[2, 2] = S[0, 0] * S[1, 1] - S[0, 1] * S[1, 0]
+    det = S[0, 0] * inv[0, 0] + S[0, 1] * inv[1, 0] + S[0, 2] * inv[2, 0]
+    return inv / det
+
+
+@njit(cache=True)
 def correct(dx, P, innovation, rows, sigma):
     """Kalman update of the error state dx and, in Joseph form, of P with a direct
     measurement of the three states from ``rows`` (noise σ per axis).
 
     H only selects states, so H·P, P·Hᵀ and H·P·Hᵀ are slices of P and the Joseph form
-    (I − KH)·P·(I − KH)ᵀ + K·R·Kᵀ costs O(n²) instead of O(n³)."""
-    S = P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2
-    K_T = np.linalg.solve(S, np.ascontiguousarray(P[rows:rows + 3, :]))
-    K = np.ascontiguousarray(K_T.T)
-    dx += K @ innovation
-    M = P - K @ np.ascontiguousarray(P[rows:rows + 3, :])
-    P[:, :] = M - np.ascontiguousarray(M[:, rows:rows + 3]) @ K_T + sigma**2 * (K @ K_T)
-    P[:, :] = (P + P.T) / 2
+    (I − KH)·P·(I − KH)ᵀ + K·R·Kᵀ costs O(n²) instead of O(n³); written as loops, with
+    no temporary arrays beyond Kᵀ and M: K = P·Hᵀ·S⁻¹ with S = H·P·Hᵀ + σ²I,
+    M = P − K·H·P, P ← M − M·Hᵀ·Kᵀ + σ²·K·Kᵀ, then symmetrised."""
+    n = P.shape[0]
+    S_inv = _inverse3(P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2)
+    K_T = np.zeros((3, n))  # Kᵀ = S⁻¹·H·P
+    for a in range(3):
+        for b in range(3):
+            w = S_inv[a, b]
+            for j in range(n):
+                K_T[a, j] += w * P[rows + b, j]
+    for i in range(n):
+        dx[i] += K_T[0, i] * innovation[0] + K_T[1, i] * innovation[1] \
+            + K_T[2, i] * innovation[2]
+    M = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            M[i, j] = P[i, j] - (K_T[0, i] * P[rows, j] + K_T[1, i] * P[rows + 1, j]
+                                 + K_T[2, i] * P[rows + 2, j])
+    s2 = sigma**2
+    for i in range(n):
+        for j in range(n):
+            P[i, j] = (M[i, j] - (M[i, rows] * K_T[0, j] + M[i, rows + 1] * K_T[1, j]
+                                  + M[i, rows + 2] * K_T[2, j])
+                       + s2 * (K_T[0, i] * K_T[0, j] + K_T[1, i] * K_T[1, j]
+                               + K_T[2, i] * K_T[2, j]))
+    for i in range(n):
+        for j in range(i + 1, n):
+            mean = (P[i, j] + P[j, i]) / 2
+            P[i, j] = mean
+            P[j, i] = mean
 
 
 @njit(cache=True)
