@@ -19,7 +19,6 @@ import numpy as np
 
 from pdr_core import units
 from pdr_core.errors import InputError
-from pdr_ins_ekf import error_sweep, plots
 from pdr_ins_ekf.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
 
 DEFAULT_TIMES_S = (10.0, 53.6, 100.0)
@@ -121,6 +120,8 @@ def add_sweep(studies: argparse._SubParsersAction) -> None:
 
 
 def run_sweep(args: argparse.Namespace) -> int:
+    from pdr_ins_ekf import error_sweep, plots  # heavy (simulator, SciPy, Matplotlib)
+
     if args.points < 2 or args.steps < 3 or args.runs < 0 or args.runs == 1:
         raise InputError("--points/--steps/--runs", "need points >= 2, steps >= 3 and runs "
                                                     "0 or >= 2")
@@ -133,47 +134,12 @@ def run_sweep(args: argparse.Namespace) -> int:
                                                   args.runs, args.seed))
             print(f"{parameter} = {value:.3g} {error_sweep.UNITS[parameter]}: done",
                   file=sys.stderr, flush=True)
-    table = sweep_markdown(points, gait)
+    table = error_sweep.sweep_markdown(points, gait)
     print(table, end="")
     if args.out:
         args.out.mkdir(parents=True, exist_ok=True)
         (args.out / "sweep.md").write_text(table)
-        (args.out / "sweep.csv").write_text(sweep_csv(points))
+        (args.out / "sweep.csv").write_text(error_sweep.sweep_csv(points))
         plots.sweep_png(points, args.out / "sweep.png")
         print(f"wrote {args.out}/{{sweep.csv, sweep.md, sweep.png}}")
     return 0
-
-
-def sweep_markdown(points: list, gait) -> str:
-    """Analytic against simulated per point and quantity, with the difference; for σ_∥
-    also the re-derived Eq. (56), for σ_∥ and σ_⊥ the Monte-Carlo σ."""
-    text = (f"gait measured on the walk: t_stance {gait.t_stance_s:.3f} s, t_stride "
-            f"{gait.t_stride_s:.3f} s, a_c {gait.cos_pitch_mean:.3f}, a_s "
-            f"{gait.sin_pitch_mean:.3f}, s_N {gait.stride_m:.2f} m\n\n"
-            "| swept | value | quantity | analytic | EKF (low-high) | difference | notes |\n"
-            "|---|---:|---|---:|---:|---:|---|\n")
-    for p in points:
-        for q in error_sweep.QUANTITIES:
-            mean, low, high = p.simulated[q]
-            notes = []
-            if q == "sigma_par_m":
-                notes.append(f"Eq. (56) re-derived {p.rederived_par_m:.3g} "
-                             f"({p.rederived_par_m / mean - 1:+.0%} from the EKF)")
-            if q in p.monte_carlo:
-                notes.append(f"Monte-Carlo σ {p.monte_carlo[q][0]:.3g}")
-            text += (f"| {p.parameter} | {p.value:.3g} | {q} | {p.analytic[q]:.3g} | "
-                     f"{mean:.3g} ({low:.3g}-{high:.3g}) | "
-                     f"{error_sweep.agreement(p, q):+.0%} | {'; '.join(notes)} |\n")
-    return text
-
-
-def sweep_csv(points: list) -> str:
-    lines = ["parameter,value,quantity,analytic,simulated_mean,simulated_low,simulated_high,"
-             "rederived_eq56,monte_carlo_sigma"]
-    for p in points:
-        for q in error_sweep.QUANTITIES:
-            extra = (p.rederived_par_m if q == "sigma_par_m" else "",
-                     p.monte_carlo[q][0] if q in p.monte_carlo else "")
-            lines.append(",".join(str(x) for x in (p.parameter, p.value, q, p.analytic[q],
-                                                  *p.simulated[q], *extra)))
-    return "\n".join(lines) + "\n"

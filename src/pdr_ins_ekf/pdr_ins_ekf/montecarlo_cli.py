@@ -15,7 +15,6 @@ from dataclasses import fields
 from pathlib import Path
 
 from pdr_core.errors import InputError
-from pdr_ins_ekf import plots
 from pdr_ins_ekf.ekf_montecarlo import (
     ESTIMATORS,
     PAPER_000_TABLES,
@@ -213,6 +212,8 @@ def write_outputs(args: argparse.Namespace, rows: list[dict], growths: dict,
                                      c.sigma_p_q95_m, g.sigma_yaw_rad, c.sigma_yaw_rad,
                                      c.nees_position, strict=True)]
         (out / "consistency.csv").write_text("\n".join(lines) + "\n")
+    from pdr_ins_ekf import plots  # Matplotlib: imported only to draw
+
     labelled = {f"{s} {e}": g for (s, e), g in growths.items()}
     plots.error_growth_png(labelled, out / "growth.png",
                            f"{args.runs} runs, {args.steps}-stride walk, "
