@@ -108,6 +108,70 @@ def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, para
 
 
 @njit(cache=True)
+def spd_solve(S, B):
+    """X = S⁻¹·B for a symmetric positive-definite S (n, n) and B (n, k): Cholesky
+    S = L·Lᵀ, then L·Y = B and Lᵀ·X = Y, in loops that run along B's rows."""
+    n, k = B.shape
+    L = np.zeros((n, n))
+    for j in range(n):
+        d = S[j, j]
+        for q in range(j):
+            d -= L[j, q] * L[j, q]
+        d = np.sqrt(d)
+        L[j, j] = d
+        for i in range(j + 1, n):
+            s = S[i, j]
+            for q in range(j):
+                s -= L[i, q] * L[j, q]
+            L[i, j] = s / d
+    X = B.copy()
+    for i in range(n):
+        for q in range(i):
+            lq = L[i, q]
+            for c in range(k):
+                X[i, c] -= lq * X[q, c]
+        for c in range(k):
+            X[i, c] /= L[i, i]
+    for i in range(n - 1, -1, -1):
+        for q in range(i + 1, n):
+            lq = L[q, i]
+            for c in range(k):
+                X[i, c] -= lq * X[q, c]
+        for c in range(k):
+            X[i, c] /= L[i, i]
+    return X
+
+
+@njit(cache=True)
+def rts_step(dx_f, P_f, dx_p_next, P_p_next, FP, dxs, Ps):
+    """Eq. (9) of 001 for one sample, in place on the next sample's smoothed dxs and Ps:
+    Aₙ = Pₙ|ₙ·Fₙ₊₁ᵀ·Pₙ₊₁|ₙ⁻¹ = Xᵀ with X = Pₙ₊₁|ₙ⁻¹·(Fₙ₊₁·Pₙ|ₙ) (``FP``),
+    δx̂ₙ|ₑ = δx̂ₙ|ₙ + Aₙ(δx̂ₙ₊₁|ₑ − δx̂ₙ₊₁|ₙ), Pₙ|ₑ = Pₙ|ₙ + Aₙ(Pₙ₊₁|ₑ − Pₙ₊₁|ₙ)Aₙᵀ."""
+    n = P_f.shape[0]
+    X = spd_solve(P_p_next, FP)
+    diff = dxs - dx_p_next
+    D = Ps - P_p_next
+    T = np.zeros((n, n))  # Aₙ·D = Xᵀ·D
+    for q in range(n):
+        for i in range(n):
+            x = X[q, i]
+            for c in range(n):
+                T[i, c] += x * D[q, c]
+    for i in range(n):
+        acc = dx_f[i]
+        for q in range(n):
+            acc += X[q, i] * diff[q]
+        dxs[i] = acc
+    for i in range(n):
+        for c in range(n):
+            Ps[i, c] = P_f[i, c]
+        for q in range(n):
+            t = T[i, q]
+            for c in range(n):
+                Ps[i, c] += t * X[q, c]
+
+
+@njit(cache=True)
 def smooth_segment(seg, m, params, pos, vel, att, vel_var):
     """Passes 2 and 3 over the segment's m samples: smoothed, compensated position,
     velocity, attitude (m, …) and the smoothed velocity variances (m, 3). The attitude
@@ -119,9 +183,7 @@ def smooth_segment(seg, m, params, pos, vel, att, vel_var):
         if j < m - 1:
             FP = apply_transition(seg[7][j], seg[2][j + 1], seg[8][j + 1, 0:3],
                                   seg[8][j + 1, 3], params)
-            A = np.linalg.solve(seg[6][j + 1], FP).T
-            dxs = seg[5][j] + A @ (dxs - seg[4][j + 1])
-            Ps = seg[7][j] + A @ (Ps - seg[6][j + 1]) @ A.T
+            rts_step(seg[5][j], seg[7][j], seg[4][j + 1], seg[6][j + 1], FP, dxs, Ps)
         pos[j] = seg[0][j] + dxs[0:3]
         vel[j] = seg[1][j] + dxs[3:6]
         att[j] = _rodrigues(-dxs[6:9], 1.0) @ seg[2][j]
