@@ -179,25 +179,31 @@ class BagReader:
         self.require_topics(wanted)
         if self.path.is_dir():
             try:
-                return {topic: self._indexed_batch(topic) for topic in wanted}
+                return self._indexed_batches(wanted)
             except _READ_ERRORS:
                 pass
         return self._scanned_batches(wanted)
 
-    def _indexed_batch(self, topic: str) -> MessageBatch:
-        """One topic through the MCAP indexes of every file; raises a read error (and
-        :meth:`read_batches` falls back) on anything unusual."""
-        times, rows = [], []
+    def _indexed_batches(self, wanted: list[str]) -> dict[str, MessageBatch]:
+        """``wanted`` through the MCAP indexes, each file's summary read once; raises a
+        read error (and :meth:`read_batches` falls back) on anything unusual."""
+        times: dict[str, list[np.ndarray]] = {t: [] for t in wanted}
+        rows: dict[str, list[np.ndarray]] = {t: [] for t in wanted}
         for file in self.files:
             with file.open("rb") as stream:
                 summary = SeekingReader(stream).get_summary()
                 if summary is None:
                     raise McapError("no summary section")
-                channels = [c.id for c in summary.channels.values() if c.topic == topic]
-                for channel in channels:
-                    t, r = mcap_bulk.read_rows(stream, summary, channel)
-                    times.append(t)
-                    rows.append(r)
+                for channel in summary.channels.values():
+                    if channel.topic in times:
+                        t, r = mcap_bulk.read_rows(stream, summary, channel.id)
+                        times[channel.topic].append(t)
+                        rows[channel.topic].append(r)
+        return {topic: self._rows_batch(topic, times[topic], rows[topic]) for topic in wanted}
+
+    def _rows_batch(self, topic: str, times: list[np.ndarray], rows: list[np.ndarray]
+                    ) -> MessageBatch:
+        """One topic's messages from several files and channels, in log-time order."""
         sizes = {r.shape[1] for r in rows if len(r)}
         if len(sizes) > 1:
             raise ValueError(f"{topic}: messages of different sizes")

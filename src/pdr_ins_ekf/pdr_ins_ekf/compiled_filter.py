@@ -117,6 +117,17 @@ def apply_transition(M, C, a_now, dt, params):
 
 
 @njit(cache=True)
+def symmetrize(P):
+    """P ← (P + Pᵀ)/2 in place, keeping the covariance exactly symmetric."""
+    n = P.shape[0]
+    for i in range(n):
+        for j in range(i + 1, n):
+            mean = (P[i, j] + P[j, i]) / 2
+            P[i, j] = mean
+            P[j, i] = mean
+
+
+@njit(cache=True)
 def propagate(P, C, a_now, dt, params):
     """P ← F·P·Fᵀ + Q (symmetrised), Q = G·diag(σ²)·Gᵀ·dt. The noise is isotropic in the
     body frame, so its rotation by Ĉ leaves Q diagonal."""
@@ -131,11 +142,7 @@ def propagate(P, C, a_now, dt, params):
         for i in range(3):
             P[9 + i, 9 + i] += acc_bias_noise**2 * dt
             P[12 + i, 12 + i] += gyro_bias_noise**2 * dt
-    for i in range(n):
-        for j in range(i + 1, n):
-            mean = (P[i, j] + P[j, i]) / 2
-            P[i, j] = mean
-            P[j, i] = mean
+    symmetrize(P)
 
 
 @njit(cache=True)
@@ -195,11 +202,7 @@ def correct(dx, P, innovation, rows, sigma):
                                   + M[i, rows + 2] * K_T[2, j])
                        + s2 * (K_T[0, i] * K_T[0, j] + K_T[1, i] * K_T[1, j]
                                + K_T[2, i] * K_T[2, j]))
-    for i in range(n):
-        for j in range(i + 1, n):
-            mean = (P[i, j] + P[j, i]) / 2
-            P[i, j] = mean
-            P[j, i] = mean
+    symmetrize(P)
 
 
 @njit(cache=True)

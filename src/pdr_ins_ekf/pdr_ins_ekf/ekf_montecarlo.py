@@ -26,7 +26,12 @@ from pdr_ins_ekf import compiled_filter, kernel_cache
 from pdr_ins_ekf.compiled_filter import filter_loop
 from pdr_ins_ekf.montecarlo import ErrorGrowth, NoiseLevels, Walk, error_growth, noisy_signals
 from pdr_ins_ekf.zero_velocity import Paper000Detector, StanceDetector
-from pdr_ins_ekf.zupt_ekf import FilterConfig, ZuptEkf, initial_attitude, kernel_params
+from pdr_ins_ekf.zupt_ekf import (
+    FilterConfig,
+    initial_attitude,
+    initial_covariance,
+    kernel_params,
+)
 
 kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
 
@@ -104,14 +109,13 @@ def run_batch(walk: Walk, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarra
     rate if ``rest_gyro_bias``, else zero, left to the ZARU updates) and filter every run
     (accel, gyro: (runs, T, 3); stance (runs, T))."""
     rest = rest_samples(walk)
-    template = ZuptEkf(config, np.eye(3))
     attitude = initial_attitude(accel[:, rest], walk.yaw[0])
     bias = np.zeros((len(accel), 6))
     if rest_gyro_bias:
         bias[:, 3:] = gyro[:, rest].mean(axis=1)
     return BatchResult(*ekf_batch(
         np.ascontiguousarray(walk.t_s), accel, gyro, np.ascontiguousarray(stance, bool),
-        config.zaru, attitude, bias, template.P, kernel_params(config),
+        config.zaru, attitude, bias, initial_covariance(config), kernel_params(config),
         config.zupt_sigma_mps, config.zaru_sigma_radps, keep))
 
 

@@ -122,7 +122,9 @@ def run_montecarlo(args: argparse.Namespace) -> int:
     _check(args)
     levels = _levels(args)
     sources = SOURCES if args.source == "all" else (args.source,)
-    walks = {"ins": straight_walk(args.steps, args.rate)}
+    walks = {}  # the pure INS starts moving; the EKF stands first to align on
+    if "ins" in args.estimator:
+        walks["ins"] = straight_walk(args.steps, args.rate)
     if any(e != "ins" for e in args.estimator):
         walks["ekf"] = straight_walk(args.steps, args.rate, rest_s=args.rest_s)
     growths: dict[tuple[str, str], ErrorGrowth] = {}

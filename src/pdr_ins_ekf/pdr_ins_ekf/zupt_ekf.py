@@ -208,11 +208,7 @@ class ZuptEkf:
         self.v = np.zeros(3)
         self.C = np.ascontiguousarray(attitude, float).copy()
         self.b = np.concatenate([np.zeros(3), np.asarray(gyro_bias, float)])
-        sig = ([config.init_pos_sigma_m] * 3 + [config.init_vel_sigma_mps] * 3
-               + [config.init_att_sigma_rad] * 2 + [config.init_yaw_sigma_rad])
-        if config.states == 15:
-            sig += [config.init_acc_bias_sigma] * 3 + [config.init_gyro_bias_sigma] * 3
-        self.P = np.diag(np.square(sig))
+        self.P = initial_covariance(config)
         self.prev = np.empty((3, 3))
         self.started = False
         self.params = kernel_params(config)
@@ -251,6 +247,15 @@ class ZuptEkf:
         """Zero-angular-rate pseudo-measurement (15 states): z = ω − b̂_g observes δb_g."""
         kernels.update(self.p, self.v, self.C, self.b, self.P, self.prev,
                        np.asarray(w, float) - self.b[3:], 12, self.config.zaru_sigma_radps)
+
+
+def initial_covariance(config: FilterConfig) -> np.ndarray:
+    """The error-state covariance at alignment (n, n), diagonal from the init_* σ."""
+    sig = ([config.init_pos_sigma_m] * 3 + [config.init_vel_sigma_mps] * 3
+           + [config.init_att_sigma_rad] * 2 + [config.init_yaw_sigma_rad])
+    if config.states == 15:
+        sig += [config.init_acc_bias_sigma] * 3 + [config.init_gyro_bias_sigma] * 3
+    return np.diag(np.square(sig))
 
 
 def kernel_params(config: FilterConfig) -> np.ndarray:
