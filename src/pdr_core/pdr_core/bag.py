@@ -15,6 +15,7 @@ Public: :class:`RawMessage`, :class:`BagReader`, :class:`BagWriter`,
 """
 from __future__ import annotations
 
+import functools
 import heapq
 import shutil
 import struct
@@ -33,7 +34,7 @@ from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.rosbag2.errors import ReaderError
 
 from pdr_core import cdr, mcap_bulk
-from pdr_core.batch import MessageBatch
+from pdr_core.batch import LazyBatch, MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import typestore
 
@@ -173,7 +174,7 @@ class BagReader:
 
     def read_batches(self, topics: Iterable[str]) -> dict[str, MessageBatch]:
         """Fixed-layout ``topics`` as batches: through the MCAP indexes with NumPy
-        (:func:`pdr_core.mcap_bulk.read_rows`) when the bag is intact and every message of
+        (:func:`pdr_core.mcap_bulk.chunk_rows`) when the bag is intact and every message of
         a topic has one size, else message by message in one pass over the files."""
         wanted = list(topics)
         self.require_topics(wanted)
@@ -185,35 +186,42 @@ class BagReader:
         return self._scanned_batches(wanted)
 
     def _indexed_batches(self, wanted: list[str]) -> dict[str, MessageBatch]:
-        """``wanted`` through the MCAP indexes, each file's summary read once; raises a
-        read error (and :meth:`read_batches` falls back) on anything unusual."""
+        """``wanted`` through the MCAP indexes, each file's summary read once and each
+        chunk decoded on its own; raises a read error (and :meth:`read_batches` falls
+        back) on anything unusual."""
         times: dict[str, list[np.ndarray]] = {t: [] for t in wanted}
-        rows: dict[str, list[np.ndarray]] = {t: [] for t in wanted}
+        parts: dict[str, list[MessageBatch]] = {t: [] for t in wanted}
         for file in self.files:
             with file.open("rb") as stream:
                 summary = SeekingReader(stream).get_summary()
                 if summary is None:
                     raise McapError("no summary section")
                 for channel in summary.channels.values():
-                    if channel.topic in times:
-                        t, r = mcap_bulk.read_rows(stream, summary, channel.id)
+                    if channel.topic not in times:
+                        continue
+                    for t, rows in mcap_bulk.chunk_rows(stream, summary, channel.id):
                         times[channel.topic].append(t)
-                        rows[channel.topic].append(r)
-        return {topic: self._rows_batch(topic, times[topic], rows[topic]) for topic in wanted}
+                        parts[channel.topic].append(self._decoded(channel.topic, rows))
+        return {topic: self._in_time_order(topic, times[topic], parts[topic])
+                for topic in wanted}
 
-    def _rows_batch(self, topic: str, times: list[np.ndarray], rows: list[np.ndarray]
-                    ) -> MessageBatch:
-        """One topic's messages from several files and channels, in log-time order."""
-        sizes = {r.shape[1] for r in rows if len(r)}
-        if len(sizes) > 1:
-            raise ValueError(f"{topic}: messages of different sizes")
-        size = sizes.pop() if sizes else 0
-        data = np.concatenate([r for r in rows if len(r)] or [np.zeros((0, size), np.uint8)])
-        order = np.argsort(np.concatenate(times or [np.zeros(0, np.int64)]), kind="stable")
+    def _decoded(self, topic: str, rows: np.ndarray) -> MessageBatch:
         try:
-            return cdr.decode_rows(self.topics[topic], data[order])
+            return cdr.decode_rows(self.topics[topic], rows)
         except ValueError as exc:
             raise InputError(self.path, f"topic {topic}: {exc}") from exc
+
+    def _in_time_order(self, topic: str, times: list[np.ndarray], parts: list[MessageBatch]
+                       ) -> MessageBatch:
+        """One topic's messages from several chunks, files and channels, in log-time
+        order (ties in file order)."""
+        if not parts:
+            return self._decoded(topic, np.zeros((0, 0), np.uint8))
+        batch = MessageBatch.concatenate(parts)
+        log_time = np.concatenate(times)
+        if np.all(np.diff(log_time) >= 0):
+            return batch
+        return batch.take(np.argsort(log_time, kind="stable"))
 
     def _scanned_batches(self, wanted: list[str]) -> dict[str, MessageBatch]:
         raws: dict[str, list[bytes]] = {t: [] for t in wanted}
@@ -313,24 +321,31 @@ class BagWriter:
         self.add_topic(topic, msgtype)
         self._writer.write(self._connections[topic], int(log_time_ns), data)
 
-    def write_merged(self, batches: dict[str, MessageBatch]) -> None:
+    def write_merged(self, batches: dict[str, MessageBatch | LazyBatch]) -> None:
         """Append fixed-layout ``batches`` (topic -> batch, logged at their stamps) merged
         in log-time order, as :func:`merged_messages` would. Batches with one frame_id and
-        sorted stamps go through :mod:`pdr_core.mcap_bulk` (vectorised, the same bytes);
-        others message by message."""
+        sorted stamps go through :mod:`pdr_core.mcap_bulk` (vectorised, the same bytes,
+        encoded block by block); others message by message."""
         for topic, batch in batches.items():
             self.add_topic(topic, batch.msgtype)
         bulk = all(bool(np.all(b.frame_id == b.frame_id[:1]))
                    and bool(np.all(np.diff(b.stamp_ns) >= 0)) for b in batches.values())
         if not bulk:
-            for message in merged_messages(batches):
+            whole = {t: b.take(slice(None)) for t, b in batches.items()}
+            for message in merged_messages(whole):
                 self.write_raw(message.topic, message.msgtype, message.log_time_ns,
                                message.data)
             return
         full = {t: b for t, b in batches.items() if len(b)}
+        encoders = [functools.partial(_encode_slice, b, str(b.frame_id[0]))
+                    for b in full.values()]
         mcap_bulk.append(self._writer, [self._connections[t] for t in full],
-                         [b.stamp_ns for b in full.values()],
-                         [cdr.encode_rows(b, str(b.frame_id[0])) for b in full.values()])
+                         [b.stamp_ns for b in full.values()], encoders,
+                         [encode(slice(0, 1)).shape[1] for encode in encoders])
+
+
+def _encode_slice(batch: MessageBatch | LazyBatch, frame: str, index: slice) -> np.ndarray:
+    return cdr.encode_rows(batch.take(index), frame)
 
 
 def merged_messages(batches: dict[str, MessageBatch],

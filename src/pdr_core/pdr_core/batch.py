@@ -7,6 +7,7 @@ their field order (x, y, z[, w]); fixed arrays such as covariances become ``(N, 
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -60,6 +61,36 @@ class MessageBatch:
                    np.concatenate([b.stamp_ns for b in batches]),
                    np.concatenate([b.frame_id for b in batches]),
                    {k: np.concatenate([b.fields[k] for b in batches]) for k in first.fields})
+
+
+@dataclass
+class LazyBatch:
+    """N messages of type ``msgtype`` whose fields are built slice by slice, for writers
+    that encode a block at a time (:meth:`pdr_core.bag.BagWriter.write_merged`): large
+    outputs such as full-rate 6x6 covariances then never exist for the whole record.
+
+    Attributes:
+        msgtype, stamp_ns, frame_id: as in :class:`MessageBatch`.
+        build: slice of the N messages -> their fields, as :attr:`MessageBatch.fields`.
+    """
+
+    msgtype: str
+    stamp_ns: np.ndarray
+    frame_id: np.ndarray
+    build: Callable[[slice], dict[str, np.ndarray]]
+
+    def __post_init__(self) -> None:
+        self.stamp_ns = np.asarray(self.stamp_ns, dtype=np.int64)
+        self.frame_id = np.broadcast_to(np.asarray(self.frame_id, dtype=str),
+                                        self.stamp_ns.shape)
+
+    def __len__(self) -> int:
+        return len(self.stamp_ns)
+
+    def take(self, index: slice) -> MessageBatch:
+        """The messages of the slice ``index``, built."""
+        return MessageBatch(self.msgtype, self.stamp_ns[index], self.frame_id[index],
+                            self.build(index))
 
 
 def stamp_ns_from_seconds(t_s: np.ndarray) -> np.ndarray:

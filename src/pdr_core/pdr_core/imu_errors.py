@@ -26,7 +26,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import lfilter
 
 Axes = tuple[float, float, float]
 ZERO3: Axes = (0.0, 0.0, 0.0)
@@ -83,6 +82,8 @@ def gauss_markov(rng: np.random.Generator, shape: tuple[int, int, int], sigma: n
     003_05973562addf7331.txt, Eqs. (3.8)–(3.9): b_k = c·b_{k−1} + n_k with c = e^{−Δt/τ}
     and σ_n² = σ²·(1 − c²); the first value is drawn from the stationary distribution.
     """
+    from scipy.signal import lfilter  # 0.3 s to import; only noise with τ needs it
+
     runs = shape[0]
     out = np.empty(shape)
     start = _normal(rng, (runs, 3)) * sigma

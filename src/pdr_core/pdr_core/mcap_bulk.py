@@ -15,7 +15,7 @@ This relies on rosbags 0.11.9 (pinned in ``tools/constraints.txt``): the pending
 ``Writer``'s ``counts`` and time bounds. An upgrade that
 changes them fails that test.
 
-Reading (:func:`read_rows`) takes the summary of the ``mcap`` library's SeekingReader
+Reading (:func:`chunk_rows`) takes the summary of the ``mcap`` library's SeekingReader
 and gathers one channel's messages from each chunk with NumPy, by the offsets of its
 MessageIndex records (MCAP specification: records are opcode, uint64 length, content).
 """
@@ -23,12 +23,14 @@ from __future__ import annotations
 
 import struct
 from collections import defaultdict
+from collections.abc import Callable, Iterator
 from io import BytesIO
 from typing import Any
 
 import lz4.frame
 import numpy as np
 import zstandard
+from numpy.lib.stride_tricks import as_strided
 
 CHUNK_LIMIT = 2**20  # rosbags closes a chunk once its records pass this many bytes
 OPCODE_MESSAGE, OPCODE_CHUNK, OPCODE_MESSAGE_INDEX = 0x05, 0x06, 0x07
@@ -43,7 +45,14 @@ def _record_dtype(payload: int) -> np.dtype:
 
 def merged_order(stamps: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """(stream, index) of every message of the time-sorted ``stamps`` streams in the
-    order of ``heapq.merge`` by time: equal times go stream by stream, in stream order."""
+    order of ``heapq.merge`` by time: equal times go stream by stream, in stream order.
+    Streams sharing one strictly increasing time base (the outputs of one filter) simply
+    take turns."""
+    first = stamps[0]
+    if all(s is first or np.array_equal(s, first) for s in stamps[1:]) and np.all(
+            np.diff(first) > 0):
+        return (np.tile(np.arange(len(stamps)), len(first)),
+                np.repeat(np.arange(len(first)), len(stamps)))
     stream = np.concatenate([np.full(len(s), i) for i, s in enumerate(stamps)])
     index = np.concatenate([np.arange(len(s)) for s in stamps])
     order = np.lexsort((index, stream, np.concatenate(stamps)))
@@ -51,26 +60,29 @@ def merged_order(stamps: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
 
 
 def append(writer: Any, connections: list[Any], stamps: list[np.ndarray],
-           rows: list[np.ndarray]) -> None:
+           encoders: list[Callable[[slice], np.ndarray]], sizes: list[int]) -> None:
     """Append to an open rosbags ``Writer`` (MCAP storage, no per-message compression)
     the messages of several streams merged by log time: stream i goes to
-    ``connections[i]``, its log times ``stamps[i]`` (n_i,) [ns] non-decreasing, its
-    serialized messages the rows of ``rows[i]`` (n_i, size_i) uint8."""
+    ``connections[i]``, its log times ``stamps[i]`` (n_i,) [ns] non-decreasing, and
+    ``encoders[i](messages)`` serializes a slice of its messages to the rows of a
+    (m, ``sizes[i]``) uint8 array. Messages are encoded chunk by chunk (1 MiB), so that
+    nothing of the size of the whole output is ever built."""
     storage = writer.storage
     stream, index = merged_order(stamps)
-    sizes = np.array([_record_dtype(r.shape[1]).itemsize for r in rows])[stream]
-    ends = np.cumsum(sizes)
+    record_sizes = np.array([_record_dtype(size).itemsize for size in sizes])[stream]
+    ends = np.cumsum(record_sizes)
     first, base = 0, 0
     while first < len(stream):
         start = storage.chunk.bio.tell()
         over = int(np.searchsorted(ends, base + CHUNK_LIMIT - start, side="right"))
         last = min(over + 1, len(stream))
-        _write_chunk(writer, connections, stamps, rows, stream[first:last],
-                     index[first:last], ends[first:last] - base - sizes[first:last])
+        _write_chunk(writer, connections, stamps, encoders, sizes, stream[first:last],
+                     index[first:last], ends[first:last] - base - record_sizes[first:last])
         base = ends[last - 1]
         first = last
         if storage.chunk.bio.tell() > CHUNK_LIMIT:
             close_chunk(storage)
+    _entries_as_tuples(storage.chunk)
 
 
 def _string(text: str) -> bytes:
@@ -98,7 +110,7 @@ def close_chunk(storage: Any) -> None:
     offsets = []
     for channel, entries in chunk.msgs.items():
         offsets.append(struct.pack("<HQ", channel, storage.bio.tell()))
-        pairs = np.asarray(entries, dtype="<u8").reshape(-1, 2)
+        pairs = _entries_array(entries)
         storage.bio.write(_record(OPCODE_MESSAGE_INDEX, struct.pack(
             "<HI", channel, pairs.nbytes) + pairs.tobytes()))
     index = BytesIO()  # positioned at its end: rosbags takes tell() as its length
@@ -112,21 +124,22 @@ def close_chunk(storage: Any) -> None:
 
 
 def _write_chunk(writer: Any, connections: list[Any], stamps: list[np.ndarray],
-                 rows: list[np.ndarray], stream: np.ndarray, index: np.ndarray,
-                 offsets: np.ndarray) -> None:
-    """Messages (stream, index) at byte ``offsets`` from the chunk's current end."""
+                 encoders: list[Callable[[slice], np.ndarray]], sizes: list[int],
+                 stream: np.ndarray, index: np.ndarray, offsets: np.ndarray) -> None:
+    """Messages (stream, index) at byte ``offsets`` from the chunk's current end. The
+    messages of one stream in a chunk are consecutive (the merge keeps each stream's
+    order), so each stream is encoded as one slice."""
     storage = writer.storage
     chunk = storage.chunk
     start = chunk.bio.tell()
-    total = int(offsets[-1]) + _record_dtype(rows[stream[-1]].shape[1]).itemsize
-    buffer = np.empty(total, np.uint8)
+    buffer = np.empty(int(offsets[-1]) + _record_dtype(sizes[stream[-1]]).itemsize, np.uint8)
     present, first = np.unique(stream, return_index=True)
     for i in present[np.argsort(first)]:  # rosbags indexes channels as they first appear
         connection = connections[i]
         mine = stream == i
         picked = index[mine]
         times = stamps[i][picked].astype(np.uint64)
-        dtype = _record_dtype(rows[i].shape[1])
+        dtype = _record_dtype(sizes[i])
         records = np.empty(len(picked), dtype)
         records["opcode"] = OPCODE_MESSAGE
         records["length"] = dtype.itemsize - 9
@@ -134,12 +147,10 @@ def _write_chunk(writer: Any, connections: list[Any], stamps: list[np.ndarray],
         records["sequence"] = 0
         records["log_time"] = times
         records["publish_time"] = times
-        records["data"] = rows[i][picked]
+        records["data"] = encoders[i](slice(int(picked[0]), int(picked[-1]) + 1))
         at = offsets[mine]
-        buffer[at[:, None] + np.arange(dtype.itemsize)] = records.view(np.uint8).reshape(
-            len(picked), dtype.itemsize)
-        chunk.msgs[connection.id].extend(zip(times.tolist(), (at + start).tolist(),
-                                             strict=True))
+        _place(buffer, at, records.view(np.uint8).reshape(len(picked), dtype.itemsize))
+        chunk.msgs[connection.id].append(np.column_stack((times, at.astype(np.uint64) + start)))
         low, high = int(times.min()), int(times.max())
         chunk.message_start_time = min(chunk.message_start_time, low)
         chunk.message_end_time = max(chunk.message_end_time, high)
@@ -149,7 +160,31 @@ def _write_chunk(writer: Any, connections: list[Any], stamps: list[np.ndarray],
         writer.counts[connection.id] += len(picked)
         writer.min_timestamp = min(writer.min_timestamp, low)
         writer.max_timestamp = max(writer.max_timestamp, high)
-    chunk.bio.write(buffer.tobytes())
+    chunk.bio.write(buffer)
+
+
+def _place(buffer: np.ndarray, at: np.ndarray, records: np.ndarray) -> None:
+    """Copy the rows of ``records`` (k, size) to ``buffer[at[j]:at[j] + size]``: through a
+    strided view when the records are evenly spaced (streams interleaved in a fixed
+    pattern, the usual case), else by fancy indexing."""
+    step = int(at[1] - at[0]) if len(at) > 1 else records.shape[1]
+    if step >= records.shape[1] and np.all(np.diff(at) == step):
+        as_strided(buffer[at[0]:], records.shape, (step, 1), writeable=True)[:] = records
+    else:
+        buffer[at[:, None] + np.arange(records.shape[1])] = records
+
+
+def _entries_as_tuples(chunk: Any) -> None:
+    """Turn the (k, 2) arrays of message-index entries this module put in the pending
+    chunk into rosbags' own (log time, offset) tuples, so that rosbags can close it."""
+    for channel, entries in chunk.msgs.items():
+        chunk.msgs[channel] = [tuple(pair) for pair in _entries_array(entries).tolist()]
+
+
+def _entries_array(entries: list) -> np.ndarray:
+    """A chunk's message-index entries of one channel, rosbags' (log time, offset) tuples
+    and this module's (k, 2) arrays in any mix, as one (n, 2) little-endian uint64 array."""
+    return np.concatenate([np.asarray(e, "<u8").reshape(-1, 2) for e in entries])
 
 
 def _chunk_records(stream: Any, index: Any) -> np.ndarray:
@@ -179,16 +214,22 @@ def _message_index(stream: Any, offset: int) -> np.ndarray:
     return np.frombuffer(stream.read(size), "<u8").reshape(-1, 2)
 
 
-def _gather(values: np.ndarray, starts: np.ndarray, width: int) -> np.ndarray:
-    return values[starts[:, None] + np.arange(width)]
+def _rows(records: np.ndarray, at: np.ndarray, width: int) -> np.ndarray:
+    """The ``width`` bytes at each offset ``at`` of ``records``, as a (k, width) array:
+    a strided view when the offsets are evenly spaced (one topic, or topics interleaved
+    in a fixed pattern), else gathered by fancy indexing."""
+    step = int(at[1] - at[0]) if len(at) > 1 else width
+    if step >= width and np.all(np.diff(at) == step):
+        return as_strided(records[at[0]:], (len(at), width), (step, 1), writeable=False)
+    return records[at[:, None] + np.arange(width)]
 
 
-def read_rows(stream: Any, summary: Any, channel_id: int) -> tuple[np.ndarray, np.ndarray]:
-    """Log times (n,) [ns] and serialized messages (n, size) uint8 of one channel of an
-    indexed MCAP file, in log-time order (ties in file order), through its chunk and
-    message indexes. Raises ValueError if the messages differ in size (then read them
-    one by one)."""
-    times, rows = [], []
+def chunk_rows(stream: Any, summary: Any, channel_id: int
+               ) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Per chunk of an indexed MCAP file that holds messages of one channel: their log
+    times (k,) [ns] and serialized messages (k, size) uint8, in the chunk's index order,
+    through the chunk and message indexes. Raises ValueError if the messages of a chunk
+    differ in size (then read them one by one)."""
     for index in summary.chunk_indexes:
         if channel_id not in index.message_index_offsets:
             continue
@@ -197,15 +238,7 @@ def read_rows(stream: Any, summary: Any, channel_id: int) -> tuple[np.ndarray, n
             continue
         records = _chunk_records(stream, index)
         offsets = entries[:, 1].astype(np.int64)
-        lengths = _gather(records, offsets + 1, 8).copy().view("<u8").ravel()
+        lengths = _rows(records, offsets + 1, 8).copy().view("<u8").ravel()
         if np.any(lengths != lengths[0]):
             raise ValueError("messages of different sizes")
-        times.append(entries[:, 0].astype(np.int64))
-        rows.append(_gather(records, offsets + 31, int(lengths[0]) - 22))
-    if not rows:
-        return np.zeros(0, np.int64), np.zeros((0, 0), np.uint8)
-    if len({r.shape[1] for r in rows}) > 1:
-        raise ValueError("messages of different sizes")
-    log_time, data = np.concatenate(times), np.concatenate(rows)
-    order = np.argsort(log_time, kind="stable")
-    return log_time[order], data[order]
+        yield entries[:, 0].astype(np.int64), _rows(records, offsets + 31, int(lengths[0]) - 22)

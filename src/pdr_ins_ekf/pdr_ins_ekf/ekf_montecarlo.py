@@ -19,7 +19,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
-from scipy.optimize import nnls
 
 from pdr_core import units
 from pdr_ins_ekf import compiled_filter, kernel_cache
@@ -225,6 +224,8 @@ def estimator_detector(estimator: str) -> StanceDetector:
 def polynomial_fit(t_s: np.ndarray, sigma: np.ndarray) -> tuple[float, float]:
     """(a, b) ≥ 0 of σ ≈ a·t + b·t², the form of Tables II–III, by least squares on the
     relative error (each sample weighted 1/σ)."""
+    from scipy.optimize import nnls  # imported when used: pdr-ekf starts faster
+
     ok = (t_s > 0) & (sigma > 0)
     design = np.column_stack([t_s[ok], t_s[ok] ** 2]) / sigma[ok, None]
     (a, b), _ = nnls(design, np.ones(ok.sum()))

@@ -16,12 +16,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
-from pdr_core.batch import MessageBatch
+from pdr_core.batch import LazyBatch, MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANCE_STAMPED
 from pdr_core.nav_path import encode_path
+from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
@@ -120,27 +120,35 @@ def truth_at(truth: MessageBatch, stamp_ns: np.ndarray) -> np.ndarray:
     return np.column_stack([np.interp(q, t, truth["pose.position"][:, i]) for i in range(3)])
 
 
-def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, MessageBatch]:
-    """``pdr/foot/pose``, ``velocity`` and ``stance`` batches with covariances."""
-    out = run_.output
-    n = len(run_.stamp_ns)
-    pose_cov = np.zeros((n, 6, 6))
-    pose_cov[:, :3, :3] = out.position_cov
-    pose_cov[:, 3:, 3:] = out.variance[:, 6:9, None] * np.eye(3)
-    twist_cov = np.zeros((n, 6, 6))
-    twist_cov[:, :3, :3] = out.velocity_cov
-    twist_cov[:, 3:, 3:] = np.eye(3) * UNKNOWN_VARIANCE  # angular rate is not estimated
-    quat = Rotation.from_matrix(out.attitude).as_quat()
+def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch]:
+    """``pdr/foot/pose``, ``velocity`` and ``stance`` with covariances, built block by
+    block as they are written."""
+    out, n = run_.output, len(run_.stamp_ns)
+
+    def pose(index: slice) -> dict[str, np.ndarray]:
+        cov = np.zeros((len(out.position[index]), 6, 6))
+        cov[:, :3, :3] = out.position_cov[index]
+        cov[:, 3:, 3:] = out.variance[index, 6:9, None] * np.eye(3)
+        return {"pose.pose.position": out.position[index],
+                "pose.pose.orientation": quaternion_from_orthonormal(out.attitude[index]),
+                "pose.covariance": cov.reshape(-1, 36)}
+
+    def velocity(index: slice) -> dict[str, np.ndarray]:
+        cov = np.zeros((len(out.velocity[index]), 6, 6))
+        cov[:, :3, :3] = out.velocity_cov[index]
+        cov[:, 3:, 3:] = np.eye(3) * UNKNOWN_VARIANCE  # angular rate is not estimated
+        return {"twist.twist.linear": out.velocity[index],
+                "twist.twist.angular": np.zeros((len(cov), 3)),
+                "twist.covariance": cov.reshape(-1, 36)}
+
+    detector = np.full(n, run_.detector, np.uint8)
     return {
-        "/pdr/foot/pose": MessageBatch(POSE_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, {
-            "pose.pose.position": out.position, "pose.pose.orientation": quat,
-            "pose.covariance": pose_cov.reshape(n, 36)}),
-        "/pdr/foot/velocity": MessageBatch(TWIST_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, {
-            "twist.twist.linear": out.velocity, "twist.twist.angular": np.zeros((n, 3)),
-            "twist.covariance": twist_cov.reshape(n, 36)}),
-        "/pdr/foot/stance": MessageBatch(STANCE, run_.stamp_ns, "imu_link", {
-            "stationary": run_.stance, "statistic": run_.statistic,
-            "detector": np.full(n, run_.detector, np.uint8)}),
+        "/pdr/foot/pose": LazyBatch(POSE_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, pose),
+        "/pdr/foot/velocity": LazyBatch(TWIST_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame,
+                                        velocity),
+        "/pdr/foot/stance": LazyBatch(STANCE, run_.stamp_ns, "imu_link", lambda index: {
+            "stationary": run_.stance[index], "statistic": run_.statistic[index],
+            "detector": detector[index]}),
     }
 
 
@@ -148,7 +156,7 @@ def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, byt
     """``pdr/foot/smoothed_path``: one Path (CDR) per smoother segment with every
     sample's smoothed pose, stamped (and logged) at the segment's last sample."""
     out = run_.smoothed
-    quat = Rotation.from_matrix(out.attitude).as_quat()
+    quat = quaternion_from_orthonormal(out.attitude)
     paths, first = [], 0
     for end in out.segment_ends.tolist():
         part = slice(first, end + 1)
@@ -166,5 +174,5 @@ def step_path(run_: FootRun, frame: str = MAP_FRAME) -> tuple[int, bytes]:
     onsets = np.flatnonzero(run_.stance[1:] & ~run_.stance[:-1]) + 1
     poses = MessageBatch("geometry_msgs/msg/PoseStamped", run_.stamp_ns[onsets], frame, {
         "pose.position": run_.output.position[onsets],
-        "pose.orientation": Rotation.from_matrix(run_.output.attitude[onsets]).as_quat()})
+        "pose.orientation": quaternion_from_orthonormal(run_.output.attitude[onsets])})
     return int(run_.stamp_ns[-1]), encode_path(poses, int(run_.stamp_ns[-1]), frame)

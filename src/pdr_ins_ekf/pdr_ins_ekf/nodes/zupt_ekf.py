@@ -30,11 +30,11 @@ from nav_msgs.msg import Path as PathMsg
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from scipy.spatial.transform import Rotation
 from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
 from pdr_core.errors import InputError
+from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import UNKNOWN_VARIANCE
 from pdr_ins_ekf.streaming import Estimate, StreamingNavigator
@@ -100,7 +100,7 @@ class ZuptEkfNode(Node):
 
     def publish(self, e: Estimate) -> None:
         sec, nanosec = divmod(e.stamp_ns, _NS)
-        q = Rotation.from_matrix(e.attitude).as_quat()
+        q = quaternion_from_orthonormal(e.attitude)
         pose = PoseWithCovarianceStamped()
         pose.header.stamp.sec, pose.header.stamp.nanosec = sec, nanosec
         pose.header.frame_id = self.frame_id
@@ -140,7 +140,7 @@ class ZuptEkfNode(Node):
         """One Path with every sample's smoothed pose, stamped at the segment's end."""
         path = PathMsg()
         path.header.frame_id = self.frame_id
-        quats = Rotation.from_matrix(segment.attitude).as_quat()
+        quats = quaternion_from_orthonormal(segment.attitude)
         for stamp, p, q in zip(segment.stamp_ns.tolist(), segment.position.tolist(),
                                quats.tolist(), strict=True):
             pose = PoseStamped()
