@@ -7,10 +7,11 @@ Every trial goes through the documented commands: ``pdr-sim import-csv`` then
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 
-from wstest import PYSHOE, PYSHOE_NAV_ARGS, XIO, XIO_ARGS
+from wstest import PYSHOE, PYSHOE_NAV_ARGS, ROOT, XIO, XIO_ARGS
 
 
 def run_report(procs, tmp_path, csv, import_args, *run_args) -> dict:
@@ -53,3 +54,17 @@ def test_xio_loop_gap(procs, tmp_path):
     report = run_report(procs, tmp_path, XIO, XIO_ARGS)
     assert 20 < report["distance_m"] < 30
     assert report["loop_gap_m"] <= 0.40
+
+
+def test_zeroed_heading_position_covariance_smooths_real_walks(procs, tmp_path):
+    """smoother.zero_heading_position (001, section IV) on a VICON trial where the zeroed
+    covariance turns indefinite: Eq. (9) with the covariance solves it by LU and stays
+    finite (it gave NaN before; the states alone need no inverse)."""
+    config = tmp_path / "zeroed.yaml"
+    config.write_text(f"base: {ROOT / 'src/pdr_ins_ekf/config/foot_ekf.yaml'}\n"
+                      "smoother:\n  zero_heading_position: true\n  covariance: true\n")
+    csv = next(c for c in PYSHOE if c.stem == "2017-11-22-11-22-03")
+    report = run_report(procs, tmp_path, csv, PYSHOE_NAV_ARGS, "--smoother", "segmented",
+                        "--config", str(config))
+    assert math.isfinite(report["smoothed"]["armse_3d_m"])
+    assert report["smoothed"]["armse_3d_m"] < 0.15

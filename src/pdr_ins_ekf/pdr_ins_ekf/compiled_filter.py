@@ -18,11 +18,6 @@ BIAS_MODEL_CODES = {"none": 0, "random_walk": 1, "gauss_markov": 2}
 
 
 @njit(cache=True)
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-@njit(cache=True)
 def _rodrigues(w, dt):
     """exp([w×]·dt), 000_fbd401126d10f515.txt, Eq. (12), written out as
     I + s·[w×] + c·[w×]² with [w×]² = w·wᵀ − |w|²·I."""
@@ -53,7 +48,7 @@ def start(C, b, prev, f, w):
     """Set ``prev`` from the first sample."""
     prev[0] = f - b[:3]
     prev[1] = w - b[3:]
-    prev[2] = C @ prev[0]
+    _matvec3(C, prev[0], prev[2])
 
 
 @njit(cache=True)
@@ -88,32 +83,64 @@ def mechanize(p, v, C, b, prev, f, w, dt, gravity):
 
 @njit(cache=True)
 def apply_transition(M, C, a_now, dt, params):
-    """F·M for the error-state transition F = I + A·dt over dt (module docstring of
+    """F·M for the error-state transition F = I + A·dt over dt, M (n, k), as a new array
+    (:func:`transition_in_place`)."""
+    out = M.copy()
+    transition_in_place(out, C, a_now, dt, params)
+    return out
+
+
+@njit(cache=True)
+def transition_in_place(M, C, a_now, dt, params):
+    """M ← F·M for the error-state transition F = I + A·dt over dt (module docstring of
     :mod:`pdr_ins_ekf.zupt_ekf`), M (n, k), without forming F: F is the identity plus
     four 3×3 blocks (δp/δv, δv/δθ = [fⁿ×], and with 15 states δv/δb_a = −Ĉ,
-    δθ/δb_g = Ĉ) and, for Gauss–Markov biases, −dt/τ on the bias diagonal. Loops, column
-    by column: a 3×3 block times a 3-vector is cheaper written out than as a BLAS call."""
+    δθ/δb_g = Ĉ) and, for Gauss–Markov biases, −dt/τ on the bias diagonal. Each block
+    row reads only rows below it, so updating rows top-down, column by column, needs no
+    copy; a 3×3 block times a 3-vector is cheaper written out than as a BLAS call."""
     n, k = M.shape
-    out = M.copy()
     a0, a1, a2 = a_now[0], a_now[1], a_now[2]
     decay = dt / params[4] if n == 15 and params[5] == 2 else 0.0
     for j in range(k):
+        M[0, j] += dt * M[3, j]
+        M[1, j] += dt * M[4, j]
+        M[2, j] += dt * M[5, j]
         t0, t1, t2 = M[6, j], M[7, j], M[8, j]
-        out[0, j] += dt * M[3, j]
-        out[1, j] += dt * M[4, j]
-        out[2, j] += dt * M[5, j]
-        out[3, j] += dt * (a1 * t2 - a2 * t1)
-        out[4, j] += dt * (a2 * t0 - a0 * t2)
-        out[5, j] += dt * (a0 * t1 - a1 * t0)
+        M[3, j] += dt * (a1 * t2 - a2 * t1)
+        M[4, j] += dt * (a2 * t0 - a0 * t2)
+        M[5, j] += dt * (a0 * t1 - a1 * t0)
         if n == 15:
             b0, b1, b2 = M[9, j], M[10, j], M[11, j]
             g0, g1, g2 = M[12, j], M[13, j], M[14, j]
             for i in range(3):
-                out[3 + i, j] -= dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
-                out[6 + i, j] += dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
+                M[3 + i, j] -= dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
+                M[6 + i, j] += dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
             for i in range(9, 15):
-                out[i, j] -= decay * M[i, j]
-    return out
+                M[i, j] -= decay * M[i, j]
+
+
+@njit(cache=True)
+def transposed_transition(y, C, a_now, dt, params):
+    """Fᵀ·y for a vector y (n,), with the blocks of :func:`transition_in_place`
+    transposed: δv gains dt·δp's, δθ gains dt·[fⁿ×]ᵀ·δv's, and with 15 states b_a gains
+    −dt·Ĉᵀ·δv's and b_g dt·Ĉᵀ·δθ's; Gauss–Markov biases decay."""
+    n = y.shape[0]
+    z = y.copy()
+    a0, a1, a2 = a_now[0], a_now[1], a_now[2]
+    u0, u1, u2 = y[3], y[4], y[5]
+    for i in range(3):
+        z[3 + i] += dt * y[i]
+    z[6] += dt * (a2 * u1 - a1 * u2)
+    z[7] += dt * (a0 * u2 - a2 * u0)
+    z[8] += dt * (a1 * u0 - a0 * u1)
+    if n == 15:
+        decay = dt / params[4] if params[5] == 2 else 0.0
+        for i in range(9, 15):
+            z[i] -= decay * y[i]
+        for j in range(3):
+            z[9 + j] -= dt * (C[0, j] * u0 + C[1, j] * u1 + C[2, j] * u2)
+            z[12 + j] += dt * (C[0, j] * y[6] + C[1, j] * y[7] + C[2, j] * y[8])
+    return z
 
 
 @njit(cache=True)
@@ -128,13 +155,24 @@ def symmetrize(P):
 
 
 @njit(cache=True)
+def _transpose(P):
+    """P ← Pᵀ in place (P square)."""
+    n = P.shape[0]
+    for i in range(n):
+        for j in range(i + 1, n):
+            P[i, j], P[j, i] = P[j, i], P[i, j]
+
+
+@njit(cache=True)
 def propagate(P, C, a_now, dt, params):
-    """P ← F·P·Fᵀ + Q (symmetrised), Q = G·diag(σ²)·Gᵀ·dt. The noise is isotropic in the
-    body frame, so its rotation by Ĉ leaves Q diagonal."""
+    """P ← F·P·Fᵀ + Q (symmetrised), Q = G·diag(σ²)·Gᵀ·dt, in place: F·(F·P)ᵀ, which is
+    F·P·Fᵀ for a symmetric P. The noise is isotropic in the body frame, so its rotation
+    by Ĉ leaves Q diagonal."""
     acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise = params[0:4]
     n = P.shape[0]
-    FP_T = np.ascontiguousarray(apply_transition(P, C, a_now, dt, params).T)
-    P[:, :] = apply_transition(FP_T, C, a_now, dt, params)
+    transition_in_place(P, C, a_now, dt, params)
+    _transpose(P)
+    transition_in_place(P, C, a_now, dt, params)
     for i in range(3):
         P[3 + i, 3 + i] += acc_noise**2 * dt
         P[6 + i, 6 + i] += gyro_noise**2 * dt
@@ -178,7 +216,9 @@ def correct(dx, P, innovation, rows, sigma):
     H only selects states, so H·P, P·Hᵀ and H·P·Hᵀ are slices of P and the Joseph form
     (I − KH)·P·(I − KH)ᵀ + K·R·Kᵀ costs O(n²) instead of O(n³); written as loops, with
     no temporary arrays beyond Kᵀ and M: K = P·Hᵀ·S⁻¹ with S = H·P·Hᵀ + σ²I,
-    M = P − K·H·P, P ← M − M·Hᵀ·Kᵀ + σ²·K·Kᵀ, then symmetrised."""
+    M = P − K·H·P, P ← M − M·Hᵀ·Kᵀ + σ²·K·Kᵀ, then symmetrised. Returns Kᵀ (3, n) and
+    S⁻¹·ν (3,) for the innovation ν, which the smoother's backward pass needs
+    (:func:`pdr_ins_ekf.compiled_smoother.adjoint_before_update`)."""
     n = P.shape[0]
     S_inv = _inverse3(P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2)
     K_T = np.zeros((3, n))  # Kᵀ = S⁻¹·H·P
@@ -203,6 +243,17 @@ def correct(dx, P, innovation, rows, sigma):
                        + s2 * (K_T[0, i] * K_T[0, j] + K_T[1, i] * K_T[1, j]
                                + K_T[2, i] * K_T[2, j]))
     symmetrize(P)
+    weighted = np.empty(3)
+    _matvec3(S_inv, innovation, weighted)
+    return K_T, weighted
+
+
+@njit(cache=True)
+def _product3(A, B, out):
+    """out ← A·B for 3×3 matrices, written out (no BLAS call at this size)."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
 
 
 @njit(cache=True)
@@ -211,19 +262,41 @@ def orthonormalize(C):
     Newton–Schulz steps C ← C·(3I − CᵀC)/2: each squares the deviation from
     orthonormality, so two take (I − [δθ×])·C, off by |δθ|², to machine precision, at a
     fraction of an SVD's cost."""
+    G, CG = np.empty((3, 3)), np.empty((3, 3))
     for _ in range(2):
-        C[:, :] = C @ (3.0 * np.eye(3) - C.T @ C) / 2.0
+        for i in range(3):
+            for j in range(3):
+                G[i, j] = -(C[0, i] * C[0, j] + C[1, i] * C[1, j] + C[2, i] * C[2, j])
+            G[i, i] += 3.0
+        _product3(C, G, CG)
+        for i in range(3):
+            for j in range(3):
+                C[i, j] = CG[i, j] / 2.0
 
 
 @njit(cache=True)
 def compensate(p, v, C, b, dx):
-    """Feed the error state back into the nominal state (001, Eq. (8))."""
-    p += dx[0:3]
-    v += dx[3:6]
-    C[:, :] = (np.eye(3) - _skew(dx[6:9])) @ C
+    """Feed the error state back into the nominal state (001, Eq. (8)):
+    p += δp, v += δv, C ← (I − [δθ×])·C (then re-orthonormalised), b += δb."""
+    for i in range(3):
+        p[i] += dx[i]
+        v[i] += dx[3 + i]
+    t0, t1, t2 = dx[6], dx[7], dx[8]
+    correction = np.array([[1.0, t2, -t1], [-t2, 1.0, t0], [t1, -t0, 1.0]])
+    corrected = np.empty((3, 3))
+    _product3(correction, C, corrected)
+    C[:, :] = corrected
     orthonormalize(C)
     if dx.shape[0] == 15:
-        b += dx[9:15]
+        for i in range(6):
+            b[i] += dx[9 + i]
+
+
+@njit(cache=True)
+def _matvec3(C, x, out):
+    """out ← C·x for a 3×3 C and a 3-vector x."""
+    for i in range(3):
+        out[i] = C[i, 0] * x[0] + C[i, 1] * x[1] + C[i, 2] * x[2]
 
 
 @njit(cache=True)
@@ -233,7 +306,7 @@ def update(p, v, C, b, P, prev, z, rows, sigma):
     dx = np.zeros(P.shape[0])
     correct(dx, P, z, rows, sigma)
     compensate(p, v, C, b, dx)
-    prev[2] = C @ prev[0]
+    _matvec3(C, prev[0], prev[2])
 
 
 @njit(cache=True)

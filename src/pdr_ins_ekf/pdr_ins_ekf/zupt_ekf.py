@@ -101,12 +101,16 @@ class SmootherConfig:
     prediction (the paper's remedy for sharp smoothing corrections); the covariance is
     then no longer the filter's, and the smoothed heading stops following position
     corrections.
+    ``covariance`` also smooths the covariance (Pₙ|ₑ of Eq. (9); the outputs'
+    ``velocity_variance``, NaN without it), at about three times the cost of the
+    backward pass for the states alone.
     """
 
     mode: str = "none"
     gamma_s_m2ps2: float = 1.5e-5
     tau_s: float = 0.04
     zero_heading_position: bool = False
+    covariance: bool = False
 
     def __post_init__(self) -> None:
         if self.mode not in SMOOTHER_MODES:
@@ -119,7 +123,8 @@ class SmootherConfig:
 @dataclass
 class SmoothedOutput:
     """Smoothed position, velocity (N, 3), attitude C_b^n (N, 3, 3), smoothed velocity
-    variances (N, 3) and the index of each segment's last sample."""
+    variances (N, 3; NaN unless SmootherConfig.covariance) and the index of each
+    segment's last sample."""
 
     position: np.ndarray
     velocity: np.ndarray
@@ -155,6 +160,7 @@ class SegmentSmoother:
         self.store = compiled_smoother.new_segment_store(1024, self.P.shape[0])
         self.rule = np.array([smoother.gamma_s_m2ps2, smoother.tau_s, 0.0, 0.0])
         self.zero_heading_position = smoother.zero_heading_position
+        self.covariance = smoother.covariance
         self.stamps: list[int] = []
         self.started = False
 
@@ -177,7 +183,7 @@ class SegmentSmoother:
         cut = compiled_smoother.open_loop_step(
             self.store, j, self.p, self.v, self.C, self.b, self.dx, self.P, self.prev, f, w,
             float(dt), bool(stance), c.zaru, self.params, c.zupt_sigma_mps,
-            c.zaru_sigma_radps, self.zero_heading_position, self.rule)
+            c.zaru_sigma_radps, self.zero_heading_position, self.rule, self.covariance)
         return self.finish() if cut else None
 
     def finish(self) -> SmoothedSegment | None:
@@ -189,7 +195,7 @@ class SegmentSmoother:
                               np.empty((m, 3, 3)), np.empty((m, 3)))
         compiled_smoother.smooth_segment(self.store, m, self.params, out.position,
                                          np.empty((m, 3)), out.attitude,
-                                         out.velocity_variance)
+                                         out.velocity_variance, self.covariance)
         compiled_smoother.close_loop(self.p, self.v, self.C, self.b, self.dx, self.prev)
         self.rule[compiled_smoother.RULE_CLOCK] = 0.0
         self.stamps = []
@@ -293,7 +299,7 @@ def smooth(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarra
     return SmoothedOutput(*compiled_smoother.smoother_loop(
         *_loop_inputs(t, accel, gyro, stance, config, alignment, yaw_rad),
         smoother.zero_heading_position, smoother.gamma_s_m2ps2, smoother.tau_s,
-        smoother.mode == "full"))
+        smoother.mode == "full", smoother.covariance))
 
 
 def _loop_inputs(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
