@@ -57,19 +57,20 @@ RULE_GAMMA, RULE_TAU, RULE_PREVIOUS, RULE_CLOCK = range(4)
 
 
 @njit(cache=True)
-def new_segment_store(capacity, n):
+def new_segment_store(capacity, n, covariance):
     """Arrays for ``capacity`` samples of a segment (indexed by :data:`POS` …
     :data:`WEIGHTED`): nominal p, v (cap, 3), C (cap, 3, 3), predicted and filtered
-    deviations (cap, n), their covariances (cap, n, n; with the smoothed covariance on,
-    the predicted one only where a measurement changed it, see
+    deviations (cap, n), their covariances (with the smoothed ``covariance`` on, both
+    (cap, n, n), the predicted one only where a measurement changed it, see
     :func:`predicted_covariance`; without it only the filtered one's first 9 rows, all
-    the adjoint form uses), per sample what the transition Fₙ is rebuilt from in
-    the backward pass (the navigation-frame specific force and dt) and how many
-    measurement updates it had (cap, 5), and per update (ZUPT, ZARU) the gain Kᵀ
-    (cap, 2, 3, n) and S⁻¹·ν (cap, 2, 3)."""
+    the adjoint form uses: (cap, 9, n), and a (1, n, n) placeholder), per sample what
+    the transition Fₙ is rebuilt from in the backward pass (the navigation-frame specific
+    force and dt) and how many measurement updates it had (cap, 5), and per update
+    (ZUPT, ZARU) the gain Kᵀ (cap, 2, 3, n) and S⁻¹·ν (cap, 2, 3)."""
     return (np.empty((capacity, 3)), np.empty((capacity, 3)), np.empty((capacity, 3, 3)),
             np.empty((capacity, n)), np.empty((capacity, n)),
-            np.empty((capacity, n, n)), np.empty((capacity, n, n)), np.empty((capacity, 5)),
+            np.empty((capacity if covariance else 1, n, n)),
+            np.empty((capacity, n if covariance else 9, n)), np.empty((capacity, 5)),
             np.empty((capacity, 2, 3, n)), np.empty((capacity, 2, 3)))
 
 
@@ -79,13 +80,16 @@ def grown(seg, needed):
     capacity = seg[POS].shape[0]
     if needed <= capacity:
         return seg
-    bigger = new_segment_store(max(needed, 2 * capacity), seg[DX_PRED].shape[1])
+    n = seg[DX_PRED].shape[1]
+    covariance = seg[COV_FILT].shape[1] == n
+    bigger = new_segment_store(max(needed, 2 * capacity), n, covariance)
     bigger[POS][:capacity] = seg[POS]
     bigger[VEL][:capacity] = seg[VEL]
     bigger[ATT][:capacity] = seg[ATT]
     bigger[DX_PRED][:capacity] = seg[DX_PRED]
     bigger[DX_FILT][:capacity] = seg[DX_FILT]
-    bigger[COV_PRED][:capacity] = seg[COV_PRED]
+    if covariance:
+        bigger[COV_PRED][:capacity] = seg[COV_PRED]
     bigger[COV_FILT][:capacity] = seg[COV_FILT]
     bigger[STEP][:capacity] = seg[STEP]
     bigger[GAIN][:capacity] = seg[GAIN]
@@ -117,10 +121,7 @@ def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, para
             seg[GAIN][j, 1], seg[WEIGHTED][j, 1] = correct(
                 dx, P, w - b[3:] - dx[12:15], 12, zaru_sigma)
             seg[STEP][j, 4] = 2.0
-    if covariance:
-        seg[COV_FILT][j] = P
-    else:
-        seg[COV_FILT][j, 0:9] = P[0:9]
+    seg[COV_FILT][j] = P[0:seg[COV_FILT].shape[1]]
     seg[POS][j] = p
     seg[VEL][j] = v
     seg[ATT][j] = C
@@ -289,7 +290,7 @@ def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, 
     att, vel_var = np.empty((N, 3, 3)), np.empty((N, 3))
     ends = np.empty(N, np.int64)
     segments = 0
-    seg = new_segment_store(N if full else min(N, 1024), n)
+    seg = new_segment_store(N if full else min(N, 1024), n, covariance)
     rule = np.array([gamma_s, tau_s, 0.0, 0.0])
     first = 0
     for k in range(N):

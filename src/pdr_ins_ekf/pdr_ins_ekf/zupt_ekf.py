@@ -157,7 +157,8 @@ class SegmentSmoother:
         self.C, self.b, self.P = start.C.copy(), start.b.copy(), start.P.copy()
         self.dx = np.zeros(self.P.shape[0])
         self.prev = np.empty((3, 3))
-        self.store = compiled_smoother.new_segment_store(1024, self.P.shape[0])
+        self.store = compiled_smoother.new_segment_store(1024, self.P.shape[0],
+                                                         smoother.covariance)
         self.rule = np.array([smoother.gamma_s_m2ps2, smoother.tau_s, 0.0, 0.0])
         self.zero_heading_position = smoother.zero_heading_position
         self.covariance = smoother.covariance
