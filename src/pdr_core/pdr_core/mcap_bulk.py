@@ -164,14 +164,29 @@ def _write_chunk(writer: Any, connections: list[Any], stamps: list[np.ndarray],
 
 
 def _place(buffer: np.ndarray, at: np.ndarray, records: np.ndarray) -> None:
-    """Copy the rows of ``records`` (k, size) to ``buffer[at[j]:at[j] + size]``: through a
-    strided view when the records are evenly spaced (streams interleaved in a fixed
-    pattern, the usual case), else by fancy indexing."""
-    step = int(at[1] - at[0]) if len(at) > 1 else records.shape[1]
-    if step >= records.shape[1] and np.all(np.diff(at) == step):
-        as_strided(buffer[at[0]:], records.shape, (step, 1), writeable=True)[:] = records
+    """Copy the rows of ``records`` (k, size) to ``buffer[at[j]:at[j] + size]``."""
+    view = _evenly_spaced_rows(buffer, at, records.shape[1])
+    if view is None:
+        buffer[_row_index(at, records.shape[1])] = records
     else:
-        buffer[at[:, None] + np.arange(records.shape[1])] = records
+        view[:] = records
+
+
+def _evenly_spaced_rows(buffer: np.ndarray, at: np.ndarray, width: int
+                        ) -> np.ndarray | None:
+    """The ``width`` bytes at each offset ``at`` of ``buffer`` as a (k, width) strided
+    view (writeable if ``buffer`` is) when the offsets are evenly spaced and the rows do
+    not overlap: one topic, or topics interleaved in a fixed pattern, the usual case.
+    None otherwise."""
+    step = int(at[1] - at[0]) if len(at) > 1 else width
+    if step >= width and np.all(np.diff(at) == step):
+        return as_strided(buffer[at[0]:], (len(at), width), (step, 1), writeable=True)
+    return None
+
+
+def _row_index(at: np.ndarray, width: int) -> np.ndarray:
+    """Fancy index (k, width) of the ``width`` bytes at each offset ``at``."""
+    return at[:, None] + np.arange(width)
 
 
 def _entries_as_tuples(chunk: Any) -> None:
@@ -216,12 +231,9 @@ def _message_index(stream: Any, offset: int) -> np.ndarray:
 
 def _rows(records: np.ndarray, at: np.ndarray, width: int) -> np.ndarray:
     """The ``width`` bytes at each offset ``at`` of ``records``, as a (k, width) array:
-    a strided view when the offsets are evenly spaced (one topic, or topics interleaved
-    in a fixed pattern), else gathered by fancy indexing."""
-    step = int(at[1] - at[0]) if len(at) > 1 else width
-    if step >= width and np.all(np.diff(at) == step):
-        return as_strided(records[at[0]:], (len(at), width), (step, 1), writeable=False)
-    return records[at[:, None] + np.arange(width)]
+    a view when the offsets are evenly spaced, else gathered."""
+    view = _evenly_spaced_rows(records, at, width)
+    return records[_row_index(at, width)] if view is None else view
 
 
 def chunk_rows(stream: Any, summary: Any, channel_id: int
