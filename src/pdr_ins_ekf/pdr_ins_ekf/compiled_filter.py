@@ -120,27 +120,59 @@ def transition_in_place(M, C, a_now, dt, params):
 
 
 @njit(cache=True)
-def transposed_transition(y, C, a_now, dt, params):
-    """Fᵀ·y for a vector y (n,), with the blocks of :func:`transition_in_place`
+def transposed_transition_in_place(y, C, a_now, dt, params):
+    """y ← Fᵀ·y for a vector y (n,), with the blocks of :func:`transition_in_place`
     transposed: δv gains dt·δp's, δθ gains dt·[fⁿ×]ᵀ·δv's, and with 15 states b_a gains
-    −dt·Ĉᵀ·δv's and b_g dt·Ĉᵀ·δθ's; Gauss–Markov biases decay."""
+    −dt·Ĉᵀ·δv's and b_g dt·Ĉᵀ·δθ's; Gauss–Markov biases decay. Each block row reads
+    only rows above it, so updating rows bottom-up needs no copy."""
     n = y.shape[0]
-    z = y.copy()
     a0, a1, a2 = a_now[0], a_now[1], a_now[2]
     u0, u1, u2 = y[3], y[4], y[5]
-    for i in range(3):
-        z[3 + i] += dt * y[i]
-    z[6] += dt * (a2 * u1 - a1 * u2)
-    z[7] += dt * (a0 * u2 - a2 * u0)
-    z[8] += dt * (a1 * u0 - a0 * u1)
     if n == 15:
         decay = dt / params[4] if params[5] == 2 else 0.0
         for i in range(9, 15):
-            z[i] -= decay * y[i]
+            y[i] -= decay * y[i]
         for j in range(3):
-            z[9 + j] -= dt * (C[0, j] * u0 + C[1, j] * u1 + C[2, j] * u2)
-            z[12 + j] += dt * (C[0, j] * y[6] + C[1, j] * y[7] + C[2, j] * y[8])
-    return z
+            y[9 + j] -= dt * (C[0, j] * u0 + C[1, j] * u1 + C[2, j] * u2)
+            y[12 + j] += dt * (C[0, j] * y[6] + C[1, j] * y[7] + C[2, j] * y[8])
+    y[6] += dt * (a2 * u1 - a1 * u2)
+    y[7] += dt * (a0 * u2 - a2 * u0)
+    y[8] += dt * (a1 * u0 - a0 * u1)
+    for i in range(3):
+        y[3 + i] += dt * y[i]
+
+
+@njit(cache=True)
+def inverse_transition_in_place(x, C, a_now, dt, params):
+    """x ← F⁻¹·x for a vector x (n,): :func:`transition_in_place` undone by back
+    substitution, bottom-up (biases, then attitude, velocity, position), since each of
+    F's block rows reads only the rows below it. F is unipotent (A·dt nilpotent) except
+    for the Gauss–Markov decay, which is divided out."""
+    n = x.shape[0]
+    if n == 15:
+        decay = dt / params[4] if params[5] == 2 else 0.0
+        for i in range(9, 15):
+            x[i] /= 1.0 - decay
+        b0, b1, b2 = x[9], x[10], x[11]
+        g0, g1, g2 = x[12], x[13], x[14]
+        for i in range(3):
+            x[6 + i] -= dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
+            x[3 + i] += dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
+    a0, a1, a2 = a_now[0], a_now[1], a_now[2]
+    t0, t1, t2 = x[6], x[7], x[8]
+    x[3] -= dt * (a1 * t2 - a2 * t1)
+    x[4] -= dt * (a2 * t0 - a0 * t2)
+    x[5] -= dt * (a0 * t1 - a1 * t0)
+    for i in range(3):
+        x[i] -= dt * x[3 + i]
+
+
+@njit(cache=True)
+def process_noise(params, i, dt):
+    """Qᵢᵢ, the variance :func:`propagate` adds to state i over dt: none on position, then
+    per block of three the accelerometer, gyro, accelerometer-bias and gyro-bias noise
+    densities (``params[0:4]``) squared, times dt."""
+    return params[i // 3 - 1] ** 2 * dt if i >= 3 else 0.0
 
 
 @njit(cache=True)
@@ -168,18 +200,11 @@ def propagate(P, C, a_now, dt, params):
     """P ← F·P·Fᵀ + Q (symmetrised), Q = G·diag(σ²)·Gᵀ·dt, in place: F·(F·P)ᵀ, which is
     F·P·Fᵀ for a symmetric P. The noise is isotropic in the body frame, so its rotation
     by Ĉ leaves Q diagonal."""
-    acc_noise, gyro_noise, acc_bias_noise, gyro_bias_noise = params[0:4]
-    n = P.shape[0]
     transition_in_place(P, C, a_now, dt, params)
     _transpose(P)
     transition_in_place(P, C, a_now, dt, params)
-    for i in range(3):
-        P[3 + i, 3 + i] += acc_noise**2 * dt
-        P[6 + i, 6 + i] += gyro_noise**2 * dt
-    if n == 15:
-        for i in range(3):
-            P[9 + i, 9 + i] += acc_bias_noise**2 * dt
-            P[12 + i, 12 + i] += gyro_bias_noise**2 * dt
+    for i in range(3, P.shape[0]):
+        P[i, i] += process_noise(params, i, dt)
     symmetrize(P)
 
 

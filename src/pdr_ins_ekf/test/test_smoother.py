@@ -130,6 +130,44 @@ def test_states_alone_are_the_states_smoothed_with_the_covariance(simulated, wal
     assert np.isnan(alone.velocity_variance).all()
 
 
+@pytest.mark.parametrize("mode", ["segmented", "full"])
+@pytest.mark.parametrize("filter_config", [
+    FilterConfig(bias_model="random_walk", zaru=True),
+    FilterConfig(bias_model="gauss_markov", bias_tau_s=5.0)], ids=["random_walk", "gauss_markov"])
+def test_states_alone_with_bias_states(simulated, walk, mode, filter_config):
+    """The 15-state filter: the backward recursion through F⁻¹ inverts the bias blocks
+    (and divides out the Gauss–Markov decay) and takes the ZARU updates; it gives the
+    states of Eq. (9) with the covariance."""
+    stance = walk[0]
+    sim = simulated
+    args = (sim.imu.t_s - sim.imu.t_s[0], sim.imu["linear_acceleration"],
+            sim.imu["angular_velocity"], stance, filter_config)
+    alone = smooth(*args, SmootherConfig(mode), ALIGN)
+    written = smooth(*args, SmootherConfig(mode, covariance=True), ALIGN)
+    np.testing.assert_allclose(alone.position, written.position, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(alone.attitude, written.attitude, rtol=0, atol=1e-12)
+
+
+def test_segments_longer_than_the_store_grow_it():
+    """A 12 s stop makes a segment of more than the store's 1,024 first samples: the
+    store grows mid-segment, keeping what it holds, in both layouts."""
+    stop = {"segments": [{"type": "standing", "duration_s": 2.0},
+                         {"type": "straight", "steps": 6},
+                         {"type": "standing", "duration_s": 12.0},
+                         {"type": "straight", "steps": 6}]}
+    sim = simulate(SimulationConfig(scenario_from_dict(stop, "stop"), stop, "xsens_mtw", {},
+                                    RATE, 1))
+    accel, gyro = sim.imu["linear_acceleration"], sim.imu["angular_velocity"]
+    args = (sim.imu.t_s - sim.imu.t_s[0], accel, gyro,
+            RunConfig().detector.detect(accel, gyro, RATE).mask, FilterConfig())
+    alone = smooth(*args, SmootherConfig("segmented"), ALIGN)
+    written = smooth(*args, SmootherConfig("segmented", covariance=True), ALIGN)
+    assert np.diff(alone.segment_ends).max() > 1024
+    assert np.abs(alone.position - run(*args, ALIGN).position).max() < 0.05
+    np.testing.assert_allclose(alone.position, written.position, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(alone.segment_ends, written.segment_ends)
+
+
 def test_spd_solve_solves_indefinite_matrices_too():
     """Cholesky for the positive-definite Pₙ₊₁|ₙ; LU for one that zeroing the
     heading–position cross-covariance made indefinite (it used to return NaN)."""
