@@ -59,9 +59,9 @@ kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
 POS, VEL, ATT, DX_PRED, DX_FILT, COV_PRED, COV_FILT, STEP, GAIN, WEIGHTED, LAYOUT = range(11)
 # seg[STEP] columns: Fₙ's navigation-frame specific force (3), dt, updates, row
 STEP_UPDATES, STEP_ROW = 4, 5
-# seg[LAYOUT]: rows of DX_FILT / COV_FILT in use, and whether every sample has one (1) or
-# only the anchors (0, see new_segment_store)
-LAYOUT_ROWS, LAYOUT_DENSE = range(2)
+# seg[LAYOUT]: rows of DX_FILT / COV_FILT in use, whether every sample has one (1) or
+# only the anchors (0), and whether the covariance is smoothed too (see new_segment_store)
+LAYOUT_ROWS, LAYOUT_DENSE, LAYOUT_COVARIANCE = range(3)
 # rule: [γs, τs, Σ diag(P_v) of the previous sample, c] (c: time since the crossing [s])
 RULE_GAMMA, RULE_TAU, RULE_PREVIOUS, RULE_CLOCK = range(4)
 
@@ -90,7 +90,7 @@ def new_segment_store(capacity, n, covariance, dense, updates):
             np.empty((rows, 9 if dense and not covariance else n, n)),
             np.empty((capacity, 6)), np.empty((capacity, updates, 3, n)),
             np.empty((capacity, updates, 3)),
-            np.array([0, 1 if per_sample else 0], np.int64))
+            np.array([0, 1 if per_sample else 0, 1 if covariance else 0], np.int64))
 
 
 @njit(cache=True)
@@ -101,7 +101,7 @@ def grown(seg, needed):
     if needed <= capacity:
         return seg
     n = seg[DX_FILT].shape[1]
-    covariance = seg[COV_PRED].shape[0] > 1
+    covariance = seg[LAYOUT][LAYOUT_COVARIANCE] == 1
     dense = seg[LAYOUT][LAYOUT_DENSE] == 1
     bigger = new_segment_store(max(needed, 2 * capacity), n, covariance, dense,
                                seg[GAIN].shape[1])
