@@ -5,7 +5,7 @@ import pytest
 
 from pdr_core.metrics import within_step_rmse
 from pdr_ins_ekf.compiled_smoother import spd_solve
-from pdr_ins_ekf.config import RunConfig
+from pdr_ins_ekf.config import RunConfig, load_run_config
 from pdr_ins_ekf.zupt_ekf import FilterConfig, SmootherConfig, run, smooth
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
@@ -102,9 +102,11 @@ def test_segmented_and_full_smoothing_agree_within_2_cm(walk):
 
 @pytest.mark.parametrize("mode, gain", [("segmented", 0.25), ("full", 0.40)])
 def test_smoothing_reduces_the_error_within_steps(simulated, walk, mode, gain):
-    """Issue 5 asks for a smoothed RMSE against the truth ≤ the filter's. Over 200 steps
-    that RMSE is heading drift (1.5 m), which no smoother can see, and both stay within
-    1 % of each other (filter 1.557, segmented 1.563, full 1.584 m). With each step's
+    """Issue 5 asks for a smoothed RMSE against the truth ≤ the filter's. With the 9
+    states of these tests, over 200 steps that RMSE is the heading drift of an unestimated
+    gyro bias (1.5 m), which no smoother can see, and both stay within 1 % of each other
+    (filter 1.557, segmented 1.563, full 1.584 m; with the IMU's own configuration see
+    the next test). With each step's
     heading error removed (pdr_core.metrics.within_step_rmse) the smoothed steps are
     30 % (segmented) and 48 % (full) closer to the truth: 1.59 against 1.11 and 0.83 mm."""
     stance, filtered, smoothed = walk
@@ -113,6 +115,31 @@ def test_smoothing_reduces_the_error_within_steps(simulated, walk, mode, gain):
     before = within_step_rmse(filtered.position, truth, cuts)
     after = within_step_rmse(smoothed[mode].position, truth, cuts)
     assert after <= (1 - gain) * before
+
+
+@pytest.mark.parametrize("mode", ["segmented", "full"])
+def test_smoothed_rmse_is_at_most_the_filters_with_the_imus_configuration(simulated, mode):
+    """Issue 5, acceptance 1: with the configuration made for the simulated IMU
+    (foot_ekf_xsens_mtw.yaml: gyro biases estimated, ZARU) the RMSE against the truth of
+    the smoothed path is at most the filter's: 0.321 m filtered, 0.317 m segmented,
+    0.273 m full. (Over seeds 0-5 the full smoother's is lower on five of six, mean 0.170
+    against 0.188 m; the segmented one's equal to 0.3 %. With the default ZARU σ of
+    0.01 rad/s the full smoother's yaw was worse than the filter's, mean 0.48 m.)"""
+    config = load_run_config(imu_profile="xsens_mtw")
+    sim = simulated
+    accel, gyro = sim.imu["linear_acceleration"], sim.imu["angular_velocity"]
+    args = (sim.imu.t_s - sim.imu.t_s[0], accel, gyro,
+            config.detector.detect(accel, gyro, RATE).mask, config.filter)
+    truth = sim.trajectory.position - sim.trajectory.position[0]
+
+    def rmse(position):
+        return np.sqrt(np.mean(np.sum((position - position[0] - truth) ** 2, axis=1)))
+
+    filtered = rmse(run(*args, ALIGN).position)
+    smoothed = rmse(smooth(*args, SmootherConfig(mode, config.smoother.gamma_s_m2ps2),
+                           ALIGN).position)
+    print(f"RMSE: filter {filtered:.4f} m, {mode} {smoothed:.4f} m")
+    assert smoothed <= filtered
 
 
 @pytest.mark.parametrize("mode", ["segmented", "full"])
