@@ -30,10 +30,14 @@ def aligned(estimate: np.ndarray, truth: np.ndarray, distance_m: float = ALIGN_D
     if not len(far):
         return est
     k = far[0]
-    angle = np.arctan2(ref[k, 1], ref[k, 0]) - np.arctan2(est[k, 1], est[k, 0])
-    c, s = np.cos(angle), np.sin(angle)
-    return np.column_stack([c * est[:, 0] - s * est[:, 1], s * est[:, 0] + c * est[:, 1],
-                            est[:, 2]])
+    return about_vertical(est, np.arctan2(ref[k, 1], ref[k, 0]) - np.arctan2(est[k, 1], est[k, 0]))
+
+
+def about_vertical(points: np.ndarray, angle_rad: float) -> np.ndarray:
+    """Points (N, 3) rotated by ``angle_rad`` about the vertical (z) axis."""
+    c, s = np.cos(angle_rad), np.sin(angle_rad)
+    return np.column_stack([c * points[:, 0] - s * points[:, 1],
+                            s * points[:, 0] + c * points[:, 1], points[:, 2]])
 
 
 def path_length(position: np.ndarray) -> float:
@@ -76,10 +80,8 @@ def within_step_rmse(estimate: np.ndarray, truth: np.ndarray, cuts: np.ndarray) 
     for a, b in itertools.pairwise(cuts):
         est = estimate[a:b + 1] - estimate[a]
         ref = truth[a:b + 1] - truth[a]
-        angle = np.arctan2(est[-1, 1], est[-1, 0]) - np.arctan2(ref[-1, 1], ref[-1, 0])
-        c, s = np.cos(angle), np.sin(angle)
-        turned = np.column_stack([c * ref[:, 0] - s * ref[:, 1], s * ref[:, 0] + c * ref[:, 1],
-                                  ref[:, 2]])
+        turned = about_vertical(ref, np.arctan2(est[-1, 1], est[-1, 0])
+                                - np.arctan2(ref[-1, 1], ref[-1, 0]))
         errors.append(np.sum((est - turned) ** 2, axis=1))
     if not errors:
         raise ValueError("need at least two cuts")

@@ -69,8 +69,7 @@ def mechanize(p, v, C, b, prev, f, w, dt, gravity):
         for j in range(3):
             C[i, j] = r0 * R[0, j] + r1 * R[1, j] + r2 * R[2, j]
     a_now = np.empty(3)
-    for i in range(3):
-        a_now[i] = C[i, 0] * f_c[0] + C[i, 1] * f_c[1] + C[i, 2] * f_c[2]
+    _matvec3(C, f_c, a_now)
     for i in range(3):
         accel = (prev[2, i] + a_now[i]) / 2 - (gravity if i == 2 else 0.0)
         v_new = v[i] + accel * dt
@@ -330,6 +329,13 @@ def update(p, v, C, b, P, prev, z, rows, sigma):
     the closed-loop compensation of 001_5b5dbf275b14cf0a.txt, Eq. (8)."""
     dx = np.zeros(P.shape[0])
     correct(dx, P, z, rows, sigma)
+    feed_back(p, v, C, b, dx, prev)
+
+
+@njit(cache=True)
+def feed_back(p, v, C, b, dx, prev):
+    """:func:`compensate`, then the navigation-frame specific force of ``prev`` rotated
+    by the corrected attitude (the next trapezoidal step averages it)."""
     compensate(p, v, C, b, dx)
     _matvec3(C, prev[0], prev[2])
 

@@ -40,8 +40,8 @@ from pdr_ins_ekf.compiled_filter import (
     _product3,
     _rodrigues,
     apply_transition,
-    compensate,
     correct,
+    feed_back,
     inverse_transition_in_place,
     mechanize,
     process_noise,
@@ -127,9 +127,9 @@ def grown(seg, needed):
 @njit(cache=True)
 def anchor(seg, j, dx, P):
     """Store sample j's filtered deviation and covariance as an anchor of the sparse
-    layout (a no-op in the dense one, which stores every sample's): call it where the
-    forward pass closes the loop, before :func:`close_loop`. Returns ``seg``, with more
-    anchor rows if it needed them."""
+    layout (a no-op in the dense one, which stores every sample's), where the forward
+    pass closes the loop (:func:`close_segment`). Returns ``seg``, with more anchor rows
+    if it needed them."""
     layout = seg[LAYOUT]
     if layout[LAYOUT_DENSE]:
         return seg
@@ -150,9 +150,10 @@ def anchor(seg, j, dx, P):
 
 @njit(cache=True)
 def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, params,
-                   zupt_sigma, zaru_sigma, zero_heading_position, rule, covariance):
+                   zupt_sigma, zaru_sigma, zero_heading_position, rule):
     """Pass 1 for one sample, stored at segment position j; returns True when the
     segmentation rule ends the segment at this sample."""
+    covariance = seg[LAYOUT][LAYOUT_COVARIANCE] == 1
     a_now = mechanize(p, v, C, b, prev, f, w, dt, params[6])
     transition_in_place(dx.reshape(-1, 1), C, a_now, dt, params)
     propagate(P, C, a_now, dt, params)
@@ -285,13 +286,14 @@ def rts_step(dx_f, P_f, dx_p_next, P_p_next, FP, dxs, Ps):
 
 
 @njit(cache=True)
-def smooth_segment(seg, m, params, pos, vel, att, vel_var, covariance):
+def smooth_segment(seg, m, params, pos, vel, att, vel_var):
     """Passes 2 and 3 over the segment's m samples: smoothed, compensated position,
-    velocity, attitude (m, …) and, with ``covariance`` (Eq. (9) as written, through
+    velocity, attitude (m, …) and, in a store that smooths the covariance too (Eq. (9)
+    as written, through
     :func:`rts_step`), the smoothed velocity variances (m, 3); without it the states
     alone in the adjoint form (module docstring) and NaN variances. Empties the store's
     anchors."""
-    if covariance:
+    if seg[LAYOUT][LAYOUT_COVARIANCE]:
         _smooth_with_covariance(seg, m, params, pos, vel, att, vel_var)
     else:
         vel_var[:] = np.nan
@@ -387,16 +389,21 @@ def smooth_states(seg, m, params, pos, vel, att):
 
 
 @njit(cache=True)
-def close_loop(p, v, C, b, dx, prev):
-    """Pass 3 at the segment's last sample: feed the deviation back, restart from zero."""
-    compensate(p, v, C, b, dx)
-    prev[2] = C @ prev[0]
+def close_segment(seg, j, p, v, C, b, dx, P, prev, rule):
+    """Pass 3 at the segment's last sample j: keep its filtered deviation as an anchor
+    (:func:`anchor`), feed the deviation back, restart it from zero and rearm the
+    segmentation rule. Returns ``seg`` (see :func:`anchor`); the segment can be smoothed
+    after this, from the store."""
+    seg = anchor(seg, j, dx, P)
+    feed_back(p, v, C, b, dx, prev)
     dx[:] = 0.0
+    rule[RULE_CLOCK] = 0.0
+    return seg
 
 
 @njit(cache=True)
 def forward_run(seg, first, k, t, accel, gyro, stance, zaru, params, zupt_sigma, zaru_sigma,
-                zero_heading_position, rule, covariance, p, v, C, b, dx, P, prev):
+                zero_heading_position, rule, p, v, C, b, dx, P, prev):
     """Pass 1 from sample k on (segment position k − first), until the segmentation rule
     cuts, the store is full or the input ends; returns the last sample done and whether
     the rule cut there. A loop of its own because ``seg`` is re-bound (grown, anchored)
@@ -408,7 +415,7 @@ def forward_run(seg, first, k, t, accel, gyro, stance, zaru, params, zupt_sigma,
     while True:
         cut = open_loop_step(seg, k - first, p, v, C, b, dx, P, prev, accel[k], gyro[k],
                              t[k] - t[k - 1] if k else 0.0, stance[k], zaru, params,
-                             zupt_sigma, zaru_sigma, zero_heading_position, rule, covariance)
+                             zupt_sigma, zaru_sigma, zero_heading_position, rule)
         if cut or k == N - 1 or k - first + 1 == capacity:
             return k, cut
         k += 1
@@ -441,20 +448,18 @@ def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, 
     first = k = 0
     while k < N:
         k, cut = forward_run(seg, first, k, t, accel, gyro, stance, zaru, params, zupt_sigma,
-                             zaru_sigma, zero_heading_position, rule, covariance,
-                             p, v, C, b, dx, P, prev)
+                             zaru_sigma, zero_heading_position, rule, p, v, C, b, dx, P,
+                             prev)
         j = k - first
         if not (cut or k == N - 1):
             seg = grown(seg, j + 2)
         else:
-            seg = anchor(seg, j, dx, P)
+            seg = close_segment(seg, j, p, v, C, b, dx, P, prev, rule)
             if not full or k == N - 1:
                 smooth_segment(seg, j + 1, params, pos[first:k + 1], vel[first:k + 1],
-                               att[first:k + 1], vel_var[first:k + 1], covariance)
+                               att[first:k + 1], vel_var[first:k + 1])
                 ends[segments] = k
                 segments += 1
                 first = k + 1
-            close_loop(p, v, C, b, dx, prev)
-            rule[RULE_CLOCK] = 0.0
         k += 1
     return pos, vel, att, vel_var, ends[:segments]

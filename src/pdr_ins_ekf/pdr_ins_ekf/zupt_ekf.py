@@ -162,7 +162,6 @@ class SegmentSmoother:
             2 if config.zaru else 1)
         self.rule = np.array([smoother.gamma_s_m2ps2, smoother.tau_s, 0.0, 0.0])
         self.zero_heading_position = smoother.zero_heading_position
-        self.covariance = smoother.covariance
         self.stamps: list[int] = []
         self.started = False
 
@@ -185,7 +184,7 @@ class SegmentSmoother:
         cut = compiled_smoother.open_loop_step(
             self.store, j, self.p, self.v, self.C, self.b, self.dx, self.P, self.prev, f, w,
             float(dt), bool(stance), c.zaru, self.params, c.zupt_sigma_mps,
-            c.zaru_sigma_radps, self.zero_heading_position, self.rule, self.covariance)
+            c.zaru_sigma_radps, self.zero_heading_position, self.rule)
         return self.finish() if cut else None
 
     def finish(self) -> SmoothedSegment | None:
@@ -193,14 +192,14 @@ class SegmentSmoother:
         m = len(self.stamps)
         if not m:
             return None
-        self.store = compiled_smoother.anchor(self.store, m - 1, self.dx, self.P)
+        self.store = compiled_smoother.close_segment(self.store, m - 1, self.p, self.v, self.C,
+                                                     self.b, self.dx, self.P, self.prev,
+                                                     self.rule)
         out = SmoothedSegment(np.array(self.stamps, np.int64), np.empty((m, 3)),
                               np.empty((m, 3, 3)), np.empty((m, 3)))
         compiled_smoother.smooth_segment(self.store, m, self.params, out.position,
                                          np.empty((m, 3)), out.attitude,
-                                         out.velocity_variance, self.covariance)
-        compiled_smoother.close_loop(self.p, self.v, self.C, self.b, self.dx, self.prev)
-        self.rule[compiled_smoother.RULE_CLOCK] = 0.0
+                                         out.velocity_variance)
         self.stamps = []
         return out
 
