@@ -103,7 +103,7 @@ class SmootherConfig:
     corrections.
     ``covariance`` also smooths the covariance (Pₙ|ₑ of Eq. (9); the outputs'
     ``velocity_variance``, NaN without it): the smoother then takes about 2.6× the
-    filter's time instead of 1.4–1.8×, and stores the covariances of every sample.
+    filter's time instead of 1.3–1.8×, and stores the covariances of every sample.
     """
 
     mode: str = "none"
