@@ -186,8 +186,8 @@ class BagReader:
         return self._scanned_batches(wanted)
 
     def _indexed_batches(self, wanted: list[str]) -> dict[str, MessageBatch]:
-        """``wanted`` through the MCAP indexes, each file's summary read once and each
-        chunk decoded on its own; raises a read error (and :meth:`read_batches` falls
+        """``wanted`` through the MCAP indexes, each file's summary read and each chunk
+        decompressed once for all of them; raises a read error (and :meth:`read_batches` falls
         back) on anything unusual."""
         times: dict[str, list[np.ndarray]] = {t: [] for t in wanted}
         parts: dict[str, list[MessageBatch]] = {t: [] for t in wanted}
@@ -196,12 +196,12 @@ class BagReader:
                 summary = SeekingReader(stream).get_summary()
                 if summary is None:
                     raise McapError("no summary section")
-                for channel in summary.channels.values():
-                    if channel.topic not in times:
-                        continue
-                    for t, rows in mcap_bulk.chunk_rows(stream, summary, channel.id):
-                        times[channel.topic].append(t)
-                        parts[channel.topic].append(self._decoded(channel.topic, rows))
+                topic_of = {channel.id: channel.topic for channel in summary.channels.values()
+                            if channel.topic in times}
+                for channel, t, rows in mcap_bulk.chunk_rows(stream, summary, list(topic_of)):
+                    topic = topic_of[channel]
+                    times[topic].append(t)
+                    parts[topic].append(self._decoded(topic, rows))
         return {topic: self._in_time_order(topic, times[topic], parts[topic])
                 for topic in wanted}
 

@@ -16,8 +16,8 @@ This relies on rosbags 0.11.9 (pinned in ``tools/constraints.txt``): the pending
 changes them fails that test.
 
 Reading (:func:`chunk_rows`) takes the summary of the ``mcap`` library's SeekingReader
-and gathers one channel's messages from each chunk with NumPy, by the offsets of its
-MessageIndex records (MCAP specification: records are opcode, uint64 length, content).
+and gathers the wanted channels' messages from each chunk with NumPy, by the offsets of
+their MessageIndex records (MCAP specification: records are opcode, uint64 length, content).
 """
 from __future__ import annotations
 
@@ -236,21 +236,25 @@ def _rows(records: np.ndarray, at: np.ndarray, width: int) -> np.ndarray:
     return records[_row_index(at, width)] if view is None else view
 
 
-def chunk_rows(stream: Any, summary: Any, channel_id: int
-               ) -> Iterator[tuple[np.ndarray, np.ndarray]]:
-    """Per chunk of an indexed MCAP file that holds messages of one channel: their log
-    times (k,) [ns] and serialized messages (k, size) uint8, in the chunk's index order,
-    through the chunk and message indexes. Raises ValueError if the messages of a chunk
-    differ in size (then read them one by one)."""
+def chunk_rows(stream: Any, summary: Any, channel_ids: list[int]
+               ) -> Iterator[tuple[int, np.ndarray, np.ndarray]]:
+    """Per chunk of an indexed MCAP file, per channel of ``channel_ids`` that it holds
+    (in that order): the channel id, its messages' log times (k,) [ns] and serialized
+    messages (k, size) uint8, in the chunk's index order, through the chunk and message
+    indexes; each chunk is read and decompressed once for all the channels. Raises
+    ValueError if a channel's messages in a chunk differ in size (then read them one by
+    one)."""
     for index in summary.chunk_indexes:
-        if channel_id not in index.message_index_offsets:
-            continue
-        entries = _message_index(stream, index.message_index_offsets[channel_id])
-        if not len(entries):
+        held = {channel: _message_index(stream, index.message_index_offsets[channel])
+                for channel in channel_ids if channel in index.message_index_offsets}
+        held = {channel: entries for channel, entries in held.items() if len(entries)}
+        if not held:
             continue
         records = _chunk_records(stream, index)
-        offsets = entries[:, 1].astype(np.int64)
-        lengths = _rows(records, offsets + 1, 8).copy().view("<u8").ravel()
-        if np.any(lengths != lengths[0]):
-            raise ValueError("messages of different sizes")
-        yield entries[:, 0].astype(np.int64), _rows(records, offsets + 31, int(lengths[0]) - 22)
+        for channel, entries in held.items():
+            offsets = entries[:, 1].astype(np.int64)
+            lengths = _rows(records, offsets + 1, 8).copy().view("<u8").ravel()
+            if np.any(lengths != lengths[0]):
+                raise ValueError("messages of different sizes")
+            yield (channel, entries[:, 0].astype(np.int64),
+                   _rows(records, offsets + 31, int(lengths[0]) - 22))
