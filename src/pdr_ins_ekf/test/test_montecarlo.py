@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from pdr_ins_ekf.montecarlo import (
+from pdr_ins_ekf.studies.montecarlo import (
     NoiseLevels,
     ins_batch,
     ins_loop,

@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pdr_core import units
-from pdr_ins_ekf import error_sweep
-from pdr_ins_ekf.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
+from pdr_ins_ekf.studies import error_sweep
+from pdr_ins_ekf.studies.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
 
 G = 9.80665
 VN200 = NoiseDensities(units.arw_to_si(0.21), units.mg_to_si(0.14), units.rrw_to_si(0.048))

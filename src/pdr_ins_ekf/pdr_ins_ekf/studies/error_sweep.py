@@ -1,5 +1,5 @@
 """The numerical verification of 004_1269ce0256f0c590.txt, section IV-A (Figs. 3–6):
-sweeps of ARW, VRW and RRW, the closed-form levels of :mod:`pdr_ins_ekf.zupt_error_model`
+sweeps of ARW, VRW and RRW, the closed-form levels of :mod:`pdr_ins_ekf.studies.zupt_error_model`
 against the ZUPT EKF on the paper's simulated walk.
 
 The walk: 100 strides toward +x, 77 m in 53.6 s (the paper's figures; its stance time is
@@ -33,10 +33,10 @@ import numpy as np
 from scipy.stats import chi2
 
 from pdr_core import units
-from pdr_ins_ekf.ekf_montecarlo import filter_for, run_batch
-from pdr_ins_ekf.montecarlo import NoiseLevels, Walk, noisy_signals, straight_walk
+from pdr_ins_ekf.studies.ekf_montecarlo import filter_for, run_batch
+from pdr_ins_ekf.studies.montecarlo import NoiseLevels, Walk, noisy_signals, straight_walk
+from pdr_ins_ekf.studies.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
 from pdr_ins_ekf.zupt_ekf import run
-from pdr_ins_ekf.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
 
 PAPER_004_STEP = {"length_m": 0.77, "swing_s": 0.336, "stance_s": 0.2}
 PAPER_004_RATE_HZ = 800.0

@@ -23,7 +23,13 @@ from numba import njit, prange
 from pdr_core import units
 from pdr_ins_ekf import compiled_filter, kernel_cache
 from pdr_ins_ekf.compiled_filter import filter_loop
-from pdr_ins_ekf.montecarlo import ErrorGrowth, NoiseLevels, Walk, error_growth, noisy_signals
+from pdr_ins_ekf.studies.montecarlo import (
+    ErrorGrowth,
+    NoiseLevels,
+    Walk,
+    error_growth,
+    noisy_signals,
+)
 from pdr_ins_ekf.zero_velocity import Paper000Detector, StanceDetector
 from pdr_ins_ekf.zupt_ekf import (
     FilterConfig,

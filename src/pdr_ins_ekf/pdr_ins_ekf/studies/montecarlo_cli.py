@@ -1,10 +1,10 @@
 """``pdr-ekf montecarlo``: error growth over N noise realisations of a simulated straight
 walk, per error source and estimator (000_fbd401126d10f515.txt, Tables I–III).
 
-Estimators: ``ins`` (pure mechanization, :mod:`pdr_ins_ekf.montecarlo`; fitted on the
+Estimators: ``ins`` (pure mechanization, :mod:`pdr_ins_ekf.studies.montecarlo`; fitted on the
 error the source adds, against the noiseless mechanization) and ``ekf_original``,
 ``ekf_limited``, ``ekf_retarded`` (the 15-state ZUPT + ZARU EKF with paper 000's
-detector and window, :mod:`pdr_ins_ekf.ekf_montecarlo`; fitted against the truth at
+detector and window, :mod:`pdr_ins_ekf.studies.ekf_montecarlo`; fitted against the truth at
 stance samples, t from the first stride, as the paper's tables).
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from dataclasses import fields
 from pathlib import Path
 
 from pdr_core.errors import InputError
-from pdr_ins_ekf.ekf_montecarlo import (
+from pdr_ins_ekf.studies.ekf_montecarlo import (
     ESTIMATORS,
     PAPER_000_TABLES,
     PAPER_000_WINDOWS,
@@ -26,7 +26,7 @@ from pdr_ins_ekf.ekf_montecarlo import (
     filter_for,
     polynomial_fit,
 )
-from pdr_ins_ekf.montecarlo import (
+from pdr_ins_ekf.studies.montecarlo import (
     SOURCES,
     ErrorGrowth,
     NoiseLevels,
@@ -214,7 +214,7 @@ def write_outputs(args: argparse.Namespace, rows: list[dict], growths: dict,
                                      c.sigma_p_q95_m, g.sigma_yaw_rad, c.sigma_yaw_rad,
                                      c.nees_position, strict=True)]
         (out / "consistency.csv").write_text("\n".join(lines) + "\n")
-    from pdr_ins_ekf import plots  # Matplotlib: imported only to draw
+    from pdr_ins_ekf.studies import plots  # Matplotlib: imported only to draw
 
     labelled = {f"{s} {e}": g for (s, e), g in growths.items()}
     plots.error_growth_png(labelled, out / "growth.png",

@@ -1,12 +1,12 @@
 """``pdr-ekf analytic`` and ``pdr-ekf study sweep``: the closed-form ZUPT error levels of
-004_1269ce0256f0c590.txt, section III (:mod:`pdr_ins_ekf.zupt_error_model`), in the
+004_1269ce0256f0c590.txt, section III (:mod:`pdr_ins_ekf.studies.zupt_error_model`), in the
 paper's units at the edge, and their check against the EKF (section IV-A,
-:mod:`pdr_ins_ekf.error_sweep`).
+:mod:`pdr_ins_ekf.studies.error_sweep`).
 
 Defaults: the VN-200 of the paper (ARW 0.21 °/√h, VRW 0.14 mg/√Hz, RRW 0.048 °/s/√h) at
 800 Hz with r = 0.02 m/s, a_c = 0.84 and the paper's simulated walk (100 strides, 77 m,
 53.6 s: t_stride 0.536 s, s_N 0.77 m); the paper gives no stance time, 0.2 s is the
-stance of :data:`pdr_ins_ekf.error_sweep.PAPER_004_STEP`.
+stance of :data:`pdr_ins_ekf.studies.error_sweep.PAPER_004_STEP`.
 """
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ import numpy as np
 
 from pdr_core import units
 from pdr_core.errors import InputError
-from pdr_ins_ekf.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
+from pdr_ins_ekf.studies.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
 
 DEFAULT_TIMES_S = (10.0, 53.6, 100.0)
 DENSITY_ARGS = ("arw_deg_per_sqrt_h", "vrw_mg_per_sqrt_hz", "rrw_deg_per_s_per_sqrt_h")
@@ -120,7 +120,7 @@ def add_sweep(studies: argparse._SubParsersAction) -> None:
 
 
 def run_sweep(args: argparse.Namespace) -> int:
-    from pdr_ins_ekf import error_sweep, plots  # heavy (simulator, SciPy, Matplotlib)
+    from pdr_ins_ekf.studies import error_sweep, plots  # heavy (simulator, SciPy, Matplotlib)
 
     if args.points < 2 or args.steps < 3 or args.runs < 0 or args.runs == 1:
         raise InputError("--points/--steps/--runs", "need points >= 2, steps >= 3 and runs "
