@@ -61,7 +61,7 @@ def test_generate_records_its_configuration_and_plots(procs, tmp_path):
     (["--set", "segments[0].duration_s=-2"], "segments[0].duration_s: must be > 0.0"),
     (["--set", "stride.length_m=1"], "stride: unknown key"),
     (["--imu-set", "gyro.arw=1"], "xsens_mtw.gyro.arw: unknown key"),
-    (["--placement", "pocket"], "--placement: 'pocket' is not available yet"),
+    (["--placement", "pocket", "--scenario", "straight"], "straight: no such scenario file"),
 ])
 def test_generate_refuses_bad_input_by_name(procs, tmp_path, args, message):
     result = procs.run("pdr-sim", "generate", "--out", str(tmp_path / "bag"), *args)

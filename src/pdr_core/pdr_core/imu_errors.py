@@ -96,8 +96,14 @@ def gauss_markov(rng: np.random.Generator, shape: tuple[int, int, int], sigma: n
     return out
 
 
+def turn_on_bias(errors: TriadErrors, rng: np.random.Generator, runs: int = 1) -> np.ndarray:
+    """The constant bias of each run, (runs, 1, 3) [SI]: the fixed part plus the per-run
+    (turn-on) part drawn with σ ``bias_sigma``."""
+    return np.asarray(errors.bias) + _normal(rng, (runs, 1, 3)) * np.asarray(errors.bias_sigma)
+
+
 def corrupt(true: np.ndarray, errors: TriadErrors, rate_hz: float, rng: np.random.Generator,
-            runs: int | None = None) -> np.ndarray:
+            runs: int | None = None, bias: np.ndarray | None = None) -> np.ndarray:
     """Measurements from true signals.
 
     Args:
@@ -106,6 +112,8 @@ def corrupt(true: np.ndarray, errors: TriadErrors, rate_hz: float, rng: np.rando
         rate_hz: sample rate [Hz].
         rng: random generator (its state advances).
         runs: number of independent realisations; None returns (N, 3), else (runs, N, 3).
+        bias: the runs' constant biases (:func:`turn_on_bias`, drawn from ``rng`` first),
+            when the caller needs to know them; None draws them here.
     """
     n_runs = 1 if runs is None else runs
     n = len(true)
@@ -114,7 +122,7 @@ def corrupt(true: np.ndarray, errors: TriadErrors, rate_hz: float, rng: np.rando
     distorted = true if np.array_equal(errors.distortion, np.eye(3)) else true @ errors.distortion.T
     out = np.empty(shape)
     out[:] = distorted
-    out += np.asarray(errors.bias) + _normal(rng, (n_runs, 1, 3)) * np.asarray(errors.bias_sigma)
+    out += turn_on_bias(errors, rng, n_runs) if bias is None else bias
     if any(errors.gm_sigma):
         out += gauss_markov(rng, shape, np.asarray(errors.gm_sigma),
                             np.asarray(errors.gm_tau_s), dt)

@@ -57,6 +57,18 @@ PROFILES: dict[str, dict[str, dict[str, Any]]] = {
                   "bias_correlation_time_s": 100.0, "range_g": 16.0},
         "mag": {"noise_ut_per_sqrt_hz": 0.0015},
     },
+    # The error setups of Muñoz Díaz 2016 for its orientation filter, as published and
+    # nothing more: Table 3.2, gyro white noise 0.1 °/s per sample at 100 Hz
+    # (0.01 °/s/√Hz = 0.6 °/√h), constant biases (−0.1, 0.1, −0.1) °/s, magnetometer noise
+    # 0.015 µT per sample at 100 Hz; Table 6.1, the same with a z bias of +0.05 °/s.
+    "thesis_table_3_2": {
+        "gyro": {"arw_deg_per_sqrt_h": 0.6, "bias_deg_per_s": [-0.1, 0.1, -0.1]},
+        "mag": {"noise_ut_per_sqrt_hz": 0.0015},
+    },
+    "thesis_table_6_1": {
+        "gyro": {"arw_deg_per_sqrt_h": 0.6, "bias_deg_per_s": [-0.1, 0.1, 0.05]},
+        "mag": {"noise_ut_per_sqrt_hz": 0.0015},
+    },
     # VectorNav VN-200, 004_1269ce0256f0c590.txt section IV: ARW 0.21 °/√h,
     # VRW 0.14 mg/√Hz, RRW 0.048 °/s/√h (from its Allan deviation, Fig. 7).
     "vn200": {

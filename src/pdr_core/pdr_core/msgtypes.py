@@ -20,6 +20,8 @@ TWIST_WITH_COVARIANCE_STAMPED = "geometry_msgs/msg/TwistWithCovarianceStamped"
 VECTOR3_STAMPED = "geometry_msgs/msg/Vector3Stamped"
 PATH = "nav_msgs/msg/Path"
 CLOCK = "rosgraph_msgs/msg/Clock"
+STEP = "pdr_msgs/msg/Step"
+LANDMARK = "pdr_msgs/msg/Landmark"
 
 
 def pdr_msgs_dir() -> Path:

@@ -7,6 +7,8 @@ See ../shared/INTERFACES.md.
 IMU_DATA = "/imu/data"
 IMU_MAG = "/imu/mag"
 GROUND_TRUTH_POSE = "/ground_truth/pose"
+GROUND_TRUTH_STEP = "/ground_truth/step"            # pocket placement: one per true step
+GROUND_TRUTH_LANDMARKS = "/ground_truth/landmarks"  # pocket placement: corners, flights
 CLOCK = "/clock"
 
 

@@ -34,8 +34,15 @@ from pdr_core.imu_profiles import PROFILES
 from pdr_sim import plots
 from pdr_sim.allan_report import allan_report
 from pdr_sim.overrides import with_overrides
-from pdr_sim.scenario import BUILTIN, load_scenario, scenario_from_dict
-from pdr_sim.simulation import SimulationConfig, foot_model, simulate, simulation_record
+from pdr_sim.pocket_scenario import POCKET_BUILTIN
+from pdr_sim.scenario import BUILTIN
+from pdr_sim.simulation import (
+    SimulationConfig,
+    load_placement_scenario,
+    scenario_of,
+    simulate,
+    simulation_record,
+)
 from pdr_sim.step_fit import cut_steps, fit_pattern, pattern_to_dict, rms_error
 
 
@@ -47,12 +54,16 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "generate", help="simulate a walk and write its bag",
         description="Simulate the IMU of a walking pedestrian along a scenario and write "
-                    "imu/data, imu/mag and ground_truth/pose (every sample) to a bag. The "
+                    "imu/data, imu/mag and ground_truth/pose (every sample) to a bag; the "
+                    "pocket placement adds ground_truth/step and ground_truth/landmarks. The "
                     "complete configuration is stored in the bag's metadata "
                     "(custom_data 'pdr.simulation') so the run can be reproduced.")
-    p.add_argument("--placement", default="foot", choices=["foot", "pocket"])
-    p.add_argument("--scenario", default="straight",
-                   help=f"built-in ({', '.join(BUILTIN)}) or a YAML file")
+    p.add_argument("--placement", default="foot", choices=["foot", "pocket"],
+                   help="foot-mounted IMU, or a phone in the trouser pocket (thigh)")
+    p.add_argument("--scenario",
+                   help=f"built-in (foot: {', '.join(BUILTIN)}; pocket: "
+                        f"{', '.join(POCKET_BUILTIN)}) or a YAML file; default: straight "
+                        "(foot), h1_rectangle (pocket)")
     p.add_argument("--imu", default="xsens_mtw", help=f"profile ({', '.join(PROFILES)})")
     p.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz], 50-1000")
     p.add_argument("--seed", type=int, default=0, help="seed of the sensor errors")
@@ -66,28 +77,28 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--overwrite", action="store_true")
     p.add_argument("--compress", action="store_true", help="zstd-compress the MCAP chunks")
     p.add_argument("--plot", type=Path, metavar="DIR",
-                   help="also write DIR/trajectory.png and DIR/signals.png")
+                   help="also write DIR/trajectory.png and DIR/signals.png (pocket: and "
+                        "DIR/pocket.png, the 3D path, the pitch with the true steps and "
+                        "activities, the yaw with the hip sway)")
     p.set_defaults(func=_run_generate)
 
 
 def _run_generate(args: argparse.Namespace) -> int:
-    scenario, data = load_scenario(args.scenario)
+    name = args.scenario or ("h1_rectangle" if args.placement == "pocket" else "straight")
+    scenario, data = load_placement_scenario(name, args.placement)
     if args.set:
         data = with_overrides(data, args.set, "--set")
-        scenario = scenario_from_dict(data, f"{args.scenario} (with --set)")
+        scenario = scenario_of(data, f"{name} (with --set)", args.placement)
     overrides = with_overrides({}, args.imu_set, "--imu-set")
     config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
                               args.gravity, args.placement)
     sim = simulate(config)
-    write_batches(args.out, {topics.IMU_DATA: sim.imu, topics.IMU_MAG: sim.mag,
-                             topics.GROUND_TRUTH_POSE: sim.pose}, overwrite=args.overwrite,
-                  compress=args.compress,
-                  custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(config),
+    write_batches(args.out, sim.batches, overwrite=args.overwrite, compress=args.compress,
+                  custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(sim),
                                                                 sort_keys=False)})
-    phases = foot_model(scenario).phases
     print(f"{args.out}: {scenario.name}, {len(sim.imu)} samples at {args.rate:g} Hz "
-          f"({sim.trajectory.t[-1]:.1f} s), path {phases.path_length_m:.2f} m, heading change "
-          f"{np.degrees(phases.heading_change_rad):.1f} deg, imu {args.imu}, seed {args.seed}")
+          f"({sim.trajectory.t[-1]:.1f} s), {_route_summary(sim)}, imu {args.imu}, "
+          f"seed {args.seed}")
     if args.plot:
         args.plot.mkdir(parents=True, exist_ok=True)
         title = f"{scenario.name}, {args.imu}, {args.rate:g} Hz"
@@ -95,8 +106,25 @@ def _run_generate(args: argparse.Namespace) -> int:
         plots.signals_png(sim.trajectory.t, sim.imu["angular_velocity"],
                           sim.imu["linear_acceleration"], sim.mag["magnetic_field"],
                           args.plot / "signals.png", title)
-        print(f"plots: {args.plot / 'trajectory.png'}, {args.plot / 'signals.png'}")
+        written = ["trajectory.png", "signals.png"]
+        if args.placement == "pocket":
+            plots.pocket_png(sim.model, sim.trajectory, args.plot / "pocket.png", title)
+            written.append("pocket.png")
+        print("plots: " + ", ".join(str(args.plot / w) for w in written))
     return 0
+
+
+def _route_summary(sim) -> str:
+    """One line on the route: path and heading change (foot), steps and floors (pocket)."""
+    if sim.config.placement == "pocket":
+        steps = sim.model.true_steps
+        floors = sorted({m.floor for m in sim.model.landmarks} | {0})
+        return (f"{len(steps.length)} steps, {steps.length.sum():.1f} m, "
+                f"{np.abs(steps.vertical_displacement).sum():.1f} m climbed or descended, "
+                f"floors {floors[0]}..{floors[-1]}, {len(sim.model.landmarks)} landmarks")
+    phases = sim.model.phases
+    return (f"path {phases.path_length_m:.2f} m, heading change "
+            f"{np.degrees(phases.heading_change_rad):.1f} deg")
 
 
 def _add_allan(sub: argparse._SubParsersAction) -> None:

@@ -172,7 +172,7 @@ class FootTrajectory:
         x = np.pi * np.minimum(t[turning] - phases.start[phase_of], duration) / duration
         euler[turning, 2] += angle * (1 - np.cos(x)) / 2
         rate[turning, 2] = angle * np.pi / (2 * duration) * np.sin(x)
-        return Trajectory(t, pos, vel, acc, euler, rate)
+        return Trajectory.from_euler(t, pos, vel, acc, euler, rate)
 
     def _add_swing(self, t, rows, phase_of, kind, pos, vel, acc, euler, rate) -> None:
         """Add the swing pattern to the samples ``rows`` (in place)."""

@@ -1,5 +1,6 @@
-"""PNG figures of the simulator: trajectory and signals (like 000_fbd401126d10f515.txt,
-Figs. 1 and 4) and Allan deviations. Matplotlib with the Agg backend (no display)."""
+"""PNG figures of the simulator: trajectory and signals (like Zampella et al. 2011, Figs. 1
+and 4), the pocket walk's route, thigh pitch and yaw (like Muñoz Díaz 2016, Figs. 4.4 and
+5.2) and Allan deviations. Matplotlib with the Agg backend (no display)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -31,6 +32,63 @@ def trajectory_png(traj: Trajectory, path: Path, title: str) -> None:
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+ACTIVITY_COLOURS = {0: "tab:cyan", 1: "tab:blue", 2: "tab:green", 3: "tab:red",
+                    4: "tab:orange"}
+ACTIVITY_LABELS = {0: "standing", 1: "walking", 2: "upstairs", 3: "downstairs", 4: "sitting"}
+
+
+def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
+    """A pocket walk: the route in 3D coloured by activity (stairs stand out), the thigh
+    pitch with the true steps and the rests, and the route heading with the thigh's yaw
+    (the hip sway). ``model`` is a :class:`pdr_sim.thigh_trajectory.ThighTrajectory`."""
+    from pdr_sim.compiled_thigh import HEADING, PITCH, SWAY
+
+    steps, route = model.true_steps, model.route
+    fig = plt.figure(figsize=(14, 11))
+    ax3 = fig.add_subplot(2, 2, 1, projection="3d")
+    points = route["start"] + route["step"]
+    for activity in np.unique(steps.activity):
+        sel = steps.activity == activity
+        ax3.scatter(*points[sel].T, s=4, color=ACTIVITY_COLOURS[int(activity)],
+                    label=ACTIVITY_LABELS[int(activity)])
+    ax3.plot(*traj.position[::10].T, color="grey", lw=0.4)
+    ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="route (3D)")
+    ax3.legend(fontsize=8)
+    top = fig.add_subplot(2, 2, 2)
+    top.plot(traj.position[:, 0], traj.position[:, 1], color="grey", lw=0.6)
+    for mark in model.landmarks:
+        top.plot(*mark.position[:2], "k^" if mark.type == 0 else "gs", ms=6)
+    top.set(xlabel="east [m]", ylabel="north [m]", title="top view, landmarks (▲ corner, "
+            "■ stairs)", aspect="equal")
+    channels = model.spline(traj.t)
+    pitch = fig.add_subplot(2, 1, 2)
+    pitch.plot(traj.t, np.degrees(channels[:, PITCH]), lw=0.7, label="thigh pitch θ")
+    pitch.plot(steps.end_s, np.degrees(model.spline(steps.end_s)[:, PITCH]), "k.", ms=4,
+               label="true step (heel strike)")
+    for period in model.periods:
+        if period.activity != 1:
+            pitch.axvspan(period.start_s, period.end_s, alpha=0.15,
+                          color=ACTIVITY_COLOURS[period.activity])
+    for activity in (2, 3):
+        ends = steps.end_s[steps.activity == activity]
+        if len(ends):
+            pitch.plot(ends, np.full(len(ends), -20.0), "|", color=ACTIVITY_COLOURS[activity],
+                       label=ACTIVITY_LABELS[activity])
+    twin = pitch.twinx()
+    twin.plot(traj.t, np.degrees(channels[:, HEADING]), "k--", lw=0.6, label="route heading")
+    twin.plot(traj.t, np.degrees(channels[:, HEADING] + channels[:, SWAY]), "m", lw=0.4,
+              label="thigh yaw (with hip sway)")
+    pitch.set(xlabel="t [s]", ylabel="pitch [deg]", title="thigh pitch and yaw; shaded: "
+              "standing (cyan), sitting (orange)")
+    twin.set_ylabel("yaw [deg]")
+    pitch.legend(loc="upper left", fontsize=8)
+    twin.legend(loc="upper right", fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
     plt.close(fig)
 
 

@@ -108,25 +108,26 @@ class Scenario:
     environment: Environment = field(default_factory=Environment)
 
 
-def _key(where: str, key: str) -> str:
+def key_path(where: str, key: str) -> str:
     """``FILE: a.b`` paths: the file is followed by a colon, nested keys by dots."""
     return f"{where} {key}" if where.endswith(":") else f"{where}.{key}"
 
 
-def _check_keys(data: Any, cls: type, where: str, required: tuple[str, ...] = ()) -> dict:
+def check_keys(data: Any, cls: type, where: str, required: tuple[str, ...] = ()) -> dict:
     if not isinstance(data, Mapping):
         raise InputError(where, f"expected a mapping, got {data!r}")
     known = {f.name for f in fields(cls)}
     for key in data:
         if key not in known:
-            raise InputError(_key(where, key), f"unknown key (known: {', '.join(sorted(known))})")
+            raise InputError(key_path(where, key),
+                             f"unknown key (known: {', '.join(sorted(known))})")
     for key in required:
         if key not in data:
-            raise InputError(_key(where, key), "required")
+            raise InputError(key_path(where, key), "required")
     return dict(data)
 
 
-def _number(value: Any, where: str, minimum: float | None = None, strict: bool = False) -> float:
+def number(value: Any, where: str, minimum: float | None = None, strict: bool = False) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise InputError(where, f"expected a number, got {value!r}")
     if minimum is not None and (value <= minimum if strict else value < minimum):
@@ -134,24 +135,24 @@ def _number(value: Any, where: str, minimum: float | None = None, strict: bool =
     return float(value)
 
 
-def _vector(value: Any, where: str) -> tuple[float, float, float]:
+def vector(value: Any, where: str) -> tuple[float, float, float]:
     if not isinstance(value, list | tuple) or len(value) != 3:
         raise InputError(where, f"expected a list of 3 numbers, got {value!r}")
-    return tuple(_number(v, where) for v in value)
+    return tuple(number(v, where) for v in value)
 
 
 def _step(data: Any, where: str, base: StepSpec, variation: bool = False) -> StepSpec:
-    values = _check_keys(data, StepSpec, where)
+    values = check_keys(data, StepSpec, where)
     positive = () if variation else ("length_m", "swing_s")
     out = {}
     for key, value in values.items():
         strict = key in positive
-        out[key] = _number(value, f"{where}.{key}", minimum=0.0, strict=strict)
+        out[key] = number(value, f"{where}.{key}", minimum=0.0, strict=strict)
     return replace(base, **out)
 
 
 def _segment(data: Any, where: str, step: StepSpec) -> Segment:
-    values = _check_keys(data, Segment, where, required=("type",))
+    values = check_keys(data, Segment, where, required=("type",))
     kind = values["type"]
     needs = {"standing": ("duration_s",), "straight": ("steps",),
              "curve": ("steps", "radius_m", "direction"), "turn": ("angle_deg", "duration_s")}
@@ -173,26 +174,26 @@ def _segment(data: Any, where: str, step: StepSpec) -> Segment:
             raise InputError(f"{where}.steps", f"must be a positive integer, got {steps!r}")
         out["steps"] = steps
     if "duration_s" in values:
-        out["duration_s"] = _number(values["duration_s"], f"{where}.duration_s", 0.0, strict=True)
+        out["duration_s"] = number(values["duration_s"], f"{where}.duration_s", 0.0, strict=True)
     if "radius_m" in values:
-        out["radius_m"] = _number(values["radius_m"], f"{where}.radius_m", 0.0, strict=True)
+        out["radius_m"] = number(values["radius_m"], f"{where}.radius_m", 0.0, strict=True)
     if "direction" in values:
         if values["direction"] not in ("left", "right"):
             raise InputError(f"{where}.direction", f"must be left or right, got "
                                                    f"{values['direction']!r}")
         out["direction"] = values["direction"]
     if "angle_deg" in values:
-        out["angle_deg"] = _number(values["angle_deg"], f"{where}.angle_deg")
+        out["angle_deg"] = number(values["angle_deg"], f"{where}.angle_deg")
     if "step" in values:
         out["step"] = _step(values["step"], f"{where}.step", step)
     return Segment(**out)
 
 
 def _magnetic_field(data: Any, where: str) -> MagneticFieldSpec:
-    values = _check_keys(data, MagneticFieldSpec, where)
+    values = check_keys(data, MagneticFieldSpec, where)
     out: dict[str, Any] = {}
     if "vector_ut" in values:
-        out["vector_ut"] = _vector(values["vector_ut"], f"{where}.vector_ut")
+        out["vector_ut"] = vector(values["vector_ut"], f"{where}.vector_ut")
         out["preset"] = None
     if "preset" in values:
         if "vector_ut" in values:
@@ -200,32 +201,47 @@ def _magnetic_field(data: Any, where: str) -> MagneticFieldSpec:
         out["preset"] = values["preset"]
     cylinders = []
     for i, cyl in enumerate(values.get("cylinders") or []):
-        c = _check_keys(cyl, Cylinder, f"{where}.cylinders[{i}]",
+        c = check_keys(cyl, Cylinder, f"{where}.cylinders[{i}]",
                         required=("east_m", "north_m", "radius_m"))
         cylinders.append(Cylinder(
-            _number(c["east_m"], f"{where}.cylinders[{i}].east_m"),
-            _number(c["north_m"], f"{where}.cylinders[{i}].north_m"),
-            _number(c["radius_m"], f"{where}.cylinders[{i}].radius_m", 0.0, strict=True),
-            _number(c.get("permeability", 200.0), f"{where}.cylinders[{i}].permeability", 1.0)))
+            number(c["east_m"], f"{where}.cylinders[{i}].east_m"),
+            number(c["north_m"], f"{where}.cylinders[{i}].north_m"),
+            number(c["radius_m"], f"{where}.cylinders[{i}].radius_m", 0.0, strict=True),
+            number(c.get("permeability", 200.0), f"{where}.cylinders[{i}].permeability", 1.0)))
     out["cylinders"] = tuple(cylinders)
     if "distortion" in values:
         out["distortion"] = values["distortion"]
     return MagneticFieldSpec(**out)
 
 
+def environment_from(data: Any, where: str) -> Environment:
+    """The ``environment:`` mapping of a scenario (any placement)."""
+    env = check_keys(data, Environment, where)
+    return Environment(
+        latitude_deg=(number(env["latitude_deg"], f"{where}.latitude_deg")
+                      if env.get("latitude_deg") is not None else None),
+        magnetic_field=_magnetic_field(env.get("magnetic_field", {}), f"{where}.magnetic_field"))
+
+
+def seed_from(value: Any, where: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise InputError(where, f"must be a non-negative integer, got {value!r}")
+    return value
+
+
 def scenario_from_dict(data: Any, where: str) -> Scenario:
     """Validate a scenario mapping; InputError names the offending key as WHERE: key.path."""
-    values = _check_keys(data, Scenario, f"{where}:", required=("segments",))
+    values = check_keys(data, Scenario, f"{where}:", required=("segments",))
     step = _step(values.get("step", {}), f"{where}: step", StepSpec())
     variation = _step(values.get("variation", {}), f"{where}: variation",
                       StepSpec(0.0, 0.0, 0.0, 0.0, 0.0), variation=True)
     segments = values["segments"]
     if not isinstance(segments, list) or not segments:
         raise InputError(f"{where}: segments", "expected a non-empty list")
-    initial = _check_keys(values.get("initial", {}), InitialPose, f"{where}: initial")
+    initial = check_keys(values.get("initial", {}), InitialPose, f"{where}: initial")
     pose = InitialPose(
-        position_m=_vector(initial.get("position_m", [0, 0, 0]), f"{where}: initial.position_m"),
-        **{k: _number(initial[k], f"{where}: initial.{k}") for k in
+        position_m=vector(initial.get("position_m", [0, 0, 0]), f"{where}: initial.position_m"),
+        **{k: number(initial[k], f"{where}: initial.{k}") for k in
            ("roll_deg", "pitch_deg", "yaw_deg") if k in initial})
     pattern = values.get("pattern", "basic")
     if pattern not in ("basic", "fitted"):
@@ -235,15 +251,8 @@ def scenario_from_dict(data: Any, where: str) -> Scenario:
     timing = values.get("timing", "smooth")
     if timing not in TIMINGS:
         raise InputError(f"{where}: timing", f"must be one of {', '.join(TIMINGS)}, got {timing!r}")
-    env = _check_keys(values.get("environment", {}), Environment, f"{where}: environment")
-    environment = Environment(
-        latitude_deg=(_number(env["latitude_deg"], f"{where}: environment.latitude_deg")
-                      if env.get("latitude_deg") is not None else None),
-        magnetic_field=_magnetic_field(env.get("magnetic_field", {}),
-                                       f"{where}: environment.magnetic_field"))
-    seed = values.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise InputError(f"{where}: seed", f"must be a non-negative integer, got {seed!r}")
+    environment = environment_from(values.get("environment", {}), f"{where}: environment")
+    seed = seed_from(values.get("seed", 0), f"{where}: seed")
     return Scenario(
         name=str(values.get("name", where)),
         segments=tuple(_segment(s, f"{where}: segments[{i}]", step)
@@ -252,20 +261,27 @@ def scenario_from_dict(data: Any, where: str) -> Scenario:
         fitted_pattern=values.get("fitted_pattern"), timing=timing, environment=environment)
 
 
-def load_scenario(name_or_path: str) -> tuple[Scenario, dict]:
-    """A built-in scenario by name, or a YAML file; returns it and its raw mapping."""
-    if name_or_path in BUILTIN:
-        text = resources.files("pdr_sim").joinpath(f"scenarios/{name_or_path}.yaml").read_text()
+def read_scenario_yaml(name_or_path: str, builtin: tuple[str, ...],
+                       folder: str) -> tuple[Any, str]:
+    """The raw mapping of a built-in scenario (``pdr_sim/<folder>/<name>.yaml``) or of a YAML
+    file, and the name errors should cite."""
+    if name_or_path in builtin:
+        text = resources.files("pdr_sim").joinpath(f"{folder}/{name_or_path}.yaml").read_text()
         where = name_or_path
     else:
         path = Path(name_or_path)
         if not path.is_file():
-            raise InputError(path, f"no such scenario file (built-in: {', '.join(BUILTIN)})")
+            raise InputError(path, f"no such scenario file (built-in: {', '.join(builtin)})")
         text, where = path.read_text(), str(path)
     try:
-        data = yaml.safe_load(text)
+        return yaml.safe_load(text), where
     except yaml.YAMLError as exc:
         raise InputError(where, f"invalid YAML ({exc})") from exc
+
+
+def load_scenario(name_or_path: str) -> tuple[Scenario, dict]:
+    """A built-in scenario by name, or a YAML file; returns it and its raw mapping."""
+    data, where = read_scenario_yaml(name_or_path, BUILTIN, "scenarios")
     scenario = scenario_from_dict(data, where)
     if scenario.fitted_pattern and name_or_path not in BUILTIN:
         resolved = Path(name_or_path).parent / scenario.fitted_pattern

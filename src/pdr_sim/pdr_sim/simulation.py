@@ -1,12 +1,17 @@
 """From a scenario and an IMU profile to the messages of a simulated run.
 
-:func:`simulate` samples the trajectory model, computes the true signals
-(:mod:`pdr_sim.signals`) and corrupts them with the profile's errors
-(:mod:`pdr_core.imu_errors`), all vectorised. The result holds ``imu/data``
-(sensor_msgs/Imu, REP-145, covariances from the white-noise level), ``imu/mag``
-(sensor_msgs/MagneticField) and ``ground_truth/pose`` (geometry_msgs/PoseStamped, every
-sample) as batches, and :func:`simulation_record` the complete configuration, so that any
-run can be reproduced from its bag.
+:func:`simulate` samples the trajectory model of the placement (the foot,
+:mod:`pdr_sim.foot_trajectory`, or the thigh in a trouser pocket,
+:mod:`pdr_sim.thigh_trajectory`), computes the true signals (:mod:`pdr_sim.signals`) and
+corrupts them with the profile's errors (:mod:`pdr_core.imu_errors`), all vectorised. The
+result holds ``imu/data`` (sensor_msgs/Imu, REP-145, covariances from the white-noise
+level), ``imu/mag`` (sensor_msgs/MagneticField) and ``ground_truth/pose``
+(geometry_msgs/PoseStamped, every sample) as batches; the pocket placement adds
+``ground_truth/step`` (pdr_msgs/Step, one per true step, at its end) and
+``ground_truth/landmarks`` (pdr_msgs/Landmark, every corner and flight of stairs).
+:func:`simulation_record` holds the complete configuration and the truth that has no
+topic (the sensor's constant biases, revisits, activity periods), so that any run can be
+reproduced and evaluated from its bag.
 """
 from __future__ import annotations
 
@@ -17,22 +22,26 @@ from typing import Any
 
 import numpy as np
 
+from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
-from pdr_core.imu_errors import ImuErrors, corrupt
+from pdr_core.imu_errors import ImuErrors, corrupt, turn_on_bias
 from pdr_core.imu_profiles import PROFILES, profile
 from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, MagneticField, homogeneous
-from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, POSE_STAMPED
+from pdr_core.msgtypes import IMU, LANDMARK, MAGNETIC_FIELD, POSE_STAMPED, STEP
 from pdr_core.rotations import quaternion_xyzw
 from pdr_sim import signals
 from pdr_sim.foot_trajectory import FootTrajectory, sample_times
-from pdr_sim.scenario import MagneticFieldSpec, Scenario
+from pdr_sim.pocket_scenario import PocketScenario, load_pocket_scenario, pocket_scenario_from_dict
+from pdr_sim.scenario import MagneticFieldSpec, Scenario, load_scenario, scenario_from_dict
 from pdr_sim.step_fit import pattern_from_file
+from pdr_sim.thigh_trajectory import ThighTrajectory
 from pdr_sim.trajectory import Trajectory, TrajectoryModel
 
 START_TIME_NS = 1_700_000_000 * 1_000_000_000   # stamps start here (2023-11-14T22:13:20Z)
 MIN_RATE_HZ, MAX_RATE_HZ = 50.0, 1000.0
 IMU_FRAME, MAP_FRAME = "imu_link", "map"
+PLACEMENTS = ("foot", "pocket")
 WORKERS = max(1, min(4, os.cpu_count() or 1))
 
 
@@ -40,7 +49,7 @@ WORKERS = max(1, min(4, os.cpu_count() or 1))
 class SimulationConfig:
     """Everything that determines a run."""
 
-    scenario: Scenario
+    scenario: Scenario | PocketScenario
     scenario_data: dict
     imu: str = "xsens_mtw"
     imu_overrides: dict = field(default_factory=dict)
@@ -56,9 +65,12 @@ class SimulationConfig:
         if self.imu not in PROFILES:
             raise InputError("--imu", f"unknown profile '{self.imu}' "
                                       f"(known: {', '.join(PROFILES)})")
-        if self.placement != "foot":
-            raise InputError("--placement", f"'{self.placement}' is not available yet "
-                                            "(foot is; the pocket placement comes with pdr_pocket)")
+        if self.placement not in PLACEMENTS:
+            raise InputError("--placement", f"must be one of {', '.join(PLACEMENTS)}, "
+                                            f"got '{self.placement}'")
+        if isinstance(self.scenario, PocketScenario) != (self.placement == "pocket"):
+            raise InputError("--placement", f"scenario '{self.scenario.name}' is not a "
+                                            f"{self.placement} scenario")
 
 
 @dataclass(frozen=True)
@@ -73,6 +85,28 @@ class Simulation:
     imu: MessageBatch
     mag: MessageBatch
     pose: MessageBatch
+    truth: dict[str, MessageBatch]        # placement-specific truth topics (bag names)
+    gyro_bias: np.ndarray                 # (3,) constant + turn-on gyro bias [rad/s]
+    model: TrajectoryModel
+
+    @property
+    def batches(self) -> dict[str, MessageBatch]:
+        """Every topic of the run, by bag name."""
+        return {topics.IMU_DATA: self.imu, topics.IMU_MAG: self.mag,
+                topics.GROUND_TRUTH_POSE: self.pose, **self.truth}
+
+
+def load_placement_scenario(name_or_path: str,
+                            placement: str) -> tuple[Scenario | PocketScenario, dict]:
+    """A built-in scenario or YAML file of the placement, and its raw mapping."""
+    return load_pocket_scenario(name_or_path) if placement == "pocket" else \
+        load_scenario(name_or_path)
+
+
+def scenario_of(data: dict, where: str, placement: str) -> Scenario | PocketScenario:
+    """Validate a scenario mapping of the placement (after overrides)."""
+    return pocket_scenario_from_dict(data, where) if placement == "pocket" else \
+        scenario_from_dict(data, where)
 
 
 def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDistortion | None]:
@@ -97,6 +131,13 @@ def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDi
     elif spec.distortion is not None:
         raise InputError(f"{where}.distortion", f"table_3_3 or a mapping, got {spec.distortion!r}")
     return MagneticField(tuple(h_inf), spec.cylinders), distortion
+
+
+def trajectory_model(scenario: Scenario | PocketScenario) -> TrajectoryModel:
+    """The trajectory model of a scenario's placement."""
+    if isinstance(scenario, PocketScenario):
+        return ThighTrajectory(scenario)
+    return foot_model(scenario)
 
 
 def foot_model(scenario: Scenario) -> FootTrajectory:
@@ -134,7 +175,7 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
     the seed, so the result depends only on the configuration, not on ``workers``.
     """
     errors = errors or profile(config.imu, config.imu_overrides)
-    model = foot_model(config.scenario)
+    model = trajectory_model(config.scenario)
     field_model, distortion = magnetic_environment(config.scenario.environment.magnetic_field)
     blocks = np.array_split(sample_times(model.duration_s, config.rate_hz), workers)
     with ThreadPoolExecutor(workers) as pool:
@@ -143,14 +184,15 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
         true_gyro, true_accel, true_mag = (np.concatenate([p[i] for p in parts])
                                            for i in (1, 2, 3))
         rngs = np.random.default_rng(config.seed).spawn(3)
+        triads = (errors.gyro, errors.accel, errors.mag)
+        biases = [turn_on_bias(triad, rng) for triad, rng in zip(triads, rngs, strict=True)]
         gyro, accel, mag = pool.map(
-            lambda args: corrupt(args[0], args[1], config.rate_hz, args[2]),
-            zip((true_gyro, true_accel, true_mag), (errors.gyro, errors.accel, errors.mag),
-                rngs, strict=True))
+            lambda args: corrupt(args[0], args[1], config.rate_hz, args[2], bias=args[3]),
+            zip((true_gyro, true_accel, true_mag), triads, rngs, biases, strict=True))
     if distortion is not None:
         mag = distortion.distort(mag, float(np.linalg.norm(field_model.h_inf_t)))
     n = len(traj.t)
-    stamps = START_TIME_NS + np.round(traj.t * 1e9).astype(np.int64)
+    stamps = _stamps(traj.t)
     no_orientation = np.zeros(9)
     no_orientation[0] = -1.0
     imu = MessageBatch(IMU, stamps, IMU_FRAME, {
@@ -166,12 +208,57 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
         "magnetic_field_covariance": _covariance(errors.mag.white_density, config.rate_hz, n)})
     pose = MessageBatch(POSE_STAMPED, stamps, MAP_FRAME, {
         "pose.position": traj.position, "pose.orientation": quaternion_xyzw(traj.attitude)})
-    return Simulation(config, traj, true_gyro, true_accel, true_mag, imu, mag_batch, pose)
+    truth = pocket_truth(model) if isinstance(model, ThighTrajectory) else {}
+    return Simulation(config, traj, true_gyro, true_accel, true_mag, imu, mag_batch, pose,
+                      truth, biases[0][0, 0], model)
 
 
-def simulation_record(config: SimulationConfig) -> dict[str, Any]:
-    """The complete configuration of a run, as stored with its bag."""
-    return {"placement": config.placement, "scenario": config.scenario_data,
-            "imu_profile": config.imu, "imu_overrides": config.imu_overrides,
-            "rate_hz": config.rate_hz, "seed": config.seed,
-            "gravity_mps2": config.gravity_mps2, "start_time_ns": START_TIME_NS}
+def _stamps(t_s: np.ndarray) -> np.ndarray:
+    return START_TIME_NS + np.round(np.asarray(t_s) * 1e9).astype(np.int64)
+
+
+def pocket_truth(model: ThighTrajectory) -> dict[str, MessageBatch]:
+    """``ground_truth/step`` and ``ground_truth/landmarks`` of a pocket walk."""
+    steps = model.true_steps
+    step = MessageBatch(STEP, _stamps(steps.end_s), MAP_FRAME, {
+        "index": np.arange(len(steps.end_s), dtype=np.uint32), "length": steps.length,
+        "vertical_displacement": steps.vertical_displacement, "heading": steps.heading,
+        "pitch_max": steps.pitch_max, "pitch_min": steps.pitch_min,
+        "pitch_amplitude": steps.pitch_amplitude, "duration": steps.duration,
+        "activity": steps.activity})
+    marks = model.landmarks
+    landmark = MessageBatch(LANDMARK, _stamps([m.time_s for m in marks]), MAP_FRAME, {
+        "id": np.array([m.id for m in marks], dtype=np.uint32),
+        "type": np.array([m.type for m in marks], dtype=np.uint8),
+        "position": np.array([m.position for m in marks]).reshape(-1, 3),
+        "position_covariance": np.zeros((len(marks), 9)),
+        "yaw_before": np.array([m.yaw_before for m in marks]),
+        "yaw_after": np.array([m.yaw_after for m in marks]),
+        "floor": np.array([m.floor for m in marks], dtype=np.int32)})
+    return {topics.GROUND_TRUTH_STEP: step, topics.GROUND_TRUTH_LANDMARKS: landmark}
+
+
+def simulation_record(sim: Simulation) -> dict[str, Any]:
+    """The complete configuration of a run and the truth no topic carries, as stored with
+    its bag: the gyroscope's constant (fixed + turn-on) bias per axis [rad/s and °/s] and,
+    for the pocket, the landmarks with the earlier visit each revisits, and the activity
+    periods [s from the start]."""
+    config = sim.config
+    record = {"placement": config.placement, "scenario": config.scenario_data,
+              "imu_profile": config.imu, "imu_overrides": config.imu_overrides,
+              "rate_hz": config.rate_hz, "seed": config.seed,
+              "gravity_mps2": config.gravity_mps2, "start_time_ns": START_TIME_NS,
+              "true_gyro_bias_radps": [float(b) for b in sim.gyro_bias],
+              "true_gyro_bias_deg_per_s": [float(np.degrees(b)) for b in sim.gyro_bias]}
+    if isinstance(sim.model, ThighTrajectory):
+        record["landmarks"] = [
+            {"id": m.id, "type": "corner" if m.type == 0 else "stairs",
+             "time_s": round(m.time_s, 3), "floor": m.floor, "revisit_of": m.revisit_of,
+             "position_m": [round(v, 3) for v in m.position]} for m in sim.model.landmarks]
+        record["periods"] = [{"activity": ACTIVITY_NAMES[p.activity],
+                              "start_s": round(p.start_s, 3), "end_s": round(p.end_s, 3)}
+                             for p in sim.model.periods]
+    return record
+
+
+ACTIVITY_NAMES = ("standing", "walking", "upstairs", "downstairs", "sitting")

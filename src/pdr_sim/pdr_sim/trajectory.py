@@ -24,30 +24,46 @@ class Trajectory:
     """Arrays over N samples.
 
     t: (N,) [s]; position, velocity, acceleration: (N, 3) ENU [m, m/s, m/s²];
-    euler: (N, 3) roll, pitch, yaw [rad] (yaw unwrapped); euler_rate: (N, 3) [rad/s].
+    attitude: C_b^n of every sample; body_rate: ω_nb^b (N, 3) [rad/s], exact (from the
+    model's analytic derivatives); ``euler``: (N, 3) roll, pitch, yaw of C_b^n [rad] (yaw
+    unwrapped), for plots and tests: the model's own angles when it is built from Euler
+    angles (``euler_known``), else computed from the attitude when first asked for.
     """
 
     t: np.ndarray
     position: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
-    euler: np.ndarray
-    euler_rate: np.ndarray
+    attitude: Rotation
+    body_rate: np.ndarray
+    euler_known: np.ndarray | None = None
+
+    @cached_property
+    def euler(self) -> np.ndarray:
+        if self.euler_known is not None:
+            return self.euler_known
+        euler = self.attitude.as_euler("ZYX")[:, ::-1].copy()
+        euler[:, 2] = np.unwrap(euler[:, 2])
+        return euler
+
+    @classmethod
+    def from_euler(cls, t: np.ndarray, position: np.ndarray, velocity: np.ndarray,
+                   acceleration: np.ndarray, euler: np.ndarray,
+                   euler_rate: np.ndarray) -> Trajectory:
+        """A trajectory whose attitude is given as Euler angles and their rates [rad, rad/s]
+        (:mod:`pdr_core.rotations` conventions)."""
+        return cls(t, position, velocity, acceleration, rotation_from_euler(*euler.T),
+                   body_rate_from_euler(*euler.T, *euler_rate.T), euler)
 
     @classmethod
     def concatenate(cls, parts: list[Trajectory]) -> Trajectory:
-        """One trajectory from consecutive pieces (keeping attitudes already computed)."""
-        out = cls(*(np.concatenate([getattr(p, f) for p in parts])
-                    for f in ("t", "position", "velocity", "acceleration", "euler",
-                              "euler_rate")))
-        if all("attitude" in p.__dict__ for p in parts):
-            out.__dict__["attitude"] = Rotation.concatenate([p.attitude for p in parts])
-        return out
-
-    @cached_property
-    def attitude(self) -> Rotation:
-        """C_b^n for every sample (computed once)."""
-        return rotation_from_euler(*self.euler.T)
+        """One trajectory from consecutive pieces."""
+        arrays = {f: np.concatenate([getattr(p, f) for p in parts])
+                  for f in ("t", "position", "velocity", "acceleration", "body_rate")}
+        known = [p.euler_known for p in parts]
+        euler = None if any(e is None for e in known) else np.concatenate(known)
+        return cls(attitude=Rotation.concatenate([p.attitude for p in parts]),
+                   euler_known=euler, **arrays)
 
     @cached_property
     def matrix(self) -> np.ndarray:
@@ -58,11 +74,6 @@ class Trajectory:
         """C_b^nᵀ·v for navigation-frame vectors (N, 3) or one vector (3,): (N, 3)."""
         v_n = np.broadcast_to(v_n, (len(self.t), 3))
         return np.einsum("nji,nj->ni", self.matrix, v_n)
-
-    @property
-    def body_rate(self) -> np.ndarray:
-        """ω_nb^b [rad/s], (N, 3), from the analytic Euler-angle rates."""
-        return body_rate_from_euler(*self.euler.T, *self.euler_rate.T)
 
 
 class TrajectoryModel(Protocol):

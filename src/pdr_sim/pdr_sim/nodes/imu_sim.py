@@ -1,29 +1,29 @@
 """Node ``imu_sim``: publishes a simulated walk live, as ``pdr-sim generate`` writes it.
 
 Parameters (``--params-file config/imu_sim.yaml`` or ``-p name:=value``):
-    scenario (str, "straight"): built-in scenario name or YAML file.
+    scenario (str, ""): built-in scenario name or YAML file; empty: the placement's
+        default (straight for the foot, h1_rectangle for the pocket).
     imu (str, "xsens_mtw"): IMU error profile.
     rate_hz (float, 100.0): sample rate [Hz], 50-1000.
     seed (int, 0): seed of the sensor errors.
-    placement (str, "foot").
+    placement (str, "foot"): foot, or pocket (a phone in the trouser pocket).
     gravity_mps2 (float, 9.80665).
     rate, clock, wait_for_subscribers, wait_timeout_s, ack_every: see
         :mod:`pdr_sim.nodes.playback` (rate 1.0 = real time).
 
-Publishes ``imu/data``, ``imu/mag`` and ``ground_truth/pose`` with the stamps of the
-simulation (data time, not the wall clock), then exits. The messages are identical to
-those of ``pdr-sim generate`` with the same configuration.
+Publishes ``imu/data``, ``imu/mag`` and ``ground_truth/pose`` (the pocket placement also
+``ground_truth/step`` and ``ground_truth/landmarks``) with the stamps of the simulation
+(data time, not the wall clock), then exits. The messages are identical to those of
+``pdr-sim generate`` with the same configuration.
 """
 from __future__ import annotations
 
 from rclpy.node import Node
 
-from pdr_core import topics
 from pdr_core.bag import merged_messages
 from pdr_core.errors import InputError
 from pdr_sim.nodes.playback import Playback, run_player
-from pdr_sim.scenario import load_scenario
-from pdr_sim.simulation import SimulationConfig, simulate
+from pdr_sim.simulation import SimulationConfig, load_placement_scenario, simulate
 
 
 class ImuSim(Node):
@@ -31,7 +31,7 @@ class ImuSim(Node):
 
     def __init__(self) -> None:
         super().__init__("imu_sim")
-        self.scenario = self.declare_parameter("scenario", "straight").value
+        self.scenario = self.declare_parameter("scenario", "").value
         self.imu = self.declare_parameter("imu", "xsens_mtw").value
         self.rate_hz = float(self.declare_parameter("rate_hz", 100.0).value)
         self.seed = int(self.declare_parameter("seed", 0).value)
@@ -41,14 +41,15 @@ class ImuSim(Node):
 
     def run(self) -> int:
         try:
-            scenario, data = load_scenario(self.scenario)
+            name = self.scenario or ("h1_rectangle" if self.placement == "pocket"
+                                     else "straight")
+            scenario, data = load_placement_scenario(name, self.placement)
             sim = simulate(SimulationConfig(scenario, data, self.imu, {}, self.rate_hz,
                                             self.seed, self.gravity, self.placement))
         except InputError as exc:
             self.get_logger().error(str(exc))
             return 2
-        batches = {topics.IMU_DATA: sim.imu, topics.IMU_MAG: sim.mag,
-                   topics.GROUND_TRUTH_POSE: sim.pose}
+        batches = sim.batches
         self.playback.advertise({t: b.msgtype for t, b in batches.items()})
         if not self.playback.wait_for_subscribers_or_timeout():
             return 1
