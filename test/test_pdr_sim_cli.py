@@ -53,6 +53,25 @@ def test_generate_records_its_configuration_and_plots(procs, tmp_path):
         assert (tmp_path / "png" / png).stat().st_size > 10_000
 
 
+def test_generate_pocket_writes_truth_topics_and_plots(procs, tmp_path):
+    result = procs.run("pdr-sim", "generate", "--placement", "pocket", "--scenario",
+                       "sit_stand", "--rate", "50", "--out", str(tmp_path / "bag"), "--plot",
+                       str(tmp_path / "png"))
+    assert result.returncode == 0, result.stderr
+    assert "66 steps" in result.stdout
+    reader = BagReader(tmp_path / "bag")
+    assert set(reader.topics) == {"/imu/data", "/imu/mag", "/ground_truth/pose",
+                                  "/ground_truth/step", "/ground_truth/landmarks"}
+    steps = reader.read("/ground_truth/step")
+    assert len(steps) == 66 and set(steps["activity"]) == {1}
+    record = reader.custom_data("pdr.simulation")
+    assert record["placement"] == "pocket" and record["true_gyro_bias_deg_per_s"]
+    assert [p["activity"] for p in record["periods"]] == [
+        "standing", "walking", "sitting", "walking", "standing", "walking", "sitting", "standing"]
+    for png in ("trajectory.png", "signals.png", "pocket.png"):
+        assert (tmp_path / "png" / png).stat().st_size > 10_000
+
+
 @pytest.mark.parametrize("args, message", [
     (["--imu", "mti_9000"], "--imu: unknown profile 'mti_9000'"),
     (["--rate", "20"], "--rate: must be within 50-1000 Hz"),
@@ -62,6 +81,11 @@ def test_generate_records_its_configuration_and_plots(procs, tmp_path):
     (["--set", "stride.length_m=1"], "stride: unknown key"),
     (["--imu-set", "gyro.arw=1"], "xsens_mtw.gyro.arw: unknown key"),
     (["--placement", "pocket", "--scenario", "straight"], "straight: no such scenario file"),
+    (["--placement", "pocket", "--set", "segments[1].speed_kmh=20"],
+     "h1_rectangle (with --set): segments[1].speed_kmh: 20 is beyond walking speed (0.5-7)"),
+    (["--placement", "pocket", "--scenario", "up_dw", "--set", "segments[2].riser_m=0.4"],
+     "segments[2].riser_m: 0.4 is beyond a human-range riser (0.05-0.25)"),
+    (["--placement", "foot", "--scenario", "up_dw"], "up_dw: no such scenario file"),
 ])
 def test_generate_refuses_bad_input_by_name(procs, tmp_path, args, message):
     result = procs.run("pdr-sim", "generate", "--out", str(tmp_path / "bag"), *args)

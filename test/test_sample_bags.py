@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import shlex
 
+import pytest
+
 from pdr_core.bag import BagReader
 from wstest import ROOT
 
@@ -13,12 +15,16 @@ def readme_command(bag: str) -> list[str]:
     return shlex.split(block.replace("\\\n", " "))
 
 
-def test_foot_walk_is_reproduced(procs, tmp_path):
-    command = readme_command("foot_walk")
+@pytest.mark.parametrize(("bag", "messages"), [("foot_walk", 3 * 6095),
+                                               ("pocket_walk", 3 * 11538 + 122 + 9)])
+def test_sample_bag_is_reproduced(procs, tmp_path, bag, messages):
+    command = readme_command(bag)
     assert command[:3] == ["./ws", "pdr-sim", "generate"] and command[-2] == "--out"
     result = procs.run(*command[1:-1], str(tmp_path / "again"))
     assert result.returncode == 0, result.stderr
-    committed = list(BagReader(ROOT / "bags" / "foot_walk").raw_messages())
+    committed = list(BagReader(ROOT / "bags" / bag).raw_messages())
     regenerated = list(BagReader(tmp_path / "again").raw_messages())
-    assert len(committed) == 3 * 6095
+    assert len(committed) == messages
     assert committed == regenerated
+    assert BagReader(ROOT / "bags" / bag).custom_data("pdr.simulation") == \
+        BagReader(tmp_path / "again").custom_data("pdr.simulation")

@@ -15,6 +15,11 @@ demo="$root/out/demo"
 cp "$demo/estimate.png" "$work/demo.png"
 cp "$demo/trajectory.png" "$work/trajectory.png"
 
+echo "== a pocket walk (simulator.md)"
+"$root/ws" pdr-sim generate --placement pocket --scenario up_dw --out "$work/up_dw" \
+  --plot "$work/up_dw_png" > /dev/null
+cp "$work/up_dw_png/pocket.png" "$work/pocket.png"
+
 echo "== smoothing (smoothing.md) and a VICON trial (foot_ins.md)"
 "$root/ws" pdr-ekf run "$demo/simulated" --out "$work/smoothed" --smoother segmented --plot > /dev/null
 cp "$work/smoothed/smoothing.png" "$work/smoothing.png"
@@ -38,7 +43,8 @@ from pathlib import Path
 from PIL import Image
 
 work, img = Path(sys.argv[1]), Path(sys.argv[2])
-for name in ("demo", "trajectory", "smoothing", "vicon_path", "growth", "mechanization"):
+for name in ("demo", "trajectory", "pocket", "smoothing", "vicon_path", "growth",
+             "mechanization"):
     picture = Image.open(work / f"{name}.png").convert("RGB")
     picture.convert("P", palette=Image.Palette.ADAPTIVE, colors=64).save(
         img / f"{name}.png", optimize=True)

@@ -109,6 +109,17 @@ class BagReader:
                 raise InputError(self.path,
                                  f"corrupt MCAP, cannot read its summary ({exc})") from exc
 
+    def custom_data(self, key: str) -> Any:
+        """The YAML document stored under ``custom_data[key]`` of metadata.yaml (e.g.
+        ``pdr.simulation``: a simulated run's configuration and truth), parsed; None when
+        the bag has none."""
+        meta_path = self.path / "metadata.yaml"
+        if not meta_path.is_file():
+            return None
+        info = yaml.safe_load(meta_path.read_text())["rosbag2_bagfile_information"]
+        text = (info.get("custom_data") or {}).get(key)
+        return None if text is None else yaml.safe_load(text)
+
     def require_topics(self, topics: Iterable[str]) -> None:
         """Raise InputError if any of ``topics`` is not in the bag."""
         missing = sorted(set(topics) - set(self.topics))

@@ -136,6 +136,8 @@ class _Planner:
                risers: int = 0, riser_m: float = 0.0, stair_stride: float = np.nan,
                turn: float = 0.0, scatter: float = 0.0, pitch_scatter: float = 0.0) -> None:
         c = self.cycles
+        if not self.walking:        # from rest the thigh starts at 0°: no higher minimum
+            pitch_min = min(pitch_min, 0.0)
         c.start.append(self.t)
         c.duration.append(duration)
         c.activity.append(activity)

@@ -41,14 +41,16 @@ ACTIVITY_LABELS = {0: "standing", 1: "walking", 2: "upstairs", 3: "downstairs", 
 
 
 def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
-    """A pocket walk: the route in 3D coloured by activity (stairs stand out), the thigh
-    pitch with the true steps and the rests, and the route heading with the thigh's yaw
-    (the hip sway). ``model`` is a :class:`pdr_sim.thigh_trajectory.ThighTrajectory`."""
-    from pdr_sim.compiled_thigh import HEADING, PITCH, SWAY
+    """A pocket walk: the route in 3D coloured by activity (stairs stand out) and from
+    above with its landmarks; the thigh pitch with the true steps and the rests and the
+    route heading with the thigh's yaw (the hip sway); close-ups of a few level and stairs
+    steps (Muñoz Díaz 2016, Figs. 4.1-4.3). ``model`` is a
+    :class:`pdr_sim.thigh_trajectory.ThighTrajectory`."""
+    from pdr_sim.compiled_thigh import HEADING, SWAY
 
     steps, route = model.true_steps, model.route
-    fig = plt.figure(figsize=(14, 11))
-    ax3 = fig.add_subplot(2, 2, 1, projection="3d")
+    fig = plt.figure(figsize=(14, 15))
+    ax3 = fig.add_subplot(3, 2, 1, projection="3d")
     points = route["start"] + route["step"]
     for activity in np.unique(steps.activity):
         sel = steps.activity == activity
@@ -57,39 +59,55 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
     ax3.plot(*traj.position[::10].T, color="grey", lw=0.4)
     ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="route (3D)")
     ax3.legend(fontsize=8)
-    top = fig.add_subplot(2, 2, 2)
+    top = fig.add_subplot(3, 2, 2)
     top.plot(traj.position[:, 0], traj.position[:, 1], color="grey", lw=0.6)
     for mark in model.landmarks:
         top.plot(*mark.position[:2], "k^" if mark.type == 0 else "gs", ms=6)
     top.set(xlabel="east [m]", ylabel="north [m]", title="top view, landmarks (▲ corner, "
             "■ stairs)", aspect="equal")
+    whole = fig.add_subplot(3, 1, 2)
+    _pitch_panel(whole, model, traj.t)
+    twin = whole.twinx()
     channels = model.spline(traj.t)
-    pitch = fig.add_subplot(2, 1, 2)
-    pitch.plot(traj.t, np.degrees(channels[:, PITCH]), lw=0.7, label="thigh pitch θ")
-    pitch.plot(steps.end_s, np.degrees(model.spline(steps.end_s)[:, PITCH]), "k.", ms=4,
-               label="true step (heel strike)")
-    for period in model.periods:
-        if period.activity != 1:
-            pitch.axvspan(period.start_s, period.end_s, alpha=0.15,
-                          color=ACTIVITY_COLOURS[period.activity])
-    for activity in (2, 3):
-        ends = steps.end_s[steps.activity == activity]
-        if len(ends):
-            pitch.plot(ends, np.full(len(ends), -20.0), "|", color=ACTIVITY_COLOURS[activity],
-                       label=ACTIVITY_LABELS[activity])
-    twin = pitch.twinx()
     twin.plot(traj.t, np.degrees(channels[:, HEADING]), "k--", lw=0.6, label="route heading")
     twin.plot(traj.t, np.degrees(channels[:, HEADING] + channels[:, SWAY]), "m", lw=0.4,
               label="thigh yaw (with hip sway)")
-    pitch.set(xlabel="t [s]", ylabel="pitch [deg]", title="thigh pitch and yaw; shaded: "
-              "standing (cyan), sitting (orange)")
     twin.set_ylabel("yaw [deg]")
-    pitch.legend(loc="upper left", fontsize=8)
     twin.legend(loc="upper right", fontsize=8)
+    whole.set_title("thigh pitch and yaw; shaded: standing (cyan), sitting (orange)")
+    for column, activities in ((1, (1,)), (2, (2, 3))):
+        chosen = np.flatnonzero(np.isin(steps.activity, activities))
+        ax = fig.add_subplot(3, 2, 4 + column)
+        if len(chosen) >= 3:
+            middle = chosen[len(chosen) // 3]
+            start = steps.end_s[middle] - 4 * steps.duration[middle]
+            window = traj.t[(traj.t >= start) & (traj.t <= steps.end_s[middle] + 2.0)]
+            _pitch_panel(ax, model, window)
+        ax.set_title("level steps" if column == 1 else "stairs steps")
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
+
+
+def _pitch_panel(ax, model, t: np.ndarray) -> None:
+    """θ(t) with the true steps' heel strikes, rests shaded, stairs steps marked."""
+    steps = model.true_steps
+    inside = (steps.end_s >= t[0]) & (steps.end_s <= t[-1])
+    ax.plot(t, np.degrees(model.pitch(t)), lw=0.8, label="thigh pitch θ")
+    ax.plot(steps.end_s[inside], np.degrees(model.pitch(steps.end_s[inside])), "k.", ms=5,
+            label="true step (heel strike)")
+    for period in model.periods:
+        if period.activity != 1 and period.end_s > t[0] and period.start_s < t[-1]:
+            ax.axvspan(max(period.start_s, t[0]), min(period.end_s, t[-1]), alpha=0.15,
+                       color=ACTIVITY_COLOURS[period.activity])
+    for activity in (2, 3):
+        ends = steps.end_s[inside & (steps.activity == activity)]
+        if len(ends):
+            ax.plot(ends, np.full(len(ends), -20.0), "|", color=ACTIVITY_COLOURS[activity],
+                    ms=8, label=ACTIVITY_LABELS[activity])
+    ax.set(xlabel="t [s]", ylabel="pitch [deg]")
+    ax.legend(loc="upper left", fontsize=8)
 
 
 def signals_png(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, mag: np.ndarray,

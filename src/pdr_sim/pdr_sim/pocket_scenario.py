@@ -215,7 +215,7 @@ _INTEGERS = ("steps", "flights", "risers", "landing_steps", "flights_per_floor")
 
 def _in_range(value: float, bounds: tuple[float, float], where: str, what: str) -> float:
     if not bounds[0] <= value <= bounds[1]:
-        raise InputError(where, f"{value:g} is beyond {what} ({bounds[0]:g}-{bounds[1]:g})")
+        raise InputError(where, f"{value:.3g} is beyond {what} ({bounds[0]:g}-{bounds[1]:g})")
     return value
 
 

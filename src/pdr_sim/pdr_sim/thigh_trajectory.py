@@ -184,6 +184,17 @@ def _pitch_knots(plan: GaitPlan, knots: _Knots, pmax: np.ndarray,
     c = plan.cycles
     shape = np.array([PITCH_SHAPES[a] for a in c.activity]).reshape(-1, len(KNOT_PHASES))
     cycle = pmin[:, None] + shape * (pmax - pmin)[:, None]
+    # A heel strike ends one cycle and starts the next: both shapes must agree on it.
+    # It takes the lower of the two shapes' values, and the knots on either side of it
+    # (the previous cycle's last, this cycle's second) keep their offsets from it, the
+    # second at least halfway down to the next knot, so a change of activity (stairs to
+    # level and back) stays as smooth as a level walk.
+    going = np.flatnonzero(~c.first_of_bout.astype(bool))
+    heel = np.minimum(cycle[going, 0], cycle[going - 1, 0])
+    cycle[going, 1] = np.maximum(cycle[going, 1] + heel - cycle[going, 0],
+                                 (heel + cycle[going, 2]) / 2)
+    cycle[going - 1, -1] += heel - cycle[going - 1, 0]
+    cycle[going, 0] = heel
     starting = np.flatnonzero(c.first_of_bout)
     ramp = KNOT_PHASES < MIN_PHASE
     cycle[np.ix_(starting, ramp)] = (KNOT_PHASES[ramp] / MIN_PHASE)[None, :] * \
