@@ -72,12 +72,13 @@ def mismatches(declared: dict[str, tuple[str, object]],
 def node_classes(tmp_path: Path) -> dict[str, tuple[type, list[str]]]:
     """Node name -> (class, the -p arguments it needs to be constructed)."""
     from pdr_ins_ekf.nodes.zupt_ekf import ZuptEkfNode
+    from pdr_pocket.nodes.pocket_pdr import PocketPdrNode
     from pdr_sim.nodes.bag_play import BagPlayer
     from pdr_sim.nodes.bag_record import BagRecorder
     from pdr_sim.nodes.imu_sim import ImuSim
     return {"imu_sim": (ImuSim, []), "bag_play": (BagPlayer, []),
             "bag_record": (BagRecorder, [f"out:={tmp_path / 'bag'}", "topics:=[imu/data]"]),
-            "zupt_ekf": (ZuptEkfNode, [])}
+            "zupt_ekf": (ZuptEkfNode, []), "pocket_pdr": (PocketPdrNode, [])}
 
 
 def construct(cls: type, parameters: list[str]) -> Node:
@@ -92,7 +93,7 @@ def ros():
     rclpy.try_shutdown()
 
 
-NODES = ["imu_sim", "bag_play", "bag_record", "zupt_ekf"]
+NODES = ["imu_sim", "bag_play", "bag_record", "zupt_ekf", "pocket_pdr"]
 
 
 def test_every_node_has_a_section():

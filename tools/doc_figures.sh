@@ -19,6 +19,10 @@ echo "== a pocket walk (simulator.md)"
 "$root/ws" pdr-sim generate --placement pocket --scenario up_dw --out "$work/up_dw" \
   --plot "$work/up_dw_png" > /dev/null
 cp "$work/up_dw_png/pocket.png" "$work/pocket.png"
+"$root/ws" pdr-sim generate --placement pocket --scenario theresienhoehe \
+  --imu thesis_table_6_1 --out "$work/theresienhoehe" > /dev/null
+"$root/ws" pdr-pocket attitude "$work/theresienhoehe" --out "$work/attitude" --plot > /dev/null
+cp "$work/attitude/attitude.png" "$work/attitude.png"
 
 echo "== smoothing (smoothing.md) and a VICON trial (foot_ins.md)"
 "$root/ws" pdr-ekf run "$demo/simulated" --out "$work/smoothed" --smoother segmented --plot > /dev/null
@@ -43,8 +47,8 @@ from pathlib import Path
 from PIL import Image
 
 work, img = Path(sys.argv[1]), Path(sys.argv[2])
-for name in ("demo", "trajectory", "pocket", "smoothing", "vicon_path", "growth",
-             "mechanization"):
+for name in ("demo", "trajectory", "pocket", "attitude", "smoothing", "vicon_path",
+             "growth", "mechanization"):
     picture = Image.open(work / f"{name}.png").convert("RGB")
     picture.convert("P", palette=Image.Palette.ADAPTIVE, colors=64).save(
         img / f"{name}.png", optimize=True)

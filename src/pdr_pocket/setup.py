@@ -19,5 +19,6 @@ setup(
     maintainer_email="maintainers@pdr-stack.org",
     description="See package.xml.",
     license="Apache-2.0",
-    entry_points={"console_scripts": []},
+    entry_points={"console_scripts": ["pdr-pocket = pdr_pocket.cli:main",
+                                     "pocket_pdr = pdr_pocket.nodes.pocket_pdr:main"]},
 )

@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core.batch import MessageBatch, stamp_ns_from_seconds
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import IMU, POSE_STAMPED
 
-STANDARD_GRAVITY_MPS2 = 9.80665
 TIME_UNITS_S = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 ACC_UNITS_MPS2 = {"mps2": 1.0, "m/s2": 1.0, "m/s^2": 1.0, "g": STANDARD_GRAVITY_MPS2}
 GYRO_UNITS_RADPS = {"radps": 1.0, "rad/s": 1.0, "degps": np.pi / 180.0, "deg/s": np.pi / 180.0}

@@ -32,6 +32,7 @@ from typing import Any
 
 from pdr_core import units
 from pdr_core.allan import gm_sigma_for_bias_instability
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
 from pdr_core.imu_errors import ImuErrors, TriadErrors
 
@@ -104,7 +105,7 @@ _SCALES = {
               "bias_sigma_mg": units.mg_to_si(1), "bias_instability_mg": units.mg_to_si(1),
               "gauss_markov_sigma_mg": units.mg_to_si(1),
               "random_walk_mps2_per_sqrt_h": 1 / units.SQRT_HOUR,
-              "range_g": units.STANDARD_GRAVITY_MPS2, "resolution_mg": units.mg_to_si(1)},
+              "range_g": STANDARD_GRAVITY_MPS2, "resolution_mg": units.mg_to_si(1)},
     "mag": {"noise_ut_per_sqrt_hz": 1e-6, "bias_ut": 1e-6, "bias_sigma_ut": 1e-6,
             "range_ut": 1e-6, "resolution_ut": 1e-6},
 }

@@ -10,12 +10,17 @@ horizontal displacement matches the truth's at the first sample where the estima
   axes (Euclidean error / √3, or the horizontal error / √2), then the mean over samples;
 - ``final_error_m`` and ``final_error_pct`` (of the true path length ``distance_m``);
 - ``within_step_rmse_m`` (``pdr-ekf run``, beyond INTERFACES.md): :func:`within_step_rmse`.
+
+:func:`truth_at` and :func:`truth_orientation_at` sample a ground-truth PoseStamped batch at
+the estimate's stamps.
 """
 from __future__ import annotations
 
 import itertools
 
 import numpy as np
+
+from pdr_core.batch import MessageBatch
 
 ALIGN_DISTANCE_M = 0.8
 
@@ -86,3 +91,21 @@ def within_step_rmse(estimate: np.ndarray, truth: np.ndarray, cuts: np.ndarray) 
     if not errors:
         raise ValueError("need at least two cuts")
     return float(np.sqrt(np.mean(np.concatenate(errors))))
+
+
+def truth_at(truth: MessageBatch, stamp_ns: np.ndarray) -> np.ndarray:
+    """Ground-truth positions (N, 3) [m] of a PoseStamped batch at ``stamp_ns``, linearly
+    interpolated."""
+    t = (truth.stamp_ns - stamp_ns[0]) * 1e-9
+    q = (stamp_ns - stamp_ns[0]) * 1e-9
+    return np.column_stack([np.interp(q, t, truth["pose.position"][:, i]) for i in range(3)])
+
+
+def truth_orientation_at(truth: MessageBatch, stamp_ns: np.ndarray) -> np.ndarray:
+    """Ground-truth orientations (N, 4) (x, y, z, w) of a PoseStamped batch at
+    ``stamp_ns``, by spherical interpolation (held at the ends)."""
+    from scipy.spatial.transform import Rotation, Slerp
+
+    t = (truth.stamp_ns - truth.stamp_ns[0]) * 1e-9
+    q = np.clip((stamp_ns - truth.stamp_ns[0]) * 1e-9, t[0], t[-1])
+    return Slerp(t, Rotation.from_quat(truth["pose.orientation"]))(q).as_quat()

@@ -7,7 +7,8 @@ random walk in m/s²/√h become rad/s²/√Hz and m/s³/√Hz.
 """
 import math
 
-STANDARD_GRAVITY_MPS2 = 9.80665
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
+
 DEG = math.pi / 180.0
 SQRT_HOUR = 60.0
 

@@ -2,7 +2,8 @@
 import numpy as np
 import pytest
 
-from pdr_core.csv_import import STANDARD_GRAVITY_MPS2, CsvImuFormat, axis_matrix, import_csv
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from pdr_core.csv_import import CsvImuFormat, axis_matrix, import_csv
 from pdr_core.errors import InputError
 
 HEADER = "time,ax,ay,az,gx,gy,gz,px,py,pz\n"

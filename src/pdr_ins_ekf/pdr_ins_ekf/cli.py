@@ -31,7 +31,7 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter
 from pdr_core.errors import dispatch
-from pdr_core.metrics import error_report, within_step_rmse
+from pdr_core.metrics import error_report, truth_at, within_step_rmse
 from pdr_core.msgtypes import PATH
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import (
@@ -39,7 +39,6 @@ from pdr_ins_ekf.offline import (
     output_batches,
     smoothed_paths,
     step_path,
-    truth_at,
 )
 from pdr_ins_ekf.studies.cli import add_study_commands
 from pdr_ins_ekf.zupt_ekf import SMOOTHER_MODES

@@ -23,8 +23,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-import yaml
-
+from pdr_core.config_files import dataclass_from_mapping, read_config_file, typed_value
 from pdr_core.errors import InputError
 from pdr_ins_ekf.zero_velocity import (
     AdaptiveShoeDetector,
@@ -54,41 +53,6 @@ class RunConfig:
     max_gap_s: float = 0.1
 
 
-def _typed(value: Any, kind: str, where: str) -> Any:
-    """``value`` as the field's type; numbers written like 1.0e6, which YAML 1.1 reads
-    as strings, are accepted."""
-    if kind in ("float", "int"):
-        if isinstance(value, str):
-            try:
-                value = float(value)
-            except ValueError:
-                raise InputError(where, f"expected a number, got {value!r}") from None
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise InputError(where, f"expected a number, got {value!r}")
-        if kind == "int":
-            if value != int(value):
-                raise InputError(where, f"expected an integer, got {value!r}")
-            return int(value)
-        return float(value)
-    if kind == "bool" and not isinstance(value, bool):
-        raise InputError(where, f"expected true or false, got {value!r}")
-    if kind == "str" and not isinstance(value, str):
-        raise InputError(where, f"expected a string, got {value!r}")
-    return value
-
-
-def _build(cls: type, values: dict, where: str) -> Any:
-    kinds = {f.name: str(f.type) for f in fields(cls)}
-    for key in values:
-        if key not in kinds:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(kinds))})")
-    typed = {k: _typed(v, kinds[k], f"{where}.{k}") for k, v in values.items()}
-    try:
-        return cls(**typed)
-    except (TypeError, ValueError) as exc:
-        raise InputError(where, str(exc)) from exc
-
-
 def run_config(data: dict | None, where: str = "config") -> RunConfig:
     """A RunConfig from a mapping; InputError names bad keys."""
     data = dict(data or {})
@@ -96,7 +60,7 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
     for key in data:
         if key not in top:
             raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(top))})")
-    out: dict[str, Any] = {k: _typed(v, "float", f"{where}.{k}") for k, v in data.items()
+    out: dict[str, Any] = {k: typed_value(v, "float", f"{where}.{k}") for k, v in data.items()
                            if k in ("alignment_min_s", "initial_yaw_deg", "max_gap_s")}
     if "detector" in data:
         detector = dict(data["detector"] or {})
@@ -106,11 +70,12 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
                                                        f"(known: {', '.join(DETECTORS)})")
         if DETECTORS[kind] is Paper000Detector:
             detector["variant"] = kind
-        out["detector"] = _build(DETECTORS[kind], detector, f"{where}.detector")
+        out["detector"] = dataclass_from_mapping(DETECTORS[kind], detector, f"{where}.detector")
     if "filter" in data:
-        out["filter"] = _build(FilterConfig, dict(data["filter"] or {}), f"{where}.filter")
+        out["filter"] = dataclass_from_mapping(FilterConfig, dict(data["filter"] or {}),
+                                               f"{where}.filter")
     if "smoother" in data:
-        out["smoother"] = _build(SmootherConfig, dict(data["smoother"] or {}),
+        out["smoother"] = dataclass_from_mapping(SmootherConfig, dict(data["smoother"] or {}),
                                  f"{where}.smoother")
     return RunConfig(**out)
 
@@ -141,34 +106,6 @@ def profile_config_path(profile: str) -> Path:
     return _config_dir() / f"foot_ekf_{profile}.yaml"
 
 
-def _merged(base: dict, override: dict) -> dict:
-    """``base`` with ``override`` on top, mapping by mapping."""
-    out = dict(base)
-    for key, value in override.items():
-        out[key] = (_merged(out[key], value) if isinstance(value, dict)
-                    and isinstance(out.get(key), dict) else value)
-    return out
-
-
-def _read(path: Path, seen: tuple[Path, ...] = ()) -> dict:
-    """A configuration file's mapping; ``base: FILE`` (relative to the file) is read first
-    and the file's own keys override it."""
-    if not path.is_file():
-        raise InputError(path, "no such configuration file")
-    if path.resolve() in seen:
-        raise InputError(path, "base files include each other")
-    try:
-        data = yaml.safe_load(path.read_text()) or {}
-    except yaml.YAMLError as exc:
-        raise InputError(path, f"invalid YAML ({exc})") from exc
-    if not isinstance(data, dict):
-        raise InputError(path, "expected a mapping at the top level")
-    base = data.pop("base", None)
-    if base is None:
-        return data
-    return _merged(_read(path.parent / str(base), (*seen, path.resolve())), data)
-
-
 def load_run_config(path: str | Path | None = None, imu_profile: str | None = None
                     ) -> RunConfig:
     """The configuration of a YAML file, of an IMU profile (:func:`profile_config_path`),
@@ -178,4 +115,4 @@ def load_run_config(path: str | Path | None = None, imu_profile: str | None = No
     if imu_profile:
         path = profile_config_path(imu_profile)
     path = Path(path) if path else default_config_path()
-    return run_config(_read(path), str(path))
+    return run_config(read_config_file(path), str(path))

@@ -19,6 +19,7 @@ import numpy as np
 
 from pdr_core.batch import LazyBatch, MessageBatch
 from pdr_core.errors import InputError
+from pdr_core.imu_checks import check_units, clean_samples
 from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANCE_STAMPED
 from pdr_core.nav_path import encode_path
 from pdr_core.rotations import quaternion_from_orthonormal
@@ -43,17 +44,6 @@ class FootRun:
     smoothed: SmoothedOutput | None = None
 
 
-def clean_samples(imu: MessageBatch) -> tuple[np.ndarray, dict[str, int]]:
-    """Indices of the usable samples and the counts of the dropped ones."""
-    accel, gyro = imu["linear_acceleration"], imu["angular_velocity"]
-    finite = np.isfinite(accel).all(axis=1) & np.isfinite(gyro).all(axis=1)
-    stamps = np.where(finite, imu.stamp_ns, np.iinfo(np.int64).min)
-    later = np.concatenate(([True], stamps[1:] > np.maximum.accumulate(stamps)[:-1]))
-    keep = finite & later
-    return np.flatnonzero(keep), {"non_finite": int((~finite).sum()),
-                                  "stamp_not_increasing": int((finite & ~later).sum())}
-
-
 def alignment_window(stance: np.ndarray, t_s: np.ndarray, min_s: float) -> slice:
     """The first stationary run lasting at least ``min_s`` seconds."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], stance.astype(int), [0]))))
@@ -61,20 +51,6 @@ def alignment_window(stance: np.ndarray, t_s: np.ndarray, min_s: float) -> slice
         if t_s[stop - 1] - t_s[start] >= min_s:
             return slice(int(start), int(stop))
     raise InputError("imu/data", f"no stationary period of {min_s:g} s to align on")
-
-
-def check_units(accel: np.ndarray, gyro: np.ndarray) -> None:
-    """Refuse data in the wrong units. The median |f| of any walk or rest is near g; a
-    foot turns at up to about 35 rad/s (2000 °/s): a median |f| near 1 gives away data
-    in g, a 99th percentile of |ω| above 50 data in deg/s."""
-    f = float(np.median(np.linalg.norm(accel, axis=1)))
-    if 0.5 < f < 2.0:
-        raise InputError("imu/data", f"median specific force is {f:.3f}: the accelerometer "
-                                     "looks like it is in g, not m/s²")
-    w = float(np.percentile(np.linalg.norm(gyro, axis=1), 99))
-    if w > 50.0:
-        raise InputError("imu/data", f"99th percentile of the angular rate is {w:.1f}: the "
-                                     "gyroscope looks like it is in deg/s, not rad/s")
 
 
 def check_rest(accel: np.ndarray, gyro: np.ndarray) -> None:
@@ -111,13 +87,6 @@ def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
                 else smooth(*args, config.smoother, aligned, yaw))
     return FootRun(stamp_ns[start:], result.mask[start:], result.statistic[start:],
                    result.detector, output, counts, smoothed)
-
-
-def truth_at(truth: MessageBatch, stamp_ns: np.ndarray) -> np.ndarray:
-    """Ground-truth positions (N, 3) at ``stamp_ns``, linearly interpolated."""
-    t = (truth.stamp_ns - stamp_ns[0]) * 1e-9
-    q = (stamp_ns - stamp_ns[0]) * 1e-9
-    return np.column_stack([np.interp(q, t, truth["pose.position"][:, i]) for i in range(3)])
 
 
 def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch]:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_ins_ekf.attitude_update import METHODS, increments
 
 
@@ -71,7 +72,7 @@ def propagate_attitude(initial: np.ndarray, gyro: np.ndarray, dt: float, method:
 def mechanize(gyro: np.ndarray, accel: np.ndarray, rate_hz: float, initial_attitude: np.ndarray,
               initial_velocity=(0.0, 0.0, 0.0), initial_position=(0.0, 0.0, 0.0),
               method: str = "closed_form", integration: str = "trapezoidal",
-              gravity_mps2: float = 9.80665) -> NavigationSolution:
+              gravity_mps2: float = STANDARD_GRAVITY_MPS2) -> NavigationSolution:
     """Pure INS over all samples (see the module docstring)."""
     dt = 1.0 / rate_hz
     attitude = propagate_attitude(np.asarray(initial_attitude, float), gyro, dt, method,

@@ -20,8 +20,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.errors import InputError
+from pdr_core.imu_checks import check_units
 from pdr_ins_ekf.config import RunConfig
-from pdr_ins_ekf.offline import check_rest, check_units
+from pdr_ins_ekf.offline import check_rest
 from pdr_ins_ekf.zupt_ekf import SegmentSmoother, SmoothedSegment, ZuptEkf
 
 

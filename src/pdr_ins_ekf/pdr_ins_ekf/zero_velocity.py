@@ -32,7 +32,8 @@ from typing import Protocol
 import numpy as np
 from scipy.ndimage import minimum_filter1d, uniform_filter1d
 
-STANDARD_GRAVITY_MPS2 = 9.80665
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
+
 # pdr_msgs/Stance detector identifiers
 DETECTOR_IDS = {"original": 0, "limited": 1, "retarded": 2, "shoe": 3, "moving_variance": 4,
                 "magnitude": 5, "angular_rate_energy": 6, "adaptive_shoe": 7}

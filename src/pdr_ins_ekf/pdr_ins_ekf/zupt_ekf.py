@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.rotations import rotation_from_euler
 from pdr_ins_ekf import compiled_filter as kernels
 from pdr_ins_ekf import compiled_smoother
@@ -51,7 +52,7 @@ class FilterConfig:
     init_yaw_sigma_rad: float = (0.1 * np.pi / 180)
     init_acc_bias_sigma: float = 0.05  # [m/s²]
     init_gyro_bias_sigma: float = 0.005  # [rad/s]
-    gravity_mps2: float = 9.80665
+    gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def __post_init__(self) -> None:
         if self.bias_model not in BIAS_MODELS:

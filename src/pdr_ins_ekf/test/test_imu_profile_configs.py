@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from pdr_core.errors import InputError
-from pdr_core.metrics import error_report
+from pdr_core.metrics import error_report, truth_at
 from pdr_ins_ekf.config import imu_profiles, load_run_config
-from pdr_ins_ekf.offline import navigate, truth_at
+from pdr_ins_ekf.offline import navigate
 from pdr_sim.scenario import load_scenario
 from pdr_sim.simulation import SimulationConfig, simulate
 

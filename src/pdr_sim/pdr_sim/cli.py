@@ -21,6 +21,7 @@ import yaml
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, write_batches
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.csv_import import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
@@ -67,7 +68,8 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--imu", default="xsens_mtw", help=f"profile ({', '.join(PROFILES)})")
     p.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz], 50-1000")
     p.add_argument("--seed", type=int, default=0, help="seed of the sensor errors")
-    p.add_argument("--gravity", type=float, default=9.80665, help="local gravity [m/s²]")
+    p.add_argument("--gravity", type=float, default=STANDARD_GRAVITY_MPS2,
+                   help="local gravity [m/s²]")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a scenario value, e.g. step.length_m=1.2 or "
                         "segments[1].steps=20 (YAML value; repeatable)")

@@ -13,11 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from pdr_core.constants import STANDARD_GRAVITY_MPS2, earth_rate_enu
 from pdr_core.magnetic_field import MagneticField
 from pdr_sim.trajectory import Trajectory
-
-EARTH_RATE_RADPS = 7.292115e-5
-STANDARD_GRAVITY_MPS2 = 9.80665
 
 
 def specific_force(traj: Trajectory, gravity_mps2: float = STANDARD_GRAVITY_MPS2) -> np.ndarray:
@@ -29,9 +27,7 @@ def angular_rate(traj: Trajectory, latitude_deg: float | None = None) -> np.ndar
     """ω_ib^b [rad/s]: the body rate, plus the Earth rate at ``latitude_deg`` if given."""
     rate = traj.body_rate
     if latitude_deg is not None:
-        lat = np.radians(latitude_deg)
-        earth = EARTH_RATE_RADPS * np.array([0.0, np.cos(lat), np.sin(lat)])
-        rate = rate + traj.to_body(earth)
+        rate = rate + traj.to_body(earth_rate_enu(latitude_deg))
     return rate
 
 

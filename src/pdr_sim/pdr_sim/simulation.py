@@ -24,6 +24,7 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.batch import MessageBatch
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
 from pdr_core.imu_errors import ImuErrors, corrupt, turn_on_bias
 from pdr_core.imu_profiles import PROFILES, profile
@@ -55,7 +56,7 @@ class SimulationConfig:
     imu_overrides: dict = field(default_factory=dict)
     rate_hz: float = 100.0
     seed: int = 0
-    gravity_mps2: float = signals.STANDARD_GRAVITY_MPS2
+    gravity_mps2: float = STANDARD_GRAVITY_MPS2
     placement: str = "foot"
 
     def __post_init__(self) -> None:

@@ -208,6 +208,8 @@ def _cycle_extremes(spline: CubicSpline, start: np.ndarray,
                     end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Exact max and min of a spline over each [start, end]: the endpoints and the roots
     of its derivative."""
+    if len(start) == 0:
+        return np.empty(0), np.empty(0)
     roots = spline.derivative().roots(extrapolate=False)
     roots = roots[np.isfinite(roots)]
     which = np.searchsorted(start, roots, side="right") - 1

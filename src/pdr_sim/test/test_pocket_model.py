@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.magnetic_field import MagneticField, homogeneous
 from pdr_sim import signals
 from pdr_sim.compiled_thigh import HEADING, PITCH, SWAY
@@ -15,7 +16,7 @@ from pdr_sim.gait_plan import DOWNSTAIRS, UPSTAIRS, WALKING
 from pdr_sim.pocket_scenario import PersonSpec, load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.thigh_trajectory import ThighTrajectory
 
-G = signals.STANDARD_GRAVITY_MPS2
+G = STANDARD_GRAVITY_MPS2
 # ten minutes with every kind of segment: level walking and turns, stairs up and down with
 # landings, a platform, sitting
 TEN_MINUTES = {

@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
+from pdr_core.constants import EARTH_RATE_RADPS
 from pdr_core.magnetic_field import UT
 from pdr_sim.scenario import load_scenario, scenario_from_dict
-from pdr_sim.signals import EARTH_RATE_RADPS
 from pdr_sim.simulation import SimulationConfig, simulate
 
 STATIC = {"segments": [{"type": "standing", "duration_s": 10.0}]}

@@ -10,12 +10,13 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.rotations import body_rate_from_matrix_log
 from pdr_sim import signals
 from pdr_sim.foot_trajectory import FootTrajectory
 from pdr_sim.scenario import scenario_from_dict
 
-G = signals.STANDARD_GRAVITY_MPS2
+G = STANDARD_GRAVITY_MPS2
 WALKS = {
     "straight": [{"type": "standing", "duration_s": 1.0}, {"type": "straight", "steps": 10},
                  {"type": "standing", "duration_s": 0.5}],

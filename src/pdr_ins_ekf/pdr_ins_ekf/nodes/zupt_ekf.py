@@ -22,18 +22,15 @@ with an error, and nothing is navigated until ``~/reset``.
 from __future__ import annotations
 
 import dataclasses
-import sys
 
-import rclpy
 from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, TwistWithCovarianceStamped
 from nav_msgs.msg import Path as PathMsg
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
-from pdr_core.errors import InputError
+from pdr_core.node_main import spin_node
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import UNKNOWN_VARIANCE
@@ -162,23 +159,7 @@ class ZuptEkfNode(Node):
 
 
 def main(args: list[str] | None = None) -> None:
-    rclpy.init(args=args)
-    node = None
-    status = 0
-    try:
-        node = ZuptEkfNode()
-        rclpy.spin(node)
-    except InputError as exc:
-        print(f"zupt_ekf: error: {exc}", file=sys.stderr)
-        status = 2
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    sys.exit(status)
-
+    spin_node("zupt_ekf", ZuptEkfNode, args)
 
 if __name__ == "__main__":
     main()

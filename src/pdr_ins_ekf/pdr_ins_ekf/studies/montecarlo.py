@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_ins_ekf import compiled_filter, kernel_cache
 from pdr_ins_ekf.compiled_filter import mechanize, start
 from pdr_sim.scenario import scenario_from_dict
@@ -184,7 +185,8 @@ class InsStudy:
 
 
 def ins_study(walk: Walk, noise: NoiseLevels, runs: int, seed: int = 0, block: int = 100,
-              points: int = 200, gravity_mps2: float = 9.80665, progress=None) -> InsStudy:
+              points: int = 200, gravity_mps2: float = STANDARD_GRAVITY_MPS2,
+              progress=None) -> InsStudy:
     """``runs`` pure-INS runs in blocks of ``block`` (memory: block × T × 6 doubles),
     sampled at ``points`` log-spaced times from 1 s; ``progress(done, runs)`` after each
     block."""

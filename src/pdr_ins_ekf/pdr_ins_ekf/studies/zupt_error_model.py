@@ -41,7 +41,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-STANDARD_GRAVITY_MPS2 = 9.80665
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 
 
 def _require(condition: bool, message: str) -> None:

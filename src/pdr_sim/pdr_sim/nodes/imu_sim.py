@@ -21,6 +21,7 @@ from __future__ import annotations
 from rclpy.node import Node
 
 from pdr_core.bag import merged_messages
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
 from pdr_sim.nodes.playback import Playback, run_player
 from pdr_sim.simulation import SimulationConfig, load_placement_scenario, simulate
@@ -36,7 +37,7 @@ class ImuSim(Node):
         self.rate_hz = float(self.declare_parameter("rate_hz", 100.0).value)
         self.seed = int(self.declare_parameter("seed", 0).value)
         self.placement = self.declare_parameter("placement", "foot").value
-        self.gravity = float(self.declare_parameter("gravity_mps2", 9.80665).value)
+        self.gravity = float(self.declare_parameter("gravity_mps2", STANDARD_GRAVITY_MPS2).value)
         self.playback = Playback(self)
 
     def run(self) -> int:

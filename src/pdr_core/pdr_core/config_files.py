@@ -1,0 +1,82 @@
+"""Configuration files: typed dataclasses from YAML mappings (units in the key names).
+
+- :func:`read_config_file`: a YAML file's mapping; ``base: OTHER.yaml`` (relative to the
+  file) is read first and the file's own keys override it, mapping by mapping.
+- :func:`dataclass_from_mapping`: a dataclass from a mapping, each value checked against
+  its field's type; unknown keys and bad values raise InputError naming the key's path.
+
+Used by the navigators' configurations (pdr_ins_ekf.config, pdr_pocket.config).
+"""
+from __future__ import annotations
+
+from dataclasses import fields
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from pdr_core.errors import InputError
+
+
+def typed_value(value: Any, kind: str, where: str) -> Any:
+    """``value`` as the field's type; numbers written like 1.0e6, which YAML 1.1 reads
+    as strings, are accepted."""
+    if kind in ("float", "int"):
+        if isinstance(value, str):
+            try:
+                value = float(value)
+            except ValueError:
+                raise InputError(where, f"expected a number, got {value!r}") from None
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise InputError(where, f"expected a number, got {value!r}")
+        if kind == "int":
+            if value != int(value):
+                raise InputError(where, f"expected an integer, got {value!r}")
+            return int(value)
+        return float(value)
+    if kind == "bool" and not isinstance(value, bool):
+        raise InputError(where, f"expected true or false, got {value!r}")
+    if kind == "str" and not isinstance(value, str):
+        raise InputError(where, f"expected a string, got {value!r}")
+    return value
+
+
+def dataclass_from_mapping(cls: type, values: dict, where: str) -> Any:
+    """``cls(**values)`` with every key known and every value of its field's type."""
+    kinds = {f.name: str(f.type) for f in fields(cls)}
+    for key in values:
+        if key not in kinds:
+            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(kinds))})")
+    typed = {k: typed_value(v, kinds[k], f"{where}.{k}") for k, v in values.items()}
+    try:
+        return cls(**typed)
+    except (TypeError, ValueError) as exc:
+        raise InputError(where, str(exc)) from exc
+
+
+def merged(base: dict, override: dict) -> dict:
+    """``base`` with ``override`` on top, mapping by mapping."""
+    out = dict(base)
+    for key, value in override.items():
+        out[key] = (merged(out[key], value) if isinstance(value, dict)
+                    and isinstance(out.get(key), dict) else value)
+    return out
+
+
+def read_config_file(path: Path, seen: tuple[Path, ...] = ()) -> dict:
+    """A configuration file's mapping; ``base: FILE`` (relative to the file) is read first
+    and the file's own keys override it."""
+    if not path.is_file():
+        raise InputError(path, "no such configuration file")
+    if path.resolve() in seen:
+        raise InputError(path, "base files include each other")
+    try:
+        data = yaml.safe_load(path.read_text()) or {}
+    except yaml.YAMLError as exc:
+        raise InputError(path, f"invalid YAML ({exc})") from exc
+    if not isinstance(data, dict):
+        raise InputError(path, "expected a mapping at the top level")
+    base = data.pop("base", None)
+    if base is None:
+        return data
+    return merged(read_config_file(path.parent / str(base), (*seen, path.resolve())), data)

@@ -1,0 +1,51 @@
+"""Checks every navigator runs on IMU data before using it.
+
+- :func:`clean_samples`: drop (and count) samples with NaN/Inf or stamps that do not
+  increase.
+- :func:`check_units`: refuse an accelerometer in g or a gyroscope in deg/s.
+- :func:`check_mag_units`: refuse a magnetometer in µT or gauss (ROS wants tesla).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from pdr_core.batch import MessageBatch
+from pdr_core.errors import InputError
+
+# |B| of the Earth's field is 25-65 µT; a disturbed indoor field rarely exceeds 1 mT
+MAX_FIELD_T = 1e-3
+
+
+def clean_samples(imu: MessageBatch) -> tuple[np.ndarray, dict[str, int]]:
+    """Indices of the usable samples and the counts of the dropped ones."""
+    accel, gyro = imu["linear_acceleration"], imu["angular_velocity"]
+    finite = np.isfinite(accel).all(axis=1) & np.isfinite(gyro).all(axis=1)
+    stamps = np.where(finite, imu.stamp_ns, np.iinfo(np.int64).min)
+    later = np.concatenate(([True], stamps[1:] > np.maximum.accumulate(stamps)[:-1]))
+    keep = finite & later
+    return np.flatnonzero(keep), {"non_finite": int((~finite).sum()),
+                                  "stamp_not_increasing": int((finite & ~later).sum())}
+
+
+def check_units(accel: np.ndarray, gyro: np.ndarray) -> None:
+    """Refuse data in the wrong units. The median |f| of any walk or rest is near g; a
+    foot turns at up to about 35 rad/s (2000 °/s): a median |f| near 1 gives away data
+    in g, a 99th percentile of |ω| above 50 data in deg/s."""
+    f = float(np.median(np.linalg.norm(accel, axis=1)))
+    if 0.5 < f < 2.0:
+        raise InputError("imu/data", f"median specific force is {f:.3f}: the accelerometer "
+                                     "looks like it is in g, not m/s²")
+    w = float(np.percentile(np.linalg.norm(gyro, axis=1), 99))
+    if w > 50.0:
+        raise InputError("imu/data", f"99th percentile of the angular rate is {w:.1f}: the "
+                                     "gyroscope looks like it is in deg/s, not rad/s")
+
+
+def check_mag_units(mag: np.ndarray, topic: str = "imu/mag") -> None:
+    """Refuse magnetometer data that is not in tesla: a median |B| above 1 mT is µT
+    (25-65 for the Earth's field) or gauss (0.25-0.65) data."""
+    b = float(np.median(np.linalg.norm(mag, axis=1)))
+    if b > MAX_FIELD_T:
+        unit = "µT" if b > 1.0 else "gauss"
+        raise InputError(topic, f"median field is {b:.4g}: the magnetometer looks like it "
+                                f"is in {unit}, not tesla")

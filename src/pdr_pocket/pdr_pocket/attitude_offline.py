@@ -1,0 +1,132 @@
+"""The orientation filter on a whole bag: inputs, outputs and the report of
+``pdr-pocket attitude``.
+
+- :func:`pocket_inputs`: ``imu/data`` cleaned (NaN/Inf and stamps that do not increase
+  dropped and counted, units checked) and ``imu/mag`` paired with it (the latest reading
+  at most :data:`MAG_MAX_AGE_S` old, else none), calibrated when a calibration is given;
+- :func:`attitude_batches`: ``pdr/pocket/attitude`` (sensor_msgs/Imu with orientation and
+  its covariance, REP-145) and ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped);
+- :func:`attitude_report`: roll, pitch and yaw RMSE against ``ground_truth/pose``, the
+  final gyro bias errors against the simulation's true biases, and the share of samples
+  each update ran.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdr_core import topics
+from pdr_core.batch import MessageBatch
+from pdr_core.errors import InputError
+from pdr_core.imu_checks import check_mag_units, check_units, clean_samples
+from pdr_core.msgtypes import IMU, VECTOR3_STAMPED
+from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_pocket.magnetometer import MagCalibration
+from pdr_pocket.orientation import AttitudeEstimate
+
+MAG_MAX_AGE_S = 0.05
+ATTITUDE_TOPIC = "/pdr/pocket/attitude"
+GYRO_BIAS_TOPIC = "/pdr/pocket/gyro_bias"
+BODY_FRAME, MAP_FRAME = "imu_link", "map"
+
+
+@dataclass
+class PocketInputs:
+    """Clean, paired inputs: stamps [ns], t [s from the first], gyro, accel [SI], mag [T]
+    (NaN rows: none), the kept indices of imu/data and the counts of what was dropped."""
+
+    stamp_ns: np.ndarray
+    t: np.ndarray
+    gyro: np.ndarray
+    accel: np.ndarray
+    mag: np.ndarray
+    accel_covariance: np.ndarray
+    counts: dict[str, int] = field(default_factory=dict)
+
+
+def paired_mag(imu_stamps: np.ndarray, mag: MessageBatch | None) -> tuple[np.ndarray, int]:
+    """For each IMU stamp the latest finite magnetometer reading at most
+    :data:`MAG_MAX_AGE_S` old (NaN rows otherwise), and the count of non-finite readings."""
+    out = np.full((len(imu_stamps), 3), np.nan)
+    if mag is None or len(mag) == 0:
+        return out, 0
+    values = mag["magnetic_field"]
+    finite = np.isfinite(values).all(axis=1)
+    stamps, values = mag.stamp_ns[finite], values[finite]
+    order = np.argsort(stamps, kind="stable")
+    stamps, values = stamps[order], values[order]
+    latest = np.searchsorted(stamps, imu_stamps, side="right") - 1
+    ok = latest >= 0
+    fresh = np.zeros(len(imu_stamps), dtype=bool)
+    fresh[ok] = imu_stamps[ok] - stamps[latest[ok]] <= MAG_MAX_AGE_S * 1e9
+    out[fresh] = values[latest[fresh]]
+    return out, int((~finite).sum())
+
+
+def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
+                  calibration: MagCalibration | None = None) -> PocketInputs:
+    """The filter's inputs from the two topics (see the module docstring)."""
+    keep, counts = clean_samples(imu)
+    if len(keep) < 2:
+        raise InputError(topics.IMU_DATA, f"{len(keep)} usable samples are too few")
+    stamp_ns = imu.stamp_ns[keep]
+    gyro = imu["angular_velocity"][keep]
+    accel = imu["linear_acceleration"][keep]
+    check_units(accel, gyro)
+    mag_values, counts["mag_non_finite"] = paired_mag(stamp_ns, mag)
+    if np.isfinite(mag_values).any():
+        check_mag_units(mag_values[np.isfinite(mag_values).all(axis=1)], topics.IMU_MAG)
+        if calibration is not None:
+            mag_values = calibration.apply(mag_values)
+    counts["mag_missing"] = int((~np.isfinite(mag_values).all(axis=1)).sum())
+    return PocketInputs(stamp_ns, (stamp_ns - stamp_ns[0]) * 1e-9, gyro, accel, mag_values,
+                        imu["linear_acceleration_covariance"][keep], counts)
+
+
+def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,
+                     gyro_noise_var: float) -> dict[str, MessageBatch]:
+    """``pdr/pocket/attitude`` and ``pdr/pocket/gyro_bias`` at every sample."""
+    n = len(inputs.t)
+    cov = estimate.covariance
+    rate_cov = cov[:, 3:, 3:] + np.eye(3) * gyro_noise_var
+    attitude = MessageBatch(IMU, inputs.stamp_ns, BODY_FRAME, {
+        "orientation": quaternion_from_orthonormal(estimate.attitude),
+        "orientation_covariance": cov[:, :3, :3].reshape(n, 9),
+        "angular_velocity": inputs.gyro - estimate.bias,
+        "angular_velocity_covariance": rate_cov.reshape(n, 9),
+        "linear_acceleration": inputs.accel,
+        "linear_acceleration_covariance": inputs.accel_covariance})
+    bias = MessageBatch(VECTOR3_STAMPED, inputs.stamp_ns, BODY_FRAME,
+                        {"vector": estimate.bias})
+    return {ATTITUDE_TOPIC: attitude, GYRO_BIAS_TOPIC: bias}
+
+
+def attitude_errors(estimate: AttitudeEstimate, truth_quat: np.ndarray) -> np.ndarray:
+    """Roll, pitch, yaw of the estimate minus the truth's [rad], wrapped, (N, 3)."""
+    from scipy.spatial.transform import Rotation
+
+    truth = Rotation.from_quat(truth_quat).as_euler("ZYX")[:, ::-1]
+    return np.angle(np.exp(1j * (estimate.euler - truth)))
+
+
+def attitude_report(inputs: PocketInputs, estimate: AttitudeEstimate,
+                    truth_quat: np.ndarray | None,
+                    true_bias_radps: np.ndarray | None) -> dict:
+    """The report of ``pdr-pocket attitude`` (angles in degrees, biases in °/s)."""
+    report: dict = {"samples": len(inputs.t), "duration_s": float(inputs.t[-1]),
+                    "dropped": inputs.counts,
+                    "update_fraction": estimate.fraction_ran(),
+                    "saturated_fraction": float(estimate.detected[:, 3].mean()),
+                    "final_bias_deg_per_s": np.degrees(estimate.bias[-1]).tolist(),
+                    "final_bias_sigma_deg_per_s": np.degrees(estimate.bias_sigma[-1]).tolist()}
+    if truth_quat is not None:
+        err = np.degrees(attitude_errors(estimate, truth_quat))
+        report["rmse_deg"] = dict(zip(("roll", "pitch", "yaw"),
+                                      np.sqrt(np.mean(err**2, axis=0)).tolist(), strict=True))
+        report["final_error_deg"] = dict(zip(("roll", "pitch", "yaw"), err[-1].tolist(),
+                                             strict=True))
+    if true_bias_radps is not None:
+        report["final_bias_error_deg_per_s"] = np.degrees(
+            estimate.bias[-1] - np.asarray(true_bias_radps)).tolist()
+    return report

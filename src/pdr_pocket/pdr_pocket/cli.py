@@ -1,0 +1,183 @@
+"""``pdr-pocket``: offline tools of the pocket navigator (no ROS graph needed).
+
+Subcommands:
+    attitude BAG --out OUT      the orientation filter (Muñoz Díaz 2016, chapter 3) on
+                                imu/data and imu/mag: OUT/ as a bag with
+                                pdr/pocket/attitude and pdr/pocket/gyro_bias at every
+                                sample, OUT/report.json, and with --plot OUT/attitude.png.
+    calibrate-mag BAG|CSV       ellipsoid fit of raw magnetometer readings (Section 3.4.4):
+                                writes the YAML the filter loads, prints the residual and
+                                the sphere coverage, draws the raw cloud and the sphere.
+
+Errors in the input exit with status 2 and one line naming the file and the problem.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from pdr_core import topics
+from pdr_core.bag import BagReader, BagWriter
+from pdr_core.errors import InputError, dispatch
+from pdr_core.magnetic_field import homogeneous
+from pdr_core.metrics import truth_orientation_at
+from pdr_pocket.attitude_offline import (
+    attitude_batches,
+    attitude_errors,
+    attitude_report,
+    pocket_inputs,
+)
+from pdr_pocket.config import load_pocket_config, orientation_from_allan
+from pdr_pocket.magnetometer import MIN_COVERAGE, MagCalibration, calibrate
+from pdr_pocket.orientation import OrientationFilter
+
+MAG_UNITS_T = {"t": 1.0, "ut": 1e-6, "nt": 1e-9, "gauss": 1e-4}
+
+
+def _add_attitude(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "attitude", help="the orientation filter on a bag",
+        description="Run the orientation UKF (Muñoz Díaz 2016, chapter 3) on imu/data and "
+                    "imu/mag. Writes OUT/ as a bag with pdr/pocket/attitude (sensor_msgs/Imu "
+                    "with orientation and covariance) and pdr/pocket/gyro_bias, and "
+                    "OUT/report.json (roll/pitch/yaw RMSE against ground_truth/pose and the "
+                    "final bias errors when the bag has the truth, the share of samples "
+                    "each update ran).")
+    p.add_argument("bag", type=Path)
+    p.add_argument("--out", type=Path, required=True)
+    p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
+                                               "default: the installed config/pocket_pdr.yaml")
+    p.add_argument("--allan", type=Path, help="take the gyroscope noise from this allan.csv "
+                                              "of pdr-sim allan")
+    p.add_argument("--mag-calibration", type=Path,
+                   help="YAML of pdr-pocket calibrate-mag (overrides the configuration's)")
+    p.add_argument("--plot", action="store_true", help="also write OUT/attitude.png")
+    p.add_argument("--overwrite", action="store_true")
+    p.set_defaults(func=_run_attitude)
+
+
+def _run_attitude(args: argparse.Namespace) -> int:
+    config = load_pocket_config(args.config)
+    orientation = config.orientation
+    if args.allan:
+        orientation = orientation_from_allan(args.allan, orientation)
+    calibration_file = args.mag_calibration or config.magnetometer_calibration
+    calibration = MagCalibration.load(calibration_file) if calibration_file else None
+    reader = BagReader(args.bag)
+    reader.require_topics([topics.IMU_DATA])
+    has_truth = topics.GROUND_TRUTH_POSE in reader.topics
+    wanted = [t for t in (topics.IMU_DATA, topics.IMU_MAG, topics.GROUND_TRUTH_POSE)
+              if t in reader.topics]
+    batches = reader.read_batches(wanted)
+    inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG), calibration)
+    filt = OrientationFilter(orientation)
+    estimate = filt.run(inputs.t, inputs.gyro, inputs.accel, inputs.mag)
+    truth = truth_orientation_at(batches[topics.GROUND_TRUTH_POSE], inputs.stamp_ns) \
+        if has_truth else None
+    record = reader.custom_data("pdr.simulation") or {}
+    true_bias = record.get("true_gyro_bias_radps")
+    report = attitude_report(inputs, estimate, truth, true_bias)
+    with BagWriter(args.out, overwrite=args.overwrite) as writer:
+        writer.write_merged(attitude_batches(inputs, estimate, filt.params.gyro_noise_var))
+        (writer.staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+        if args.plot:
+            from pdr_pocket import plots
+            errors = None if truth is None else np.degrees(attitude_errors(estimate, truth))
+            plots.attitude_png(inputs.t, errors, np.degrees(estimate.euler_sigma),
+                               np.degrees(estimate.bias), np.degrees(estimate.bias_sigma),
+                               None if true_bias is None else np.degrees(true_bias),
+                               writer.staging / "attitude.png", str(args.bag))
+    print(json.dumps(report, indent=2))
+    return 0
+
+
+def _add_calibrate_mag(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "calibrate-mag", help="fit the magnetometer's hard and soft iron",
+        description="Least-squares ellipsoid fit (Muñoz Díaz 2016, Section 3.4.4) of raw "
+                    "magnetometer readings taken while turning the sensor through all "
+                    "directions in a homogeneous field: rotation M, offset l and scale ξ. "
+                    "Writes the YAML the filter loads (configuration key "
+                    "magnetometer_calibration, or --mag-calibration), prints the residual "
+                    "and the share of the sphere the readings cover, and refuses data that "
+                    "covers too little.")
+    p.add_argument("source", type=Path, help="bag (imu/mag) or CSV file")
+    p.add_argument("--out", type=Path, required=True, help="calibration YAML to write")
+    p.add_argument("--field-norm-ut", type=float,
+                   help="strength of the local field [µT] (default: a simulated bag's "
+                        "field, else the readings' median norm)")
+    p.add_argument("--min-coverage", type=float, default=MIN_COVERAGE,
+                   help="least share of the sphere of directions to accept (0-1)")
+    p.add_argument("--mag-cols", default="mag_x,mag_y,mag_z", help="CSV columns")
+    p.add_argument("--mag-unit", choices=sorted(MAG_UNITS_T), default="ut", help="CSV unit")
+    p.add_argument("--topic", default=topics.IMU_MAG)
+    p.add_argument("--plot", type=Path, metavar="PNG", help="raw cloud and fitted sphere")
+    p.set_defaults(func=_run_calibrate_mag)
+
+
+def _csv_mag(path: Path, columns: str, unit: str) -> np.ndarray:
+    try:
+        data = np.genfromtxt(path, delimiter=",", names=True)
+        names = [c.strip() for c in columns.split(",")]
+        missing = [c for c in names if c not in (data.dtype.names or ())]
+        if missing:
+            raise InputError(path, f"no column {missing[0]!r} (columns: "
+                                   f"{', '.join(data.dtype.names or ())})")
+        return np.column_stack([data[c] for c in names]) * MAG_UNITS_T[unit]
+    except (OSError, ValueError) as exc:
+        raise InputError(path, f"cannot read the CSV ({exc})") from exc
+
+
+def _simulated_field_norm_t(reader: BagReader) -> float | None:
+    """|H∞| of a simulated bag's homogeneous field (None when not known)."""
+    record = reader.custom_data("pdr.simulation") or {}
+    spec = ((record.get("scenario") or {}).get("environment") or {}).get("magnetic_field") or {}
+    if spec.get("vector_ut") is not None:
+        return float(np.linalg.norm(spec["vector_ut"])) * 1e-6
+    preset = spec.get("preset", "munich") if record else None
+    return None if preset is None else float(np.linalg.norm(homogeneous(preset)))
+
+
+def _run_calibrate_mag(args: argparse.Namespace) -> int:
+    norm = None if args.field_norm_ut is None else args.field_norm_ut * 1e-6
+    if args.source.suffix.lower() == ".csv":
+        raw = _csv_mag(args.source, args.mag_cols, args.mag_unit)
+    else:
+        reader = BagReader(args.source)
+        raw = reader.read(args.topic)["magnetic_field"]
+        norm = norm or _simulated_field_norm_t(reader)
+    result = calibrate(raw, norm, args.min_coverage, str(args.source))
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(result.to_yaml())
+    d = result.distortion
+    print(f"{args.source}: {len(raw)} readings covering {100 * result.coverage:.0f} % of the "
+          f"sphere, |H| {result.field_norm_t * 1e6:.2f} µT\n"
+          f"xi {d.xi:.4f}  offset {np.round(d.offset, 4).tolist()}  "
+          f"M {np.round(d.M, 4).tolist()}\n"
+          f"residual RMS of |calibrated|/|H| - 1: {result.residual_rms:.5f}\nwrote {args.out}")
+    if args.plot:
+        from pdr_pocket import plots
+        finite = raw[np.isfinite(raw).all(axis=1)]
+        plots.magnetometer_png(finite * 1e6, result.apply(finite) * 1e6, args.plot,
+                               str(args.source))
+        print(f"plot: {args.plot}")
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    top = argparse.ArgumentParser(prog="pdr-pocket", description=__doc__.split("\n")[0])
+    sub = top.add_subparsers(dest="command", required=True)
+    _add_attitude(sub)
+    _add_calibrate_mag(sub)
+    return top
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    dispatch("pdr-pocket", parser(), argv)
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,672 @@
+"""The orientation filter's per-sample loop, compiled with numba (Muñoz Díaz 2016, ch. 3).
+
+An unscented Kalman filter on the thesis' state x = [φ, θ, ψ, b_x, b_y, b_z] (Eq. (3.1)).
+The attitude part is carried as the direction cosine matrix C = C_b^n (ENU, FLU body) with
+a 3-vector error δθ, a small rotation in the navigation frame (C_true = exp([δθ×])·C): the
+sigma points are C_i = exp([δθ_i×])·C, so nothing ever divides by cos θ, and θ = ±90°
+(a sitting thigh comes close) gives neither NaN nor a jump. φ, θ, ψ are read from C
+(ZYX, :mod:`pdr_core.rotations`) and their covariance from the δθ block; near θ = ±90° only
+the split of the attitude between roll and yaw is ill-defined, as it is for any Euler
+angles. P is the 6 × 6 covariance of [δθ, δb].
+
+Per sample k, with δt from the stamps:
+- prediction, each sigma point: C_i ← C_i·A(ω − b_i − C_iᵀ·ω_ie^n) with Rodrigues' A
+  (Eqs. (3.3)–(3.5)) and the Earth rate of Eqs. (3.23)–(3.24) (zero when no latitude is
+  set), the rotation vector by the trapezoidal rule with the coning term; b_i kept (a
+  random constant, see pdr_pocket.config; b_i ← c·b_i, c = e^{−δt/τ} as Eq. (3.8) when
+  ``bias_mean_decays``); Q = diag(σ_ν²δt² I, σ_n² I) with σ_n² = σ_bias²(1 − c²)
+  (Eq. (3.9));
+- detectors on trailing windows (causal, so the live node gives the offline result):
+  zero acceleration (max |‖α‖ − g| ≤ threshold, and max ‖ω‖ ≤ a rate limit: a thigh
+  turning at its hip puts ω × (ω × r) and ω̇ × r into the accelerometer at the lever arm
+  r, which the norm alone does not see), zero angular rate (max ‖ω‖ ≤ threshold),
+  magnetic disturbance (‖C·μ‖ spread and angle to the window's mean direction, both
+  ≤ thresholds);
+- updates, each switched on or off, applied in turn: absolute gravity [φ̄, θ̄] (Eqs.
+  (3.12)–(3.14)), differential gravity α^k against A(ω − b)ᵀ·α^{k−1} (Eqs. (3.15)–(3.16)),
+  absolute magnetic field μ^k against Cᵀ·μ̄_r with μ̄_r = C·μ at the start of the
+  quasi-constant period (Eq. (3.17)), differential magnetic field μ^k against
+  A(ω − b)ᵀ·μ^{k−1} (Eqs. (3.18)–(3.19)), absolute compass ψ̄ (Eqs. (3.20)–(3.21)),
+  ZARU ω − b = 0 (Eq. (3.22)); and, beyond the thesis, a mean gravity update: over each
+  window of W seconds the specific force turned to the navigation frame sums to
+  g·W·e_up plus the window's change of velocity, which is bounded while walking, so the
+  horizontal part of the summed direction, [0, 0] expected, measures the tilt with
+  σ ≈ σ_Δv/(g·W) (0.6° for W = 10 s and σ_Δv = 1 m/s) at any walking speed. The
+  zero-acceleration periods it does not need are rare on a thigh: on the real
+  ``thigh_revalew`` walk, |‖α‖ − g| ≤ 0.4 m/s² and ‖ω‖ ≤ 40 °/s over 0.1 s never hold
+  while walking, so without it roll and pitch drift through a long walk without stops.
+
+A(ω)ᵀ maps a vector fixed in the navigation frame from the previous body frame to the
+current one (C_k = C_{k−1}·A, so v_b^k = Aᵀ·v_b^{k−1}); the thesis writes A for it.
+The compass is derived in ENU with ψ counter-clockwise from east: a field of azimuth
+γ = 90° − d (d the declination, east positive) reads ψ̄ = γ − atan2(μ_h,y, μ_h,x) from
+the tilt-compensated horizontal field μ_h. The compass and the external yaw correction
+move the attitude only about the vertical (their gain on the tilt is zeroed): the compass
+error follows the tilt error, and a compass applied at every sample as if its errors were
+white otherwise turns yaw residuals into roll. Updates at samples whose gyroscope
+saturated leave the biases alone (their bias gain is zeroed).
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+N_STATE = 6
+ATT, BIAS = 0, 3                        # state blocks: attitude error δθ, bias b
+# update kinds (columns of the "ran" output)
+ABS_GRAVITY, DIFF_GRAVITY, ABS_MAG, DIFF_MAG, COMPASS, ZARU, MEAN_GRAVITY = range(7)
+YAW_CORRECTION, BIAS_Z_CORRECTION = 7, 8
+N_UPDATES = 7
+# detectors (columns of the "detected" output)
+ZERO_ACC, ZERO_RATE, MAG_STEADY, SATURATED = range(4)
+RING = 2048                             # trailing-window capacity [samples]
+
+
+class FilterParams(NamedTuple):
+    """Everything the loop needs, SI units (built by pdr_pocket.config)."""
+
+    gyro_noise_var: float           # σ_ν² [rad²/s²] per sample... times δt² gives Q
+    bias_tau_s: float               # τ of the AR(1) bias [s] (inf: random constant)
+    bias_sigma: float               # σ_bias [rad/s]
+    bias_mean_decays: bool          # Eq. (3.8) literally (see pdr_pocket.config)
+    earth_rate_n: np.ndarray        # ω_ie^n (3,) [rad/s], zeros when off
+    gravity: float                  # [m/s²]
+    use: np.ndarray                 # (6,) bool: which updates run
+    gravity_angle_var: float        # [rad²] of φ̄, θ̄ at θ = 0
+    diff_gravity_var: float         # [m²/s⁴] per axis
+    mag_var: float                  # [T²] per axis (absolute and differential)
+    compass_var: float              # [rad²]
+    zaru_var: float                 # [rad²/s²] per axis
+    mean_gravity_window_s: float    # the mean gravity update's window [s]
+    mean_gravity_velocity_var: float    # [m²/s²] of the velocity change over a window
+    field_azimuth: float            # γ = π/2 − declination [rad]
+    zero_acc_window_s: float
+    zero_acc_threshold: float       # [m/s²]
+    zero_acc_max_rate: float        # [rad/s] and the thigh turning no faster than this
+    zero_rate_window_s: float
+    zero_rate_threshold: float      # [rad/s]
+    mag_window_s: float
+    mag_norm_threshold: float       # [T]
+    mag_direction_threshold: float  # [rad]
+    max_gap_s: float
+
+
+class FilterState(NamedTuple):
+    """The filter's memory, mutated in place by :func:`filter_loop` (so a live node can
+    feed it one sample at a time and get the offline result)."""
+
+    attitude: np.ndarray            # (3, 3) C_b^n
+    bias: np.ndarray                # (3,) [rad/s]
+    covariance: np.ndarray          # (6, 6)
+    scalars: np.ndarray             # [t_prev, started, ring_count, ring_head, mag_was_steady,
+                                    #  gap_count, mean_gravity_time]
+    force_sum: np.ndarray           # (3,) Σ C·f·δt over the mean gravity window
+    previous_gyro: np.ndarray       # (3,)
+    previous_accel: np.ndarray      # (3,)
+    previous_mag: np.ndarray        # (3,); NaN when the last sample had none
+    mag_reference: np.ndarray       # (3,) μ̄_r, navigation frame
+    ring_t: np.ndarray              # (RING,) trailing windows: stamps
+    ring_acc: np.ndarray            # (RING,) |‖α‖ − g|
+    ring_rate: np.ndarray           # (RING,) ‖ω‖
+    ring_mag: np.ndarray            # (RING, 3) C·μ (NaN: no reading)
+
+
+T_PREV, STARTED, RING_COUNT, RING_HEAD, MAG_WAS_STEADY, GAPS, WINDOW_TIME = range(7)
+
+
+class Workspace(NamedTuple):
+    """Scratch arrays reused by every predict and update (no allocation per sample)."""
+
+    deviations: np.ndarray          # (2n, n) sigma-point deviations
+    attitudes: np.ndarray           # (2n, 3, 3)
+    biases: np.ndarray              # (2n, 3)
+    propagated: np.ndarray          # (2n, n)
+    root: np.ndarray                # (n, n)
+    m1: np.ndarray                  # (3, 3) scratch
+    m2: np.ndarray
+    m3: np.ndarray
+
+
+@njit(cache=True)
+def workspace():
+    n2 = 2 * N_STATE
+    return Workspace(np.empty((n2, N_STATE)), np.empty((n2, 3, 3)), np.empty((n2, 3)),
+                     np.empty((n2, N_STATE)), np.empty((N_STATE, N_STATE)), np.empty((3, 3)),
+                     np.empty((3, 3)), np.empty((3, 3)))
+
+
+# --- rotations -------------------------------------------------------------------------
+@njit(cache=True)
+def rodrigues(w0, w1, w2, out):
+    """A = exp([w×]) for a rotation vector w [rad] (Eq. (3.4) with B = [w×], σ = |w|)."""
+    s2 = w0 * w0 + w1 * w1 + w2 * w2
+    s = np.sqrt(s2)
+    if s < 1e-8:
+        a, b = 1.0 - s2 / 6.0, 0.5 - s2 / 24.0
+    else:
+        a, b = np.sin(s) / s, (1.0 - np.cos(s)) / s2
+    out[0, 0] = 1.0 - b * (w1 * w1 + w2 * w2)
+    out[1, 1] = 1.0 - b * (w0 * w0 + w2 * w2)
+    out[2, 2] = 1.0 - b * (w0 * w0 + w1 * w1)
+    out[0, 1] = -a * w2 + b * w0 * w1
+    out[1, 0] = a * w2 + b * w0 * w1
+    out[0, 2] = a * w1 + b * w0 * w2
+    out[2, 0] = -a * w1 + b * w0 * w2
+    out[1, 2] = -a * w0 + b * w1 * w2
+    out[2, 1] = a * w0 + b * w1 * w2
+
+
+@njit(cache=True)
+def rotation_log(r, out):
+    """The rotation vector of a rotation matrix (the inverse of :func:`rodrigues`)."""
+    c = (r[0, 0] + r[1, 1] + r[2, 2] - 1.0) / 2.0
+    c = min(1.0, max(-1.0, c))
+    angle = np.arccos(c)
+    v0, v1, v2 = r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]
+    if angle < 1e-6:
+        k = 0.5 + angle * angle / 12.0
+    elif angle > np.pi - 1e-6:
+        # near π: the axis from the diagonal
+        k = 0.0
+        d = np.array([r[0, 0], r[1, 1], r[2, 2]])
+        i = int(np.argmax(d))
+        axis = np.zeros(3)
+        axis[i] = np.sqrt(max(0.0, (d[i] + 1.0) / 2.0))
+        for j in range(3):
+            if j != i:
+                axis[j] = (r[i, j] + r[j, i]) / (4.0 * axis[i])
+        out[0], out[1], out[2] = axis[0] * angle, axis[1] * angle, axis[2] * angle
+        return
+    else:
+        k = angle / (2.0 * np.sin(angle))
+    out[0], out[1], out[2] = k * v0, k * v1, k * v2
+
+
+@njit(cache=True)
+def euler_of(c, out):
+    """Roll, pitch, yaw [rad] of C = Rz(ψ)·Ry(θ)·Rx(φ); finite at θ = ±90°."""
+    out[0] = np.arctan2(c[2, 1], c[2, 2])
+    out[1] = -np.arcsin(min(1.0, max(-1.0, c[2, 0])))
+    out[2] = np.arctan2(c[1, 0], c[0, 0])
+
+
+@njit(cache=True)
+def _mul(a, b, out):
+    """out = a·b for 3 × 3 matrices (loops: BLAS calls cost more than the arithmetic)."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
+
+
+@njit(cache=True)
+def _mul_bt(a, b, out):
+    """out = a·bᵀ for 3 × 3 matrices."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, 0] * b[j, 0] + a[i, 1] * b[j, 1] + a[i, 2] * b[j, 2]
+
+
+@njit(cache=True)
+def _cholesky(a, out):
+    """Lower L with L·Lᵀ = a (n × n); False when a is not positive definite."""
+    n = a.shape[0]
+    for j in range(n):
+        s = a[j, j]
+        for k in range(j):
+            s -= out[j, k] * out[j, k]
+        if s <= 0.0:
+            return False
+        d = np.sqrt(s)
+        out[j, j] = d
+        for i in range(j + 1, n):
+            s = a[i, j]
+            for k in range(j):
+                s -= out[i, k] * out[j, k]
+            out[i, j] = s / d
+        for i in range(j):
+            out[i, j] = 0.0
+    return True
+
+
+@njit(cache=True)
+def _inverse_spd(a, out):
+    """out = a⁻¹ for a small symmetric positive-definite matrix, by Cholesky."""
+    n = a.shape[0]
+    low = np.empty((n, n))
+    if not _cholesky(a, low):
+        out[:, :] = np.linalg.pinv(a)
+        return
+    inv_low = np.zeros((n, n))
+    for i in range(n):
+        inv_low[i, i] = 1.0 / low[i, i]
+        for j in range(i):
+            s = 0.0
+            for k in range(j, i):
+                s -= low[i, k] * inv_low[k, j]
+            inv_low[i, j] = s / low[i, i]
+    for i in range(n):
+        for j in range(n):
+            s = 0.0
+            for k in range(max(i, j), n):
+                s += inv_low[k, i] * inv_low[k, j]
+            out[i, j] = s
+
+
+@njit(cache=True)
+def _wrap(a):
+    return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
+# --- sigma points ----------------------------------------------------------------------
+@njit(cache=True)
+def _sqrt_cov(p, out):
+    """A square root L (L·Lᵀ = N·P) of the scaled covariance; an eigen-decomposition with
+    non-negative eigenvalues when Cholesky fails (P driven indefinite by rounding)."""
+    scaled = N_STATE * 0.5 * (p + p.T)
+    if not _cholesky(scaled, out):
+        w, v = np.linalg.eigh(scaled)
+        for j in range(N_STATE):
+            out[:, j] = v[:, j] * np.sqrt(max(w[j], 0.0))
+
+
+@njit(cache=True)
+def _sigma_points(state, work):
+    """The 2n sigma points (weights 1/2n, λ = 0) into the workspace: deviations (2n, 6)
+    and, per point, the attitude (2n, 3, 3) and bias (2n, 3)."""
+    root, rot = work.root, work.m1
+    sigma_att, sigma_bias, deviations = work.attitudes, work.biases, work.deviations
+    _sqrt_cov(state.covariance, root)
+    for j in range(N_STATE):
+        for sign in range(2):
+            i = 2 * j + sign
+            s = 1.0 if sign == 0 else -1.0
+            for m in range(N_STATE):
+                deviations[i, m] = s * root[m, j]
+            rodrigues(deviations[i, 0], deviations[i, 1], deviations[i, 2], rot)
+            _mul(rot, state.attitude, sigma_att[i])
+            for m in range(3):
+                sigma_bias[i, m] = state.bias[m] + deviations[i, BIAS + m]
+
+
+# --- prediction ------------------------------------------------------------------------
+@njit(cache=True)
+def _body_increment(c, gyro, previous_gyro, bias, earth_n, dt, out):
+    """A over δt for the rate ω − b − Cᵀ·ω_ie^n, the rotation vector taken by the
+    trapezoidal rule with the coning term, (ω_{k−1} + ω_k)·δt/2 + ω_{k−1} × ω_k·δt²/12
+    (the thesis' ω^k·δt is first order: at 100 Hz it turns a thigh's swing by 0.5°)."""
+    e0 = c[0, 0] * earth_n[0] + c[1, 0] * earth_n[1] + c[2, 0] * earth_n[2]
+    e1 = c[0, 1] * earth_n[0] + c[1, 1] * earth_n[1] + c[2, 1] * earth_n[2]
+    e2 = c[0, 2] * earth_n[0] + c[1, 2] * earth_n[1] + c[2, 2] * earth_n[2]
+    a0, a1, a2 = previous_gyro[0] - bias[0] - e0, previous_gyro[1] - bias[1] - e1, \
+        previous_gyro[2] - bias[2] - e2
+    b0, b1, b2 = gyro[0] - bias[0] - e0, gyro[1] - bias[1] - e1, gyro[2] - bias[2] - e2
+    k = dt * dt / 12.0
+    rodrigues((a0 + b0) * dt / 2 + k * (a1 * b2 - a2 * b1),
+              (a1 + b1) * dt / 2 + k * (a2 * b0 - a0 * b2),
+              (a2 + b2) * dt / 2 + k * (a0 * b1 - a1 * b0), out)
+
+
+@njit(cache=True)
+def predict(state, params, gyro, dt, work):
+    """Propagate mean and covariance over δt with the (bias-corrected) rate: see
+    :func:`_body_increment`."""
+    prev = state.previous_gyro
+    n2 = 2 * N_STATE
+    _sigma_points(state, work)
+    sat, sbias = work.attitudes, work.biases
+    c_decay = 1.0 if not np.isfinite(params.bias_tau_s) else np.exp(-dt / params.bias_tau_s)
+    c_mean = c_decay if params.bias_mean_decays else 1.0
+    inc = np.empty((3, 3))
+    _body_increment(state.attitude, gyro, prev, state.bias, params.earth_rate_n, dt, inc)
+    mean_att = np.empty((3, 3))
+    _mul(state.attitude, inc, mean_att)
+    mean_bias = c_mean * state.bias
+    prop = work.propagated
+    err = np.empty(3)
+    moved, rel = work.m2, work.m3
+    for i in range(n2):
+        _body_increment(sat[i], gyro, prev, sbias[i], params.earth_rate_n, dt, inc)
+        _mul(sat[i], inc, moved)
+        _mul_bt(moved, mean_att, rel)
+        rotation_log(rel, err)
+        for m in range(3):
+            prop[i, m] = err[m]
+            prop[i, BIAS + m] = c_mean * sbias[i, m] - mean_bias[m]
+    centre = np.zeros(N_STATE)
+    for i in range(n2):
+        centre += prop[i] / n2
+    # the mean is the propagated centre, not re-centred on the sigma points' average:
+    # that average holds the second-order (commutator) term of the rotation composition,
+    # which on ±σ points does not cancel and walked the yaw of an ideal gyroscope by
+    # 2° in two minutes
+    state.attitude[:, :] = mean_att
+    for m in range(3):
+        state.bias[m] = mean_bias[m]
+    p = np.zeros((N_STATE, N_STATE))
+    for i in range(n2):
+        for a in range(N_STATE):
+            da = (prop[i, a] - centre[a]) / n2
+            for b in range(N_STATE):
+                p[a, b] += da * (prop[i, b] - centre[b])
+    q_att = params.gyro_noise_var * dt * dt
+    q_bias = params.bias_sigma ** 2 * (1.0 - c_decay * c_decay)
+    for m in range(3):
+        p[m, m] += q_att
+        p[BIAS + m, BIAS + m] += q_bias
+    state.covariance[:, :] = 0.5 * (p + p.T)
+
+
+# --- updates ---------------------------------------------------------------------------
+@njit(cache=True)
+def _measure(kind, att, bias, gyro, previous_gyro, dt, params, prev_vec, ref_vec, out):
+    """h(x) of one sigma point for update ``kind`` (see the module docstring)."""
+    if kind == ABS_GRAVITY:
+        e = np.empty(3)
+        euler_of(att, e)
+        out[0], out[1] = e[0], e[1]
+    elif kind in (DIFF_GRAVITY, DIFF_MAG):
+        inc = np.empty((3, 3))
+        _body_increment(att, gyro, previous_gyro, bias, params.earth_rate_n, dt, inc)
+        for m in range(3):
+            out[m] = inc[0, m] * prev_vec[0] + inc[1, m] * prev_vec[1] + inc[2, m] * prev_vec[2]
+    elif kind == ABS_MAG:
+        for m in range(3):
+            out[m] = att[0, m] * ref_vec[0] + att[1, m] * ref_vec[1] + att[2, m] * ref_vec[2]
+    elif kind in (COMPASS, YAW_CORRECTION):
+        out[0] = np.arctan2(att[1, 0], att[0, 0])
+    elif kind == MEAN_GRAVITY:
+        v0 = att[0, 0] * ref_vec[0] + att[0, 1] * ref_vec[1] + att[0, 2] * ref_vec[2]
+        v1 = att[1, 0] * ref_vec[0] + att[1, 1] * ref_vec[1] + att[1, 2] * ref_vec[2]
+        v2 = att[2, 0] * ref_vec[0] + att[2, 1] * ref_vec[1] + att[2, 2] * ref_vec[2]
+        norm = np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+        out[0], out[1] = v0 / norm, v1 / norm
+    elif kind == ZARU:
+        e = params.earth_rate_n
+        for m in range(3):
+            out[m] = gyro[m] - bias[m] - (att[0, m] * e[0] + att[1, m] * e[1] + att[2, m] * e[2])
+    else:  # BIAS_Z_CORRECTION
+        out[0] = bias[2]
+
+
+@njit(cache=True)
+def _angular(kind, m):
+    """Whether measurement component m of ``kind`` is an angle (wrapped)."""
+    return kind in (ABS_GRAVITY, COMPASS, YAW_CORRECTION)
+
+
+@njit(cache=True)
+def update(state, params, kind, z, r, gyro, dt, prev_vec, ref_vec, freeze_bias, work):
+    """One unscented update with measurement ``z`` (m,) and noise ``r`` (m, m); returns
+    the normalised innovation squared ν^T·S^{-1}·ν. ``freeze_bias`` zeroes the bias gain."""
+    m_dim = z.shape[0]
+    n2 = 2 * N_STATE
+    _sigma_points(state, work)
+    dev, sat, sbias = work.deviations, work.attitudes, work.biases
+    h_mean = np.empty(m_dim)
+    _measure(kind, state.attitude, state.bias, gyro, state.previous_gyro, dt, params, prev_vec,
+             ref_vec, h_mean)
+    hs = np.empty((n2, m_dim))
+    h = np.empty(m_dim)
+    for i in range(n2):
+        _measure(kind, sat[i], sbias[i], gyro, state.previous_gyro, dt, params, prev_vec,
+                 ref_vec, h)
+        for m in range(m_dim):
+            d = h[m] - h_mean[m]
+            hs[i, m] = _wrap(d) if _angular(kind, m) else d
+    dbar = np.zeros(m_dim)
+    for i in range(n2):
+        dbar += hs[i] / n2
+    s = r.copy()
+    pxz = np.zeros((N_STATE, m_dim))
+    for i in range(n2):
+        for a in range(m_dim):
+            da = (hs[i, a] - dbar[a]) / n2
+            for b in range(m_dim):
+                s[a, b] += da * (hs[i, b] - dbar[b])
+            for b in range(N_STATE):
+                pxz[b, a] += dev[i, b] * da
+    innovation = np.empty(m_dim)
+    for m in range(m_dim):
+        v = z[m] - (h_mean[m] + dbar[m])
+        innovation[m] = _wrap(v) if _angular(kind, m) else v
+    s_inv = np.empty((m_dim, m_dim))
+    _inverse_spd(s, s_inv)
+    gain = np.zeros((N_STATE, m_dim))
+    heading_only = kind in (COMPASS, YAW_CORRECTION)
+    for a in range(N_STATE):
+        if (freeze_bias and a >= BIAS) or (heading_only and a < 2):
+            continue
+        for b in range(m_dim):
+            for c in range(m_dim):
+                gain[a, b] += pxz[a, c] * s_inv[c, b]
+    dx = np.zeros(N_STATE)
+    for a in range(N_STATE):
+        for b in range(m_dim):
+            dx[a] += gain[a, b] * innovation[b]
+    rot, corrected = work.m1, work.m2
+    rodrigues(dx[0], dx[1], dx[2], rot)
+    _mul(rot, state.attitude, corrected)
+    state.attitude[:, :] = corrected
+    for m in range(3):
+        state.bias[m] += dx[BIAS + m]
+    # P − K·Pxzᵀ − Pxz·Kᵀ + K·S·Kᵀ: valid for any gain (the bias rows zeroed make it
+    # sub-optimal); with the optimal gain it is P − K·S·Kᵀ
+    ks = np.zeros((N_STATE, m_dim))
+    for a in range(N_STATE):
+        for b in range(m_dim):
+            for c in range(m_dim):
+                ks[a, b] += gain[a, c] * s[c, b]
+    p = state.covariance
+    for a in range(N_STATE):
+        for b in range(a, N_STATE):
+            v = p[a, b]
+            for c in range(m_dim):
+                v += -gain[a, c] * pxz[b, c] - pxz[a, c] * gain[b, c] + ks[a, c] * gain[b, c]
+            p[a, b] = v
+            p[b, a] = v
+    nis = 0.0
+    for a in range(m_dim):
+        for b in range(m_dim):
+            nis += innovation[a] * s_inv[a, b] * innovation[b]
+    return nis
+
+
+# --- detectors ---------------------------------------------------------------------------
+@njit(cache=True)
+def _push_ring(state, t, acc_dev, rate_norm, mag_n):
+    s = state.scalars
+    head = int(s[RING_HEAD])
+    state.ring_t[head] = t
+    state.ring_acc[head] = acc_dev
+    state.ring_rate[head] = rate_norm
+    state.ring_mag[head, :] = mag_n
+    s[RING_HEAD] = (head + 1) % RING
+    s[RING_COUNT] = min(RING, s[RING_COUNT] + 1)
+
+
+@njit(cache=True)
+def _window_max(state, values, t, window_s):
+    """Max of ``values`` over the samples of the last ``window_s`` seconds (−1 when the
+    window is not yet full)."""
+    s = state.scalars
+    count, head = int(s[RING_COUNT]), int(s[RING_HEAD])
+    best = -np.inf
+    covered = False
+    for j in range(count):
+        i = (head - 1 - j) % RING
+        if t - state.ring_t[i] > window_s + 1e-9:
+            covered = True
+            break
+        best = max(best, values[i])
+    return best if covered else -1.0
+
+
+@njit(cache=True)
+def _mag_steady(state, t, params):
+    """Norm spread and angle to the mean direction of C·μ over the trailing window."""
+    s = state.scalars
+    count, head = int(s[RING_COUNT]), int(s[RING_HEAD])
+    total = np.zeros(3)
+    lo, hi = np.inf, -np.inf
+    n = 0
+    covered = False
+    for j in range(count):
+        i = (head - 1 - j) % RING
+        if t - state.ring_t[i] > params.mag_window_s + 1e-9:
+            covered = True
+            break
+        v = state.ring_mag[i]
+        if not np.isfinite(v[0]):
+            return False
+        norm = np.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+        lo, hi = min(lo, norm), max(hi, norm)
+        total += v / max(norm, 1e-12)
+        n += 1
+    if not covered or n < 2 or hi - lo > params.mag_norm_threshold:
+        return False
+    mean = total / max(np.sqrt(total[0] ** 2 + total[1] ** 2 + total[2] ** 2), 1e-12)
+    min_cos = np.cos(params.mag_direction_threshold)
+    for j in range(n):
+        i = (head - 1 - j) % RING
+        v = state.ring_mag[i]
+        if v[0] * mean[0] + v[1] * mean[1] + v[2] * mean[2] < min_cos * np.sqrt(
+                v[0] ** 2 + v[1] ** 2 + v[2] ** 2):
+            return False
+    return True
+
+
+# --- the loop ----------------------------------------------------------------------------
+@njit(cache=True)
+def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bias_out,
+                covariance_out, detected_out, ran_out):
+    """Run the filter over samples t (N,) [s], gyro, accel (N, 3) [rad/s, m/s²], mag
+    (N, 3) [T] (rows of NaN: no reading), saturated (N,) bool; fill attitude_out
+    (N, 3, 3), bias_out (N, 3), covariance_out (N, 6, 6), detected_out (N, 4) and
+    ran_out (N, 6) (bool). The first sample ever only initialises the clock."""
+    s = state.scalars
+    use = params.use
+    work = workspace()
+    two = np.empty(2)
+    r2 = np.zeros((2, 2))
+    r3 = np.eye(3)
+    one = np.empty(1)
+    r1 = np.empty((1, 1))
+    nav = np.empty(3)
+    for k in range(t.shape[0]):
+        if s[STARTED] == 0.0:
+            dt = 0.0
+            s[STARTED] = 1.0
+        else:
+            dt = t[k] - s[T_PREV]
+            if dt > params.max_gap_s:
+                s[GAPS] += 1.0
+        s[T_PREV] = t[k]
+        if dt > 0.0:
+            predict(state, params, gyro[k], dt, work)
+        a = accel[k]
+        mu = mag[k]
+        has_mag = np.isfinite(mu[0])
+        if has_mag:
+            for m in range(3):
+                nav[m] = (state.attitude[m, 0] * mu[0] + state.attitude[m, 1] * mu[1]
+                          + state.attitude[m, 2] * mu[2])
+        else:
+            nav[:] = np.nan
+        acc_dev = abs(np.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2) - params.gravity)
+        w = gyro[k]
+        _push_ring(state, t[k], acc_dev, np.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2), nav)
+        zero_acc = 0.0 <= _window_max(state, state.ring_acc, t[k], params.zero_acc_window_s) \
+            <= params.zero_acc_threshold and _window_max(
+                state, state.ring_rate, t[k], params.zero_acc_window_s) <= params.zero_acc_max_rate
+        zero_rate = 0.0 <= _window_max(state, state.ring_rate, t[k],
+                                       params.zero_rate_window_s) <= params.zero_rate_threshold
+        steady = has_mag and _mag_steady(state, t[k], params)
+        if steady and s[MAG_WAS_STEADY] == 0.0:
+            state.mag_reference[:] = nav
+        s[MAG_WAS_STEADY] = 1.0 if steady else 0.0
+        frozen = saturated[k]
+        detected_out[k, ZERO_ACC], detected_out[k, ZERO_RATE] = zero_acc, zero_rate
+        detected_out[k, MAG_STEADY], detected_out[k, SATURATED] = steady, frozen
+        for u in range(N_UPDATES):
+            ran_out[k, u] = False
+        if dt > 0.0:
+            if use[ABS_GRAVITY] and zero_acc:
+                two[0] = np.arctan2(a[1], a[2])
+                two[1] = np.arctan2(-a[0], np.sqrt(a[1] ** 2 + a[2] ** 2))
+                cos_t = max(np.cos(two[1]), 1e-6)
+                r2[0, 0] = params.gravity_angle_var / (cos_t * cos_t)
+                r2[1, 1] = params.gravity_angle_var
+                update(state, params, ABS_GRAVITY, two, r2, gyro[k], dt, a, a, frozen, work)
+                ran_out[k, ABS_GRAVITY] = True
+            if use[DIFF_GRAVITY] and zero_acc:
+                update(state, params, DIFF_GRAVITY, a.copy(), r3 * params.diff_gravity_var,
+                       gyro[k], dt, state.previous_accel, a, frozen, work)
+                ran_out[k, DIFF_GRAVITY] = True
+            if use[ABS_MAG] and steady:
+                update(state, params, ABS_MAG, mu.copy(), r3 * params.mag_var, gyro[k], dt,
+                       mu, state.mag_reference, frozen, work)
+                ran_out[k, ABS_MAG] = True
+            if use[DIFF_MAG] and steady and np.isfinite(state.previous_mag[0]):
+                update(state, params, DIFF_MAG, mu.copy(), r3 * params.mag_var, gyro[k], dt,
+                       state.previous_mag, mu, frozen, work)
+                ran_out[k, DIFF_MAG] = True
+            if use[COMPASS] and steady:
+                one[0] = compass_yaw(state.attitude, mu, params.field_azimuth)
+                r1[0, 0] = params.compass_var
+                update(state, params, COMPASS, one, r1, gyro[k], dt, mu, mu, frozen, work)
+                ran_out[k, COMPASS] = True
+            s[WINDOW_TIME] += dt
+            for m in range(3):
+                state.force_sum[m] += dt * (state.attitude[m, 0] * a[0]
+                                            + state.attitude[m, 1] * a[1]
+                                            + state.attitude[m, 2] * a[2])
+            if use[MEAN_GRAVITY] and s[WINDOW_TIME] >= params.mean_gravity_window_s:
+                total = params.gravity * s[WINDOW_TIME]
+                two[0], two[1] = 0.0, 0.0
+                r2[0, 0] = r2[1, 1] = params.mean_gravity_velocity_var / (total * total)
+                body = np.empty(3)
+                for m in range(3):
+                    body[m] = (state.attitude[0, m] * state.force_sum[0]
+                               + state.attitude[1, m] * state.force_sum[1]
+                               + state.attitude[2, m] * state.force_sum[2])
+                update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, a, body, frozen, work)
+                ran_out[k, MEAN_GRAVITY] = True
+            if s[WINDOW_TIME] >= params.mean_gravity_window_s:
+                s[WINDOW_TIME] = 0.0
+                state.force_sum[:] = 0.0
+            if use[ZARU] and zero_rate:
+                update(state, params, ZARU, np.zeros(3), r3 * params.zaru_var, gyro[k], dt,
+                       a, a, frozen, work)
+                ran_out[k, ZARU] = True
+        state.previous_gyro[:] = gyro[k]
+        state.previous_accel[:] = a
+        state.previous_mag[:] = mu
+        attitude_out[k] = state.attitude
+        bias_out[k] = state.bias
+        covariance_out[k] = state.covariance
+
+
+@njit(cache=True)
+def compass_yaw(attitude, mu, field_azimuth):
+    """ψ̄ from the field μ (body) tilt-compensated with the roll and pitch of ``attitude``:
+    γ − atan2(μ_h,y, μ_h,x) (the module docstring derives it)."""
+    e = np.empty(3)
+    euler_of(attitude, e)
+    cr, sr, cp, sp = np.cos(e[0]), np.sin(e[0]), np.cos(e[1]), np.sin(e[1])
+    # μ_h = Ry(θ)·Rx(φ)·μ: the body field turned to the horizontal plane
+    y1 = cr * mu[1] - sr * mu[2]
+    z1 = sr * mu[1] + cr * mu[2]
+    x2 = cp * mu[0] + sp * z1
+    return _wrap(field_azimuth - np.arctan2(y1, x2))
+
+
+@njit(cache=True)
+def correct(state, params, kind, value, variance):
+    """An external correction (Muñoz Díaz 2016, Eq. (6.2)): the yaw ψ_L [rad] or the z
+    gyro bias [rad/s] with its variance, as an unscented update; returns the NIS."""
+    z = np.array([value])
+    r = np.array([[variance]])
+    zero = np.zeros(3)
+    return update(state, params, kind, z, r, zero, 0.0, zero, zero, False, workspace())

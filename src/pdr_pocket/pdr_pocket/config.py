@@ -1,0 +1,226 @@
+"""Configuration of the pocket navigator: typed dataclasses from YAML, units in the names.
+
+    orientation:                        # OrientationConfig: the filter of chapter 3
+      gyro_arw_deg_per_sqrt_h: 0.6      # σ_ν, the gyroscope's white noise
+      bias_instability_deg_per_h: 10.0  # β, the Allan deviation's minimum ...
+      bias_instability_time_s: 200.0    # ... at t_β (AR(1): Eqs. (3.10)-(3.11))
+      updates: {absolute_gravity: true, differential_magnetic: true, zaru: true}
+      ...
+    base: other.yaml                    # optional: read that file first
+
+Every key is checked and named when wrong (pdr_core.config_files); the dataclass defaults
+are the shipped ``config/pocket_pdr.yaml`` (tested). :func:`orientation_from_allan` makes
+the orientation section straight from ``pdr-sim allan``'s CSV.
+"""
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pdr_core import units
+from pdr_core.config_files import dataclass_from_mapping, read_config_file
+from pdr_core.constants import STANDARD_GRAVITY_MPS2, earth_rate_enu
+from pdr_core.errors import InputError
+from pdr_pocket.compiled_orientation import FilterParams
+
+
+@dataclass(frozen=True)
+class Updates:
+    """Which updates of Muñoz Díaz 2016, Section 3.3 run (each behind its detector)."""
+
+    absolute_gravity: bool = True       # Eqs. (3.12)-(3.14), zero acceleration
+    differential_gravity: bool = False  # Eqs. (3.15)-(3.16), zero acceleration
+    absolute_magnetic: bool = False     # Eq. (3.17), quasi-constant field
+    differential_magnetic: bool = True  # Eqs. (3.18)-(3.19), quasi-constant field
+    compass: bool = False               # Eqs. (3.20)-(3.21), quasi-constant field
+    zaru: bool = True                   # Eq. (3.22), zero angular rate
+    mean_gravity: bool = True           # beyond the thesis: see compiled_orientation
+
+    def mask(self) -> np.ndarray:
+        """The flags in the order of pdr_pocket.compiled_orientation's update kinds."""
+        return np.array([getattr(self, f.name) for f in fields(self)], dtype=bool)
+
+
+@dataclass(frozen=True)
+class OrientationConfig:
+    """The orientation filter (Muñoz Díaz 2016, chapter 3). Angles in degrees, rates in
+    °/s or °/h at this edge, as the names say; SI inside (:meth:`params`).
+
+    The bias model. Eq. (3.8), b̂^k = c·b^{k−1} + n, pulls the estimate toward zero with
+    the time constant t_β, and its stationary spread σ_bias = β/√τ (Eq. (3.11)) is about
+    10⁻⁴ °/s for a MEMS gyroscope: a turn-on bias of 0.1 °/s is then a thousand-σ outlier
+    the filter cannot hold, and the thesis' own Figs. 3.14-3.17 (biases of ±0.1 °/s found
+    over 10-30 min) could not come out of it. So the bias is carried as a random constant
+    (initial σ ``initial_bias_sigma_deg_per_s``) whose variation follows the AR(1) of Eqs.
+    (3.8)-(3.10): its process noise σ_n² = σ_bias²(1 − e^{−2/τ}) (Eq. (3.9)) is added at
+    every sample. ``bias_mean_decays: true`` applies Eq. (3.8) to the estimate as
+    written."""
+
+    # sensor noise, as pdr-sim allan reads it (Eqs. (3.7)-(3.11))
+    gyro_arw_deg_per_sqrt_h: float = 0.6
+    bias_instability_deg_per_h: float = 10.0
+    bias_instability_time_s: float = 200.0
+    nominal_rate_hz: float = 100.0      # the f_s of Eq. (3.10): τ = t_β·f_s samples
+    bias_mean_decays: bool = False      # True: Eq. (3.8) as written (see the class doc)
+    # initial state
+    initial_bias_sigma_deg_per_s: float = 0.2
+    initial_tilt_sigma_deg: float = 2.0
+    initial_yaw_sigma_deg: float = 5.0
+    initial_yaw_deg: float | None = None    # None: from the compass (magnetometer), else 0
+    # environment
+    latitude_deg: float | None = None   # Earth-rate compensation (Eqs. (3.23)-(3.24)); None: off
+    declination_deg: float = 0.0        # magnetic declination, east positive (Eq. (3.20))
+    gravity_mps2: float = STANDARD_GRAVITY_MPS2
+    # updates and their measurement noise
+    updates: Updates = field(default_factory=Updates)
+    gravity_angle_sigma_deg: float = 2.0        # φ̄, θ̄ of the absolute gravity update
+    differential_gravity_sigma_mps2: float = 0.03
+    magnetic_sigma_ut: float = 0.5              # absolute and differential field updates
+    compass_sigma_deg: float = 5.0
+    zaru_sigma_deg_per_s: float = 0.05
+    mean_gravity_window_s: float = 10.0
+    mean_gravity_velocity_sigma_mps: float = 1.0
+    # detectors (trailing windows, so the live node gives the offline result)
+    zero_acc_window_s: float = 0.1
+    zero_acc_threshold_mps2: float = 0.4
+    zero_acc_max_rate_deg_per_s: float = 20.0   # beyond the thesis: see compiled_orientation
+    zero_rate_window_s: float = 0.5
+    zero_rate_threshold_deg_per_s: float = 3.0
+    mag_window_s: float = 0.5
+    mag_norm_threshold_ut: float = 1.0
+    mag_direction_threshold_deg: float = 3.0
+    # data
+    gyro_range_deg_per_s: float | None = None   # saturation limit; None: flat tops only
+    max_gap_s: float = 0.1
+
+    def __post_init__(self) -> None:
+        positive = ("gyro_arw_deg_per_sqrt_h", "bias_instability_deg_per_h",
+                    "bias_instability_time_s", "nominal_rate_hz", "initial_bias_sigma_deg_per_s",
+                    "initial_tilt_sigma_deg", "initial_yaw_sigma_deg", "gravity_mps2",
+                    "gravity_angle_sigma_deg", "differential_gravity_sigma_mps2",
+                    "magnetic_sigma_ut", "compass_sigma_deg", "zaru_sigma_deg_per_s",
+                    "mean_gravity_window_s", "mean_gravity_velocity_sigma_mps",
+                    "zero_acc_window_s", "zero_acc_threshold_mps2", "zero_acc_max_rate_deg_per_s",
+                    "zero_rate_window_s",
+                    "zero_rate_threshold_deg_per_s", "mag_window_s", "mag_norm_threshold_ut",
+                    "mag_direction_threshold_deg", "max_gap_s")
+        for name in positive:
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
+        if self.latitude_deg is not None and not -90 <= self.latitude_deg <= 90:
+            raise ValueError(f"latitude_deg must be within ±90, got {self.latitude_deg}")
+
+    @property
+    def bias_tau_samples(self) -> float:
+        """τ = t_β·f_s (Eq. (3.10))."""
+        return self.bias_instability_time_s * self.nominal_rate_hz
+
+    @property
+    def bias_sigma_radps(self) -> float:
+        """σ_bias = β/√τ (Eq. (3.11)) [rad/s]."""
+        beta = units.deg_per_h_to_si(self.bias_instability_deg_per_h)
+        return beta / np.sqrt(self.bias_tau_samples)
+
+    def params(self) -> FilterParams:
+        """The compiled loop's parameters, SI units."""
+        arw = units.arw_to_si(self.gyro_arw_deg_per_sqrt_h)       # rad/√s
+        earth = (np.zeros(3) if self.latitude_deg is None
+                 else earth_rate_enu(self.latitude_deg))
+        return FilterParams(
+            gyro_noise_var=arw**2 * self.nominal_rate_hz,        # σ_ν² per sample
+            bias_tau_s=self.bias_instability_time_s, bias_sigma=self.bias_sigma_radps,
+            bias_mean_decays=self.bias_mean_decays,
+            earth_rate_n=earth, gravity=self.gravity_mps2, use=self.updates.mask(),
+            gravity_angle_var=np.radians(self.gravity_angle_sigma_deg) ** 2,
+            diff_gravity_var=self.differential_gravity_sigma_mps2**2,
+            mag_var=(self.magnetic_sigma_ut * 1e-6) ** 2,
+            compass_var=np.radians(self.compass_sigma_deg) ** 2,
+            zaru_var=np.radians(self.zaru_sigma_deg_per_s) ** 2,
+            mean_gravity_window_s=self.mean_gravity_window_s,
+            mean_gravity_velocity_var=self.mean_gravity_velocity_sigma_mps**2,
+            field_azimuth=np.pi / 2 - np.radians(self.declination_deg),
+            zero_acc_window_s=self.zero_acc_window_s,
+            zero_acc_threshold=self.zero_acc_threshold_mps2,
+            zero_acc_max_rate=np.radians(self.zero_acc_max_rate_deg_per_s),
+            zero_rate_window_s=self.zero_rate_window_s,
+            zero_rate_threshold=np.radians(self.zero_rate_threshold_deg_per_s),
+            mag_window_s=self.mag_window_s, mag_norm_threshold=self.mag_norm_threshold_ut * 1e-6,
+            mag_direction_threshold=np.radians(self.mag_direction_threshold_deg),
+            max_gap_s=self.max_gap_s)
+
+
+@dataclass(frozen=True)
+class PocketConfig:
+    """The whole navigator; later issues add their sections beside ``orientation``."""
+
+    orientation: OrientationConfig = field(default_factory=OrientationConfig)
+    magnetometer_calibration: str | None = None   # YAML of pdr-pocket calibrate-mag
+
+
+def orientation_config(data: dict | None, where: str) -> OrientationConfig:
+    values = dict(data or {})
+    updates = values.pop("updates", None)
+    config = dataclass_from_mapping(OrientationConfig, values, where)
+    if updates is not None:
+        if not isinstance(updates, dict):
+            raise InputError(f"{where}.updates", f"expected a mapping, got {updates!r}")
+        config = replace(config, updates=dataclass_from_mapping(Updates, updates,
+                                                                f"{where}.updates"))
+    return config
+
+
+def pocket_config(data: dict | None, where: str = "config") -> PocketConfig:
+    """A PocketConfig from a mapping; InputError names bad keys."""
+    values = dict(data or {})
+    known = {f.name for f in fields(PocketConfig)}
+    for key in values:
+        if key not in known:
+            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(known))})")
+    out: dict[str, Any] = {}
+    if "orientation" in values:
+        out["orientation"] = orientation_config(values["orientation"], f"{where}.orientation")
+    if values.get("magnetometer_calibration") is not None:
+        out["magnetometer_calibration"] = str(values["magnetometer_calibration"])
+    return PocketConfig(**out)
+
+
+def default_config_path() -> Path:
+    """The installed ``config/pocket_pdr.yaml``."""
+    from ament_index_python.packages import get_package_share_directory
+
+    return Path(get_package_share_directory("pdr_pocket")) / "config" / "pocket_pdr.yaml"
+
+
+def load_pocket_config(path: str | Path | None = None) -> PocketConfig:
+    """The configuration of a YAML file (default :func:`default_config_path`); a relative
+    ``magnetometer_calibration`` is taken relative to the file."""
+    path = Path(path) if path else default_config_path()
+    config = pocket_config(read_config_file(path), str(path))
+    calibration = config.magnetometer_calibration
+    if calibration is not None and not Path(calibration).is_absolute():
+        config = replace(config, magnetometer_calibration=str(path.parent / calibration))
+    return config
+
+
+def orientation_from_allan(csv_path: str | Path,
+                           base: OrientationConfig | None = None) -> OrientationConfig:
+    """The orientation section with the gyroscope's noise read by ``pdr-sim allan``
+    (its allan.csv): the mean over the axes of ARW, β and t_β."""
+    path = Path(csv_path)
+    try:
+        with path.open() as stream:
+            rows = [r for r in csv.DictReader(stream) if r.get("axis", "").startswith("gyro")]
+        values = {key: float(np.mean([float(r[key]) for r in rows])) for key in
+                  ("arw_deg_per_sqrt_h", "bias_instability_deg_per_h", "t_beta_s")}
+    except (OSError, KeyError, ValueError) as exc:
+        raise InputError(path, f"not an allan.csv of pdr-sim allan ({exc})") from exc
+    if not rows:
+        raise InputError(path, "no gyroscope rows (axis gyro_x, ...)")
+    return replace(base or OrientationConfig(),
+                   gyro_arw_deg_per_sqrt_h=values["arw_deg_per_sqrt_h"],
+                   bias_instability_deg_per_h=values["bias_instability_deg_per_h"],
+                   bias_instability_time_s=values["t_beta_s"])

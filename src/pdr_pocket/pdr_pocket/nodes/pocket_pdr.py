@@ -1,0 +1,146 @@
+"""Node ``pocket_pdr``: the pocket navigator on ``imu/data`` and ``imu/mag``, live.
+
+Subscribes ``imu/data`` (sensor_msgs/Imu, REP-145) and ``imu/mag``
+(sensor_msgs/MagneticField, tesla) and publishes, per sample, ``pdr/pocket/attitude``
+(sensor_msgs/Imu with the orientation and its covariance, REP-145) and
+``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped). Serves ``~/reset``
+(std_srvs/Trigger).
+
+Parameters: ``config`` (the navigator YAML, pdr_pocket.config; default the installed
+config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket calibrate-mag; overrides
+the configuration's), ``frame_id`` ("imu_link"), ``imu_durability`` (volatile or
+transient_local, to match the publisher).
+
+Estimates lag the input by one sample (a magnetometer reading stamped like an IMU sample
+may arrive after it) and equal ``pdr-pocket attitude``'s on the same bag. Bad samples are
+dropped and counted with a throttled warning (pdr_pocket.streaming); data in g or deg/s is
+refused with an error until ``~/reset``; a magnetometer that stops publishing pauses the
+magnetic updates with a warning.
+"""
+from __future__ import annotations
+
+import numpy as np
+from geometry_msgs.msg import Vector3Stamped
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import Imu, MagneticField
+from std_srvs.srv import Trigger
+
+from pdr_core.node_main import spin_node
+from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_pocket.config import load_pocket_config
+from pdr_pocket.magnetometer import MagCalibration
+from pdr_pocket.streaming import StreamingPocket
+
+_NS = 1_000_000_000
+
+
+def stamp_ns(msg) -> int:
+    return msg.header.stamp.sec * _NS + msg.header.stamp.nanosec
+
+
+class PocketPdrNode(Node):
+    """Adapter from Imu and MagneticField messages to the streaming navigator."""
+
+    def __init__(self) -> None:
+        super().__init__("pocket_pdr")
+        path = self.declare_parameter("config", "").value
+        calibration_path = self.declare_parameter("mag_calibration", "").value
+        self.frame_id = self.declare_parameter("frame_id", "imu_link").value
+        durability = self.declare_parameter("imu_durability", "volatile").value
+        config = load_pocket_config(path or None)
+        calibration_path = calibration_path or config.magnetometer_calibration
+        calibration = MagCalibration.load(calibration_path) if calibration_path else None
+        self.navigator = StreamingPocket(config.orientation, calibration)
+        self.gyro_noise_var = self.navigator.filter.params.gyro_noise_var
+        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL
+                         if durability == "transient_local" else DurabilityPolicy.VOLATILE)
+        self.create_subscription(Imu, "imu/data", self.on_imu, qos)
+        self.create_subscription(MagneticField, "imu/mag", self.on_mag, qos)
+        out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.attitude_pub = self.create_publisher(Imu, "pdr/pocket/attitude", out)
+        self.bias_pub = self.create_publisher(Vector3Stamped, "pdr/pocket/gyro_bias", out)
+        self.create_service(Trigger, "~/reset", self.on_reset)
+        self.inputs: dict[int, Imu] = {}
+        self.reported: dict[str, int] = {}
+        self.mag_was_stale = False
+        self.get_logger().info(f"pocket_pdr: configuration {path or 'default'}")
+
+    def on_imu(self, msg: Imu) -> None:
+        stamp = stamp_ns(msg)
+        a, w = msg.linear_acceleration, msg.angular_velocity
+        self.inputs[stamp] = msg
+        self.publish(self.navigator.push_imu(stamp, (a.x, a.y, a.z), (w.x, w.y, w.z)))
+        self.report_problems()
+
+    def on_mag(self, msg: MagneticField) -> None:
+        m = msg.magnetic_field
+        self.publish(self.navigator.push_mag(stamp_ns(msg), (m.x, m.y, m.z)))
+
+    def publish(self, estimates) -> None:
+        for stamp, estimate in estimates:
+            source = self.inputs.pop(stamp, None)
+            if source is None:
+                continue
+            self.publish_one(stamp, source, estimate)
+        if len(self.inputs) > 1000:       # samples the navigator dropped
+            for stale in sorted(self.inputs)[:-100]:
+                del self.inputs[stale]
+
+    def publish_one(self, stamp: int, source: Imu, e) -> None:
+        sec, nanosec = divmod(stamp, _NS)
+        att = Imu()
+        att.header.stamp.sec, att.header.stamp.nanosec = sec, nanosec
+        att.header.frame_id = self.frame_id
+        q = quaternion_from_orthonormal(e.attitude[0])
+        o = att.orientation
+        o.x, o.y, o.z, o.w = map(float, q)
+        cov = e.covariance[0]
+        att.orientation_covariance = [float(v) for v in cov[:3, :3].ravel()]
+        bias = e.bias[0]
+        w = source.angular_velocity
+        att.angular_velocity.x = w.x - float(bias[0])
+        att.angular_velocity.y = w.y - float(bias[1])
+        att.angular_velocity.z = w.z - float(bias[2])
+        att.angular_velocity_covariance = [
+            float(v) for v in (cov[3:, 3:] + np.eye(3) * self.gyro_noise_var).ravel()]
+        att.linear_acceleration = source.linear_acceleration
+        att.linear_acceleration_covariance = source.linear_acceleration_covariance
+        self.attitude_pub.publish(att)
+        out = Vector3Stamped()
+        out.header = att.header
+        out.vector.x, out.vector.y, out.vector.z = map(float, bias)
+        self.bias_pub.publish(out)
+
+    def report_problems(self) -> None:
+        nav = self.navigator
+        for key, count in nav.counts.items():
+            if key != "mag_missing" and count > self.reported.get(key, 0):
+                self.get_logger().warning(f"{count} samples with {key} so far",
+                                          throttle_duration_sec=5.0)
+                self.reported[key] = count
+        if nav.failed is not None:
+            self.get_logger().error(f"not navigating: {nav.failed}", throttle_duration_sec=5.0)
+        if nav.mag_error is not None:
+            self.get_logger().error(f"magnetometer off: {nav.mag_error}",
+                                    throttle_duration_sec=10.0)
+        stale = nav.mag_stale
+        if stale and not self.mag_was_stale and nav.last_stamp_ns is not None:
+            self.get_logger().warning("imu/mag: no recent reading, magnetic updates paused",
+                                      throttle_duration_sec=10.0)
+        self.mag_was_stale = stale
+
+    def on_reset(self, request: Trigger.Request, response: Trigger.Response):
+        self.navigator.reset()
+        self.inputs = {}
+        response.success, response.message = True, "navigator reset"
+        return response
+
+
+def main(args: list[str] | None = None) -> None:
+    spin_node("pocket_pdr", PocketPdrNode, args)
+
+if __name__ == "__main__":
+    main()
