@@ -23,12 +23,13 @@ import numpy as np
 from pdr_core.batch import MessageBatch, stamp_ns_from_seconds
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.msgtypes import IMU, POSE_STAMPED
+from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, POSE_STAMPED
 
 TIME_UNITS_S = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 ACC_UNITS_MPS2 = {"mps2": 1.0, "m/s2": 1.0, "m/s^2": 1.0, "g": STANDARD_GRAVITY_MPS2}
 GYRO_UNITS_RADPS = {"radps": 1.0, "rad/s": 1.0, "degps": np.pi / 180.0, "deg/s": np.pi / 180.0}
 POS_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+MAG_UNITS_T = {"t": 1.0, "ut": 1e-6, "nt": 1e-9, "gauss": 1e-4}
 
 
 @dataclass(frozen=True)
@@ -41,6 +42,8 @@ class CsvImuFormat:
         gyro_cols: three gyroscope columns, or () when the log has none; ``gyro_unit``
             radps or degps.
         pos_cols: three ground-truth position columns, or (); ``pos_unit`` m, cm or mm.
+        mag_cols: three magnetometer columns, or (); ``mag_unit`` t, ut, nt or gauss;
+            they take the accelerometer's axis remap unless ``mag_axes`` is given.
         axes: sensor-axis remap applied to acc and gyro, e.g. ("-y", "x", "z") means
             out_x = -in_y, out_y = in_x, out_z = in_z.
         acc_axes, gyro_axes: a remap for one sensor only, replacing ``axes`` for it (for
@@ -61,6 +64,9 @@ class CsvImuFormat:
     gyro_unit: str = "radps"
     pos_cols: tuple[str, ...] = ()
     pos_unit: str = "m"
+    mag_cols: tuple[str, ...] = ()
+    mag_unit: str = "ut"
+    mag_axes: tuple[str, str, str] | None = None
     axes: tuple[str, str, str] = ("x", "y", "z")
     acc_axes: tuple[str, str, str] | None = None
     gyro_axes: tuple[str, str, str] | None = None
@@ -75,14 +81,15 @@ class CsvImuFormat:
 
 @dataclass
 class CsvImport:
-    """Result of an import: ``imu`` and optional ``pose`` batches, and the dropped rows
-    (exact duplicates, and invalid rows dropped on request)."""
+    """Result of an import: ``imu`` and optional ``pose`` and ``mag`` batches, and the
+    dropped rows (exact duplicates, and invalid rows dropped on request)."""
 
     imu: MessageBatch
     pose: MessageBatch | None
     rows_read: int
     rows_duplicate: int
     rows_invalid: int
+    mag: MessageBatch | None = None
 
 
 def _check_choice(value: str, choices: dict, what: str) -> float:
@@ -172,8 +179,9 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     acc_scale = _check_choice(fmt.acc_unit, ACC_UNITS_MPS2, "--acc-unit")
     gyro_scale = _check_choice(fmt.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit")
     pos_scale = _check_choice(fmt.pos_unit, POS_UNITS_M, "--pos-unit")
+    mag_scale = _check_choice(fmt.mag_unit, MAG_UNITS_T, "--mag-unit")
     for option, cols in (("--acc-cols", fmt.acc_cols), ("--gyro-cols", fmt.gyro_cols),
-                         ("--pos-cols", fmt.pos_cols)):
+                         ("--pos-cols", fmt.pos_cols), ("--mag-cols", fmt.mag_cols)):
         if cols and len(cols) != 3:
             raise InputError(option, f"needs 3 columns (x,y,z), got {len(cols)}")
     acc_remap = axis_matrix(fmt.acc_axes or fmt.axes)
@@ -193,7 +201,10 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
             else np.zeros_like(acc))
     pos = columns(fmt.pos_cols) * pos_scale @ axis_matrix(fmt.pos_axes).T if fmt.pos_cols \
         else None
-    values = np.hstack([acc, gyro] + ([pos] if pos is not None else []))
+    mag = columns(fmt.mag_cols) * mag_scale @ axis_matrix(fmt.mag_axes or fmt.acc_axes
+                                                            or fmt.axes).T \
+        if fmt.mag_cols else None
+    values = np.hstack([acc, gyro] + [v for v in (pos, mag) if v is not None])
     keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)
 
     stamp_ns = stamp_ns_from_seconds(t_s[keep])
@@ -212,5 +223,9 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     if pos is not None:
         pose = MessageBatch(POSE_STAMPED, stamp_ns, fmt.map_frame, {
             "pose.position": pos[keep], "pose.orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))})
+    mag_batch = None
+    if mag is not None:
+        mag_batch = MessageBatch(MAGNETIC_FIELD, stamp_ns, fmt.imu_frame, {
+            "magnetic_field": mag[keep], "magnetic_field_covariance": np.zeros((n, 9))})
     return CsvImport(imu, pose, rows_read=len(t_s), rows_duplicate=int(duplicate.sum()),
-                     rows_invalid=int((~keep & ~duplicate).sum()))
+                     rows_invalid=int((~keep & ~duplicate).sum()), mag=mag_batch)

@@ -4,9 +4,9 @@ The fit itself is :func:`pdr_core.magnetometer_calibration.fit_ellipsoid` (rotat
 offset l, scale ξ bringing the raw ellipsoid to the unit sphere, l in units of the local
 field strength |H∞|). This module adds what a user needs around it:
 
-- :func:`sphere_coverage`: how much of the sphere of directions the readings cover (a
-  fit from readings that all lie near one great circle, as a walking thigh gives, is
-  meaningless);
+- :func:`sphere_coverage`: how much of the sphere of directions the readings cover, seen
+  from the centre of their best-fitting sphere (a fit from readings along one arc, as a
+  walking thigh gives, is meaningless);
 - :class:`MagCalibration`: the fitted parameters with |H∞|, applied to raw readings and
   kept in a YAML file the filter's configuration names (``magnetometer_calibration``).
 
@@ -25,7 +25,8 @@ from pdr_core.magnetic_field import IronDistortion
 from pdr_core.magnetometer_calibration import fit_ellipsoid
 
 COVERAGE_CELLS = 200                # equal-area directions (Fibonacci sphere)
-MIN_COVERAGE = 0.4                  # below this share of the sphere a fit is refused
+MIN_COVERAGE = 0.6                  # below this share of the sphere a fit is refused (more
+                                    # than a hemisphere)
 
 
 def _fibonacci_sphere(n: int) -> np.ndarray:
@@ -37,15 +38,25 @@ def _fibonacci_sphere(n: int) -> np.ndarray:
     return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
 
 
+def sphere_centre(raw: np.ndarray) -> np.ndarray:
+    """The centre of the sphere that best fits the readings (linear least squares on
+    ‖x − c‖² = r²); along a direction the readings do not span it stays near their mean."""
+    mean = raw.mean(axis=0)
+    x = raw - mean
+    design = np.column_stack([2.0 * x, np.ones(len(x))])
+    solution, *_ = np.linalg.lstsq(design, (x * x).sum(axis=1), rcond=1e-6)
+    return mean + solution[:3]
+
+
 def sphere_coverage(raw_t: np.ndarray) -> float:
     """Share (0-1) of :data:`COVERAGE_CELLS` equal-area cells of the sphere of directions
-    hit by the readings, seen from their centroid (for readings that cover the sphere
-    evenly the centroid is the hard-iron offset)."""
+    hit by the readings, seen from the centre of their best-fitting sphere (readings along
+    one arc, as a walking thigh gives, are seen from its centre and cover little)."""
     raw = np.asarray(raw_t, float)
     raw = raw[np.isfinite(raw).all(axis=1)]
-    if len(raw) == 0:
+    if len(raw) < 4:
         return 0.0
-    d = raw - raw.mean(axis=0)
+    d = raw - sphere_centre(raw)
     d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-30)
     cells = _fibonacci_sphere(COVERAGE_CELLS)
     nearest = np.argmax(d @ cells.T, axis=1)

@@ -29,8 +29,10 @@ def attitude_png(t_s: np.ndarray, errors_deg: np.ndarray | None, sigma_deg: np.n
             ax[0].plot(t, errors_deg[::step, i], color=COLOURS[i], lw=0.8, label=f"{name} error")
         ax[0].plot(t, s, ":", color=COLOURS[i], lw=0.8)
         ax[0].plot(t, -s, ":", color=COLOURS[i], lw=0.8)
-    ax[0].set(ylabel="[deg]", title="attitude error (dotted: ±σ)")
-    ax[0].legend(loc="upper left")
+    ax[0].set(ylabel="[deg]", title="attitude error (dotted: ±σ)" if errors_deg is not None
+              else "attitude ±σ (no truth in the bag)")
+    if errors_deg is not None:
+        ax[0].legend(loc="upper left")
     for i, name in enumerate(AXES):
         b, s = bias_deg_per_s[::step, i], bias_sigma[::step, i]
         ax[1].plot(t, b, color=COLOURS[i], label=f"b_{name}")

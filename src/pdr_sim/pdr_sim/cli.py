@@ -25,6 +25,7 @@ from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.csv_import import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
+    MAG_UNITS_T,
     POS_UNITS_M,
     TIME_UNITS_S,
     CsvImuFormat,
@@ -229,6 +230,8 @@ def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
         acc_unit=args.acc_unit, gyro_cols=args.gyro_cols, gyro_unit=args.gyro_unit,
         pos_cols=getattr(args, "pos_cols", ()), pos_unit=getattr(args, "pos_unit", "m"),
         pos_axes=getattr(args, "pos_axes", ("x", "y", "z")),
+        mag_cols=getattr(args, "mag_cols", ()), mag_unit=getattr(args, "mag_unit", "ut"),
+        mag_axes=getattr(args, "mag_axes", None),
         axes=args.axes, acc_axes=args.acc_axes, gyro_axes=args.gyro_axes,
         header=args.header, time_offset_s=args.time_offset_s,
         drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates)
@@ -238,8 +241,9 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "import-csv", help="turn a CSV IMU log into a bag",
         description="Turn a CSV IMU log (one row per sample) into a rosbag2 MCAP bag with "
-                    "imu/data (sensor_msgs/Imu, SI units) and, when position columns are "
-                    "given, ground_truth/pose. Columns are header names or 0-based indices.")
+                    "imu/data (sensor_msgs/Imu, SI units) and, when their columns are given, "
+                    "imu/mag (sensor_msgs/MagneticField, tesla) and ground_truth/pose. "
+                    "Columns are header names or 0-based indices.")
     p.add_argument("csv", type=Path, help="input CSV file")
     p.add_argument("--out", type=Path, required=True, help="output bag directory")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output")
@@ -250,6 +254,11 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--pos-axes", type=_columns, default=("x", "y", "z"),
                    help="remap of the positions into a right-handed z-up frame, "
                         "e.g. --pos-axes=-x,y,z")
+    p.add_argument("--mag-cols", type=_columns, default=(),
+                   help="magnetometer x,y,z (written to imu/mag)")
+    p.add_argument("--mag-unit", default="ut", choices=sorted(MAG_UNITS_T))
+    p.add_argument("--mag-axes", type=_columns, default=None,
+                   help="remap of the magnetometer only (default: the accelerometer's)")
     p.set_defaults(func=_run_import_csv)
 
 
@@ -259,6 +268,8 @@ def _run_import_csv(args: argparse.Namespace) -> int:
     batches = {topics.IMU_DATA: result.imu}
     if result.pose is not None:
         batches[topics.GROUND_TRUTH_POSE] = result.pose
+    if result.mag is not None:
+        batches[topics.IMU_MAG] = result.mag
     write_batches(args.out, batches, overwrite=args.overwrite,
                   custom_data={"pdr.source": str(args.csv), "pdr.command": " ".join(sys.argv)})
     t = result.imu.t_s
