@@ -29,12 +29,13 @@ figures: build
 	@$(ENV) && tools/doc_figures.sh
 
 bench: build
-	@$(ENV) && for b in test/benchmarks/bench_*.py; do python "$$b"; done
+	@$(ENV) && pip install -q --disable-pip-version-check -r tools/requirements-bench.in \
+	  -c tools/constraints.txt && for b in test/benchmarks/bench_*.py; do python "$$b"; done
 
 constraints:
-	@python3 -m venv /tmp/pdr-constraints-venv && /tmp/pdr-constraints-venv/bin/pip install -q -r tools/requirements.in \
+	@python3 -m venv /tmp/pdr-constraints-venv && /tmp/pdr-constraints-venv/bin/pip install -q -r tools/requirements.in -r tools/requirements-bench.in \
 	  && (echo "# Exact versions of every Python package in the workspace venv (pip freeze of tools/requirements.in)."; \
-	      echo "# Regenerate: make constraints"; /tmp/pdr-constraints-venv/bin/pip freeze) > tools/constraints.txt
+	      echo "# Regenerate: make constraints (includes tools/requirements-bench.in)"; /tmp/pdr-constraints-venv/bin/pip freeze) > tools/constraints.txt
 
 clean:
 	rm -rf build install log

@@ -101,7 +101,7 @@ class FilterState(NamedTuple):
     bias: np.ndarray                # (3,) [rad/s]
     covariance: np.ndarray          # (6, 6)
     scalars: np.ndarray             # [t_prev, started, ring_count, ring_head, mag_was_steady,
-                                    #  gap_count, mean_gravity_time]
+                                    #  gap_count, mean_gravity_time, windows_done]
     force_sum: np.ndarray           # (3,) Σ C·f·δt over the mean gravity window
     previous_gyro: np.ndarray       # (3,)
     previous_accel: np.ndarray      # (3,)
@@ -113,7 +113,7 @@ class FilterState(NamedTuple):
     ring_mag: np.ndarray            # (RING, 3) C·μ (NaN: no reading)
 
 
-T_PREV, STARTED, RING_COUNT, RING_HEAD, MAG_WAS_STEADY, GAPS, WINDOW_TIME = range(7)
+T_PREV, STARTED, RING_COUNT, RING_HEAD, MAG_WAS_STEADY, GAPS, WINDOW_TIME, WINDOWS_DONE = range(8)
 
 
 class Workspace(NamedTuple):
@@ -622,7 +622,10 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
                 state.force_sum[m] += dt * (state.attitude[m, 0] * a[0]
                                             + state.attitude[m, 1] * a[1]
                                             + state.attitude[m, 2] * a[2])
-            if use[MEAN_GRAVITY] and s[WINDOW_TIME] >= params.mean_gravity_window_s:
+            # the first windows are short (2, 4, 8 s ... up to W): a start while walking
+            # leaves the first sample's tilt up to 15° off
+            window = min(params.mean_gravity_window_s, 2.0 * 2.0 ** s[WINDOWS_DONE])
+            if use[MEAN_GRAVITY] and s[WINDOW_TIME] >= window:
                 total = params.gravity * s[WINDOW_TIME]
                 two[0], two[1] = 0.0, 0.0
                 r2[0, 0] = r2[1, 1] = params.mean_gravity_velocity_var / (total * total)
@@ -633,8 +636,9 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
                                + state.attitude[2, m] * state.force_sum[2])
                 update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, a, body, frozen, work)
                 ran_out[k, MEAN_GRAVITY] = True
-            if s[WINDOW_TIME] >= params.mean_gravity_window_s:
+            if s[WINDOW_TIME] >= window:
                 s[WINDOW_TIME] = 0.0
+                s[WINDOWS_DONE] += 1.0
                 state.force_sum[:] = 0.0
             if use[ZARU] and zero_rate:
                 update(state, params, ZARU, np.zeros(3), r3 * params.zaru_var, gyro[k], dt,
