@@ -6,10 +6,12 @@ and ``pdr-pocket attitude`` give the same estimates on the same bag:
 
 - an IMU sample with NaN/Inf, or a stamp that does not increase, is dropped and counted;
 - each IMU sample pairs with the latest magnetometer reading stamped at or before it and
-  at most :data:`~pdr_pocket.attitude_offline.MAG_MAX_AGE_S` older, as offline. A reading
-  stamped like its IMU sample may arrive after it, so a sample is processed when the next
-  one arrives or a reading stamped at or after it does (one sample of latency). A
-  magnetometer that stops publishing only pauses the magnetic updates (:attr:`mag_stale`);
+  at most :data:`~pdr_pocket.attitude_offline.MAG_MAX_AGE_S` older, as offline. The two
+  topics travel separately, so a reading may arrive after IMU samples stamped later than
+  it: a sample is held until a reading stamped at or after it arrives (at once when the
+  magnetometer keeps pace) or until ``mag_wait_s`` of IMU data has come after it. A
+  magnetometer quiet for longer than that holds nothing (no latency without one) and only
+  pauses the magnetic updates (:attr:`mag_stale`);
 - the units are checked on the first :data:`UNIT_CHECK_SAMPLES` samples: data in g or
   deg/s is refused (nothing is navigated until :meth:`reset`), a magnetometer in µT or
   gauss is switched off (:attr:`mag_error`);
@@ -31,6 +33,9 @@ from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
 
 UNIT_CHECK_SAMPLES = 50
 MAG_HISTORY = 256
+MAG_WAIT_S = 1.0
+"""Default wait for a late magnetometer reading [s of IMU data]: playback at full speed
+acknowledges every 100 messages, so the topics drift at most that far apart."""
 
 
 @dataclass
@@ -40,6 +45,7 @@ class StreamingPocket:
 
     config: OrientationConfig
     calibration: MagCalibration | None = None
+    mag_wait_s: float = MAG_WAIT_S
     counts: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -50,7 +56,7 @@ class StreamingPocket:
         self.last_stamp_ns: int | None = None
         self.mags: deque = deque(maxlen=MAG_HISTORY)
         self.held: list[tuple[int, np.ndarray, np.ndarray]] = []
-        self.checked = False
+        self.checked = self.mag_checked = False
         self.failed: str | None = None
         self.mag_error: str | None = None
         self.t0_ns: int | None = None
@@ -59,9 +65,9 @@ class StreamingPocket:
 
     @property
     def mag_stale(self) -> bool:
-        """No reading within MAG_MAX_AGE_S of the last IMU sample."""
+        """No reading within ``mag_wait_s`` of the last IMU sample."""
         return not self.mags or (self.last_stamp_ns is not None and
-                                 self.last_stamp_ns - self.mags[-1][0] > MAG_MAX_AGE_S * 1e9)
+                                 self.last_stamp_ns - self.mags[-1][0] > self.mag_wait_s * 1e9)
 
     def push_mag(self, stamp_ns: int, field_t) -> list[tuple[int, AttitudeEstimate]]:
         """A magnetometer reading [T] (body frame)."""
@@ -74,9 +80,10 @@ class StreamingPocket:
         if self.mags and stamp_ns < self.mags[-1][0]:
             return []
         self.mags.append((int(stamp_ns), value))
-        if self.checked and self.held and self.held[-1][0] <= stamp_ns:
-            return self._process(len(self.held))
-        return []
+        if not self.checked:
+            return []
+        self._check_mag_units()
+        return self._process(self._ready())
 
     def push_imu(self, stamp_ns: int, accel, gyro) -> list[tuple[int, AttitudeEstimate]]:
         """An IMU sample [m/s², rad/s]."""
@@ -88,6 +95,8 @@ class StreamingPocket:
             self.counts["stamp_not_increasing"] += 1
             return []
         self.last_stamp_ns = int(stamp_ns)
+        if self.t0_ns is None:
+            self.t0_ns = self.last_stamp_ns
         if self.failed is not None:
             return []
         self.held.append((int(stamp_ns), a, w))
@@ -97,7 +106,7 @@ class StreamingPocket:
             self._check_units()
             if self.failed is not None:
                 return []
-        return self._process(len(self.held) - 1)
+        return self._process(self._ready())
 
     def flush(self) -> list[tuple[int, AttitudeEstimate]]:
         """Process every held sample (the end of a stream)."""
@@ -113,11 +122,30 @@ class StreamingPocket:
             self.failed = str(exc)
             self.held = []
             return
-        if self.mags:
-            try:
-                check_mag_units(np.array([m[1] for m in self.mags]))
-            except InputError as exc:
-                self.mag_error = str(exc)
+        self._check_mag_units()
+
+    def _check_mag_units(self) -> None:
+        """On the readings there are when the IMU check is made, or on the first one
+        after it."""
+        if not self.mags or self.mag_checked:
+            return
+        self.mag_checked = True
+        try:
+            check_mag_units(np.array([m[1] for m in self.mags]))
+        except InputError as exc:
+            self.mag_error = str(exc)
+
+    def _ready(self) -> int:
+        """How many held samples can be processed: those a reading stamped at or after
+        them has come for, or ``mag_wait_s`` of IMU data has passed since, or all when
+        the magnetometer is off or has been quiet that long."""
+        wait_ns = self.mag_wait_s * 1e9
+        last = self.last_stamp_ns
+        quiet_since = self.mags[-1][0] if self.mags else self.t0_ns
+        if self.mag_error is not None or last - quiet_since > wait_ns:
+            return len(self.held)
+        covered = self.mags[-1][0] if self.mags else -1
+        return sum(1 for stamp, _, _ in self.held if stamp <= covered or last - stamp >= wait_ns)
 
     def _mag_for(self, stamp_ns: int) -> np.ndarray | None:
         if self.mag_error is not None:
@@ -130,8 +158,6 @@ class StreamingPocket:
     def _process(self, count: int) -> list[tuple[int, AttitudeEstimate]]:
         out = []
         for stamp_ns, accel, gyro in self.held[:count]:
-            if self.t0_ns is None:
-                self.t0_ns = stamp_ns
             mag = self._mag_for(stamp_ns)
             if mag is None:
                 self.counts["mag_missing"] += 1

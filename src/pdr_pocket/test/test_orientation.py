@@ -197,20 +197,26 @@ def test_shipped_yaml_holds_the_dataclass_defaults():
         set(Updates.__dataclass_fields__)
 
 
-def test_streaming_equals_the_whole_record():
-    """The live path, one message at a time (IMU before the magnetometer of the same
-    stamp, as bag_play sends them), gives the bulk run's estimates."""
+@pytest.mark.parametrize("mag_lag", [0, -3, 40])
+def test_streaming_equals_the_whole_record(mag_lag):
+    """The live path, one message at a time, gives the bulk run's estimates: with the
+    magnetometer reading sent after the IMU sample of the same stamp (as bag_play sends
+    them), before it, or 40 samples (0.4 s) late, as separate topics can deliver them."""
     sim = walk("consumer_phone", distance_m=20)
     stamps = sim.imu.stamp_ns
     bulk = OrientationFilter(OrientationConfig()).run(
         (stamps - stamps[0]) * 1e-9, sim.imu["angular_velocity"],
         sim.imu["linear_acceleration"], sim.mag["magnetic_field"])
+    events = sorted([(i, 0, i) for i in range(len(stamps))] +
+                    [(i + mag_lag, 1, i) for i in range(len(stamps))])
     live = StreamingPocket(OrientationConfig())
     got = []
-    for i, stamp in enumerate(stamps):
-        got += live.push_imu(int(stamp), sim.imu["linear_acceleration"][i],
-                             sim.imu["angular_velocity"][i])
-        got += live.push_mag(int(stamp), sim.mag["magnetic_field"][i])
+    for _, is_mag, i in events:
+        if is_mag:
+            got += live.push_mag(int(stamps[i]), sim.mag["magnetic_field"][i])
+        else:
+            got += live.push_imu(int(stamps[i]), sim.imu["linear_acceleration"][i],
+                                 sim.imu["angular_velocity"][i])
     got += live.flush()
     assert [s for s, _ in got] == stamps.tolist()
     np.testing.assert_allclose(np.concatenate([e.attitude for _, e in got]), bulk.attitude,
@@ -226,11 +232,13 @@ def test_streaming_refuses_g_and_survives_a_silent_magnetometer():
     assert live.failed is not None and "in g" in live.failed
     live.reset()
     out = []
-    for i in range(200):
+    for i in range(300):
         out += live.push_imu(i * 10_000_000, (0.0, 0.0, 9.81), (0.01, 0.0, 0.0))
         if i < 100:
             out += live.push_mag(i * 10_000_000, (0.0, 2e-5, -4e-5))
-    assert len(out) == 199 and live.mag_stale
+        if i == 199:
+            assert len(out) == 100 and not live.mag_stale   # waiting for a late reading
+    assert len(out) == 300 and live.mag_stale          # quiet: no more waiting
     live.push_imu(5, (0.0, 0.0, 9.81), (0.0, 0.0, 0.0))
     live.push_imu(300 * 10_000_000, (np.nan, 0.0, 9.81), (0.0, 0.0, 0.0))
     assert live.counts["stamp_not_increasing"] == 1 and live.counts["non_finite"] == 1

@@ -9,15 +9,18 @@ Subscribes ``imu/data`` (sensor_msgs/Imu, REP-145) and ``imu/mag``
 Parameters: ``config`` (the navigator YAML, pdr_pocket.config; default the installed
 config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket calibrate-mag; overrides
 the configuration's), ``frame_id`` ("imu_link"), ``imu_durability`` (volatile or
-transient_local, to match the publisher).
+transient_local, to match the publisher), ``mag_wait_s`` (1.0: how long a sample waits for
+a late magnetometer reading, in seconds of IMU data).
 
-Estimates lag the input by one sample (a magnetometer reading stamped like an IMU sample
-may arrive after it) and equal ``pdr-pocket attitude``'s on the same bag. Bad samples are
+A sample goes out once the magnetometer reading for it has come (at once when the two
+topics keep pace), so the estimates equal ``pdr-pocket attitude``'s on the same bag. Bad samples are
 dropped and counted with a throttled warning (pdr_pocket.streaming); data in g or deg/s is
 refused with an error until ``~/reset``; a magnetometer that stops publishing pauses the
 magnetic updates with a warning.
 """
 from __future__ import annotations
+
+from collections import deque
 
 import numpy as np
 from geometry_msgs.msg import Vector3Stamped
@@ -30,7 +33,7 @@ from pdr_core.node_main import spin_node
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.streaming import StreamingPocket
+from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
 
 _NS = 1_000_000_000
 
@@ -48,10 +51,11 @@ class PocketPdrNode(Node):
         calibration_path = self.declare_parameter("mag_calibration", "").value
         self.frame_id = self.declare_parameter("frame_id", "imu_link").value
         durability = self.declare_parameter("imu_durability", "volatile").value
+        mag_wait_s = float(self.declare_parameter("mag_wait_s", MAG_WAIT_S).value)
         config = load_pocket_config(path or None)
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
-        self.navigator = StreamingPocket(config.orientation, calibration)
+        self.navigator = StreamingPocket(config.orientation, calibration, mag_wait_s)
         self.gyro_noise_var = self.navigator.filter.params.gyro_noise_var
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
@@ -63,7 +67,7 @@ class PocketPdrNode(Node):
         self.attitude_pub = self.create_publisher(Imu, "pdr/pocket/attitude", out)
         self.bias_pub = self.create_publisher(Vector3Stamped, "pdr/pocket/gyro_bias", out)
         self.create_service(Trigger, "~/reset", self.on_reset)
-        self.inputs: dict[int, Imu] = {}
+        self.inputs: deque[tuple[int, Imu]] = deque()
         self.reported: dict[str, int] = {}
         self.mag_was_stale = False
         self.get_logger().info(f"pocket_pdr: configuration {path or 'default'}")
@@ -71,8 +75,10 @@ class PocketPdrNode(Node):
     def on_imu(self, msg: Imu) -> None:
         stamp = stamp_ns(msg)
         a, w = msg.linear_acceleration, msg.angular_velocity
-        self.inputs[stamp] = msg
+        self.inputs.append((stamp, msg))
         self.publish(self.navigator.push_imu(stamp, (a.x, a.y, a.z), (w.x, w.y, w.z)))
+        if self.navigator.failed is not None:
+            self.inputs.clear()
         self.report_problems()
 
     def on_mag(self, msg: MagneticField) -> None:
@@ -81,13 +87,15 @@ class PocketPdrNode(Node):
 
     def publish(self, estimates) -> None:
         for stamp, estimate in estimates:
-            source = self.inputs.pop(stamp, None)
-            if source is None:
-                continue
-            self.publish_one(stamp, source, estimate)
-        if len(self.inputs) > 1000:       # samples the navigator dropped
-            for stale in sorted(self.inputs)[:-100]:
-                del self.inputs[stale]
+            self.publish_one(stamp, self.source_of(stamp), estimate)
+
+    def source_of(self, stamp: int) -> Imu:
+        """The message of an estimate; the ones before it are samples the navigator
+        dropped."""
+        while True:
+            source_stamp, source = self.inputs.popleft()
+            if source_stamp == stamp:
+                return source
 
     def publish_one(self, stamp: int, source: Imu, e) -> None:
         sec, nanosec = divmod(stamp, _NS)
@@ -134,7 +142,7 @@ class PocketPdrNode(Node):
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
-        self.inputs = {}
+        self.inputs.clear()
         response.success, response.message = True, "navigator reset"
         return response
 
