@@ -4,11 +4,15 @@
   file) is read first and the file's own keys override it, mapping by mapping.
 - :func:`dataclass_from_mapping`: a dataclass from a mapping, each value checked against
   its field's type; unknown keys and bad values raise InputError naming the key's path.
+- :func:`check_keys`: the key check alone (unknown and required keys), for mappings whose
+  values need more than a type check (scenarios, nested configurations).
 
-Used by the navigators' configurations (pdr_ins_ekf.config, pdr_pocket.config).
+Used by the navigators' configurations (pdr_ins_ekf.config, pdr_pocket.config) and the
+simulator's scenarios (pdr_sim.scenario, pdr_sim.pocket_scenario).
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import fields
 from pathlib import Path
 from typing import Any
@@ -41,12 +45,31 @@ def typed_value(value: Any, kind: str, where: str) -> Any:
     return value
 
 
+def key_path(where: str, key: str) -> str:
+    """``FILE: a.b`` paths: the file is followed by a colon, nested keys by dots."""
+    return f"{where} {key}" if where.endswith(":") else f"{where}.{key}"
+
+
+def check_keys(data: Any, cls: type, where: str, required: tuple[str, ...] = ()) -> dict:
+    """``data`` as a dict, refused unless it is a mapping whose keys are all fields of the
+    dataclass ``cls`` and holds the ``required`` ones."""
+    if not isinstance(data, Mapping):
+        raise InputError(where, f"expected a mapping, got {data!r}")
+    known = {f.name for f in fields(cls)}
+    for key in data:
+        if key not in known:
+            raise InputError(key_path(where, key),
+                             f"unknown key (known: {', '.join(sorted(known))})")
+    for key in required:
+        if key not in data:
+            raise InputError(key_path(where, key), "required")
+    return dict(data)
+
+
 def dataclass_from_mapping(cls: type, values: dict, where: str) -> Any:
     """``cls(**values)`` with every key known and every value of its field's type."""
+    values = check_keys(values, cls, where)
     kinds = {f.name: str(f.type) for f in fields(cls)}
-    for key in values:
-        if key not in kinds:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(kinds))})")
     typed = {k: typed_value(v, kinds[k], f"{where}.{k}") for k, v in values.items()}
     try:
         return cls(**typed)

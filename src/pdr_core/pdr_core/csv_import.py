@@ -121,24 +121,41 @@ def _column_index(path: Path, names: list[str] | None, col: str) -> int:
     raise InputError(path, f"no column '{col}'{known}")
 
 
-def _read_table(path: Path, fmt: CsvImuFormat) -> tuple[list[str] | None, np.ndarray]:
+def _read_table(path: Path, header: bool) -> tuple[list[str] | None, np.ndarray]:
     if not path.is_file():
         raise InputError(path, "no such file")
     with path.open(newline="") as stream:
         first = next(csv.reader(stream), None)
     if first is None:
         raise InputError(path, "empty file")
-    names = [c.strip() for c in first] if fmt.header else None
+    names = [c.strip() for c in first] if header else None
     try:
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", "loadtxt: input contained no data")
-            table = np.loadtxt(path, delimiter=",", skiprows=1 if fmt.header else 0, ndmin=2,
+            table = np.loadtxt(path, delimiter=",", skiprows=1 if header else 0, ndmin=2,
                                dtype=np.float64)
     except ValueError as exc:
         raise InputError(path, f"cannot parse as numbers ({exc})") from exc
     if table.shape[0] == 0:
         raise InputError(path, "no data rows")
     return names, table
+
+
+def _select(path: Path, names: list[str] | None, table: np.ndarray,
+            cols: tuple[str, ...]) -> np.ndarray:
+    idx = [_column_index(path, names, c) for c in cols]
+    if max(idx) >= table.shape[1]:
+        raise InputError(path, f"column index {max(idx)} out of range "
+                               f"({table.shape[1]} columns)")
+    return table[:, idx]
+
+
+def read_columns(path: str | Path, columns: tuple[str, ...], header: bool = True) -> np.ndarray:
+    """The named (or 0-based numbered) columns of a CSV file of numbers, (N, len(columns));
+    InputError names the file and what is wrong with it."""
+    path = Path(path)
+    names, table = _read_table(path, header)
+    return _select(path, names, table, tuple(columns))
 
 
 def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str) -> None:
@@ -186,14 +203,10 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
             raise InputError(option, f"needs 3 columns (x,y,z), got {len(cols)}")
     acc_remap = axis_matrix(fmt.acc_axes or fmt.axes)
     gyro_remap = axis_matrix(fmt.gyro_axes or fmt.axes)
-    names, table = _read_table(path, fmt)
+    names, table = _read_table(path, fmt.header)
 
     def columns(cols: tuple[str, ...]) -> np.ndarray:
-        idx = [_column_index(path, names, c) for c in cols]
-        if max(idx) >= table.shape[1]:
-            raise InputError(path, f"column index {max(idx)} out of range "
-                                   f"({table.shape[1]} columns)")
-        return table[:, idx]
+        return _select(path, names, table, cols)
 
     t_s = columns((fmt.time_col,))[:, 0] * time_scale + fmt.time_offset_s
     acc = columns(fmt.acc_cols) * acc_scale @ acc_remap.T

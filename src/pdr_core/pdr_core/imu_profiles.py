@@ -199,9 +199,3 @@ def profile(name: str, overrides: Mapping[str, Any] | None = None) -> ImuErrors:
     for sensor, values in (overrides or {}).items():
         merged.setdefault(sensor, {}).update(values or {})
     return imu_errors(merged, where=name)
-
-
-def profile_config(name: str) -> dict[str, dict[str, Any]]:
-    """The raw configuration of a named profile (for records and documentation)."""
-    return {s: dict(v) for s, v in PROFILES[name].items()}
-

@@ -14,33 +14,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from pdr_core import kernel_cache, small_matrix
+from pdr_core.small_matrix import product3, rodrigues
+
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__)
+
 BIAS_MODEL_CODES = {"none": 0, "random_walk": 1, "gauss_markov": 2}
-
-
-@njit(cache=True)
-def _rodrigues(w, dt):
-    """exp([w×]·dt), 000_fbd401126d10f515.txt, Eq. (12), written out as
-    I + s·[w×] + c·[w×]² with [w×]² = w·wᵀ − |w|²·I."""
-    norm2 = w[0] ** 2 + w[1] ** 2 + w[2] ** 2
-    norm = np.sqrt(norm2)
-    if norm > 0:
-        s = np.sin(norm * dt) / norm
-        c = (1 - np.cos(norm * dt)) / norm2
-    else:
-        s = dt
-        c = dt**2 / 2
-    R = np.empty((3, 3))
-    for i in range(3):
-        for j in range(3):
-            R[i, j] = c * w[i] * w[j]
-        R[i, i] += 1.0 - c * norm2
-    R[0, 1] -= s * w[2]
-    R[0, 2] += s * w[1]
-    R[1, 0] += s * w[2]
-    R[1, 2] -= s * w[0]
-    R[2, 0] -= s * w[1]
-    R[2, 1] += s * w[0]
-    return R
 
 
 @njit(cache=True)
@@ -63,7 +42,8 @@ def mechanize(p, v, C, b, prev, f, w, dt, gravity):
         w_c = w[i] - b[3 + i]
         w_mid[i] = (prev[1, i] + w_c) / 2
         prev[1, i] = w_c
-    R = _rodrigues(w_mid, dt)
+    R = np.empty((3, 3))
+    rodrigues(w_mid[0] * dt, w_mid[1] * dt, w_mid[2] * dt, R)
     for i in range(3):
         r0, r1, r2 = C[i, 0], C[i, 1], C[i, 2]
         for j in range(3):
@@ -273,14 +253,6 @@ def correct(dx, P, innovation, rows, sigma):
 
 
 @njit(cache=True)
-def _product3(A, B, out):
-    """out ← A·B for 3×3 matrices, written out (no BLAS call at this size)."""
-    for i in range(3):
-        for j in range(3):
-            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
-
-
-@njit(cache=True)
 def orthonormalize(C):
     """The nearest rotation (the polar factor) of a nearly orthonormal C, in place, by
     Newton–Schulz steps C ← C·(3I − CᵀC)/2: each squares the deviation from
@@ -292,7 +264,7 @@ def orthonormalize(C):
             for j in range(3):
                 G[i, j] = -(C[0, i] * C[0, j] + C[1, i] * C[1, j] + C[2, i] * C[2, j])
             G[i, i] += 3.0
-        _product3(C, G, CG)
+        product3(C, G, CG)
         for i in range(3):
             for j in range(3):
                 C[i, j] = CG[i, j] / 2.0
@@ -308,7 +280,7 @@ def compensate(p, v, C, b, dx):
     t0, t1, t2 = dx[6], dx[7], dx[8]
     correction = np.array([[1.0, t2, -t1], [-t2, 1.0, t0], [t1, -t0, 1.0]])
     corrected = np.empty((3, 3))
-    _product3(correction, C, corrected)
+    product3(correction, C, corrected)
     C[:, :] = corrected
     orthonormalize(C)
     if dx.shape[0] == 15:

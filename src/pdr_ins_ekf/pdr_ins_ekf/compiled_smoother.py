@@ -35,10 +35,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_ins_ekf import compiled_filter, kernel_cache
+from pdr_core import kernel_cache, small_matrix
+from pdr_core.small_matrix import cholesky, product3, rodrigues
+from pdr_ins_ekf import compiled_filter
 from pdr_ins_ekf.compiled_filter import (
-    _product3,
-    _rodrigues,
     apply_transition,
     correct,
     feed_back,
@@ -51,7 +51,7 @@ from pdr_ins_ekf.compiled_filter import (
     transposed_transition_in_place,
 )
 
-kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__)
 
 # the segment store (new_segment_store), by sample: nominal position, velocity, attitude;
 # predicted and filtered deviation; their covariances; Fₙ's inputs, the update count and
@@ -224,20 +224,9 @@ def spd_solve(S, B):
     not positive definite (zeroing the heading–position cross-covariance can make it
     indefinite, 001 section IV) is solved by LU (LAPACK) instead."""
     n, k = B.shape
-    L = np.zeros((n, n))
-    for j in range(n):
-        d = S[j, j]
-        for q in range(j):
-            d -= L[j, q] * L[j, q]
-        if not d > 0.0:
-            return np.linalg.solve(S, B)
-        d = np.sqrt(d)
-        L[j, j] = d
-        for i in range(j + 1, n):
-            s = S[i, j]
-            for q in range(j):
-                s -= L[i, q] * L[j, q]
-            L[i, j] = s / d
+    L = np.empty((n, n))
+    if not cholesky(S, L):
+        return np.linalg.solve(S, B)
     X = B.copy()
     for i in range(n):
         for q in range(i):
@@ -312,7 +301,9 @@ def _compensate_sample(seg, j, dxs, pos, vel, att):
     for i in range(3):
         pos[j, i] = seg[POS][j, i] + dxs[i]
         vel[j, i] = seg[VEL][j, i] + dxs[3 + i]
-    _product3(_rodrigues(dxs[6:9], -1.0), seg[ATT][j], att[j])
+    rotation = np.empty((3, 3))
+    rodrigues(-dxs[6], -dxs[7], -dxs[8], rotation)
+    product3(rotation, seg[ATT][j], att[j])
 
 
 @njit(cache=True)

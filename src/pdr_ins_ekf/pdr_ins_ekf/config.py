@@ -19,11 +19,16 @@ adapt it to the IMU profiles of :mod:`pdr_core.imu_profiles` (``--imu-profile``)
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pdr_core.config_files import dataclass_from_mapping, read_config_file, typed_value
+from pdr_core.config_files import (
+    check_keys,
+    dataclass_from_mapping,
+    read_config_file,
+    typed_value,
+)
 from pdr_core.errors import InputError
 from pdr_ins_ekf.zero_velocity import (
     AdaptiveShoeDetector,
@@ -55,11 +60,7 @@ class RunConfig:
 
 def run_config(data: dict | None, where: str = "config") -> RunConfig:
     """A RunConfig from a mapping; InputError names bad keys."""
-    data = dict(data or {})
-    top = {f.name for f in fields(RunConfig)}
-    for key in data:
-        if key not in top:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(top))})")
+    data = check_keys(data or {}, RunConfig, where)
     out: dict[str, Any] = {k: typed_value(v, "float", f"{where}.{k}") for k, v in data.items()
                            if k in ("alignment_min_s", "initial_yaw_deg", "max_gap_s")}
     if "detector" in data:

@@ -22,7 +22,8 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter
-from pdr_core.errors import InputError, dispatch
+from pdr_core.csv_import import MAG_UNITS_T, read_columns
+from pdr_core.errors import dispatch
 from pdr_core.magnetic_field import homogeneous
 from pdr_core.metrics import truth_orientation_at
 from pdr_pocket.attitude_offline import (
@@ -34,8 +35,6 @@ from pdr_pocket.attitude_offline import (
 from pdr_pocket.config import load_pocket_config, orientation_from_allan
 from pdr_pocket.magnetometer import MIN_COVERAGE, MagCalibration, calibrate
 from pdr_pocket.orientation import OrientationFilter
-
-MAG_UNITS_T = {"t": 1.0, "ut": 1e-6, "nt": 1e-9, "gauss": 1e-4}
 
 
 def _add_attitude(sub: argparse._SubParsersAction) -> None:
@@ -119,19 +118,6 @@ def _add_calibrate_mag(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_run_calibrate_mag)
 
 
-def _csv_mag(path: Path, columns: str, unit: str) -> np.ndarray:
-    try:
-        data = np.genfromtxt(path, delimiter=",", names=True)
-        names = [c.strip() for c in columns.split(",")]
-        missing = [c for c in names if c not in (data.dtype.names or ())]
-        if missing:
-            raise InputError(path, f"no column {missing[0]!r} (columns: "
-                                   f"{', '.join(data.dtype.names or ())})")
-        return np.column_stack([data[c] for c in names]) * MAG_UNITS_T[unit]
-    except (OSError, ValueError) as exc:
-        raise InputError(path, f"cannot read the CSV ({exc})") from exc
-
-
 def _simulated_field_norm_t(reader: BagReader) -> float | None:
     """|H∞| of a simulated bag's homogeneous field (None when not known)."""
     record = reader.custom_data("pdr.simulation") or {}
@@ -145,7 +131,8 @@ def _simulated_field_norm_t(reader: BagReader) -> float | None:
 def _run_calibrate_mag(args: argparse.Namespace) -> int:
     norm = None if args.field_norm_ut is None else args.field_norm_ut * 1e-6
     if args.source.suffix.lower() == ".csv":
-        raw = _csv_mag(args.source, args.mag_cols, args.mag_unit)
+        columns = tuple(c.strip() for c in args.mag_cols.split(","))
+        raw = read_columns(args.source, columns) * MAG_UNITS_T[args.mag_unit]
     else:
         reader = BagReader(args.source)
         raw = reader.read(args.topic)["magnetic_field"]

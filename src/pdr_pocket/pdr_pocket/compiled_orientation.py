@@ -53,6 +53,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from pdr_core import kernel_cache, small_matrix
+from pdr_core.small_matrix import cholesky, product3, rodrigues
+
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__)
+
 N_STATE = 6
 ATT, BIAS = 0, 3                        # state blocks: attitude error δθ, bias b
 # update kinds (columns of the "ran" output)
@@ -139,28 +144,9 @@ def workspace():
 
 # --- rotations -------------------------------------------------------------------------
 @njit(cache=True)
-def rodrigues(w0, w1, w2, out):
-    """A = exp([w×]) for a rotation vector w [rad] (Eq. (3.4) with B = [w×], σ = |w|)."""
-    s2 = w0 * w0 + w1 * w1 + w2 * w2
-    s = np.sqrt(s2)
-    if s < 1e-8:
-        a, b = 1.0 - s2 / 6.0, 0.5 - s2 / 24.0
-    else:
-        a, b = np.sin(s) / s, (1.0 - np.cos(s)) / s2
-    out[0, 0] = 1.0 - b * (w1 * w1 + w2 * w2)
-    out[1, 1] = 1.0 - b * (w0 * w0 + w2 * w2)
-    out[2, 2] = 1.0 - b * (w0 * w0 + w1 * w1)
-    out[0, 1] = -a * w2 + b * w0 * w1
-    out[1, 0] = a * w2 + b * w0 * w1
-    out[0, 2] = a * w1 + b * w0 * w2
-    out[2, 0] = -a * w1 + b * w0 * w2
-    out[1, 2] = -a * w0 + b * w1 * w2
-    out[2, 1] = a * w0 + b * w1 * w2
-
-
-@njit(cache=True)
 def rotation_log(r, out):
-    """The rotation vector of a rotation matrix (the inverse of :func:`rodrigues`)."""
+    """The rotation vector of a rotation matrix (the inverse of
+    :func:`pdr_core.small_matrix.rodrigues`)."""
     c = (r[0, 0] + r[1, 1] + r[2, 2] - 1.0) / 2.0
     c = min(1.0, max(-1.0, c))
     angle = np.arccos(c)
@@ -193,14 +179,6 @@ def euler_of(c, out):
 
 
 @njit(cache=True)
-def _mul(a, b, out):
-    """out = a·b for 3 × 3 matrices (loops: BLAS calls cost more than the arithmetic)."""
-    for i in range(3):
-        for j in range(3):
-            out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
-
-
-@njit(cache=True)
 def _mul_bt(a, b, out):
     """out = a·bᵀ for 3 × 3 matrices."""
     for i in range(3):
@@ -209,33 +187,11 @@ def _mul_bt(a, b, out):
 
 
 @njit(cache=True)
-def _cholesky(a, out):
-    """Lower L with L·Lᵀ = a (n × n); False when a is not positive definite."""
-    n = a.shape[0]
-    for j in range(n):
-        s = a[j, j]
-        for k in range(j):
-            s -= out[j, k] * out[j, k]
-        if s <= 0.0:
-            return False
-        d = np.sqrt(s)
-        out[j, j] = d
-        for i in range(j + 1, n):
-            s = a[i, j]
-            for k in range(j):
-                s -= out[i, k] * out[j, k]
-            out[i, j] = s / d
-        for i in range(j):
-            out[i, j] = 0.0
-    return True
-
-
-@njit(cache=True)
 def _inverse_spd(a, out):
     """out = a⁻¹ for a small symmetric positive-definite matrix, by Cholesky."""
     n = a.shape[0]
     low = np.empty((n, n))
-    if not _cholesky(a, low):
+    if not cholesky(a, low):
         out[:, :] = np.linalg.pinv(a)
         return
     inv_low = np.zeros((n, n))
@@ -265,7 +221,7 @@ def _sqrt_cov(p, out):
     """A square root L (L·Lᵀ = N·P) of the scaled covariance; an eigen-decomposition with
     non-negative eigenvalues when Cholesky fails (P driven indefinite by rounding)."""
     scaled = N_STATE * 0.5 * (p + p.T)
-    if not _cholesky(scaled, out):
+    if not cholesky(scaled, out):
         w, v = np.linalg.eigh(scaled)
         for j in range(N_STATE):
             out[:, j] = v[:, j] * np.sqrt(max(w[j], 0.0))
@@ -285,7 +241,7 @@ def _sigma_points(state, work):
             for m in range(N_STATE):
                 deviations[i, m] = s * root[m, j]
             rodrigues(deviations[i, 0], deviations[i, 1], deviations[i, 2], rot)
-            _mul(rot, state.attitude, sigma_att[i])
+            product3(rot, state.attitude, sigma_att[i])
             for m in range(3):
                 sigma_bias[i, m] = state.bias[m] + deviations[i, BIAS + m]
 
@@ -321,14 +277,14 @@ def predict(state, params, gyro, dt, work):
     inc = np.empty((3, 3))
     _body_increment(state.attitude, gyro, prev, state.bias, params.earth_rate_n, dt, inc)
     mean_att = np.empty((3, 3))
-    _mul(state.attitude, inc, mean_att)
+    product3(state.attitude, inc, mean_att)
     mean_bias = c_mean * state.bias
     prop = work.propagated
     err = np.empty(3)
     moved, rel = work.m2, work.m3
     for i in range(n2):
         _body_increment(sat[i], gyro, prev, sbias[i], params.earth_rate_n, dt, inc)
-        _mul(sat[i], inc, moved)
+        product3(sat[i], inc, moved)
         _mul_bt(moved, mean_att, rel)
         rotation_log(rel, err)
         for m in range(3):
@@ -447,7 +403,7 @@ def update(state, params, kind, z, r, gyro, dt, prev_vec, ref_vec, freeze_bias, 
             dx[a] += gain[a, b] * innovation[b]
     rot, corrected = work.m1, work.m2
     rodrigues(dx[0], dx[1], dx[2], rot)
-    _mul(rot, state.attitude, corrected)
+    product3(rot, state.attitude, corrected)
     state.attitude[:, :] = corrected
     for m in range(3):
         state.bias[m] += dx[BIAS + m]

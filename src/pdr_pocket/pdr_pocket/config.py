@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from pdr_core import units
-from pdr_core.config_files import dataclass_from_mapping, read_config_file
+from pdr_core.config_files import check_keys, dataclass_from_mapping, read_config_file
 from pdr_core.constants import STANDARD_GRAVITY_MPS2, earth_rate_enu
 from pdr_core.errors import InputError
 from pdr_pocket.compiled_orientation import FilterParams
@@ -175,11 +175,7 @@ def orientation_config(data: dict | None, where: str) -> OrientationConfig:
 
 def pocket_config(data: dict | None, where: str = "config") -> PocketConfig:
     """A PocketConfig from a mapping; InputError names bad keys."""
-    values = dict(data or {})
-    known = {f.name for f in fields(PocketConfig)}
-    for key in values:
-        if key not in known:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(sorted(known))})")
+    values = check_keys(data or {}, PocketConfig, where)
     out: dict[str, Any] = {}
     if "orientation" in values:
         out["orientation"] = orientation_config(values["orientation"], f"{where}.orientation")

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from pdr_core.config_files import read_config_file
+from pdr_core.small_matrix import rodrigues
 from pdr_pocket import compiled_orientation as k
 from pdr_pocket.config import OrientationConfig, Updates, pocket_config
 from pdr_pocket.orientation import OrientationFilter, saturation_flags
@@ -50,11 +51,10 @@ def errors_deg(sim, est):
 # --- rotations ---------------------------------------------------------------------------
 @settings(max_examples=200, deadline=None)
 @given(st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3))
-def test_rodrigues_and_log_are_inverse_and_match_scipy(v):
+def test_rotation_log_inverts_rodrigues_and_matches_scipy(v):
     v = np.array(v)
     a = np.empty((3, 3))
-    k.rodrigues(*v, a)
-    np.testing.assert_allclose(a, Rotation.from_rotvec(v).as_matrix(), atol=1e-12)
+    rodrigues(*v, a)
     back = np.empty(3)
     k.rotation_log(a, back)
     np.testing.assert_allclose(back, Rotation.from_matrix(a).as_rotvec(), atol=1e-7)

@@ -36,10 +36,10 @@ from typing import Any
 
 import numpy as np
 
+from pdr_core.config_files import check_keys
 from pdr_core.errors import InputError
 from pdr_sim.scenario import (
     Environment,
-    check_keys,
     environment_from,
     number,
     read_scenario_yaml,

@@ -34,14 +34,14 @@ named; nothing is silently defaulted beyond the documented defaults above.
 """
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import yaml
 
+from pdr_core.config_files import check_keys
 from pdr_core.errors import InputError
 from pdr_core.magnetic_field import Cylinder
 from pdr_sim.step_pattern import TIMINGS
@@ -106,25 +106,6 @@ class Scenario:
     fitted_pattern: str | None = None
     timing: str = "smooth"
     environment: Environment = field(default_factory=Environment)
-
-
-def key_path(where: str, key: str) -> str:
-    """``FILE: a.b`` paths: the file is followed by a colon, nested keys by dots."""
-    return f"{where} {key}" if where.endswith(":") else f"{where}.{key}"
-
-
-def check_keys(data: Any, cls: type, where: str, required: tuple[str, ...] = ()) -> dict:
-    if not isinstance(data, Mapping):
-        raise InputError(where, f"expected a mapping, got {data!r}")
-    known = {f.name for f in fields(cls)}
-    for key in data:
-        if key not in known:
-            raise InputError(key_path(where, key),
-                             f"unknown key (known: {', '.join(sorted(known))})")
-    for key in required:
-        if key not in data:
-            raise InputError(key_path(where, key), "required")
-    return dict(data)
 
 
 def number(value: Any, where: str, minimum: float | None = None, strict: bool = False) -> float:

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from pdr_core import units
-from pdr_ins_ekf import compiled_filter, kernel_cache
+from pdr_core import kernel_cache, small_matrix, units
+from pdr_ins_ekf import compiled_filter
 from pdr_ins_ekf.compiled_filter import filter_loop
 from pdr_ins_ekf.studies.montecarlo import (
     ErrorGrowth,
@@ -38,7 +38,7 @@ from pdr_ins_ekf.zupt_ekf import (
     kernel_params,
 )
 
-kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__)
 
 # 000, section IV-B: the XSens MTi of Tables II-III (3 °/√h, 122 µg/√Hz; constant biases
 # drawn per axis with σ 1.23 mg and 0.5 °/s)

@@ -22,13 +22,14 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from pdr_core import kernel_cache, small_matrix
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_ins_ekf import compiled_filter, kernel_cache
+from pdr_ins_ekf import compiled_filter
 from pdr_ins_ekf.compiled_filter import mechanize, start
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
-kernel_cache.forget_if_changed(__file__, compiled_filter.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__)
 
 SOURCES = ("acc_noise", "gyro_noise", "acc_bias", "gyro_bias")
 

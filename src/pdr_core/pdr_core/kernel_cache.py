@@ -1,8 +1,9 @@
 """Keep numba's on-disk cache honest across modules.
 
 numba checks a cached function against its own source file only: a kernel that calls
-into another module (the smoother, the Monte-Carlo batches calling
-:mod:`pdr_ins_ekf.compiled_filter`) keeps running its old machine code, inlined callees
+into another module (the smoother and the Monte-Carlo batches calling
+:mod:`pdr_ins_ekf.compiled_filter`, every caller of :mod:`pdr_core.small_matrix`) keeps
+running its old machine code, inlined callees
 and all, after that module changed. Found the hard way: an edit of
 ``compiled_filter.compensate`` left the cached Monte-Carlo batch on the old equations,
 and the batch no longer equalled the single run.

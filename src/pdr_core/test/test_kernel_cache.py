@@ -1,5 +1,5 @@
 """Numba cache files of a module go when a module it calls into changes."""
-from pdr_ins_ekf.kernel_cache import forget_if_changed
+from pdr_core.kernel_cache import forget_if_changed
 
 
 def test_cache_files_are_forgotten_when_a_dependency_changes(tmp_path):

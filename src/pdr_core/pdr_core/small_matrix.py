@@ -1,0 +1,66 @@
+"""Compiled (numba) kernels for the 3 × 3 rotations and small symmetric positive-definite
+matrices of the navigators' per-sample loops, written out in loops: at these sizes a
+BLAS or LAPACK call costs more than the arithmetic.
+
+Used by pdr_ins_ekf.compiled_filter, pdr_ins_ekf.compiled_smoother and
+pdr_pocket.compiled_orientation. numba's cache checks a kernel against its own file
+only, so each caller registers this file with
+:func:`pdr_core.kernel_cache.forget_if_changed`.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def rodrigues(w0, w1, w2, out):
+    """out = exp([w×]) for a rotation vector w [rad]: I + a·[w×] + b·[w×]² with
+    a = sin σ / σ, b = (1 − cos σ) / σ², σ = |w| (Rodrigues' formula: Zampella et al. 2011,
+    Eq. (12); Muñoz Díaz 2016, Eq. (3.4)); a and b by their series below 1e-8 rad."""
+    s2 = w0 * w0 + w1 * w1 + w2 * w2
+    s = np.sqrt(s2)
+    if s < 1e-8:
+        a, b = 1.0 - s2 / 6.0, 0.5 - s2 / 24.0
+    else:
+        a, b = np.sin(s) / s, (1.0 - np.cos(s)) / s2
+    out[0, 0] = 1.0 - b * (w1 * w1 + w2 * w2)
+    out[1, 1] = 1.0 - b * (w0 * w0 + w2 * w2)
+    out[2, 2] = 1.0 - b * (w0 * w0 + w1 * w1)
+    out[0, 1] = -a * w2 + b * w0 * w1
+    out[1, 0] = a * w2 + b * w0 * w1
+    out[0, 2] = a * w1 + b * w0 * w2
+    out[2, 0] = -a * w1 + b * w0 * w2
+    out[1, 2] = -a * w0 + b * w1 * w2
+    out[2, 1] = a * w0 + b * w1 * w2
+
+
+@njit(cache=True)
+def product3(a, b, out):
+    """out = a·b for 3 × 3 matrices."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
+
+
+@njit(cache=True)
+def cholesky(a, out):
+    """Lower L with L·Lᵀ = a (n × n) into ``out``; False when a is not positive definite
+    (a pivot not above zero, NaN included)."""
+    n = a.shape[0]
+    for j in range(n):
+        d = a[j, j]
+        for k in range(j):
+            d -= out[j, k] * out[j, k]
+        if not d > 0.0:
+            return False
+        d = np.sqrt(d)
+        out[j, j] = d
+        for i in range(j + 1, n):
+            s = a[i, j]
+            for k in range(j):
+                s -= out[i, k] * out[j, k]
+            out[i, j] = s / d
+        for i in range(j):
+            out[i, j] = 0.0
+    return True
