@@ -1,6 +1,9 @@
 """``pdr-pocket``: offline tools of the pocket navigator (no ROS graph needed).
 
 Subcommands:
+    run BAG --out OUT           the whole navigator (Muñoz Díaz 2016, chapters 3, 4 and 6):
+                                OUT/ as a bag with pdr/pocket/attitude, gyro_bias, step,
+                                pose and path, OUT/report.json, with --plot OUT/path.png.
     attitude BAG --out OUT      the orientation filter (Muñoz Díaz 2016, chapter 3) on
                                 imu/data and imu/mag: OUT/ as a bag with
                                 pdr/pocket/attitude and pdr/pocket/gyro_bias at every
@@ -94,6 +97,36 @@ def _run_attitude(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_run(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "run", help="the pocket navigator on a bag",
+        description="Steps, activities, stride, stairs and the 3D position from imu/data and "
+                    "imu/mag (Muñoz Díaz 2016, chapters 3, 4 and 6). Writes OUT/ as a bag "
+                    "with pdr/pocket/attitude and gyro_bias at every sample, pdr/pocket/step "
+                    "and pose at every step and pdr/pocket/path at the end, and "
+                    "OUT/report.json: steps, distance, height and floors, and with the "
+                    "simulator's truth the steps missed and false, the activity confusion, "
+                    "the distance and riser errors and the INTERFACES.md metrics.")
+    p.add_argument("bag", type=Path)
+    p.add_argument("--out", type=Path, required=True)
+    p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
+                                               "default: the installed config/pocket_pdr.yaml")
+    p.add_argument("--mag-calibration", type=Path,
+                   help="YAML of pdr-pocket calibrate-mag (overrides the configuration's)")
+    p.add_argument("--plot", action="store_true", help="also write OUT/path.png")
+    p.add_argument("--overwrite", action="store_true")
+    p.set_defaults(func=_run_navigator)
+
+
+def _run_navigator(args: argparse.Namespace) -> int:
+    from pdr_pocket.pocket_offline import run_bag
+
+    report = run_bag(args.bag, args.out, load_pocket_config(args.config),
+                     args.mag_calibration, plot=args.plot, overwrite=args.overwrite)
+    print(json.dumps(report, indent=2))
+    return 0
+
+
 def _add_calibrate_mag(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "calibrate-mag", help="fit the magnetometer's hard and soft iron",
@@ -158,6 +191,7 @@ def _run_calibrate_mag(args: argparse.Namespace) -> int:
 def parser() -> argparse.ArgumentParser:
     top = argparse.ArgumentParser(prog="pdr-pocket", description=__doc__.split("\n")[0])
     sub = top.add_subparsers(dest="command", required=True)
+    _add_run(sub)
     _add_attitude(sub)
     _add_calibrate_mag(sub)
     return top

@@ -108,9 +108,7 @@ class OrientationConfig:
                     "zero_rate_window_s",
                     "zero_rate_threshold_deg_per_s", "mag_window_s", "mag_norm_threshold_ut",
                     "mag_direction_threshold_deg", "max_gap_s")
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
+        _positive(self, positive)
         if self.latitude_deg is not None and not -90 <= self.latitude_deg <= 90:
             raise ValueError(f"latitude_deg must be within ±90, got {self.latitude_deg}")
 
@@ -154,11 +152,148 @@ class OrientationConfig:
 
 
 @dataclass(frozen=True)
+class MountingConfig:
+    """The thigh's frame in the sensor's (pdr_pocket.compiled_gait). ``rpy_deg`` set: the
+    phone's mounting C_s^t is known (ZYX roll, pitch, yaw of the sensor in the thigh frame
+    x forward, y left, z up) and nothing is estimated."""
+
+    rpy_deg: tuple[float, float, float] | None = None
+    rest_rate_deg_per_s: float = 6.0
+    rest_acc_mps2: float = 0.4
+    rest_min_s: float = 1.0
+    standing_max_angle_deg: float = 25.0
+    moved_min_angle_deg: float = 30.0
+    moving_rate_deg_per_s: float = 30.0
+    flexion_time_constant_s: float = 4.0
+    flexion_min_s: float = 1.5
+    replay_s: float = 3.0               # samples kept while the axes are learned
+
+    def __post_init__(self) -> None:
+        _positive(self, ("rest_rate_deg_per_s", "rest_acc_mps2", "rest_min_s",
+                         "standing_max_angle_deg", "moved_min_angle_deg",
+                         "moving_rate_deg_per_s", "flexion_time_constant_s", "flexion_min_s",
+                         "replay_s"))
+        if self.rpy_deg is not None and len(self.rpy_deg) != 3:
+            raise ValueError(f"rpy_deg must be [roll, pitch, yaw], got {self.rpy_deg}")
+
+
+@dataclass(frozen=True)
+class StepsConfig:
+    """The pitch-maximum step detector (Muñoz Díaz 2016, Section 4.1; compiled_gait)."""
+
+    drop_min_deg: float = 5.0
+    drop_fraction: float = 0.2
+    rise_min_deg: float = 5.0
+    rise_fraction: float = 0.3
+    min_amplitude_deg: float = 8.0
+    max_rise_s: float = 1.5
+    max_hold_s: float = 1.0
+    max_step_period_s: float = 2.5     # longer gaps start a new walking bout
+    nominal_step_period_s: float = 1.1  # the first step's duration (frequency model)
+
+    def __post_init__(self) -> None:
+        _positive(self, ("drop_min_deg", "rise_min_deg", "min_amplitude_deg", "max_rise_s",
+                         "max_hold_s", "max_step_period_s", "nominal_step_period_s"))
+
+
+@dataclass(frozen=True)
+class ActivityConfig:
+    """Activities from the pitch (Muñoz Díaz 2016, Section 4.1.3): per step, θ_max, θ_min
+    and Δθ against the running means of the last ``level_history_steps`` level steps."""
+
+    level_history_steps: int = 6
+    up_amplitude_margin_deg: float = 8.0     # Δθ ≫ mean Δθ_H: Δθ above it by this
+    up_max_margin_deg: float = 10.0          # θ_max ≫ mean θ_Hmax
+    up_min_tolerance_deg: float = 2.0        # and θ_min not below mean θ_Hmin by more
+    down_min_margin_deg: float = 5.0         # θ_min ≫ mean θ_Hmin
+    down_amplitude_ratio: float = 1.1        # Δθ ≪ mean Δθ_H: below this times it
+    sitting_min_pitch_deg: float = 30.0      # at rest: sitting above, standing below
+    rest_after_s: float = 2.5                # no step for this long: standing or sitting
+
+    def __post_init__(self) -> None:
+        _positive(self, ("level_history_steps", "up_amplitude_margin_deg", "up_max_margin_deg",
+                         "up_min_tolerance_deg",
+                         "down_min_margin_deg", "down_amplitude_ratio",
+                         "sitting_min_pitch_deg", "rest_after_s"))
+
+
+@dataclass(frozen=True)
+class StepLengthConfig:
+    """Stride (one gait cycle) models. ``model``: pitch (Eq. (4.2), the thesis'),
+    frequency (Eq. (4.3)) or weinberg (Eq. (2.3), ζ·(α_z,max − α_z,min)^¼)."""
+
+    model: str = "pitch"
+    a_h_m_per_deg: float = 0.025        # universal slope a_H
+    b_h_m: float = 0.42                 # personal offset b_H (pdr-pocket calibrate-step)
+    c_h_m_per_hz: float = 1.60          # s = c_H·f + d_H, f in gait cycles per second
+    d_h_m: float = 0.0
+    weinberg_zeta: float = 0.95         # s = ζ·(Δα_z [m/s²])^¼
+    stairs_stride_m: float = 0.52       # horizontal stride on stairs (Section 4.3.3)
+    length_sigma_m: float = 0.03        # 1σ of one stride about the line
+
+    def __post_init__(self) -> None:
+        if self.model not in STEP_LENGTH_MODELS:
+            raise ValueError(f"model must be one of {', '.join(STEP_LENGTH_MODELS)}, "
+                             f"got {self.model!r}")
+        _positive(self, ("a_h_m_per_deg", "weinberg_zeta", "stairs_stride_m",
+                         "length_sigma_m"))
+
+
+@dataclass(frozen=True)
+class StairsConfig:
+    """Vertical displacement per step (Muñoz Díaz 2016, Eqs. (4.4)-(4.5)), v in cm and Δθ
+    in degrees as there, and floors."""
+
+    a_u_cm_per_deg: float = 0.8
+    b_u_cm: float = -8.456
+    a_d_cm_per_deg: float = 2.0
+    b_d_cm: float = -19.24
+    floor_height_m: float = 3.5
+    vertical_sigma_m: float = 0.02      # 1σ of one step's v
+
+    def __post_init__(self) -> None:
+        _positive(self, ("a_u_cm_per_deg", "a_d_cm_per_deg", "floor_height_m",
+                         "vertical_sigma_m"))
+
+
+@dataclass(frozen=True)
+class PositionConfig:
+    """The position filter (Muñoz Díaz 2016, chapter 6; pdr_pocket.position)."""
+
+    heading_sigma_per_step_deg: float = 1.0   # the sway left in one step's mean heading
+    initial_position_sigma_m: float = 0.0
+    correction_gate_probability: float = 0.999
+
+    def __post_init__(self) -> None:
+        _positive(self, ("heading_sigma_per_step_deg", "correction_gate_probability"))
+        if self.initial_position_sigma_m < 0:
+            raise ValueError("initial_position_sigma_m must be >= 0")
+
+
+@dataclass(frozen=True)
 class PocketConfig:
-    """The whole navigator; later issues add their sections beside ``orientation``."""
+    """The whole navigator."""
 
     orientation: OrientationConfig = field(default_factory=OrientationConfig)
+    mounting: MountingConfig = field(default_factory=MountingConfig)
+    steps: StepsConfig = field(default_factory=StepsConfig)
+    activity: ActivityConfig = field(default_factory=ActivityConfig)
+    step_length: StepLengthConfig = field(default_factory=StepLengthConfig)
+    stairs: StairsConfig = field(default_factory=StairsConfig)
+    position: PositionConfig = field(default_factory=PositionConfig)
     magnetometer_calibration: str | None = None   # YAML of pdr-pocket calibrate-mag
+
+
+STEP_LENGTH_MODELS = ("pitch", "frequency", "weinberg")
+SECTIONS = {"mounting": MountingConfig, "steps": StepsConfig, "activity": ActivityConfig,
+            "step_length": StepLengthConfig, "stairs": StairsConfig,
+            "position": PositionConfig}
+
+
+def _positive(config, names: tuple[str, ...]) -> None:
+    for name in names:
+        if not getattr(config, name) > 0:
+            raise ValueError(f"{name} must be > 0, got {getattr(config, name)}")
 
 
 def orientation_config(data: dict | None, where: str) -> OrientationConfig:
@@ -179,6 +314,9 @@ def pocket_config(data: dict | None, where: str = "config") -> PocketConfig:
     out: dict[str, Any] = {}
     if "orientation" in values:
         out["orientation"] = orientation_config(values["orientation"], f"{where}.orientation")
+    for name, kind in SECTIONS.items():
+        if values.get(name) is not None:
+            out[name] = dataclass_from_mapping(kind, values[name], f"{where}.{name}")
     if values.get("magnetometer_calibration") is not None:
         out["magnetometer_calibration"] = str(values["magnetometer_calibration"])
     return PocketConfig(**out)

@@ -9,6 +9,9 @@ pocket is unknown).
 - :func:`thigh_pitch`: the opening angle θ of the leg from the filter's attitude: the
   angle of the long axis from the vertical, positive with the knee ahead.
 
+These work on a whole record (a reference for the tests on real recordings); the
+navigator learns the same axes causally, sample by sample (pdr_pocket.compiled_gait).
+
 All axes are unit vectors in the sensor frame; angles in rad.
 """
 from __future__ import annotations
@@ -32,13 +35,14 @@ def flexion_axis(gyro: np.ndarray, up: np.ndarray) -> np.ndarray:
 
 
 def thigh_pitch(attitude: np.ndarray, up: np.ndarray, flexion: np.ndarray) -> np.ndarray:
-    """θ [rad], (N,): the tilt of the long axis ``up`` (sensor frame) from the vertical, in
-    the plane the leg swings in, for attitudes C_b^n (N, 3, 3): positive when the long axis
-    turns about ``flexion`` the way a right-handed rotation turns it."""
+    """θ [rad], (N,), for attitudes C_b^n (N, 3, 3): the tilt of the long axis ``up``
+    (sensor frame) from the vertical in the plane the leg swings in, positive with the
+    knee ahead of the hip along the horizontal direction of ``flexion`` × ``up`` (the
+    bulk twin of pdr_pocket.compiled_gait.thigh_angles)."""
     long_n = attitude @ up                      # (N, 3) the thigh's long axis, ENU
-    forward_n = attitude @ np.cross(flexion, up)    # turning up about flexion moves it here
-    horizontal = np.einsum("ni,ni->n", long_n, forward_n) - long_n[:, 2] * forward_n[:, 2]
-    return np.arctan2(horizontal, long_n[:, 2])
+    forward_n = attitude @ np.cross(flexion, up)
+    horizontal = forward_n[:, :2] / np.linalg.norm(forward_n[:, :2], axis=1, keepdims=True)
+    return np.arctan2(-np.einsum("ni,ni->n", long_n[:, :2], horizontal), long_n[:, 2])
 
 
 def signed_flexion_axis(attitude: np.ndarray, up: np.ndarray, flexion: np.ndarray) -> np.ndarray:

@@ -176,24 +176,46 @@ class OrientationFilter:
         """Update the z gyro bias with a value and its variance [rad/s, rad²/s²]."""
         return self._correct(BIAS_Z_CORRECTION, bias_radps, variance, "z gyro bias")
 
-    def _correct(self, kind: int, value: float, variance: float, what: str) -> tuple[bool, str]:
+    def check_correction(self, kind: int, value: float, variance: float,
+                         what: str) -> str | None:
+        """Why a correction would be refused (None: it would be applied)."""
         if self.state is None:
-            return self._refuse(f"{what} correction: the filter has not started")
+            return f"{what} correction: the filter has not started"
         if not (np.isfinite(value) and np.isfinite(variance) and variance > 0):
-            return self._refuse(f"{what} correction: value {value!r} with variance "
-                                f"{variance!r} is not usable (finite, variance > 0)")
+            return (f"{what} correction: value {value!r} with variance {variance!r} is not "
+                    "usable (finite, variance > 0)")
+        nis, innovation, predicted = self._nis(kind, value, variance)
+        limit = chi2.ppf(GATE_PROBABILITY, 1)
+        if nis > limit:
+            return (f"{what} correction refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} "
+                    f"(innovation {innovation:.4g}, predicted variance {predicted:.3g} + "
+                    f"{variance:.3g})")
+        return None
+
+    def _nis(self, kind: int, value: float, variance: float) -> tuple[float, float, float]:
         predicted = self._predicted_variance(kind)
         innovation = (value - self._current(kind) + np.pi) % (2 * np.pi) - np.pi \
             if kind == YAW_CORRECTION else value - self._current(kind)
-        nis = innovation**2 / (predicted + variance)
-        limit = chi2.ppf(GATE_PROBABILITY, 1)
-        if nis > limit:
-            return self._refuse(f"{what} correction refused by the χ² gate: NIS {nis:.1f} > "
-                                f"{limit:.1f} (innovation {innovation:.4g}, predicted "
-                                f"variance {predicted:.3g} + {variance:.3g})")
+        return innovation**2 / (predicted + variance), innovation, predicted
+
+    def _correct(self, kind: int, value: float, variance: float, what: str) -> tuple[bool, str]:
+        problem = self.check_correction(kind, value, variance, what)
+        if problem is not None:
+            return self._refuse(problem)
+        nis = self._nis(kind, value, variance)[0]
         kernel.correct(self.state, self.params, kind, value, variance)
         self.corrections["accepted"] += 1
         return True, f"{what} correction applied (NIS {nis:.2f})"
+
+    @property
+    def yaw(self) -> float:
+        """ψ of the current attitude [rad]."""
+        return self._current(YAW_CORRECTION)
+
+    @property
+    def yaw_variance(self) -> float:
+        """Variance of the yaw (the vertical component of the attitude error) [rad²]."""
+        return self._predicted_variance(YAW_CORRECTION)
 
     def _refuse(self, message: str) -> tuple[bool, str]:
         self.corrections["refused"] += 1

@@ -67,3 +67,56 @@ def magnetometer_png(raw_ut: np.ndarray, calibrated_ut: np.ndarray, path: Path,
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
+
+
+ACTIVITY_COLOURS = ("tab:gray", "tab:blue", "tab:green", "tab:orange", "tab:purple")
+ELLIPSE_EVERY_STEPS = 20
+
+
+def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.ndarray,
+                   truth: np.ndarray | None, t_s: np.ndarray, pitch_deg: np.ndarray,
+                   step_t: np.ndarray, true_step_t: np.ndarray | None, path: Path,
+                   title: str) -> None:
+    """Three panels: the 3D path (one point per step, coloured by activity: level
+    blue, up green, down orange), the top view with the 1σ position ellipse every
+    :data:`ELLIPSE_EVERY_STEPS` steps, and the thigh pitch with the detected steps (and
+    the true ones). Decimated to at most 20,000 points per line, so an hour plots in
+    seconds."""
+    from pdr_pocket.activity import ACTIVITY_NAMES
+
+    fig = plt.figure(figsize=(15, 10))
+    ax3 = fig.add_subplot(2, 2, 1, projection="3d")
+    top = fig.add_subplot(2, 2, 2)
+    pitch_ax = fig.add_subplot(2, 1, 2)
+    for a, name in enumerate(ACTIVITY_NAMES):
+        mask = activity == a
+        if mask.any():
+            ax3.scatter(*positions[mask].T, s=4, color=ACTIVITY_COLOURS[a], label=name)
+    if truth is not None:
+        ax3.plot(*truth.T, color="k", lw=0.6, label="truth")
+        top.plot(truth[:, 0], truth[:, 1], color="k", lw=0.6, label="truth")
+    ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="3D path")
+    ax3.legend(loc="upper left", fontsize=8)
+    top.plot(positions[:, 0], positions[:, 1], color="tab:blue", lw=1, label="estimate")
+    angles = np.linspace(0, 2 * np.pi, 60)
+    circle = np.stack([np.cos(angles), np.sin(angles)])
+    for k in range(0, len(positions), ELLIPSE_EVERY_STEPS):
+        values, vectors = np.linalg.eigh(covariances[k][:2, :2])
+        ring = vectors @ (np.sqrt(np.maximum(values, 0))[:, None] * circle)
+        top.plot(positions[k, 0] + ring[0], positions[k, 1] + ring[1], color="tab:red", lw=0.6)
+    top.set(xlabel="east [m]", ylabel="north [m]", aspect="equal",
+            title=f"top view, 1σ ellipses every {ELLIPSE_EVERY_STEPS} steps")
+    top.legend(loc="best", fontsize=8)
+    step = max(1, len(t_s) // 20000)
+    pitch_ax.plot(t_s[::step], pitch_deg[::step], color="tab:blue", lw=0.6, label="thigh pitch")
+    pitch_ax.plot(step_t, np.interp(step_t, t_s, pitch_deg), "v", color="tab:red", ms=4,
+                  label="detected steps")
+    if true_step_t is not None:
+        pitch_ax.plot(true_step_t, np.full(len(true_step_t), np.nanmin(pitch_deg)), "|",
+                      color="k", ms=8, label="true steps (cycle ends)")
+    pitch_ax.set(xlabel="time [s]", ylabel="pitch [deg]", title="thigh pitch and steps")
+    pitch_ax.legend(loc="upper right", fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -15,7 +15,7 @@ from scipy.spatial.transform import Rotation
 from pdr_core.config_files import read_config_file
 from pdr_core.small_matrix import rodrigues
 from pdr_pocket import compiled_orientation as k
-from pdr_pocket.config import OrientationConfig, Updates, pocket_config
+from pdr_pocket.config import OrientationConfig, PocketConfig, Updates, pocket_config
 from pdr_pocket.orientation import OrientationFilter, saturation_flags
 from pdr_pocket.streaming import StreamingPocket
 from pdr_sim.pocket_scenario import pocket_scenario_from_dict
@@ -191,8 +191,7 @@ def test_corrections_are_kalman_updates_gated_and_refused_when_unusable():
 
 # --- configuration and the live path -----------------------------------------------------
 def test_shipped_yaml_holds_the_dataclass_defaults():
-    assert pocket_config(read_config_file(CONFIG), str(CONFIG)).orientation == \
-        OrientationConfig()
+    assert pocket_config(read_config_file(CONFIG), str(CONFIG)) == PocketConfig()
     assert set(yaml.safe_load(CONFIG.read_text())["orientation"]["updates"]) == \
         set(Updates.__dataclass_fields__)
 

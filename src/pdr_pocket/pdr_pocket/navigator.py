@@ -1,0 +1,298 @@
+"""The pocket navigator: from IMU samples to steps and a 3D position (Muñoz Díaz 2016,
+chapters 3, 4 and 6).
+
+:class:`PocketNavigator` composes, per chunk of samples (one sample live, a whole record
+offline, the same result either way):
+
+1. the orientation filter (:mod:`pdr_pocket.orientation`, chapter 3);
+2. the thigh frame and pitch (:mod:`pdr_pocket.compiled_gait`); samples seen while the
+   axes are still being learned (the first ``flexion_min_s`` of walking) are kept for
+   ``replay_s`` and given the axes once known, so the first steps are not lost;
+3. the pitch-maximum step detector (:mod:`pdr_pocket.steps`, Section 4.1);
+4. per step: the activity (Section 4.1.3), the stride (Eq. (4.2), or the configured
+   model), the vertical displacement (Eqs. (4.4)-(4.5)), the heading (the circular mean
+   of the thigh's heading over the cycle, which cancels the hip sway) and the position
+   filter (Eq. (5.1), chapter 6).
+
+Between steps each sample's activity is the last step's, or standing/sitting from the
+thigh's tilt after ``rest_after_s`` without a step. External corrections (Eqs. (6.2)-(6.3))
+go through :meth:`PocketNavigator.apply_correction`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdr_core.rotations import rotation_from_euler
+from pdr_pocket.activity import DOWNSTAIRS, UPSTAIRS, WALKING, ActivityClassifier, rest_activity
+from pdr_pocket.compiled_gait import (
+    EV_MAX,
+    EV_MIN,
+    EV_T_CONFIRM,
+    EV_T_MAX,
+    MountingParams,
+    mounting_loop,
+    new_mounting_state,
+    thigh_angles,
+)
+from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, YAW_CORRECTION
+from pdr_pocket.config import PocketConfig
+from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
+from pdr_pocket.position import PSI, PositionFilter
+from pdr_pocket.stairs import Staircases, vertical_displacement_m
+from pdr_pocket.step_length import StrideInputs, stride_model
+from pdr_pocket.steps import PitchMaximumDetector
+
+THIGH_UP, THIGH_FLEXION = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
+LEVEL_VERTICAL_VAR_M2 = 0.0
+
+
+@dataclass(frozen=True)
+class StepRecord:
+    """One step (pdr_msgs/Step fields, SI) with the pose after it."""
+
+    index: int
+    t: float                    # the pitch maximum [s]
+    t_confirm: float            # when it was known (the navigator's output time) [s]
+    length: float
+    vertical_displacement: float
+    heading: float
+    pitch_max: float
+    pitch_min: float
+    duration: float
+    activity: int
+    position: np.ndarray
+    covariance: np.ndarray
+    floor: int
+
+    @property
+    def pitch_amplitude(self) -> float:
+        return self.pitch_max - self.pitch_min
+
+
+@dataclass
+class NavigatorOutput:
+    """A chunk's results: the attitude per sample, the thigh pitch and heading [rad] (NaN
+    while the axes are unknown), the activity per sample and the steps confirmed."""
+
+    attitude: AttitudeEstimate
+    pitch: np.ndarray
+    heading: np.ndarray
+    activity: np.ndarray
+    steps: list[StepRecord] = field(default_factory=list)
+
+
+def mounting_params(config: PocketConfig) -> MountingParams:
+    m = config.mounting
+    return MountingParams(m.rpy_deg is not None, config.orientation.gravity_mps2,
+                          np.radians(m.rest_rate_deg_per_s), m.rest_acc_mps2, m.rest_min_s,
+                          np.radians(m.standing_max_angle_deg),
+                          np.radians(m.moved_min_angle_deg),
+                          np.radians(m.moving_rate_deg_per_s), m.flexion_time_constant_s,
+                          m.flexion_min_s)
+
+
+def configured_axes(rpy_deg) -> tuple[np.ndarray, np.ndarray]:
+    """u and f in the sensor frame of a mounting C_s^t given as ZYX roll, pitch, yaw."""
+    c_s_t = rotation_from_euler(*np.radians(rpy_deg)).as_matrix()
+    return c_s_t.T @ THIGH_UP, c_s_t.T @ THIGH_FLEXION
+
+
+class PocketNavigator:
+    def __init__(self, config: PocketConfig) -> None:
+        self.config = config
+        self.reset()
+
+    def reset(self) -> None:
+        c = self.config
+        self.orientation = OrientationFilter(c.orientation)
+        self.mounting_params = mounting_params(c)
+        axes = configured_axes(c.mounting.rpy_deg) if c.mounting.rpy_deg is not None \
+            else (None, None)
+        self.mounting = new_mounting_state(*axes)
+        self.detector = PitchMaximumDetector(c.steps)
+        self.classifier = ActivityClassifier(c.activity)
+        self.stride = stride_model(c.step_length)
+        self.staircases = Staircases(c.stairs)
+        self.position = PositionFilter(c.position)
+        self.steps: list[StepRecord] = []
+        self.pending: list[tuple[float, np.ndarray, float]] = []   # (t, C, vertical force)
+        # per-cycle accumulators since the last confirmed step
+        self.sum_cos = self.sum_sin = 0.0
+        self.vz_max, self.vz_min = -np.inf, np.inf
+        self.last_confirm = -np.inf
+        self.last_activity = WALKING
+        self.corrections = {"accepted": 0, "refused": 0}
+
+    # --- processing -----------------------------------------------------------------
+    def process(self, t, gyro, accel, mag=None) -> NavigatorOutput:
+        """Samples at times t [s] (N,), gyro [rad/s], accel [m/s²], mag [T] (N, 3)."""
+        t = np.asarray(t, float)
+        attitude = self.orientation.run(t, gyro, accel, mag)
+        n = len(t)
+        pitch, heading = np.full(n, np.nan), np.full(n, np.nan)
+        known = np.zeros(n, dtype=np.bool_)
+        up, flex = np.zeros((n, 3)), np.zeros((n, 3))
+        mounting_loop(self.mounting, self.mounting_params, t,
+                      np.ascontiguousarray(gyro, dtype=float),
+                      np.ascontiguousarray(accel, dtype=float), attitude.attitude,
+                      pitch, heading, known, up, flex)
+        vz = np.einsum("nj,nj->n", attitude.attitude[:, 2, :], np.asarray(accel, float))
+        stream = self._stream(t, attitude.attitude, vz, pitch, heading, known, up, flex)
+        before = (self.last_confirm, self.last_activity)
+        steps = self._steps(stream, attitude)
+        tilt = np.arccos(np.clip(np.einsum("nj,nj->n", attitude.attitude[:, 2, :], up), -1, 1))
+        return NavigatorOutput(attitude, pitch, heading,
+                               self._activity(t, tilt, steps, before), steps)
+
+    def _stream(self, t, c, vz, pitch, heading, known, up, flex):
+        """The samples the detector sees, in order: (t, θ, heading, vertical force), with
+        the pending samples given the axes of the first known sample after them."""
+        replay = self.config.mounting.replay_s
+        out_t, out_p, out_h, out_v = [], [], [], []
+        k = 0
+        n = len(t)
+        while k < n:
+            if not known[k]:
+                self.pending.append((t[k], c[k], vz[k]))
+                while self.pending[-1][0] - self.pending[0][0] > replay:
+                    self.pending.pop(0)
+                k += 1
+                continue
+            if self.pending:
+                for tp, cp, vp in self.pending:
+                    p, h = thigh_angles(cp, up[k], flex[k])
+                    out_t.append(tp), out_p.append(p), out_h.append(h), out_v.append(vp)
+                    if tp >= t[0]:                   # a sample of this chunk: report it
+                        i = np.searchsorted(t, tp)
+                        pitch[i], heading[i] = p, h
+                self.pending = []
+            end = k
+            while end < n and known[end]:
+                end += 1
+            out_t.extend(t[k:end]), out_p.extend(pitch[k:end])
+            out_h.extend(heading[k:end]), out_v.extend(vz[k:end])
+            k = end
+        return (np.asarray(out_t, float), np.asarray(out_p, float), np.asarray(out_h, float),
+                np.asarray(out_v, float))
+
+    def _steps(self, stream, attitude: AttitudeEstimate) -> list[StepRecord]:
+        t, pitch, heading, vz = stream
+        events = self.detector.push(t, pitch)
+        cuts = np.searchsorted(t, events[:, EV_T_CONFIRM], side="right")
+        out = []
+        start = 0
+        for event, cut in zip(events, cuts, strict=True):
+            self._accumulate(heading[start:cut], vz[start:cut])
+            start = cut
+            yaw_var = float(attitude.covariance[np.searchsorted(attitude.t, event[EV_T_CONFIRM]),
+                                                2, 2]) \
+                if event[EV_T_CONFIRM] >= attitude.t[0] else self.position.yaw_variance or 0.0
+            out.append(self._step(event, yaw_var))
+        self._accumulate(heading[start:], vz[start:])
+        return out
+
+    def _accumulate(self, heading: np.ndarray, vz: np.ndarray) -> None:
+        ok = np.isfinite(heading)
+        self.sum_cos += float(np.cos(heading[ok]).sum())
+        self.sum_sin += float(np.sin(heading[ok]).sum())
+        if len(vz):
+            self.vz_max = max(self.vz_max, float(vz.max()))
+            self.vz_min = min(self.vz_min, float(vz.min()))
+
+    def _step(self, event: np.ndarray, yaw_var: float) -> StepRecord:
+        c = self.config
+        t_max, t_confirm = float(event[EV_T_MAX]), float(event[EV_T_CONFIRM])
+        previous = self.steps[-1].t if self.steps else -np.inf
+        gap = t_max - previous
+        duration = gap if gap <= c.steps.max_step_period_s else (
+            self.steps[-1].duration if self.steps and self.last_confirm > previous
+            else c.steps.nominal_step_period_s)
+        amplitude_deg = float(np.degrees(event[EV_MAX] - event[EV_MIN]))
+        activity = self.classifier.classify(float(event[EV_MAX]), float(event[EV_MIN]))
+        heading = float(np.arctan2(self.sum_sin, self.sum_cos))
+        if activity == WALKING:
+            length = self.stride.length(StrideInputs(amplitude_deg, duration,
+                                                     self.vz_max - self.vz_min))
+        else:
+            length = c.step_length.stairs_stride_m
+        vertical = vertical_displacement_m(activity, amplitude_deg, c.stairs)
+        index = len(self.steps)
+        self.staircases.add(index, t_max, activity, vertical)
+        on_stairs = activity in (UPSTAIRS, DOWNSTAIRS)
+        self.position.step(length, vertical, heading, yaw_var, c.step_length.length_sigma_m**2,
+                           c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2)
+        record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
+                            float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
+                            self.position.position, self.position.covariance,
+                            self.staircases.floor(self.position.position[2], 0.0))
+        self.steps.append(record)
+        self.sum_cos = self.sum_sin = 0.0
+        self.vz_max, self.vz_min = -np.inf, np.inf
+        self.last_confirm = t_confirm
+        self.last_activity = activity
+        return record
+
+    def _activity(self, t: np.ndarray, tilt: np.ndarray, steps: list[StepRecord],
+                  before: tuple[float, int]) -> np.ndarray:
+        """Per sample: the last confirmed step's activity, or standing/sitting from the
+        tilt after ``rest_after_s`` without a step; ``before``: the confirmation time and
+        activity of the last step before the chunk."""
+        confirms = np.array([before[0], *(s.t_confirm for s in steps)])
+        labels = np.array([before[1], *(s.activity for s in steps)], dtype=np.uint8)
+        idx = np.maximum(np.searchsorted(confirms, t, side="right") - 1, 0)
+        resting = t - confirms[idx] > self.config.activity.rest_after_s
+        return np.where(resting, rest_activity(tilt, self.config.activity),
+                        labels[idx]).astype(np.uint8)
+
+    # --- corrections (Eqs. (6.2)-(6.3)) -----------------------------------------------
+    def apply_correction(self, yaw_rad: float, yaw_var: float, bias_z: float, bias_var: float,
+                         position=None, position_cov=None) -> tuple[bool, str]:
+        """Add ``yaw_rad`` to the heading and ``bias_z`` to the z gyro bias, as Kalman
+        updates with their variances (Eq. (6.2); a part whose value and variance are both
+        0 is not given), and the position fix (Eq. (6.3)) when ``position`` is given.
+        Every part is checked (values, variances, χ² gates) before any is applied: one
+        refused part refuses the whole correction and changes nothing."""
+        problem = _invalid(yaw_var, bias_var, position, position_cov, yaw_rad, bias_z)
+        f = self.orientation
+        if problem is None and f.state is None:
+            problem = "the navigator has not started (no IMU sample yet)"
+        with_yaw = not (yaw_rad == 0 and yaw_var == 0)
+        with_bias = not (bias_z == 0 and bias_var == 0)
+        if problem is None and with_yaw:
+            problem = f.check_correction(YAW_CORRECTION, f.yaw + yaw_rad, yaw_var, "yaw")
+        if problem is None and with_bias:
+            problem = f.check_correction(BIAS_Z_CORRECTION, f.state.bias[2] + bias_z,
+                                         bias_var, "z gyro bias")
+        if problem is None and position is not None:
+            problem = self.position.check_position(position, position_cov)
+        if problem is not None:
+            self.corrections["refused"] += 1
+            return False, problem
+        done = []
+        if with_yaw:
+            done.append(f.correct_yaw(f.yaw + yaw_rad, yaw_var)[1])
+            self.position.correct_heading(self.position.x[PSI] + yaw_rad, yaw_var,
+                                          f.yaw_variance)
+        if with_bias:
+            done.append(f.correct_bias_z(f.state.bias[2] + bias_z, bias_var)[1])
+        if position is not None:
+            done.append(self.position.correct_position(position, position_cov)[1])
+        self.corrections["accepted"] += 1
+        return True, "; ".join(done) or "nothing to apply"
+
+
+def _invalid(yaw_var, bias_var, position, position_cov, *values) -> str | None:
+    numbers = [yaw_var, bias_var, *values]
+    if not np.isfinite(numbers).all():
+        return f"non-finite value or variance in {numbers}"
+    if yaw_var < 0 or bias_var < 0:
+        return f"negative variance (yaw {yaw_var}, bias {bias_var})"
+    if position is not None:
+        cov = np.asarray(position_cov, float)
+        if not (np.isfinite(position).all() and np.isfinite(cov).all()):
+            return "non-finite position or covariance"
+        if np.any(np.diag(cov.reshape(3, 3)) < 0):
+            return "negative position variance"
+    return None

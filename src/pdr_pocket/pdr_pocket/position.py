@@ -1,0 +1,129 @@
+"""The position filter of the pocket navigator (Muñoz Díaz 2016, chapter 6).
+
+The thesis' state is the 3D position [x, y, z] (Eq. (6.1)), propagated once per step by
+Eq. (5.1): x += s·cos ψ, y += s·sin ψ, z += v. Here it is augmented with the heading ψ
+(the augmented form of Section 5.2), so that the covariance grows as a heading error
+that persists from step to step makes it grow, not as independent per-step noise:
+
+    state X = [x, y, z, ψ] (ENU, m and rad), covariance P (4 × 4)
+    per step j:  ψ ← the orientation filter's heading of the step (its mean)
+                 P_ψψ += q_ψ = max(ΔP_yaw, 0)
+                 X ← X + [s cos ψ, s sin ψ, v, 0]
+                 P ← F P Fᵀ + G diag(σ_s², σ_v², σ_ψ,step²) Gᵀ,
+                 F = I + [[0,0,0,−s sin ψ],[0,0,0,s cos ψ],[0,0,0,0],[0,0,0,0]],
+                 G = [[cos ψ, 0, −s sin ψ],[sin ψ, 0, s cos ψ],[0, 1, 0],[0, 0, 0]]
+
+with ΔP_yaw the growth of the orientation filter's yaw variance since the previous step
+(its gyroscope and bias uncertainty integrated: an error that persists) and σ_ψ,step the
+hip sway left in one step's mean heading (an error of that step alone). The propagation
+is linear in the inputs given ψ, so an extended filter with the exact Jacobian is what the
+unscented one of the thesis computes here to second order.
+
+Updates (Eq. (6.3) and a heading fix), Kalman with a χ² gate:
+:meth:`PositionFilter.correct_position` (3 dof) and :meth:`PositionFilter.correct_heading`
+(1 dof, applied when the orientation filter accepted a yaw correction, so the position's
+correlation with the heading is kept honest).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.stats import chi2
+
+from pdr_pocket.config import PositionConfig
+
+X, Y, Z, PSI = range(4)
+N_POSITION_STATE = 4
+
+
+class PositionFilter:
+    def __init__(self, config: PositionConfig | None = None,
+                 start=(0.0, 0.0, 0.0)) -> None:
+        self.config = config or PositionConfig()
+        self.x = np.zeros(N_POSITION_STATE)
+        self.x[:3] = start
+        self.p = np.zeros((N_POSITION_STATE, N_POSITION_STATE))
+        self.p[:3, :3] = np.eye(3) * self.config.initial_position_sigma_m**2
+        self.yaw_variance: float | None = None
+        self.step_heading_var = np.radians(self.config.heading_sigma_per_step_deg) ** 2
+
+    def step(self, length_m: float, vertical_m: float, heading_rad: float,
+             yaw_variance: float, length_var: float, vertical_var: float) -> None:
+        """One step (Eq. (5.1)) with its input variances [m², rad²]."""
+        growth = 0.0 if self.yaw_variance is None else max(yaw_variance - self.yaw_variance, 0.0)
+        if self.yaw_variance is None:
+            self.p[PSI, PSI] = yaw_variance
+        self.yaw_variance = yaw_variance
+        self.x[PSI] = heading_rad
+        self.p[PSI, PSI] += growth
+        c, s = np.cos(heading_rad), np.sin(heading_rad)
+        f = np.eye(N_POSITION_STATE)
+        f[X, PSI], f[Y, PSI] = -length_m * s, length_m * c
+        g = np.zeros((N_POSITION_STATE, 3))
+        g[X, 0], g[Y, 0], g[Z, 1] = c, s, 1.0
+        g[X, 2], g[Y, 2] = -length_m * s, length_m * c
+        self.x[:3] += (length_m * c, length_m * s, vertical_m)
+        q = np.diag([length_var, vertical_var, self.step_heading_var])
+        self.p = f @ self.p @ f.T + g @ q @ g.T
+        self.p = 0.5 * (self.p + self.p.T)
+
+    @property
+    def position(self) -> np.ndarray:
+        return self.x[:3].copy()
+
+    @property
+    def covariance(self) -> np.ndarray:
+        return self.p[:3, :3].copy()
+
+    def check_position(self, position, covariance) -> str | None:
+        """Why a position fix would be refused (None: it would be applied)."""
+        z = np.asarray(position, float)
+        r = np.asarray(covariance, float).reshape(3, 3)
+        if not (np.isfinite(z).all() and np.isfinite(r).all()):
+            return "position fix: not finite"
+        if not np.allclose(r, r.T) or np.linalg.eigvalsh(r).min() < 0:
+            return "position fix: covariance not symmetric positive semi-definite"
+        s = self.p[:3, :3] + r
+        if np.linalg.matrix_rank(s) < 3:
+            return "position fix: singular innovation covariance (both covariances zero)"
+        innovation = z - self.x[:3]
+        nis = float(innovation @ np.linalg.solve(s, innovation))
+        limit = float(chi2.ppf(self.config.correction_gate_probability, 3))
+        if nis > limit:
+            return (f"position fix refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} (3 dof, "
+                    f"innovation {np.round(innovation, 2).tolist()} m)")
+        return None
+
+    def correct_position(self, position, covariance) -> tuple[bool, str]:
+        """Eq. (6.3): the landmark's first-visit position and its covariance (3, 3) [m,
+        m²], refused (state untouched) as :meth:`check_position` says."""
+        problem = self.check_position(position, covariance)
+        if problem is not None:
+            return False, problem
+        h = np.zeros((3, N_POSITION_STATE))
+        h[:, :3] = np.eye(3)
+        z = np.asarray(position, float)
+        return True, self._update(h, z - self.x[:3], np.asarray(covariance, float).reshape(3, 3),
+                                  "position fix")
+
+    def correct_heading(self, heading_rad: float, variance: float,
+                        yaw_variance_after: float) -> str:
+        """A heading fix [rad, rad²] the orientation filter accepted (no gate here);
+        ``yaw_variance_after``: its yaw variance once it took the fix, from which the next
+        step's growth counts."""
+        h = np.zeros((1, N_POSITION_STATE))
+        h[0, PSI] = 1.0
+        innovation = np.angle(np.exp(1j * (heading_rad - self.x[PSI])))
+        message = self._update(h, np.array([innovation]), np.array([[variance]]), "heading")
+        self.yaw_variance = yaw_variance_after
+        return message
+
+    def _update(self, h: np.ndarray, innovation: np.ndarray, r: np.ndarray, what: str) -> str:
+        """The Kalman update (Joseph form)."""
+        s = h @ self.p @ h.T + r
+        nis = float(innovation @ np.linalg.solve(s, innovation))
+        k = self.p @ h.T @ np.linalg.inv(s)
+        self.x = self.x + k @ innovation
+        i_kh = np.eye(N_POSITION_STATE) - k @ h
+        self.p = i_kh @ self.p @ i_kh.T + k @ r @ k.T
+        self.p = 0.5 * (self.p + self.p.T)
+        return f"{what} applied (NIS {nis:.2f})"

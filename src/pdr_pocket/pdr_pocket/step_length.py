@@ -1,0 +1,103 @@
+"""Stride (one gait cycle) length models behind one interface, and their calibration.
+
+- :class:`PitchLine`: s = a_H·Δθ_H + b_H (Muñoz Díaz 2016, Eq. (4.2)), Δθ in degrees, with
+  a universal slope a_H and a personal offset b_H (Section 4.2.3);
+- :class:`FrequencyLine`: s = c_H·f + d_H (Eq. (4.3)), f = 1/duration of the cycle;
+- :class:`Weinberg`: s = ζ·(α_z,max − α_z,min)^¼ (Eq. (2.3)), the vertical specific force
+  in the navigation frame over the cycle.
+
+Each takes a :class:`StrideInputs` and returns metres. Stairs steps are not walked at the
+level line: the navigator gives them ``stairs_stride_m`` (two treads, Section 4.3.3).
+
+:func:`fit_offset` and :func:`fit_line` calibrate from a walk of known length
+(``pdr-pocket calibrate-step``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pdr_core.errors import InputError
+from pdr_pocket.config import StepLengthConfig
+
+MIN_CALIBRATION_STEPS = 20
+MIN_AMPLITUDE_SPREAD_DEG = 3.0      # a slope needs Δθ spread over at least this (1σ)
+
+
+@dataclass(frozen=True)
+class StrideInputs:
+    """One cycle: Δθ [deg], duration [s], vertical specific force range [m/s²]."""
+
+    amplitude_deg: float
+    duration_s: float
+    vertical_range_mps2: float
+
+
+class PitchLine:
+    def __init__(self, a_h_m_per_deg: float, b_h_m: float) -> None:
+        self.a, self.b = a_h_m_per_deg, b_h_m
+
+    def length(self, x: StrideInputs) -> float:
+        return self.a * x.amplitude_deg + self.b
+
+
+class FrequencyLine:
+    def __init__(self, c_h_m_per_hz: float, d_h_m: float) -> None:
+        self.c, self.d = c_h_m_per_hz, d_h_m
+
+    def length(self, x: StrideInputs) -> float:
+        return self.c / x.duration_s + self.d
+
+
+class Weinberg:
+    def __init__(self, zeta: float) -> None:
+        self.zeta = zeta
+
+    def length(self, x: StrideInputs) -> float:
+        return self.zeta * max(x.vertical_range_mps2, 0.0) ** 0.25
+
+
+def stride_model(config: StepLengthConfig):
+    """The configured model."""
+    if config.model == "frequency":
+        return FrequencyLine(config.c_h_m_per_hz, config.d_h_m)
+    if config.model == "weinberg":
+        return Weinberg(config.weinberg_zeta)
+    return PitchLine(config.a_h_m_per_deg, config.b_h_m)
+
+
+def _check_walk(amplitude_deg: np.ndarray, where: str) -> None:
+    if len(amplitude_deg) < MIN_CALIBRATION_STEPS:
+        raise InputError(where, f"{len(amplitude_deg)} level steps are too few to calibrate "
+                                f"(at least {MIN_CALIBRATION_STEPS}: walk farther)")
+
+
+def fit_offset(amplitude_deg: np.ndarray, distance_m: float, a_h_m_per_deg: float,
+               where: str) -> float:
+    """b_H such that the level steps' strides add up to ``distance_m`` with slope a_H."""
+    amplitude_deg = np.asarray(amplitude_deg, float)
+    _check_walk(amplitude_deg, where)
+    return (distance_m - a_h_m_per_deg * amplitude_deg.sum()) / len(amplitude_deg)
+
+
+def fit_line(amplitude_deg: np.ndarray, segment: np.ndarray, distances_m: np.ndarray,
+             where: str) -> tuple[float, float]:
+    """a_H and b_H by least squares from walks of known lengths: steps of segment i
+    (``segment`` per step) add up to ``distances_m[i]``. Refused when the steps are too
+    few or too uniform (Δθ spread below :data:`MIN_AMPLITUDE_SPREAD_DEG`)."""
+    amplitude_deg = np.asarray(amplitude_deg, float)
+    _check_walk(amplitude_deg, where)
+    spread = float(np.std(amplitude_deg))
+    if spread < MIN_AMPLITUDE_SPREAD_DEG:
+        raise InputError(where, f"the steps' pitch amplitudes vary by {spread:.1f}° (1σ), "
+                                f"too uniform to fit a slope (at least "
+                                f"{MIN_AMPLITUDE_SPREAD_DEG:g}°: walk at several speeds)")
+    sums = np.array([amplitude_deg[segment == i].sum() for i in range(len(distances_m))])
+    counts = np.array([(segment == i).sum() for i in range(len(distances_m))], float)
+    if len(distances_m) < 2:
+        raise InputError(where, "a slope needs at least two stretches of known length "
+                                "walked at different speeds")
+    (a, b), *_ = np.linalg.lstsq(np.c_[sums, counts], np.asarray(distances_m, float),
+                                 rcond=None)
+    return float(a), float(b)

@@ -1,0 +1,229 @@
+"""The pocket navigator against the simulator's truth (Muñoz Díaz 2016, chapter 4): steps
+(Table 4.1), activities, stride (Table 4.4), stairs (Table 4.5), the thigh frame of an
+unknown mounting, the position filter and its corrections, and one sample at a time."""
+from __future__ import annotations
+
+import itertools
+from functools import cache
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pdr_core.errors import InputError
+from pdr_pocket.activity import DOWNSTAIRS, SITTING, STANDING, WALKING
+from pdr_pocket.config import MountingConfig, PocketConfig, PositionConfig
+from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.pocket_offline import match_steps, riser_errors
+from pdr_pocket.position import PositionFilter
+from pdr_pocket.step_length import fit_line, fit_offset
+from pdr_pocket.steps import table_4_1_detectors
+from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
+from pdr_sim.simulation import SimulationConfig, simulate
+
+
+@cache
+def simulated(name: str, mounting=None, seed: int = 0):
+    """A built-in pocket scenario with the xsens_mtw errors, its mounting replaced when
+    given (a name, or roll, pitch, yaw in degrees)."""
+    _, data = load_pocket_scenario(name)
+    if mounting is not None:
+        data = {**data, "mounting": mounting if isinstance(mounting, str)
+                else {"rpy_deg": list(mounting)}}
+    return simulate(SimulationConfig(pocket_scenario_from_dict(data, name), data, "xsens_mtw",
+                                     {}, 100.0, seed, placement="pocket"))
+
+
+@cache
+def navigated(name: str, mounting=None, seed: int = 0, config: PocketConfig | None = None):
+    sim = simulated(name, mounting, seed)
+    out = PocketNavigator(config or PocketConfig()).process(
+        sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
+        sim.mag["magnetic_field"])
+    return sim, out
+
+
+def matched(sim, out):
+    truth = sim.model.true_steps
+    return match_steps(np.array([s.t for s in out.steps]), truth.end_s, truth.duration)
+
+
+@pytest.mark.parametrize("name", ["h1_rectangle", "h2_rectangle_speeds", "up_dw"])
+def test_pitch_maximum_finds_every_step_and_nothing_else(name):
+    sim, out = navigated(name)
+    match = matched(sim, out)
+    assert (match >= 0).all(), f"missed {(match < 0).sum()}"
+    assert len(out.steps) == len(match)
+
+
+def test_table_4_1_baselines_show_the_thesis_pattern():
+    """Acceleration peaks miss slow steps on H2 and on stairs; the zero crossing misses
+    downstairs steps (θ_min > 0); the pitch maximum misses none."""
+    missed = {}
+    for name in ("h2_rectangle_speeds", "up_dw"):
+        sim, out = navigated(name)
+        truth = sim.model.true_steps
+        accel = sim.imu["linear_acceleration"]
+        for detector in table_4_1_detectors():
+            found = detector.detect(sim.trajectory.t, out.pitch, accel)
+            footfall_end = np.sort(np.r_[truth.end_s, truth.end_s - truth.duration / 2])
+            if found.per_cycle == 2:
+                match = match_steps(found.t, footfall_end, np.full(len(footfall_end),
+                                                                   truth.duration.mean() / 2))
+            else:
+                match = match_steps(found.t, truth.end_s, truth.duration)
+            missed[name, detector.name] = 100 * (match < 0).mean()
+    down = simulated("up_dw").model.true_steps.activity == DOWNSTAIRS
+    assert missed["h2_rectangle_speeds", "pitch maximum"] == 0
+    assert missed["up_dw", "pitch maximum"] == 0
+    assert missed["h2_rectangle_speeds", "|acc| peaks"] > 5
+    assert missed["up_dw", "pitch zero crossing"] > 50 * down.mean()
+
+
+@pytest.mark.parametrize("name", ["up_dw", "sit_stand"])
+def test_activities_of_the_steps(name):
+    sim, out = navigated(name)
+    match = matched(sim, out)
+    truth = sim.model.true_steps.activity
+    labels = np.array([s.activity for s in out.steps])[match]
+    assert (labels == truth).mean() >= 0.98
+
+
+def test_sitting_and_standing_periods_have_no_step_and_are_named():
+    sim, out = navigated("sit_stand")
+    steps_t = np.array([s.t for s in out.steps])
+    t = sim.trajectory.t
+    for period in sim.model.periods:
+        if period.activity not in (STANDING, SITTING):
+            continue
+        assert not ((steps_t > period.start_s + 1.5) & (steps_t < period.end_s - 1.5)).any()
+        inside = (t > period.start_s + 4.0) & (t < period.end_s - 2.0)
+        if inside.any():
+            assert (out.activity[inside] == period.activity).mean() > 0.95
+
+
+@pytest.mark.parametrize("name", ["h1_rectangle", "h2_rectangle_speeds", "h3_museum"])
+def test_distance_with_the_persons_line_within_one_percent(name):
+    sim, out = navigated(name)
+    true = sim.model.true_steps.length.sum()
+    assert abs(sum(s.length for s in out.steps) / true - 1) <= 0.01
+
+
+def test_upstairs_riser_heights_and_floors():
+    """Every flight found; upstairs risers within 1 % (Table 4.5); floors exact."""
+    sim = simulated("up_dw")
+    nav = PocketNavigator(PocketConfig())
+    out = nav.process(sim.trajectory.t, sim.imu["angular_velocity"],
+                      sim.imu["linear_acceleration"], sim.mag["magnetic_field"])
+    truth = sim.truth["/ground_truth/step"]
+    flights = riser_errors(nav.staircases, truth, sim.model.true_steps.end_s)
+    assert len(flights) == 16 and all(f["riser_m"] is not None for f in flights)
+    for flight in flights:
+        if flight["direction"] == "upstairs":
+            assert abs(flight["error_pct"]) <= 1.0
+    assert max(s.floor for s in out.steps) == 4 and out.steps[-1].floor == 0
+
+
+@pytest.mark.parametrize("rpy", [(90.0, 0.0, 0.0), (30.0, -60.0, 120.0), (-150.0, 20.0, -45.0)])
+def test_any_fixed_mounting_gives_the_same_steps(rpy):
+    sim, out = navigated("sit_stand", mounting=tuple(rpy))
+    match = matched(sim, out)
+    assert (match >= 0).all() and len(out.steps) == len(match)
+    true = sim.model.true_steps.length.sum()
+    assert abs(sum(s.length for s in out.steps) / true - 1) <= 0.01
+
+
+def test_a_configured_mounting_is_used_as_given():
+    config = PocketConfig(mounting=MountingConfig(rpy_deg=(0.0, 0.0, 0.0)))
+    sim, out = navigated("sit_stand", mounting="thigh_frame", config=config)
+    match = matched(sim, out)
+    assert (match >= 0).all() and len(out.steps) == len(match)
+    assert np.isfinite(out.pitch).all()
+
+
+def test_one_sample_at_a_time_equals_the_whole_record():
+    sim = simulated("sit_stand")
+    args = (sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
+            sim.mag["magnetic_field"])
+    whole = PocketNavigator(PocketConfig()).process(*args).steps
+    nav = PocketNavigator(PocketConfig())
+    rng = np.random.default_rng(0)
+    cuts = np.unique(np.r_[0, np.cumsum(rng.integers(1, 400, 200)), len(args[0])])
+    cuts = cuts[cuts <= len(args[0])]
+    pieces = [nav.process(*(a[i:j] for a in args)).steps for i, j in itertools.pairwise(cuts)]
+    chunked = [s for piece in pieces for s in piece]
+    assert len(chunked) == len(whole)
+    for a, b in zip(chunked, whole, strict=True):
+        assert a.t == b.t and a.activity == b.activity
+        assert np.allclose(a.position, b.position, atol=1e-9, rtol=0)
+        assert np.allclose(a.covariance, b.covariance, atol=1e-9, rtol=0)
+
+
+# --- position filter ---------------------------------------------------------------------
+def test_position_filter_step_is_equation_5_1_and_covariance_grows():
+    f = PositionFilter(PositionConfig())
+    f.step(0.8, 0.0, np.pi / 2, 1e-4, 0.03**2, 0.0)
+    f.step(0.8, 0.34, np.pi / 2, 2e-4, 0.03**2, 0.02**2)
+    assert np.allclose(f.position, [0.0, 1.6, 0.34])
+    first = f.covariance
+    f.step(0.8, 0.0, 0.0, 3e-4, 0.03**2, 0.0)
+    assert np.trace(f.covariance) > np.trace(first)
+    assert np.all(np.linalg.eigvalsh(f.p) >= -1e-15)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.tuples(st.floats(0.3, 2.0), st.floats(-np.pi, np.pi)), min_size=1,
+                max_size=40))
+def test_position_covariance_stays_symmetric_positive_semidefinite(steps):
+    f = PositionFilter(PositionConfig())
+    for k, (length, heading) in enumerate(steps):
+        f.step(length, 0.0, heading, 1e-4 * (1 + k), 0.03**2, 0.0)
+        if k % 7 == 3:
+            f.correct_position(f.position + 0.1, np.eye(3) * 0.5)
+    assert np.allclose(f.p, f.p.T) and np.linalg.eigvalsh(f.p).min() >= -1e-12
+
+
+def test_corrections_gated_and_refused_when_unusable():
+    sim = simulated("sit_stand")
+    nav = PocketNavigator(PocketConfig())
+    n = 4000
+    nav.process(sim.trajectory.t[:n], sim.imu["angular_velocity"][:n],
+                sim.imu["linear_acceleration"][:n], sim.mag["magnetic_field"][:n])
+    yaw = nav.orientation.yaw
+    ok, message = nav.apply_correction(np.radians(1.0), np.radians(2.0) ** 2, 0.0, 0.0)
+    assert ok, message
+    assert nav.orientation.yaw != yaw
+    before = nav.position.position
+    ok, message = nav.apply_correction(0.0, 0.0, 0.0, 0.0, before + 0.2, np.eye(3) * 0.25)
+    assert ok and np.linalg.norm(nav.position.position - before) > 0.05
+    for bad in [(np.nan, 0.1, 0.0, 0.0), (0.1, -1.0, 0.0, 0.0), (0.0, 0.0, 1e-4, -1e-8)]:
+        ok, message = nav.apply_correction(*bad)
+        assert not ok and ("non-finite" in message or "negative" in message)
+    state = nav.position.position
+    ok, message = nav.apply_correction(0.0, 0.0, 0.0, 0.0, state + 500.0, np.eye(3) * 0.01)
+    assert not ok and "χ² gate" in message
+    assert np.array_equal(nav.position.position, state)
+    assert nav.corrections == {"accepted": 2, "refused": 4}
+
+
+# --- stride calibration ------------------------------------------------------------------
+def test_stride_calibration_recovers_the_line_and_refuses_bad_walks():
+    rng = np.random.default_rng(1)
+    amp = np.r_[rng.normal(22, 1, 60), rng.normal(40, 1, 60)]
+    segment = np.r_[np.zeros(60, int), np.ones(60, int)]
+    strides = 0.025 * amp + 0.42
+    distances = np.array([strides[:60].sum(), strides[60:].sum()])
+    assert fit_offset(amp, strides.sum(), 0.025, "w") == pytest.approx(0.42)
+    assert fit_line(amp, segment, distances, "w") == pytest.approx((0.025, 0.42))
+    with pytest.raises(InputError, match="too few"):
+        fit_offset(amp[:5], 4.0, 0.025, "w")
+    with pytest.raises(InputError, match="too uniform"):
+        fit_line(np.full(40, 30.0), np.r_[np.zeros(20, int), np.ones(20, int)],
+                 np.array([10.0, 10.0]), "w")
+
+
+def test_walking_label_for_level_steps_at_any_speed():
+    _, out = navigated("h2_rectangle_speeds")
+    assert all(s.activity == WALKING for s in out.steps)
+
