@@ -110,3 +110,21 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                                atol=1e-9)
     np.testing.assert_allclose(live["orientation_covariance"],
                                ref["orientation_covariance"][:expected], rtol=0, atol=1e-12)
+
+
+def test_run_writes_steps_poses_path_and_report_on_the_sample_bag(procs, tmp_path):
+    result = procs.run("pdr-pocket", "run", str(BAG), "--out", str(tmp_path / "run"), "--plot")
+    assert result.returncode == 0, result.stderr
+    report = json.loads((tmp_path / "run" / "report.json").read_text())
+    assert report["missed_steps"] == 0 and report["false_steps"] == 0
+    assert abs(report["distance_error_pct"]) < 1.5
+    assert report["activity_correct_pct"] > 98
+    reader = BagReader(tmp_path / "run")
+    steps = reader.read("/pdr/pocket/step")
+    poses = reader.read("/pdr/pocket/pose")
+    assert len(steps) == len(poses) == report["steps"] > 0
+    cov = poses["pose.covariance"].reshape(-1, 6, 6)[:, :3, :3]
+    assert np.isfinite(cov).all() and (np.linalg.eigvalsh(cov) >= -1e-12).all()
+    [(_, path)] = reader.read_messages("/pdr/pocket/path")
+    assert len(path.poses) == len(steps)
+    assert (tmp_path / "run" / "path.png").stat().st_size > 30_000

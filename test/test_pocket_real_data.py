@@ -77,3 +77,13 @@ def test_calibrate_mag_reports_the_coverage_of_a_walk(imported):
                        str(folder / "mag.yaml"), "--min-coverage", "0")
     assert forced.returncode == 0, forced.stderr
     assert "% of the sphere" in forced.stdout
+
+
+def test_navigator_counts_the_footfalls_of_a_level_walk(imported, tmp_path):
+    """Issue 17, acceptance 7 (the level recording): footfalls within 3 % of the 89 true."""
+    folder, procs = imported
+    result = procs.run("pdr-pocket", "run", str(folder / "norm_thigh_1"), "--out",
+                       str(tmp_path / "run"))
+    assert result.returncode == 0, result.stderr
+    report = json.loads((tmp_path / "run" / "report.json").read_text())
+    assert abs(report["footfalls"] - 89) <= 0.03 * 89
