@@ -25,3 +25,20 @@ def procs(domain_id, tmp_path):
     processes = Processes(domain_id, tmp_path)
     yield processes
     processes.cleanup()
+
+
+@pytest.fixture
+def ros(domain_id):
+    """A node of the test process in the test's domain, and its executor."""
+    import rclpy
+    from rclpy.context import Context
+    from rclpy.executors import SingleThreadedExecutor
+
+    context = Context()
+    rclpy.init(context=context, domain_id=domain_id)
+    node = rclpy.create_node("pdr_test", context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    yield node, executor
+    node.destroy_node()
+    rclpy.shutdown(context=context)

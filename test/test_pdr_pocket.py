@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import signal
+import time
 
 import numpy as np
 import pytest
@@ -87,29 +88,46 @@ def test_calibrate_mag_refuses_a_walk_saying_how_much_it_covers(procs, tmp_path)
 
 
 def test_live_node_equals_offline_run(procs, tmp_path):
-    offline = procs.run("pdr-pocket", "attitude", str(BAG), "--out", str(tmp_path / "offline"))
+    """bag_play → pocket_pdr → bag_record as three processes give what pdr-pocket run
+    gives: the attitude at every sample, the steps and the poses (issue 17, acceptance
+    10)."""
+    offline = procs.run("pdr-pocket", "run", str(BAG), "--out", str(tmp_path / "offline"))
     assert offline.returncode == 0, offline.stderr
-    ref = BagReader(tmp_path / "offline").read("/pdr/pocket/attitude")
+    reference = BagReader(tmp_path / "offline")
+    ref = reference.read("/pdr/pocket/attitude")
+    ref_steps, ref_poses = reference.read("/pdr/pocket/step"), reference.read("/pdr/pocket/pose")
     expected = len(ref)     # the last sample goes out when its magnetometer reading comes
+    topics = "[pdr/pocket/attitude, pdr/pocket/gyro_bias, pdr/pocket/step, pdr/pocket/pose]"
     recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
-                           "topics:=[pdr/pocket/attitude, pdr/pocket/gyro_bias]", "-p",
-                           f"max_messages:={2 * expected}", name="record")
+                           f"topics:={topics}", "-p",
+                           f"max_messages:={2 * expected + 2 * len(ref_steps)}", name="record")
     node = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
                        name="pocket_pdr")
-    wait_for_log(recorder, "recording /pdr/pocket/attitude", "recording /pdr/pocket/gyro_bias")
+    wait_for_log(recorder, "recording /pdr/pocket/attitude", "recording /pdr/pocket/gyro_bias",
+                 "recording /pdr/pocket/step", "recording /pdr/pocket/pose")
     played = procs.run("bag_play", "--ros-args", "-p", f"bag:={BAG}", "-p",
                        "topics:=[/imu/data, /imu/mag]", "-p", "rate:=0.0", "-p",
                        "wait_for_subscribers:=1")
     assert played.returncode == 0, played.stderr
     assert recorder.wait(timeout=120) == 0, log_text(recorder) + log_text(node)
     assert procs.stop(node, signal.SIGINT) == 0
-    live = BagReader(tmp_path / "live").read("/pdr/pocket/attitude")
+    live_bag = BagReader(tmp_path / "live")
+    live = live_bag.read("/pdr/pocket/attitude")
     assert len(live) == expected
     np.testing.assert_array_equal(live.stamp_ns, ref.stamp_ns[:expected])
     np.testing.assert_allclose(live["orientation"], ref["orientation"][:expected], rtol=0,
                                atol=1e-9)
     np.testing.assert_allclose(live["orientation_covariance"],
                                ref["orientation_covariance"][:expected], rtol=0, atol=1e-12)
+    steps, poses = live_bag.read("/pdr/pocket/step"), live_bag.read("/pdr/pocket/pose")
+    np.testing.assert_array_equal(steps.stamp_ns, ref_steps.stamp_ns)
+    np.testing.assert_array_equal(steps["activity"], ref_steps["activity"])
+    for key in ("length", "vertical_displacement", "heading", "pitch_max", "pitch_min"):
+        np.testing.assert_allclose(steps[key], ref_steps[key], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(poses["pose.pose.position"], ref_poses["pose.pose.position"],
+                               rtol=0, atol=1e-9)
+    np.testing.assert_allclose(poses["pose.covariance"], ref_poses["pose.covariance"], rtol=0,
+                               atol=1e-9)
 
 
 def test_run_writes_steps_poses_path_and_report_on_the_sample_bag(procs, tmp_path):
@@ -128,3 +146,119 @@ def test_run_writes_steps_poses_path_and_report_on_the_sample_bag(procs, tmp_pat
     [(_, path)] = reader.read_messages("/pdr/pocket/path")
     assert len(path.poses) == len(steps)
     assert (tmp_path / "run" / "path.png").stat().st_size > 30_000
+
+
+def halves(tmp_path):
+    """bags/pocket_walk cut in two at the middle IMU sample, written as bags A and B; the
+    whole record's inputs and the middle index."""
+    from pdr_core.bag import write_batches
+    from pdr_pocket.attitude_offline import pocket_inputs
+
+    batches = BagReader(BAG).read_batches(["/imu/data", "/imu/mag"])
+    middle = len(batches["/imu/data"]) // 2
+    cut = batches["/imu/data"].stamp_ns[middle]
+    for name, keep in (("a", lambda s: s < cut), ("b", lambda s: s >= cut)):
+        write_batches(tmp_path / name,
+                      {t: b.take(np.flatnonzero(keep(b.stamp_ns))) for t, b in batches.items()})
+    return pocket_inputs(batches["/imu/data"], batches["/imu/mag"]), middle
+
+
+def offline_with_correction(inputs, middle, correction):
+    """The navigator on A, the correction (None: none), then B: the steps pocket_pdr must
+    publish, and how many came before the correction."""
+    from pdr_pocket.config import PocketConfig
+    from pdr_pocket.navigator import PocketNavigator
+
+    nav = PocketNavigator(PocketConfig())
+    steps = []
+    for part in (slice(0, middle), slice(middle, None)):
+        steps += nav.process(inputs.t[part], inputs.gyro[part], inputs.accel[part],
+                             inputs.mag[part]).steps
+        if part.start == 0:
+            before = len(steps)
+            if correction is not None:
+                accepted, message = nav.apply_correction(*correction(nav))
+                assert accepted, message
+    return steps, before
+
+
+def call(ros, request):
+    from pdr_msgs.srv import ApplyCorrection
+
+    node, executor = ros
+    client = node.create_client(ApplyCorrection, "pdr/pocket/apply_correction")
+    assert client.wait_for_service(timeout_sec=60)
+    future = client.call_async(request)
+    executor.spin_until_future_complete(future, timeout_sec=30)
+    return future.result()
+
+
+def test_correction_service_on_a_running_pocket_pdr(procs, ros, tmp_path):
+    """Issue 17, acceptance 8: from another process, a valid yaw + bias + position
+    correction is accepted and moves the next poses as the offline navigator with the same
+    correction does; a correction 500 m off is refused by the χ² gate, saying so."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+    from sensor_msgs.msg import Imu
+
+    from pdr_msgs.srv import ApplyCorrection
+
+    inputs, middle = halves(tmp_path)
+    shift = np.array([1.0, -0.5, 0.0])
+    yaw, yaw_var, bias, bias_var = np.radians(1.0), np.radians(2.0) ** 2, 1e-5, 1e-9
+
+    def correction(nav):
+        return (yaw, yaw_var, bias, bias_var, nav.position.position + shift,
+                np.eye(3).ravel() * 0.04)
+
+    expected, before = offline_with_correction(inputs, middle, correction)
+    node_proc = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
+                            name="pocket_pdr")
+    recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
+                           "topics:=[pdr/pocket/pose]", "-p",
+                           f"max_messages:={len(expected)}", name="record")
+    node, executor = ros
+    last_a = int(inputs.stamp_ns[middle - 1])
+    seen = []
+    qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    node.create_subscription(Imu, "pdr/pocket/attitude", lambda m: seen.append(
+        m.header.stamp.sec * 1_000_000_000 + m.header.stamp.nanosec), qos)
+    wait_for_log(recorder, "recording /pdr/pocket/pose")
+    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={tmp_path / 'a'}", "-p",
+                       "rate:=0.0", "-p", "wait_for_subscribers:=1")
+    assert played.returncode == 0, played.stderr
+    deadline = time.monotonic() + 60
+    while (not seen or seen[-1] < last_a) and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.1)
+    assert seen and seen[-1] == last_a, log_text(node_proc)
+
+    refused = ApplyCorrection.Request(has_position=True)
+    refused.position.x = 500.0
+    refused.position_covariance = list(np.eye(3).ravel() * 0.01)
+    response = call(ros, refused)
+    assert response is not None, log_text(node_proc)
+    assert not response.accepted and "χ² gate" in response.message
+
+    # the same correction the offline run took, relative to the node's state (the same)
+    request = ApplyCorrection.Request(yaw=yaw, yaw_variance=yaw_var, gyro_bias_z=bias,
+                                      gyro_bias_z_variance=bias_var, has_position=True)
+    position = expected[before - 1].position + shift
+    request.position.x, request.position.y, request.position.z = map(float, position)
+    request.position_covariance = list(np.eye(3).ravel() * 0.04)
+    response = call(ros, request)
+    assert response is not None, log_text(node_proc)
+    assert response.accepted, response.message
+
+    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={tmp_path / 'b'}", "-p",
+                       "rate:=0.0", "-p", "wait_for_subscribers:=1")
+    assert played.returncode == 0, played.stderr
+    assert recorder.wait(timeout=120) == 0, log_text(recorder) + log_text(node_proc)
+    assert procs.stop(node_proc, signal.SIGINT) == 0, log_text(node_proc)
+    assert "correction refused" in log_text(node_proc)
+    poses = BagReader(tmp_path / "live").read("/pdr/pocket/pose")
+    want = np.array([s.position for s in expected])
+    np.testing.assert_allclose(poses["pose.pose.position"], want, rtol=0, atol=1e-9)
+    uncorrected, _ = offline_with_correction(inputs, middle, None)
+    moved = want[before] - uncorrected[before].position
+    # the fix (σ 0.2 m) is about as sure as the filter: the update goes about halfway
+    assert 0.3 < np.dot(moved, shift) / np.dot(shift, shift) < 0.8

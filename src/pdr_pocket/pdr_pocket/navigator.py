@@ -139,31 +139,35 @@ class PocketNavigator:
                       np.ascontiguousarray(accel, dtype=float), attitude.attitude,
                       pitch, heading, known, up, flex)
         vz = np.einsum("nj,nj->n", attitude.attitude[:, 2, :], np.asarray(accel, float))
-        stream = self._stream(t, attitude.attitude, vz, pitch, heading, known, up, flex)
+        yaw_var = attitude.covariance[:, 2, 2]
+        stream = self._stream(t, attitude.attitude, vz, yaw_var, pitch, heading, known, up,
+                              flex)
         before = (self.last_confirm, self.last_activity)
-        steps = self._steps(stream, attitude)
+        steps = self._steps(stream)
         tilt = np.arccos(np.clip(np.einsum("nj,nj->n", attitude.attitude[:, 2, :], up), -1, 1))
         return NavigatorOutput(attitude, pitch, heading,
                                self._activity(t, tilt, steps, before), steps)
 
-    def _stream(self, t, c, vz, pitch, heading, known, up, flex):
-        """The samples the detector sees, in order: (t, θ, heading, vertical force), with
-        the pending samples given the axes of the first known sample after them."""
+    def _stream(self, t, c, vz, yaw_var, pitch, heading, known, up, flex):
+        """The samples the detector sees, in order: (t, θ, heading, vertical force, yaw
+        variance), with the pending samples given the axes of the first known sample
+        after them."""
         replay = self.config.mounting.replay_s
-        out_t, out_p, out_h, out_v = [], [], [], []
+        out_t, out_p, out_h, out_v, out_y = [], [], [], [], []
         k = 0
         n = len(t)
         while k < n:
             if not known[k]:
-                self.pending.append((t[k], c[k], vz[k]))
+                self.pending.append((t[k], c[k], vz[k], yaw_var[k]))
                 while self.pending[-1][0] - self.pending[0][0] > replay:
                     self.pending.pop(0)
                 k += 1
                 continue
             if self.pending:
-                for tp, cp, vp in self.pending:
+                for tp, cp, vp, yp in self.pending:
                     p, h = thigh_angles(cp, up[k], flex[k])
                     out_t.append(tp), out_p.append(p), out_h.append(h), out_v.append(vp)
+                    out_y.append(yp)
                     if tp >= t[0]:                   # a sample of this chunk: report it
                         i = np.searchsorted(t, tp)
                         pitch[i], heading[i] = p, h
@@ -172,13 +176,12 @@ class PocketNavigator:
             while end < n and known[end]:
                 end += 1
             out_t.extend(t[k:end]), out_p.extend(pitch[k:end])
-            out_h.extend(heading[k:end]), out_v.extend(vz[k:end])
+            out_h.extend(heading[k:end]), out_v.extend(vz[k:end]), out_y.extend(yaw_var[k:end])
             k = end
-        return (np.asarray(out_t, float), np.asarray(out_p, float), np.asarray(out_h, float),
-                np.asarray(out_v, float))
+        return tuple(np.asarray(x, float) for x in (out_t, out_p, out_h, out_v, out_y))
 
-    def _steps(self, stream, attitude: AttitudeEstimate) -> list[StepRecord]:
-        t, pitch, heading, vz = stream
+    def _steps(self, stream) -> list[StepRecord]:
+        t, pitch, heading, vz, yaw_var = stream
         events = self.detector.push(t, pitch)
         cuts = np.searchsorted(t, events[:, EV_T_CONFIRM], side="right")
         out = []
@@ -186,10 +189,7 @@ class PocketNavigator:
         for event, cut in zip(events, cuts, strict=True):
             self._accumulate(heading[start:cut], vz[start:cut])
             start = cut
-            yaw_var = float(attitude.covariance[np.searchsorted(attitude.t, event[EV_T_CONFIRM]),
-                                                2, 2]) \
-                if event[EV_T_CONFIRM] >= attitude.t[0] else self.position.yaw_variance or 0.0
-            out.append(self._step(event, yaw_var))
+            out.append(self._step(event, float(yaw_var[cut - 1])))
         self._accumulate(heading[start:], vz[start:])
         return out
 

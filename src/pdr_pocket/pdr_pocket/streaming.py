@@ -1,8 +1,11 @@
 """The pocket navigator sample by sample, for the live node (no rclpy here).
 
 :class:`StreamingPocket` takes ``imu/data`` and ``imu/mag`` messages as plain values and
-returns what to publish. It applies the offline rules one message at a time, so the node
-and ``pdr-pocket attitude`` give the same estimates on the same bag:
+returns what to publish: :class:`Processed` chunks, the stamps of the samples the
+navigator took and its output for them (attitude per sample, steps with their poses).
+It applies the offline rules one message at a time, so the node and ``pdr-pocket run``
+(and ``attitude``) give the same estimates on the same bag (the navigator gives the same
+result whatever the chunks, pdr_pocket.navigator):
 
 - an IMU sample with NaN/Inf, or a stamp that does not increase, is dropped and counted;
 - each IMU sample pairs with the latest magnetometer reading stamped at or before it and
@@ -27,9 +30,9 @@ import numpy as np
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units
 from pdr_pocket.attitude_offline import MAG_MAX_AGE_S
-from pdr_pocket.config import OrientationConfig
+from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
+from pdr_pocket.navigator import NavigatorOutput, PocketNavigator
 
 UNIT_CHECK_SAMPLES = 50
 MAG_HISTORY = 256
@@ -38,12 +41,26 @@ MAG_WAIT_S = 1.0
 acknowledges every 100 messages, so the topics drift at most that far apart."""
 
 
+@dataclass(frozen=True)
+class Processed:
+    """Samples the navigator took: their stamps [ns], its output for them and the stamp
+    of its time 0 [ns]."""
+
+    stamp_ns: np.ndarray
+    output: NavigatorOutput
+    t0_ns: int
+
+    def stamp_of(self, t_s: float) -> int:
+        """The stamp [ns] of the navigator time ``t_s`` (a step's confirmation)."""
+        return self.t0_ns + round(t_s * 1e9)
+
+
 @dataclass
 class StreamingPocket:
-    """Live orientation filter: :meth:`push_imu` and :meth:`push_mag` return the
-    (stamp [ns], estimate) of every sample they let the filter process."""
+    """Live navigator: :meth:`push_imu` and :meth:`push_mag` return the
+    :class:`Processed` chunks of the samples they let the navigator process."""
 
-    config: OrientationConfig
+    config: PocketConfig
     calibration: MagCalibration | None = None
     mag_wait_s: float = MAG_WAIT_S
     counts: dict[str, int] = field(default_factory=dict)
@@ -52,7 +69,7 @@ class StreamingPocket:
         self.reset()
 
     def reset(self) -> None:
-        self.filter = OrientationFilter(self.config)
+        self.navigator = PocketNavigator(self.config)
         self.last_stamp_ns: int | None = None
         self.mags: deque = deque(maxlen=MAG_HISTORY)
         self.held: list[tuple[int, np.ndarray, np.ndarray]] = []
@@ -69,7 +86,7 @@ class StreamingPocket:
         return not self.mags or (self.last_stamp_ns is not None and
                                  self.last_stamp_ns - self.mags[-1][0] > self.mag_wait_s * 1e9)
 
-    def push_mag(self, stamp_ns: int, field_t) -> list[tuple[int, AttitudeEstimate]]:
+    def push_mag(self, stamp_ns: int, field_t) -> list[Processed]:
         """A magnetometer reading [T] (body frame)."""
         value = np.asarray(field_t, float)
         if not np.isfinite(value).all():
@@ -85,7 +102,7 @@ class StreamingPocket:
         self._check_mag_units()
         return self._process(self._ready())
 
-    def push_imu(self, stamp_ns: int, accel, gyro) -> list[tuple[int, AttitudeEstimate]]:
+    def push_imu(self, stamp_ns: int, accel, gyro) -> list[Processed]:
         """An IMU sample [m/s², rad/s]."""
         a, w = np.asarray(accel, float), np.asarray(gyro, float)
         if not (np.isfinite(a).all() and np.isfinite(w).all()):
@@ -108,7 +125,7 @@ class StreamingPocket:
                 return []
         return self._process(self._ready())
 
-    def flush(self) -> list[tuple[int, AttitudeEstimate]]:
+    def flush(self) -> list[Processed]:
         """Process every held sample (the end of a stream)."""
         if self.held and not self.checked and self.failed is None:
             self._check_units()
@@ -155,13 +172,20 @@ class StreamingPocket:
                 return value if stamp_ns - m_stamp <= MAG_MAX_AGE_S * 1e9 else None
         return None
 
-    def _process(self, count: int) -> list[tuple[int, AttitudeEstimate]]:
-        out = []
-        for stamp_ns, accel, gyro in self.held[:count]:
-            mag = self._mag_for(stamp_ns)
-            if mag is None:
+    def _process(self, count: int) -> list[Processed]:
+        """The first ``count`` held samples as one chunk."""
+        if count == 0:
+            return []
+        held, self.held = self.held[:count], self.held[count:]
+        stamps = np.array([h[0] for h in held], dtype=np.int64)
+        mag = np.full((count, 3), np.nan)
+        for i, stamp in enumerate(stamps.tolist()):
+            value = self._mag_for(stamp)
+            if value is None:
                 self.counts["mag_missing"] += 1
-            out.append((stamp_ns, self.filter.push((stamp_ns - self.t0_ns) * 1e-9, gyro, accel,
-                                                   mag)))
-        self.held = self.held[count:]
-        return out
+            else:
+                mag[i] = value
+        out = self.navigator.process((stamps - self.t0_ns) * 1e-9,
+                                     np.array([h[2] for h in held]),
+                                     np.array([h[1] for h in held]), mag)
+        return [Processed(stamps, out, self.t0_ns)]

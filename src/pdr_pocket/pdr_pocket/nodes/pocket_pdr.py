@@ -3,8 +3,14 @@
 Subscribes ``imu/data`` (sensor_msgs/Imu, REP-145) and ``imu/mag``
 (sensor_msgs/MagneticField, tesla) and publishes, per sample, ``pdr/pocket/attitude``
 (sensor_msgs/Imu with the orientation and its covariance, REP-145) and
-``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped). Serves ``~/reset``
-(std_srvs/Trigger).
+``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped); per step, ``pdr/pocket/step``
+(pdr_msgs/Step), ``pdr/pocket/pose`` (geometry_msgs/PoseWithCovarianceStamped) and
+``pdr/pocket/path`` (nav_msgs/Path, every step so far), stamped with the IMU sample that
+confirmed the step. Serves ``~/reset`` (std_srvs/Trigger) and
+``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection: yaw and z gyro bias added
+as Kalman updates, Eq. (6.2), and the position fix, Eq. (6.3); refused with
+``accepted=false`` and the reason when a variance is negative or not finite or a χ² gate
+fails; a part whose value and variance are both 0 is not applied).
 
 Parameters: ``config`` (the navigator YAML, pdr_pocket.config; default the installed
 config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket calibrate-mag; overrides
@@ -23,7 +29,8 @@ from __future__ import annotations
 from collections import deque
 
 import numpy as np
-from geometry_msgs.msg import Vector3Stamped
+from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, Vector3Stamped
+from nav_msgs.msg import Path
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu, MagneticField
@@ -31,8 +38,11 @@ from std_srvs.srv import Trigger
 
 from pdr_core.node_main import spin_node
 from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_msgs.msg import Step
+from pdr_msgs.srv import ApplyCorrection
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.magnetometer import MagCalibration
+from pdr_pocket.pocket_offline import MAP_FRAME, pose_fields, step_fields
 from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
 
 _NS = 1_000_000_000
@@ -40,6 +50,11 @@ _NS = 1_000_000_000
 
 def stamp_ns(msg) -> int:
     return msg.header.stamp.sec * _NS + msg.header.stamp.nanosec
+
+
+def set_header(header, stamp: int, frame_id: str) -> None:
+    header.stamp.sec, header.stamp.nanosec = divmod(int(stamp), _NS)
+    header.frame_id = frame_id
 
 
 class PocketPdrNode(Node):
@@ -55,8 +70,8 @@ class PocketPdrNode(Node):
         config = load_pocket_config(path or None)
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
-        self.navigator = StreamingPocket(config.orientation, calibration, mag_wait_s)
-        self.gyro_noise_var = self.navigator.filter.params.gyro_noise_var
+        self.navigator = StreamingPocket(config, calibration, mag_wait_s)
+        self.gyro_noise_var = self.navigator.navigator.orientation.params.gyro_noise_var
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
@@ -66,7 +81,13 @@ class PocketPdrNode(Node):
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.attitude_pub = self.create_publisher(Imu, "pdr/pocket/attitude", out)
         self.bias_pub = self.create_publisher(Vector3Stamped, "pdr/pocket/gyro_bias", out)
+        self.step_pub = self.create_publisher(Step, "pdr/pocket/step", out)
+        self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pdr/pocket/pose", out)
+        self.path_pub = self.create_publisher(Path, "pdr/pocket/path", out)
+        self.path = Path()
+        self.path.header.frame_id = MAP_FRAME
         self.create_service(Trigger, "~/reset", self.on_reset)
+        self.create_service(ApplyCorrection, "pdr/pocket/apply_correction", self.on_correction)
         self.inputs: deque[tuple[int, Imu]] = deque()
         self.reported: dict[str, int] = {}
         self.mag_was_stale = False
@@ -85,9 +106,16 @@ class PocketPdrNode(Node):
         m = msg.magnetic_field
         self.publish(self.navigator.push_mag(stamp_ns(msg), (m.x, m.y, m.z)))
 
-    def publish(self, estimates) -> None:
-        for stamp, estimate in estimates:
-            self.publish_one(stamp, self.source_of(stamp), estimate)
+    def publish(self, chunks) -> None:
+        for chunk in chunks:
+            out = chunk.output
+            for i, stamp in enumerate(chunk.stamp_ns.tolist()):
+                self.publish_one(stamp, self.source_of(stamp), out.attitude, i)
+            for step in out.steps:
+                self.publish_step(chunk.stamp_of(step.t_confirm), step,
+                                  out.attitude.attitude[
+                                      min(np.searchsorted(out.attitude.t, step.t_confirm),
+                                          len(out.attitude.t) - 1)])
 
     def source_of(self, stamp: int) -> Imu:
         """The message of an estimate; the ones before it are samples the navigator
@@ -97,17 +125,15 @@ class PocketPdrNode(Node):
             if source_stamp == stamp:
                 return source
 
-    def publish_one(self, stamp: int, source: Imu, e) -> None:
-        sec, nanosec = divmod(stamp, _NS)
+    def publish_one(self, stamp: int, source: Imu, e, i: int) -> None:
         att = Imu()
-        att.header.stamp.sec, att.header.stamp.nanosec = sec, nanosec
-        att.header.frame_id = self.frame_id
-        q = quaternion_from_orthonormal(e.attitude[0])
+        set_header(att.header, stamp, self.frame_id)
+        q = quaternion_from_orthonormal(e.attitude[i])
         o = att.orientation
         o.x, o.y, o.z, o.w = map(float, q)
-        cov = e.covariance[0]
+        cov = e.covariance[i]
         att.orientation_covariance = [float(v) for v in cov[:3, :3].ravel()]
-        bias = e.bias[0]
+        bias = e.bias[i]
         w = source.angular_velocity
         att.angular_velocity.x = w.x - float(bias[0])
         att.angular_velocity.y = w.y - float(bias[1])
@@ -121,6 +147,55 @@ class PocketPdrNode(Node):
         out.header = att.header
         out.vector.x, out.vector.y, out.vector.z = map(float, bias)
         self.bias_pub.publish(out)
+
+    def publish_step(self, stamp: int, step, attitude: np.ndarray) -> None:
+        """Step, pose and path of one step (fields packed as pdr-pocket run packs them)."""
+        fields = {k: v[0] for k, v in step_fields([step]).items()}
+        msg = Step()
+        set_header(msg.header, stamp, MAP_FRAME)
+        msg.index = int(fields.pop("index"))
+        msg.activity = int(fields.pop("activity"))
+        for key, value in fields.items():
+            setattr(msg, key, float(value))
+        self.step_pub.publish(msg)
+        pose_values = {k: v[0] for k, v in pose_fields([step], attitude[None]).items()}
+        pose = PoseWithCovarianceStamped()
+        set_header(pose.header, stamp, MAP_FRAME)
+        p = pose.pose.pose.position
+        p.x, p.y, p.z = map(float, pose_values["pose.pose.position"])
+        q = pose.pose.pose.orientation
+        q.x, q.y, q.z, q.w = map(float, pose_values["pose.pose.orientation"])
+        pose.pose.covariance = [float(v) for v in pose_values["pose.covariance"]]
+        self.pose_pub.publish(pose)
+        stamped = PoseStamped()
+        stamped.header = pose.header
+        stamped.pose.position = pose.pose.pose.position
+        stamped.pose.orientation.z = float(np.sin(step.heading / 2))
+        stamped.pose.orientation.w = float(np.cos(step.heading / 2))
+        self.path.header.stamp = pose.header.stamp
+        self.path.poses.append(stamped)
+        self.path_pub.publish(self.path)
+
+    def on_correction(self, request, response):
+        """pdr/pocket/apply_correction: the navigator decides; logged and counted."""
+        position = (request.position.x, request.position.y, request.position.z) \
+            if request.has_position else None
+        covariance = list(request.position_covariance) if request.has_position else None
+        try:
+            accepted, message = self.navigator.navigator.apply_correction(
+                request.yaw, request.yaw_variance, request.gyro_bias_z,
+                request.gyro_bias_z_variance, position, covariance)
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            accepted, message = False, f"correction not usable: {exc}"
+            self.navigator.navigator.corrections["refused"] += 1
+        counts = self.navigator.navigator.corrections
+        tally = f"({counts['accepted']} accepted, {counts['refused']} refused so far)"
+        if accepted:    # one severity per call site: rclpy refuses a logger that changes it
+            self.get_logger().info(f"correction accepted {tally}: {message}")
+        else:
+            self.get_logger().warning(f"correction refused {tally}: {message}")
+        response.accepted, response.message = bool(accepted), message
+        return response
 
     def report_problems(self) -> None:
         nav = self.navigator
@@ -143,6 +218,7 @@ class PocketPdrNode(Node):
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
         self.inputs.clear()
+        self.path.poses = []
         response.success, response.message = True, "navigator reset"
         return response
 
