@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 import signal
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -262,3 +263,73 @@ def test_correction_service_on_a_running_pocket_pdr(procs, ros, tmp_path):
     moved = want[before] - uncorrected[before].position
     # the fix (σ 0.2 m) is about as sure as the filter: the update goes about halfway
     assert 0.3 < np.dot(moved, shift) / np.dot(shift, shift) < 0.8
+
+
+@pytest.fixture(scope="module")
+def chapter_4_bags(tmp_path_factory):
+    """H1, H2, H3 and UP/DW simulated with the Xsens MTw errors."""
+    from wstest import Processes
+    folder = tmp_path_factory.mktemp("chapter4")
+    procs = Processes(0, folder)
+    for name in ("h1_rectangle", "h2_rectangle_speeds", "h3_museum", "up_dw"):
+        result = procs.run("pdr-sim", "generate", "--placement", "pocket", "--scenario", name,
+                           "--imu", "xsens_mtw", "--out", str(folder / name))
+        assert result.returncode == 0, result.stderr
+    return folder, procs
+
+
+def test_table_4_1_pitch_maximum_and_the_baselines(chapter_4_bags):
+    """Issue 17, acceptance 1: the pitch maximum misses and adds nothing; the acceleration
+    detectors miss slow steps (H2) and stairs steps; the zero crossing misses at least
+    the downstairs steps (θ_min > 0)."""
+    folder, procs = chapter_4_bags
+    bags = [str(folder / n) for n in ("h1_rectangle", "h2_rectangle_speeds", "up_dw")]
+    result = procs.run("pdr-pocket", "table-steps", *bags, "--json")
+    assert result.returncode == 0, result.stderr
+    rows = {(r["bag"], r["detector"]): r for r in json.loads(result.stdout)}
+    for bag in ("h1_rectangle", "h2_rectangle_speeds", "up_dw"):
+        assert rows[bag, "pitch maximum"]["undetected_pct"] == 0
+        assert rows[bag, "pitch maximum"]["false_pct"] == 0
+    for detector in ("|acc| peaks", "LPF(15) |acc| peaks"):
+        assert rows["h2_rectangle_speeds", detector]["undetected_pct"] > 20
+        assert rows["up_dw", detector]["undetected_pct"] > 2
+    down = BagReader(folder / "up_dw").read("/ground_truth/step")["activity"] == 3
+    assert rows["up_dw", "pitch zero crossing"]["undetected_pct"] >= 100 * down.mean()
+    printed = procs.run("pdr-pocket", "table-steps", bags[0])
+    assert "pitch maximum" in printed.stdout and "undetected_pct" in printed.stdout
+
+
+def test_table_4_4_and_calibrate_step(chapter_4_bags, tmp_path):
+    """Issue 17, acceptance 3: the person's line within 1 % on H1, H2 and H3, frequency and
+    Weinberg beside it; b_H calibrated on H1 with calibrate-step keeps H2 and H3 within
+    1.5 %."""
+    folder, procs = chapter_4_bags
+    bags = [str(folder / n) for n in ("h1_rectangle", "h2_rectangle_speeds", "h3_museum")]
+    result = procs.run("pdr-pocket", "table-stride", *bags, "--json")
+    assert result.returncode == 0, result.stderr
+    rows = json.loads(result.stdout)
+    assert all(abs(r["pitch_error_pct"]) <= 1.0 for r in rows)
+    assert {"frequency_error_pct", "weinberg_error_pct"} <= set(rows[0])
+    h1 = BagReader(folder / "h1_rectangle").read("/ground_truth/step")["length"].sum()
+    wrong = tmp_path / "wrong.yaml"
+    wrong.write_text("step_length: {b_h_m: 0.30}\n")
+    calibrated = procs.run("pdr-pocket", "calibrate-step", bags[0], "--distance-m",
+                           f"{h1:.2f}", "--config", str(wrong), "--out",
+                           str(tmp_path / "person.yaml"))
+    assert calibrated.returncode == 0, calibrated.stderr
+    for bag in bags[1:]:
+        run = procs.run("pdr-pocket", "run", bag, "--config", str(tmp_path / "person.yaml"),
+                        "--out", str(tmp_path / Path(bag).name))
+        assert run.returncode == 0, run.stderr
+        report = json.loads((tmp_path / Path(bag).name / "report.json").read_text())
+        assert abs(report["distance_error_pct"]) <= 1.5
+    uniform = procs.run("pdr-pocket", "calibrate-step", bags[0], "--distance-m", "300",
+                        "--fit-slope", "--out", str(tmp_path / "x.yaml"))
+    assert uniform.returncode == 2 and "too uniform" in uniform.stderr
+    h2 = BagReader(folder / "h2_rectangle_speeds").read("/ground_truth/step")["length"].sum()
+    slope = procs.run("pdr-pocket", "calibrate-step", bags[0], bags[1], "--distance-m",
+                      f"{h1:.2f},{h2:.2f}", "--fit-slope", "--out", str(tmp_path / "s.yaml"))
+    assert slope.returncode == 0, slope.stderr
+    import yaml
+    fitted = yaml.safe_load((tmp_path / "s.yaml").read_text())["step_length"]
+    assert fitted["a_h_m_per_deg"] == pytest.approx(0.025, rel=0.05)

@@ -8,6 +8,13 @@ Subcommands:
                                 imu/data and imu/mag: OUT/ as a bag with
                                 pdr/pocket/attitude and pdr/pocket/gyro_bias at every
                                 sample, OUT/report.json, and with --plot OUT/attitude.png.
+    calibrate-step BAG --distance-m D
+                                b_H of the stride line (Eq. (4.2)) from a walk of known
+                                length (a_H too with --fit-slope and walks at two speeds).
+    table-steps BAG...          Table 4.1 on simulated bags: the pitch maximum and the
+                                three baseline detectors, undetected and false steps.
+    table-stride BAG...         Table 4.4: the distance error of the pitch line, and of the
+                                frequency and Weinberg models calibrated on the first bag.
     calibrate-mag BAG|CSV       ellipsoid fit of raw magnetometer readings (Section 3.4.4):
                                 writes the YAML the filter loads, prints the residual and
                                 the sphere coverage, draws the raw cloud and the sphere.
@@ -127,6 +134,91 @@ def _run_navigator(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_calibrate_step(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "calibrate-step", help="fit the person's stride line from walks of known length",
+        description="The stride line s = a_H·Δθ + b_H (Muñoz Díaz 2016, Eq. (4.2), Section "
+                    "4.2.3): b_H with the universal a_H from a walk of known length at a "
+                    "comfortable speed, or with --fit-slope both from two or more walks at "
+                    "different speeds. Writes the person's YAML (its step_length section), "
+                    "to pass as --config. Refuses walks too short or too uniform, saying why.")
+    p.add_argument("bags", type=Path, nargs="+", metavar="BAG")
+    p.add_argument("--distance-m", required=True,
+                   help="the length of each walk [m], comma-separated in the bags' order")
+    p.add_argument("--fit-slope", action="store_true", help="fit a_H too")
+    p.add_argument("--config", type=Path, help="YAML configuration (default: the installed "
+                                               "one); its a_H is kept without --fit-slope")
+    p.add_argument("--out", type=Path, required=True, help="the person's YAML to write")
+    p.set_defaults(func=_run_calibrate_step)
+
+
+def _run_calibrate_step(args: argparse.Namespace) -> int:
+    import yaml
+
+    from pdr_core.errors import InputError
+    from pdr_pocket.step_length import fit_line, fit_offset
+    from pdr_pocket.tables import level_amplitudes
+
+    try:
+        distances = [float(d) for d in args.distance_m.split(",")]
+    except ValueError:
+        raise InputError("--distance-m", f"expected numbers, got {args.distance_m!r}") from None
+    if len(distances) != len(args.bags) or min(distances) <= 0:
+        raise InputError("--distance-m", f"one positive length per bag ({len(args.bags)}), "
+                                         f"got {args.distance_m!r}")
+    config = load_pocket_config(args.config)
+    amplitudes = [level_amplitudes(bag, config) for bag in args.bags]
+    where = ", ".join(str(b) for b in args.bags)
+    if args.fit_slope:
+        segment = np.concatenate([np.full(len(a), i) for i, a in enumerate(amplitudes)])
+        a_h, b_h = fit_line(np.concatenate(amplitudes), segment, np.array(distances), where)
+    else:
+        a_h = config.step_length.a_h_m_per_deg
+        b_h = fit_offset(np.concatenate(amplitudes), sum(distances), a_h, where)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text("# The person's stride line (pdr-pocket calibrate-step), Eq. (4.2)\n" +
+                        yaml.safe_dump({"step_length": {"a_h_m_per_deg": round(float(a_h), 6),
+                                                        "b_h_m": round(float(b_h), 6)}}))
+    steps = sum(len(a) for a in amplitudes)
+    print(f"{where}: {steps} level steps, mean pitch amplitude "
+          f"{np.mean(np.concatenate(amplitudes)):.1f} deg\n"
+          f"a_H {a_h:.5f} m/deg{' (fitted)' if args.fit_slope else ' (kept)'}  b_H {b_h:.4f} m"
+          f"\nwrote {args.out}")
+    return 0
+
+
+def _add_tables(sub: argparse._SubParsersAction) -> None:
+    for name, what in (("table-steps", "Table 4.1: step detectors, undetected and false %"),
+                       ("table-stride", "Table 4.4: stride models, distance error %")):
+        p = sub.add_parser(name, help=what, description=f"Muñoz Díaz 2016, {what}, on "
+                                                        "simulated bags (they need "
+                                                        "ground_truth/step).")
+        p.add_argument("bags", type=Path, nargs="+", metavar="BAG")
+        p.add_argument("--config", type=Path, help="YAML configuration")
+        p.add_argument("--json", action="store_true", help="print the rows as JSON")
+        p.set_defaults(func=_run_table, table=name)
+
+
+def _run_table(args: argparse.Namespace) -> int:
+    from pdr_pocket.tables import detector_rows, stride_rows
+
+    config = load_pocket_config(args.config)
+    rows = (detector_rows if args.table == "table-steps" else stride_rows)(args.bags, config)
+    if args.json:
+        print(json.dumps(rows, indent=2))
+        return 0
+    keys = list(rows[0])
+    widths = [max(len(k), *(len(_cell(r[k])) for r in rows)) for k in keys]
+    print("  ".join(k.ljust(w) for k, w in zip(keys, widths, strict=True)))
+    for r in rows:
+        print("  ".join(_cell(r[k]).ljust(w) for k, w in zip(keys, widths, strict=True)))
+    return 0
+
+
+def _cell(value) -> str:
+    return f"{value:.2f}" if isinstance(value, float) else str(value)
+
+
 def _add_calibrate_mag(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "calibrate-mag", help="fit the magnetometer's hard and soft iron",
@@ -193,6 +285,8 @@ def parser() -> argparse.ArgumentParser:
     sub = top.add_subparsers(dest="command", required=True)
     _add_run(sub)
     _add_attitude(sub)
+    _add_calibrate_step(sub)
+    _add_tables(sub)
     _add_calibrate_mag(sub)
     return top
 

@@ -65,6 +65,7 @@ class StepRecord:
     position: np.ndarray
     covariance: np.ndarray
     floor: int
+    vertical_force_range: float     # max − min of the vertical specific force [m/s²]
 
     @property
     def pitch_amplitude(self) -> float:
@@ -212,9 +213,9 @@ class PocketNavigator:
         amplitude_deg = float(np.degrees(event[EV_MAX] - event[EV_MIN]))
         activity = self.classifier.classify(float(event[EV_MAX]), float(event[EV_MIN]))
         heading = float(np.arctan2(self.sum_sin, self.sum_cos))
+        vertical_range = self.vz_max - self.vz_min
         if activity == WALKING:
-            length = self.stride.length(StrideInputs(amplitude_deg, duration,
-                                                     self.vz_max - self.vz_min))
+            length = self.stride.length(StrideInputs(amplitude_deg, duration, vertical_range))
         else:
             length = c.step_length.stairs_stride_m
         vertical = vertical_displacement_m(activity, amplitude_deg, c.stairs)
@@ -226,7 +227,8 @@ class PocketNavigator:
         record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
                             float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
                             self.position.position, self.position.covariance,
-                            self.staircases.floor(self.position.position[2], 0.0))
+                            self.staircases.floor(self.position.position[2], 0.0),
+                            vertical_range)
         self.steps.append(record)
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf

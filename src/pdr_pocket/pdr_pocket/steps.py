@@ -32,9 +32,13 @@ from pdr_pocket.compiled_gait import (
 )
 from pdr_pocket.config import StepsConfig
 
-ACC_PEAK_THRESHOLD_MPS2 = STANDARD_GRAVITY_MPS2 + 2.0   # baselines: tuned for 3.5 km/h
+# The baselines' fixed thresholds, "adapted to a comfortable walking speed" as in Table 4.1:
+# just below the weaker footfall's peak of ‖α‖ at 3.5 km/h (12.3 m/s² raw and low-passed,
+# 5th percentile, on the simulated H1 walk with the Xsens MTw profile).
+ACC_PEAK_THRESHOLD_MPS2 = STANDARD_GRAVITY_MPS2 + 2.3
 ACC_PEAK_MIN_INTERVAL_S = 0.35                          # between two footfalls
-LOWPASS_PEAK_THRESHOLD_MPS2 = STANDARD_GRAVITY_MPS2 + 0.8
+LOWPASS_PEAK_THRESHOLD_MPS2 = STANDARD_GRAVITY_MPS2 + 2.3
+ZERO_CROSSING_HYSTERESIS_DEG = 1.0
 
 
 @dataclass(frozen=True)
@@ -124,13 +128,14 @@ class AccelerationPeakDetector:
 
 
 class PitchZeroCrossingDetector:
-    """One step per upward zero crossing of θ (Table 4.1, "Pitch z-c"), with the same
-    hysteresis floor as the pitch maximum so that noise about zero is not a step."""
+    """One step per upward zero crossing of θ (Table 4.1, "Pitch z-c"): armed once θ is
+    below −:data:`ZERO_CROSSING_HYSTERESIS_DEG`, so that noise about zero while standing
+    is not a step."""
 
     name = "pitch zero crossing"
 
-    def __init__(self, config: StepsConfig | None = None) -> None:
-        self.hysteresis = np.radians((config or StepsConfig()).rise_min_deg)
+    def __init__(self) -> None:
+        self.hysteresis = np.radians(ZERO_CROSSING_HYSTERESIS_DEG)
 
     def detect(self, t: np.ndarray, pitch: np.ndarray, accel: np.ndarray) -> DetectedSteps:
         p = np.asarray(pitch, float)
@@ -147,4 +152,4 @@ class PitchZeroCrossingDetector:
 def table_4_1_detectors(config: StepsConfig | None = None) -> list:
     """The four detectors of Muñoz Díaz 2016, Table 4.1, in its order."""
     return [AccelerationPeakDetector(1), AccelerationPeakDetector(15),
-            PitchZeroCrossingDetector(config), PitchMaximumDetector(config)]
+            PitchZeroCrossingDetector(), PitchMaximumDetector(config)]
