@@ -111,7 +111,7 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                        "wait_for_subscribers:=1")
     assert played.returncode == 0, played.stderr
     assert recorder.wait(timeout=120) == 0, log_text(recorder) + log_text(node)
-    assert procs.stop(node, signal.SIGINT) == 0
+    assert procs.stop(node, signal.SIGINT) == 0, log_text(node)
     live_bag = BagReader(tmp_path / "live")
     live = live_bag.read("/pdr/pocket/attitude")
     assert len(live) == expected

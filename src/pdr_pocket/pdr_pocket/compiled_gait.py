@@ -13,11 +13,16 @@ and a whole record give the same result:
     ``standing_max_angle`` of u refines it (standing); a rest farther from u but in the
     leg's swing plane is sitting and leaves it alone; a rest out of the swing plane means
     the phone was moved: u is taken from it and the flexion axis is learned again.
-  * The flexion axis f is the leg's dominant rotation axis while walking: the principal
-    eigenvector (power iteration) of the exponentially weighted ∑ωωᵀ of moving samples
-    (time constant ``flexion_tau_s``), made orthogonal to u. It is known after
-    ``flexion_min_s`` of motion. Its sign makes the mean pitch while walking positive (the
-    thesis' asymmetry θ_max ≫ |θ_min|).
+  * The flexion axis f is the axis the leg swings about while walking. The vertical seen
+    in the sensor frame, g = C_b^nᵀ·e_z from the attitude filter (no linear acceleration
+    in it), turns about f as the thigh pitches and is left alone by the hip's yaw sway, so
+    f = u × d with d the major axis of g's exponentially weighted scatter (time constant
+    ``flexion_tau_s``, moving samples) within the plane orthogonal to u. (The principal
+    axis of ∑ωωᵀ, tried first, leans about 3° forward: the sway seen by a pitched thigh
+    puts sin θ·ψ̇ on the forward axis, correlated with the pitch rate, and the pitch
+    amplitudes came out 0.2–0.5° short.) It is known after ``flexion_min_s`` of motion.
+    Its sign makes the mean pitch while walking positive (the thesis' asymmetry
+    θ_max ≫ |θ_min|).
   * θ = atan2(−ℓ·h, ℓ_z) with ℓ = C·u the long axis in ENU (hip above knee) and h the
     unit horizontal direction of C·(f × u), the thigh's forward axis: the knee ahead tilts
     ℓ backwards. The heading is atan2(h_y, h_x).
@@ -28,7 +33,10 @@ and a whole record give the same result:
   last accepted amplitude, so the heel-strike's second peak and the double minimum on
   stairs, Figs. 4.1–4.3, never count). A maximum is a step when its amplitude over the
   preceding minimum is at least ``min_amplitude``, it was reached within ``max_rise_s`` of
-  that minimum and left within ``max_hold_s`` (sitting down and getting up are not steps).
+  that minimum and left within ``max_hold_s`` (sitting down and getting up are not steps),
+  and it comes at least ``min_period_s`` after the last step's maximum (beyond the thesis:
+  a gait cycle shorter than that is running; on the real ``s_both_thigh_1`` stairs walk
+  the turn at the top otherwise gives two extra steps).
 """
 from __future__ import annotations
 
@@ -42,8 +50,8 @@ LAST_T, REST_S, REST_N, MOVING_S, UP_PROVISIONAL, FLEX_KNOWN, MEAN_PITCH, CHANGE
     STARTED = range(9)
 N_MOUNTING_SCALARS = 9
 # peak detector scalars (PeakState.scalars)
-SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE = range(6)
-N_PEAK_SCALARS = 6
+SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE, LAST_STEP_T = range(7)
+N_PEAK_SCALARS = 7
 # columns of the peak events
 EV_T_MAX, EV_MAX, EV_MIN, EV_T_MIN, EV_T_CONFIRM = range(5)
 N_EVENT_COLUMNS = 5
@@ -70,7 +78,7 @@ class MountingState(NamedTuple):
     up: np.ndarray              # (3,) u, sensor frame
     flex_raw: np.ndarray        # (3,) power-iteration vector
     flex_sign: np.ndarray       # (1,) ±1
-    moment: np.ndarray          # (3, 3) weighted ∑ωωᵀ
+    moment: np.ndarray          # (3, 3) weighted ∑g gᵀ of the vertical while walking
 
 
 class PeakParams(NamedTuple):
@@ -81,6 +89,7 @@ class PeakParams(NamedTuple):
     min_amplitude: float
     max_rise_s: float
     max_hold_s: float
+    min_period_s: float         # from the previous step's maximum
 
 
 def new_mounting_state(up=None, flexion=None) -> MountingState:
@@ -104,6 +113,7 @@ def new_peak_state() -> PeakState:
     scalars = np.zeros(N_PEAK_SCALARS)
     scalars[CUR_MIN] = np.inf
     scalars[CUR_MAX] = -np.inf
+    scalars[LAST_STEP_T] = -np.inf
     return PeakState(scalars)
 
 
@@ -198,19 +208,18 @@ def _rest(state, params, w, a, dt):
 
 @njit(cache=True)
 def _motion(state, params, w, dt, c):
-    """Learn f from the weighted ∑ωωᵀ; fix its sign once it is known."""
+    """Learn f from the scatter of the vertical; fix its sign once it is known."""
     s = state.scalars
     if np.sqrt(w @ w) <= params.moving_rate or dt <= 0:
         return
     lam = np.exp(-dt / params.flexion_tau_s)
+    g = c[2, :]                                  # the vertical in the sensor frame
     for i in range(3):
         for j in range(3):
-            state.moment[i, j] = lam * state.moment[i, j] + (1.0 - lam) * w[i] * w[j]
-    v = state.flex_raw.copy()
-    if v @ v == 0.0:
-        v = w.copy()
-    for _ in range(2):
-        v = _unit(state.moment @ v)
+            state.moment[i, j] = lam * state.moment[i, j] + (1.0 - lam) * g[i] * g[j]
+    v = _least_swung_axis(state.moment, state.up)
+    if v @ state.flex_raw < 0:
+        v = -v
     state.flex_raw[:] = v
     if s[FLEX_KNOWN] > 0:
         return
@@ -222,6 +231,19 @@ def _motion(state, params, w, dt, c):
     if s[MOVING_S] >= params.flexion_min_s:
         state.flex_sign[0] = 1.0 if s[MEAN_PITCH] >= 0 else -1.0
         s[FLEX_KNOWN] = 1.0
+
+
+@njit(cache=True)
+def _least_swung_axis(moment, up):
+    """The axis orthogonal to u about which the vertical swings (moment: its weighted
+    second moment ∑g gᵀ in the sensor frame): u × d, d the major axis of the scatter
+    within the plane orthogonal to u (closed-form 2 × 2 eigenvector)."""
+    ref = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = _unit(np.cross(up, ref))
+    e2 = np.cross(up, e1)
+    s11, s22, s12 = e1 @ moment @ e1, e2 @ moment @ e2, e1 @ moment @ e2
+    phi = 0.5 * np.arctan2(2.0 * s12, s11 - s22)
+    return _unit(np.cross(up, np.cos(phi) * e1 + np.sin(phi) * e2))
 
 
 @njit(cache=True)
@@ -242,7 +264,8 @@ def peak_loop(state, params, t, signal, events):
             if s[CUR_MAX] - x >= max(params.drop_min, params.drop_fraction * amplitude):
                 rise = s[CUR_MAX] - s[CUR_MIN]
                 if (rise >= params.min_amplitude and s[T_MAX] - s[T_MIN] <= params.max_rise_s
-                        and t[k] - s[T_MAX] <= params.max_hold_s):
+                        and t[k] - s[T_MAX] <= params.max_hold_s
+                        and s[T_MAX] - s[LAST_STEP_T] >= params.min_period_s):
                     events[count, EV_T_MAX] = s[T_MAX]
                     events[count, EV_MAX] = s[CUR_MAX]
                     events[count, EV_MIN] = s[CUR_MIN]
@@ -250,6 +273,7 @@ def peak_loop(state, params, t, signal, events):
                     events[count, EV_T_CONFIRM] = t[k]
                     count += 1
                     s[LAST_AMPLITUDE] = rise
+                    s[LAST_STEP_T] = s[T_MAX]
                 s[SEEKING_MAX] = 0.0
                 s[CUR_MIN] = x
                 s[T_MIN] = t[k]

@@ -188,12 +188,14 @@ class StepsConfig:
     min_amplitude_deg: float = 8.0
     max_rise_s: float = 1.5
     max_hold_s: float = 1.0
+    min_step_period_s: float = 0.6     # a shorter gait cycle is running (compiled_gait)
     max_step_period_s: float = 2.5     # longer gaps start a new walking bout
     nominal_step_period_s: float = 1.1  # the first step's duration (frequency model)
 
     def __post_init__(self) -> None:
         _positive(self, ("drop_min_deg", "rise_min_deg", "min_amplitude_deg", "max_rise_s",
-                         "max_hold_s", "max_step_period_s", "nominal_step_period_s"))
+                         "max_hold_s", "min_step_period_s", "max_step_period_s",
+                         "nominal_step_period_s"))
 
 
 @dataclass(frozen=True)

@@ -66,7 +66,7 @@ def peak_params(config: StepsConfig) -> PeakParams:
     return PeakParams(np.radians(config.drop_min_deg), config.drop_fraction,
                       np.radians(config.rise_min_deg), config.rise_fraction,
                       np.radians(config.min_amplitude_deg), config.max_rise_s,
-                      config.max_hold_s)
+                      config.max_hold_s, config.min_step_period_s)
 
 
 class PitchMaximumDetector:

@@ -85,8 +85,8 @@ def test_distance_with_the_persons_line_within_one_percent(name):
     assert abs(sum(s.length for s in out.steps) / true - 1) <= 0.01
 
 
-def test_upstairs_riser_heights_and_floors():
-    """Every flight found; upstairs risers within 1 % (Table 4.5); floors exact."""
+def test_riser_heights_and_floors():
+    """Every flight found; risers within 1 % up and down (Table 4.5); floors exact."""
     sim = simulated("up_dw")
     nav = PocketNavigator(PocketConfig())
     out = nav.process(sim.trajectory.t, sim.imu["angular_velocity"],
@@ -94,9 +94,9 @@ def test_upstairs_riser_heights_and_floors():
     truth = sim.truth["/ground_truth/step"]
     flights = riser_errors(nav.staircases, truth, sim.model.true_steps.end_s)
     assert len(flights) == 16 and all(f["riser_m"] is not None for f in flights)
+    assert {f["direction"] for f in flights} == {"upstairs", "downstairs"}
     for flight in flights:
-        if flight["direction"] == "upstairs":
-            assert abs(flight["error_pct"]) <= 1.0
+        assert abs(flight["error_pct"]) <= 1.0
     assert max(s.floor for s in out.steps) == 4 and out.steps[-1].floor == 0
 
 
