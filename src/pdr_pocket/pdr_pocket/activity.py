@@ -14,6 +14,11 @@ ground) and so adapted to their gait, mood and hurry:
   ``down_amplitude_ratio`` times the mean and θ_min above it by ``down_min_margin_deg``;
 - else walking (level), and the step joins the running means.
 
+The first ``level_history_steps`` steps are level by the thesis' assumption (the walk
+starts on level ground): a reference made of one step, the first from standing whose θ_min
+is the standing pitch, read every later step of a real walk (the Oxford pocket recording)
+as downstairs.
+
 Standing and sitting are decided only when no step has come for ``rest_after_s``: from
 the pitch, about 0° standing, 45°–90° sitting (:func:`rest_activity`).
 Activities are the pdr_msgs/Step constants.
@@ -42,7 +47,7 @@ class ActivityClassifier:
         c = self.config
         hi, lo = np.degrees(pitch_max), np.degrees(pitch_min)
         amplitude = hi - lo
-        if self.level:
+        if len(self.level) == self.level.maxlen:
             mean_hi, mean_lo, mean_amp = np.mean(np.asarray(self.level), axis=0)
             if amplitude > mean_amp + c.up_amplitude_margin_deg and \
                     hi > mean_hi + c.up_max_margin_deg and \

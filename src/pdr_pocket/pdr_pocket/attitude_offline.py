@@ -43,6 +43,11 @@ class PocketInputs:
     mag: np.ndarray
     accel_covariance: np.ndarray
     counts: dict[str, int] = field(default_factory=dict)
+    has_gyro: bool = True       # False: angular_velocity_covariance[0] = −1 (REP-145)
+
+    @property
+    def gyro_or_none(self) -> np.ndarray | None:
+        return self.gyro if self.has_gyro else None
 
 
 def paired_mag(imu_stamps: np.ndarray, mag: MessageBatch | None) -> tuple[np.ndarray, int]:
@@ -73,6 +78,7 @@ def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
     stamp_ns = imu.stamp_ns[keep]
     gyro = imu["angular_velocity"][keep]
     accel = imu["linear_acceleration"][keep]
+    has_gyro = not bool(np.all(imu["angular_velocity_covariance"][keep, 0] == -1))
     check_units(accel, gyro)
     mag_values, counts["mag_non_finite"] = paired_mag(stamp_ns, mag)
     if np.isfinite(mag_values).any():
@@ -81,7 +87,7 @@ def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
             mag_values = calibration.apply(mag_values)
     counts["mag_missing"] = int((~np.isfinite(mag_values).all(axis=1)).sum())
     return PocketInputs(stamp_ns, (stamp_ns - stamp_ns[0]) * 1e-9, gyro, accel, mag_values,
-                        imu["linear_acceleration_covariance"][keep], counts)
+                        imu["linear_acceleration_covariance"][keep], counts, has_gyro)
 
 
 def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,

@@ -144,12 +144,14 @@ def thigh_angles(c, up, flex):
 
 
 @njit(cache=True)
-def mounting_loop(state, params, t, gyro, accel, attitude, out_pitch, out_heading,
+def mounting_loop(state, params, t, rate, accel, attitude, out_pitch, out_heading,
                   out_known, out_up, out_flex):
-    """The thigh frame per sample (module docstring); θ and heading NaN until known."""
+    """The thigh frame per sample (module docstring); θ and heading NaN until known.
+    ``rate``: the turn rate's norm [rad/s] (N,), or without a gyroscope the accelerometer's
+    motion measure scaled to it."""
     s = state.scalars
     for k in range(len(t)):
-        w, a = gyro[k], accel[k]
+        w, a = rate[k], accel[k]
         dt = t[k] - s[LAST_T] if s[STARTED] > 0 else 0.0
         s[LAST_T] = t[k]
         if not params.fixed:
@@ -171,10 +173,9 @@ def mounting_loop(state, params, t, gyro, accel, attitude, out_pitch, out_headin
 
 
 @njit(cache=True)
-def _rest(state, params, w, a, dt):
+def _rest(state, params, wn, a, dt):
     """Standing refines u, a rest out of the swing plane resets the mounting."""
     s = state.scalars
-    wn = np.sqrt(w @ w)
     an = np.sqrt(a @ a)
     if wn >= params.rest_rate or abs(an - params.gravity) >= params.rest_acc:
         s[REST_S] = 0.0
@@ -207,10 +208,10 @@ def _rest(state, params, w, a, dt):
 
 
 @njit(cache=True)
-def _motion(state, params, w, dt, c):
+def _motion(state, params, wn, dt, c):
     """Learn f from the scatter of the vertical; fix its sign once it is known."""
     s = state.scalars
-    if np.sqrt(w @ w) <= params.moving_rate or dt <= 0:
+    if wn <= params.moving_rate or dt <= 0:
         return
     lam = np.exp(-dt / params.flexion_tau_s)
     g = c[2, :]                                  # the vertical in the sensor frame
@@ -244,6 +245,32 @@ def _least_swung_axis(moment, up):
     s11, s22, s12 = e1 @ moment @ e1, e2 @ moment @ e2, e1 @ moment @ e2
     phi = 0.5 * np.arctan2(2.0 * s12, s11 - s22)
     return _unit(np.cross(up, np.cos(phi) * e1 + np.sin(phi) * e2))
+
+
+@njit(cache=True)
+def gravity_loop(state, tau_s, motion_tau_s, t, accel, out_gravity, out_motion):
+    """Without a gyroscope: the gravity direction as the specific force through two
+    first-order low-passes in cascade (time constant ``tau_s`` each, any sample rate), and
+    a motion measure, ‖α − gravity‖ through one low-pass of ``motion_tau_s`` [m/s²].
+    ``state``: (9,) last t, started flag, the two filter stages (3 each), the motion."""
+    for k in range(len(t)):
+        a = accel[k]
+        if state[1] == 0.0:
+            state[2:5] = a
+            state[5:8] = a
+            state[1] = 1.0
+            dt = 0.0
+        else:
+            dt = t[k] - state[0]
+        state[0] = t[k]
+        alpha = dt / (tau_s + dt)
+        state[2:5] += alpha * (a - state[2:5])
+        state[5:8] += alpha * (state[2:5] - state[5:8])
+        out_gravity[k] = state[5:8]
+        d = a - state[5:8]
+        beta = dt / (motion_tau_s + dt)
+        state[8] += beta * (np.sqrt(d @ d) - state[8])
+        out_motion[k] = state[8]
 
 
 @njit(cache=True)

@@ -167,12 +167,15 @@ class MountingConfig:
     flexion_time_constant_s: float = 4.0
     flexion_min_s: float = 1.5
     replay_s: float = 3.0               # samples kept while the axes are learned
+    # without a gyroscope (imu/data's angular_velocity_covariance[0] = -1, REP-145)
+    gravity_cutoff_hz: float = 1.5      # the gravity direction: low-pass of the specific force
+    accel_motion_mps2: float = 1.0      # ‖α − gravity‖ that counts as walking motion
 
     def __post_init__(self) -> None:
         _positive(self, ("rest_rate_deg_per_s", "rest_acc_mps2", "rest_min_s",
                          "standing_max_angle_deg", "moved_min_angle_deg",
                          "moving_rate_deg_per_s", "flexion_time_constant_s", "flexion_min_s",
-                         "replay_s"))
+                         "replay_s", "gravity_cutoff_hz", "accel_motion_mps2"))
         if self.rpy_deg is not None and len(self.rpy_deg) != 3:
             raise ValueError(f"rpy_deg must be [roll, pitch, yaw], got {self.rpy_deg}")
 

@@ -4,7 +4,11 @@ chapters 3, 4 and 6).
 :class:`PocketNavigator` composes, per chunk of samples (one sample live, a whole record
 offline, the same result either way):
 
-1. the orientation filter (:mod:`pdr_pocket.orientation`, chapter 3);
+1. the orientation filter (:mod:`pdr_pocket.orientation`, chapter 3), or without a
+   gyroscope (``gyro=None``) the tilt of the gravity direction alone: the specific force
+   through a second-order low-pass at ``gravity_cutoff_hz`` (1.5 Hz keeps the gait
+   cycle's fundamental, 0.6–1.1 Hz, and drops the heel strikes and harmonics), with the
+   heading unknown (yaw 0, σ 180°: the position's covariance says so);
 2. the thigh frame and pitch (:mod:`pdr_pocket.compiled_gait`); samples seen while the
    axes are still being learned (the first ``flexion_min_s`` of walking) are kept for
    ``replay_s`` and given the axes once known, so the first steps are not lost;
@@ -32,11 +36,12 @@ from pdr_pocket.compiled_gait import (
     EV_T_CONFIRM,
     EV_T_MAX,
     MountingParams,
+    gravity_loop,
     mounting_loop,
     new_mounting_state,
     thigh_angles,
 )
-from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, YAW_CORRECTION
+from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, N_UPDATES, YAW_CORRECTION
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
 from pdr_pocket.position import PSI, PositionFilter
@@ -46,6 +51,10 @@ from pdr_pocket.steps import PitchMaximumDetector
 
 THIGH_UP, THIGH_FLEXION = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
 LEVEL_VERTICAL_VAR_M2 = 0.0
+GRAVITY_TILT_SIGMA_RAD = np.radians(5.0)    # tilt from the low-passed specific force
+MOTION_TIME_CONSTANT_S = 0.5                # of the accelerometer's motion measure
+# a cascade of two first-order low-passes has its −3 dB point at √(√2 − 1)/(2πτ)
+CASCADE_FACTOR = np.sqrt(np.sqrt(2.0) - 1.0)
 
 
 @dataclass(frozen=True)
@@ -108,6 +117,7 @@ class PocketNavigator:
     def reset(self) -> None:
         c = self.config
         self.orientation = OrientationFilter(c.orientation)
+        self.gravity_state = np.zeros(9)
         self.mounting_params = mounting_params(c)
         axes = configured_axes(c.mounting.rpy_deg) if c.mounting.rpy_deg is not None \
             else (None, None)
@@ -128,17 +138,21 @@ class PocketNavigator:
 
     # --- processing -----------------------------------------------------------------
     def process(self, t, gyro, accel, mag=None) -> NavigatorOutput:
-        """Samples at times t [s] (N,), gyro [rad/s], accel [m/s²], mag [T] (N, 3)."""
+        """Samples at times t [s] (N,), gyro [rad/s] (or None: no gyroscope), accel
+        [m/s²], mag [T] (N, 3)."""
         t = np.asarray(t, float)
-        attitude = self.orientation.run(t, gyro, accel, mag)
+        accel = np.ascontiguousarray(accel, dtype=float)
+        if gyro is None:
+            attitude, rate = self._gravity_tilt(t, accel)
+        else:
+            attitude = self.orientation.run(t, gyro, accel, mag)
+            rate = np.linalg.norm(gyro, axis=1)
         n = len(t)
         pitch, heading = np.full(n, np.nan), np.full(n, np.nan)
         known = np.zeros(n, dtype=np.bool_)
         up, flex = np.zeros((n, 3)), np.zeros((n, 3))
-        mounting_loop(self.mounting, self.mounting_params, t,
-                      np.ascontiguousarray(gyro, dtype=float),
-                      np.ascontiguousarray(accel, dtype=float), attitude.attitude,
-                      pitch, heading, known, up, flex)
+        mounting_loop(self.mounting, self.mounting_params, t, np.ascontiguousarray(rate),
+                      accel, attitude.attitude, pitch, heading, known, up, flex)
         vz = np.einsum("nj,nj->n", attitude.attitude[:, 2, :], np.asarray(accel, float))
         yaw_var = attitude.covariance[:, 2, 2]
         stream = self._stream(t, attitude.attitude, vz, yaw_var, pitch, heading, known, up,
@@ -148,6 +162,28 @@ class PocketNavigator:
         tilt = np.arccos(np.clip(np.einsum("nj,nj->n", attitude.attitude[:, 2, :], up), -1, 1))
         return NavigatorOutput(attitude, pitch, heading,
                                self._activity(t, tilt, steps, before), steps)
+
+    def _gravity_tilt(self, t: np.ndarray, accel: np.ndarray
+                      ) -> tuple[AttitudeEstimate, np.ndarray]:
+        """Without a gyroscope: C_b^n of the gravity direction's tilt (yaw 0, unknown) and
+        the motion measure scaled to a turn rate for the thigh frame's rest and motion
+        tests."""
+        m = self.config.mounting
+        n = len(t)
+        gravity, motion = np.empty((n, 3)), np.empty(n)
+        tau = CASCADE_FACTOR / (2 * np.pi * m.gravity_cutoff_hz)
+        gravity_loop(self.gravity_state, tau, MOTION_TIME_CONSTANT_S, t, accel, gravity, motion)
+        roll = np.arctan2(gravity[:, 1], gravity[:, 2])
+        pitch = np.arctan2(-gravity[:, 0], np.hypot(gravity[:, 1], gravity[:, 2]))
+        c = rotation_from_euler(roll, pitch, np.zeros(n)).as_matrix().reshape(n, 3, 3)
+        covariance = np.zeros((n, 6, 6))
+        covariance[:, 0, 0] = covariance[:, 1, 1] = GRAVITY_TILT_SIGMA_RAD**2
+        covariance[:, 2, 2] = np.pi**2
+        attitude = AttitudeEstimate(t, c, np.zeros((n, 3)), covariance,
+                                    np.zeros((n, 4), dtype=bool),
+                                    np.zeros((n, N_UPDATES), dtype=bool))
+        scale = np.radians(m.moving_rate_deg_per_s) / m.accel_motion_mps2
+        return attitude, motion * scale
 
     def _stream(self, t, c, vz, yaw_var, pitch, heading, known, up, flex):
         """The samples the detector sees, in order: (t, θ, heading, vertical force, yaw

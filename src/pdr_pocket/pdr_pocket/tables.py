@@ -38,7 +38,7 @@ def navigate(bag: Path, config: PocketConfig, need_truth: bool = False):
               if t in reader.topics]
     batches = reader.read_batches(wanted)
     inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG))
-    out = PocketNavigator(config).process(inputs.t, inputs.gyro, inputs.accel, inputs.mag)
+    out = PocketNavigator(config).process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
     truth = batches.get(topics.GROUND_TRUTH_STEP)
     return out, inputs, truth
 
