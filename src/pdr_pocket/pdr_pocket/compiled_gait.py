@@ -16,8 +16,10 @@ and a whole record give the same result:
   * The flexion axis f is the axis the leg swings about while walking. The vertical seen
     in the sensor frame, g = C_b^nᵀ·e_z from the attitude filter (no linear acceleration
     in it), turns about f as the thigh pitches and is left alone by the hip's yaw sway, so
-    f = u × d with d the major axis of g's exponentially weighted scatter (time constant
-    ``flexion_tau_s``, moving samples) within the plane orthogonal to u. (The principal
+    f = u × d with d the major axis of g's exponentially weighted covariance (time
+    constant ``flexion_tau_s``, moving samples) within the plane orthogonal to u. The
+    covariance, not the second moment: a tilt error of the filter shifts g's mean
+    sideways, and with the mean in it 1° of roll error turned the axis by about 2°. (The principal
     axis of ∑ωωᵀ, tried first, leans about 3° forward: the sway seen by a pitched thigh
     puts sin θ·ψ̇ on the forward axis, correlated with the pitch rate, and the pitch
     amplitudes came out 0.2–0.5° short.) It is known after ``flexion_min_s`` of motion.
@@ -79,6 +81,7 @@ class MountingState(NamedTuple):
     flex_raw: np.ndarray        # (3,) power-iteration vector
     flex_sign: np.ndarray       # (1,) ±1
     moment: np.ndarray          # (3, 3) weighted ∑g gᵀ of the vertical while walking
+    mean: np.ndarray            # (3,) weighted ∑g
 
 
 class PeakParams(NamedTuple):
@@ -95,7 +98,7 @@ class PeakParams(NamedTuple):
 def new_mounting_state(up=None, flexion=None) -> MountingState:
     """A fresh state; with ``up`` and ``flexion`` (a configured mounting) they are used."""
     state = MountingState(np.zeros(N_MOUNTING_SCALARS), np.zeros(3), np.zeros(3),
-                          np.zeros(3), np.ones(1), np.zeros((3, 3)))
+                          np.zeros(3), np.ones(1), np.zeros((3, 3)), np.zeros(3))
     if up is not None:
         state.up[:] = up
         state.flex_raw[:] = flexion
@@ -204,6 +207,7 @@ def _rest(state, params, wn, a, dt):
             s[MEAN_PITCH] = 0.0
             s[CHANGES] += 1.0
             state.moment[:, :] = 0.0
+            state.mean[:] = 0.0
             state.flex_raw[:] = 0.0
 
 
@@ -216,9 +220,11 @@ def _motion(state, params, wn, dt, c):
     lam = np.exp(-dt / params.flexion_tau_s)
     g = c[2, :]                                  # the vertical in the sensor frame
     for i in range(3):
+        state.mean[i] = lam * state.mean[i] + (1.0 - lam) * g[i]
         for j in range(3):
             state.moment[i, j] = lam * state.moment[i, j] + (1.0 - lam) * g[i] * g[j]
-    v = _least_swung_axis(state.moment, state.up)
+    spread = state.moment - np.outer(state.mean, state.mean)
+    v = _least_swung_axis(spread, state.up)
     if v @ state.flex_raw < 0:
         v = -v
     state.flex_raw[:] = v
@@ -235,14 +241,14 @@ def _motion(state, params, wn, dt, c):
 
 
 @njit(cache=True)
-def _least_swung_axis(moment, up):
-    """The axis orthogonal to u about which the vertical swings (moment: its weighted
-    second moment ∑g gᵀ in the sensor frame): u × d, d the major axis of the scatter
-    within the plane orthogonal to u (closed-form 2 × 2 eigenvector)."""
+def _least_swung_axis(spread, up):
+    """The axis orthogonal to u about which the vertical swings (spread: its weighted
+    covariance in the sensor frame): u × d, d the major axis of the spread within the
+    plane orthogonal to u (closed-form 2 × 2 eigenvector)."""
     ref = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     e1 = _unit(np.cross(up, ref))
     e2 = np.cross(up, e1)
-    s11, s22, s12 = e1 @ moment @ e1, e2 @ moment @ e2, e1 @ moment @ e2
+    s11, s22, s12 = e1 @ spread @ e1, e2 @ spread @ e2, e1 @ spread @ e2
     phi = 0.5 * np.arctan2(2.0 * s12, s11 - s22)
     return _unit(np.cross(up, np.cos(phi) * e1 + np.sin(phi) * e2))
 

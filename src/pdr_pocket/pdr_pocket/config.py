@@ -266,11 +266,13 @@ class PositionConfig:
     """The position filter (Muñoz Díaz 2016, chapter 6; pdr_pocket.position)."""
 
     heading_sigma_per_step_deg: float = 1.0   # the sway left in one step's mean heading
+    heading_drift_sigma_deg_per_s: float = 0.01   # the heading error rate left (drift ε)
     initial_position_sigma_m: float = 0.0
     correction_gate_probability: float = 0.999
 
     def __post_init__(self) -> None:
-        _positive(self, ("heading_sigma_per_step_deg", "correction_gate_probability"))
+        _positive(self, ("heading_sigma_per_step_deg", "heading_drift_sigma_deg_per_s",
+                         "correction_gate_probability"))
         if self.initial_position_sigma_m < 0:
             raise ValueError("initial_position_sigma_m must be >= 0")
 

@@ -259,7 +259,8 @@ class PocketNavigator:
         self.staircases.add(index, t_max, activity, vertical)
         on_stairs = activity in (UPSTAIRS, DOWNSTAIRS)
         self.position.step(length, vertical, heading, yaw_var, c.step_length.length_sigma_m**2,
-                           c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2)
+                           c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2,
+                           duration)
         record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
                             float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
                             self.position.position, self.position.covariance,
@@ -315,6 +316,7 @@ class PocketNavigator:
                                           f.yaw_variance)
         if with_bias:
             done.append(f.correct_bias_z(f.state.bias[2] + bias_z, bias_var)[1])
+            self.position.limit_drift(bias_var)
         if position is not None:
             done.append(self.position.correct_position(position, position_cov)[1])
         self.corrections["accepted"] += 1

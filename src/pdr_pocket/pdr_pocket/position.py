@@ -2,19 +2,23 @@
 
 The thesis' state is the 3D position [x, y, z] (Eq. (6.1)), propagated once per step by
 Eq. (5.1): x += s·cos ψ, y += s·sin ψ, z += v. Here it is augmented with the heading ψ
-(the augmented form of Section 5.2), so that the covariance grows as a heading error
-that persists from step to step makes it grow, not as independent per-step noise:
+(the augmented form of Section 5.2) and the heading drift ε, the heading error rate the
+orientation filter leaves (chapter 5's "drift"), so that the covariance grows as a
+heading error that persists and grows from step to step makes it grow, not as
+independent per-step noise:
 
-    state X = [x, y, z, ψ] (ENU, m and rad), covariance P (4 × 4)
-    per step j:  ψ ← the orientation filter's heading of the step (its mean)
+    state X = [x, y, z, ψ, ε] (ENU; m, rad, rad/s), covariance P (5 × 5)
+    per step j:  ψ ← the orientation filter's heading of the step (its mean; ε's mean 0)
                  P_ψψ += q_ψ = max(ΔP_yaw, 0)
-                 X ← X + [s cos ψ, s sin ψ, v, 0]
+                 X ← X + [s cos ψ, s sin ψ, v, 0, 0]
                  P ← F P Fᵀ + G diag(σ_s², σ_v², σ_ψ,step²) Gᵀ,
-                 F = I + [[0,0,0,−s sin ψ],[0,0,0,s cos ψ],[0,0,0,0],[0,0,0,0]],
-                 G = [[cos ψ, 0, −s sin ψ],[sin ψ, 0, s cos ψ],[0, 1, 0],[0, 0, 0]]
+                 F = I + [[0,0,0,−s sin ψ,0],[0,0,0,s cos ψ,0],0,[0,0,0,0,Δt],0],
+                 G = [[cos ψ, 0, −s sin ψ],[sin ψ, 0, s cos ψ],[0, 1, 0],0,0]
 
 with ΔP_yaw the growth of the orientation filter's yaw variance since the previous step
-(its gyroscope and bias uncertainty integrated: an error that persists) and σ_ψ,step the
+(its gyroscope and bias uncertainty integrated), Δt the step's duration, σ_ε the prior
+of the drift (``heading_drift_sigma_deg_per_s``: the orientation filter's own z-bias σ
+is about ten times too small on a walking thigh, see docs/pocket.md) and σ_ψ,step the
 hip sway left in one step's mean heading (an error of that step alone). The propagation
 is linear in the inputs given ψ, so an extended filter with the exact Jacobian is what the
 unscented one of the thesis computes here to second order.
@@ -31,8 +35,8 @@ from scipy.stats import chi2
 
 from pdr_pocket.config import PositionConfig
 
-X, Y, Z, PSI = range(4)
-N_POSITION_STATE = 4
+X, Y, Z, PSI, EPS = range(5)
+N_POSITION_STATE = 5
 
 
 class PositionFilter:
@@ -43,12 +47,14 @@ class PositionFilter:
         self.x[:3] = start
         self.p = np.zeros((N_POSITION_STATE, N_POSITION_STATE))
         self.p[:3, :3] = np.eye(3) * self.config.initial_position_sigma_m**2
+        self.p[EPS, EPS] = np.radians(self.config.heading_drift_sigma_deg_per_s) ** 2
         self.yaw_variance: float | None = None
         self.step_heading_var = np.radians(self.config.heading_sigma_per_step_deg) ** 2
 
     def step(self, length_m: float, vertical_m: float, heading_rad: float,
-             yaw_variance: float, length_var: float, vertical_var: float) -> None:
-        """One step (Eq. (5.1)) with its input variances [m², rad²]."""
+             yaw_variance: float, length_var: float, vertical_var: float,
+             duration_s: float) -> None:
+        """One step (Eq. (5.1)) with its input variances [m², rad²] and duration [s]."""
         growth = 0.0 if self.yaw_variance is None else max(yaw_variance - self.yaw_variance, 0.0)
         if self.yaw_variance is None:
             self.p[PSI, PSI] = yaw_variance
@@ -58,6 +64,7 @@ class PositionFilter:
         c, s = np.cos(heading_rad), np.sin(heading_rad)
         f = np.eye(N_POSITION_STATE)
         f[X, PSI], f[Y, PSI] = -length_m * s, length_m * c
+        f[PSI, EPS] = duration_s
         g = np.zeros((N_POSITION_STATE, 3))
         g[X, 0], g[Y, 0], g[Z, 1] = c, s, 1.0
         g[X, 2], g[Y, 2] = -length_m * s, length_m * c
@@ -116,6 +123,14 @@ class PositionFilter:
         message = self._update(h, np.array([innovation]), np.array([[variance]]), "heading")
         self.yaw_variance = yaw_variance_after
         return message
+
+    def limit_drift(self, variance: float) -> None:
+        """A z-bias correction of this variance [rad²/s²] went to the orientation filter:
+        the drift left is no more uncertain than that (its correlations scaled alike)."""
+        if 0 < variance < self.p[EPS, EPS]:
+            scale = np.sqrt(variance / self.p[EPS, EPS])
+            self.p[EPS, :] *= scale
+            self.p[:, EPS] *= scale
 
     def _update(self, h: np.ndarray, innovation: np.ndarray, r: np.ndarray, what: str) -> str:
         """The Kalman update (Joseph form)."""

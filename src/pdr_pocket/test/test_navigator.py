@@ -138,11 +138,11 @@ def test_one_sample_at_a_time_equals_the_whole_record():
 # --- position filter ---------------------------------------------------------------------
 def test_position_filter_step_is_equation_5_1_and_covariance_grows():
     f = PositionFilter(PositionConfig())
-    f.step(0.8, 0.0, np.pi / 2, 1e-4, 0.03**2, 0.0)
-    f.step(0.8, 0.34, np.pi / 2, 2e-4, 0.03**2, 0.02**2)
+    f.step(0.8, 0.0, np.pi / 2, 1e-4, 0.03**2, 0.0, 1.0)
+    f.step(0.8, 0.34, np.pi / 2, 2e-4, 0.03**2, 0.02**2, 1.0)
     assert np.allclose(f.position, [0.0, 1.6, 0.34])
     first = f.covariance
-    f.step(0.8, 0.0, 0.0, 3e-4, 0.03**2, 0.0)
+    f.step(0.8, 0.0, 0.0, 3e-4, 0.03**2, 0.0, 1.0)
     assert np.trace(f.covariance) > np.trace(first)
     assert np.all(np.linalg.eigvalsh(f.p) >= -1e-15)
 
@@ -153,7 +153,7 @@ def test_position_filter_step_is_equation_5_1_and_covariance_grows():
 def test_position_covariance_stays_symmetric_positive_semidefinite(steps):
     f = PositionFilter(PositionConfig())
     for k, (length, heading) in enumerate(steps):
-        f.step(length, 0.0, heading, 1e-4 * (1 + k), 0.03**2, 0.0)
+        f.step(length, 0.0, heading, 1e-4 * (1 + k), 0.03**2, 0.0, 1.1)
         if k % 7 == 3:
             f.correct_position(f.position + 0.1, np.eye(3) * 0.5)
     assert np.allclose(f.p, f.p.T) and np.linalg.eigvalsh(f.p).min() >= -1e-12
