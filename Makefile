@@ -4,10 +4,11 @@ SHELL := /bin/bash
 ENV := source tools/env.sh
 PYTEST_ARGS ?=
 
-.PHONY: help build test lint demo bench figures constraints clean
+.PHONY: help build test lint demo demo-pocket bench figures constraints clean
 
 help:
 	@echo "make demo   - run the demo (bootstraps venv, ROS 2 Jazzy wheels, colcon build)"
+	@echo "make demo-pocket - the pocket pipeline live: pdr-sim, bag_play, pocket_pdr, bag_record"
 	@echo "make test   - ruff + the whole test suite (unit and multi-process integration)"
 	@echo "make build  - bootstrap and build only"
 	@echo "make bench  - run the benchmarks in test/benchmarks/ (on purpose, not in CI)"
@@ -24,6 +25,9 @@ test: lint
 
 demo: build
 	@$(ENV) && tools/demo.sh
+
+demo-pocket: build
+	@$(ENV) && tools/demo_pocket.sh
 
 figures: build
 	@$(ENV) && tools/doc_figures.sh
