@@ -120,16 +120,24 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                                                "default: the installed config/pocket_pdr.yaml")
     p.add_argument("--mag-calibration", type=Path,
                    help="YAML of pdr-pocket calibrate-mag (overrides the configuration's)")
+    p.add_argument("--drift", choices=("none", "online", "offline"), default="none",
+                   help="landmark drift corrections (Sections 6.1-6.2): online, applied at "
+                        "each association as pocket_pdr's service does, or offline, a "
+                        "second pass from the walk's drift ε₀")
+    p.add_argument("--drift-config", type=Path,
+                   help="YAML of the drift estimator (pdr_drift.config); default: built in")
     p.add_argument("--plot", action="store_true", help="also write OUT/path.png")
     p.add_argument("--overwrite", action="store_true")
     p.set_defaults(func=_run_navigator)
 
 
 def _run_navigator(args: argparse.Namespace) -> int:
+    from pdr_drift.config import load_drift_config
     from pdr_pocket.pocket_offline import run_bag
 
     report = run_bag(args.bag, args.out, load_pocket_config(args.config),
-                     args.mag_calibration, plot=args.plot, overwrite=args.overwrite)
+                     args.mag_calibration, plot=args.plot, overwrite=args.overwrite,
+                     drift=args.drift, drift_config=load_drift_config(args.drift_config))
     print(json.dumps(report, indent=2))
     return 0
 

@@ -68,6 +68,8 @@ class OrientationConfig:
     bias_mean_decays: bool = False      # True: Eq. (3.8) as written (see the class doc)
     # initial state
     initial_bias_sigma_deg_per_s: float = 0.2
+    initial_bias_z_deg_per_s: float = 0.0           # pdr-pocket run --drift offline sets it
+    initial_bias_z_sigma_deg_per_s: float | None = None   # None: initial_bias_sigma_deg_per_s
     initial_tilt_sigma_deg: float = 2.0
     initial_yaw_sigma_deg: float = 5.0
     initial_yaw_deg: float | None = None    # None: from the compass (magnetometer), else 0

@@ -194,8 +194,11 @@ def _true_floors(record: dict) -> tuple[int, int] | None:
 
 
 def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *,
-            plot: bool = False, overwrite: bool = False) -> dict:
-    """``pdr-pocket run``: navigate ``bag`` and write ``out`` (module docstring)."""
+            plot: bool = False, overwrite: bool = False, drift: str = "none",
+            drift_config=None) -> dict:
+    """``pdr-pocket run``: navigate ``bag`` and write ``out`` (module docstring); with
+    ``drift`` online or offline, with the landmark drift corrections
+    (pdr_pocket.drift_loop)."""
     from pdr_core import topics
     from pdr_core.bag import BagReader, BagWriter
     from pdr_core.metrics import truth_at
@@ -213,8 +216,17 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                           topics.GROUND_TRUTH_STEP) if t in reader.topics]
     batches = reader.read_batches(wanted)
     inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG), calibration)
-    navigator = PocketNavigator(config)
-    result = navigator.process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
+    drift_log = None
+    if drift == "none":
+        navigator = PocketNavigator(config)
+        result = navigator.process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
+    else:
+        from pdr_drift.config import DriftConfig
+        from pdr_pocket.drift_loop import navigate_offline, navigate_online
+
+        loop = navigate_online if drift == "online" else navigate_offline
+        navigator, result, drift_log = loop(config, drift_config or DriftConfig(), inputs.t,
+                                            inputs.gyro_or_none, inputs.accel, inputs.mag)
     steps = result.steps
     stamps = step_stamps(steps, inputs.stamp_ns, inputs.t)
     truth_steps = batches.get(topics.GROUND_TRUTH_STEP)
@@ -227,6 +239,8 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                                int(inputs.stamp_ns[0]), _true_floors(record))
     report |= {"samples": len(inputs.t), "dropped": inputs.counts,
                "mounting_changes": int(navigator.mounting.scalars[CHANGES])}
+    if drift_log is not None:
+        report["drift"] = {"mode": drift, **drift_log.summary()}
     with BagWriter(out, overwrite=overwrite) as writer:
         writer.write_merged(attitude_batches(inputs, result.attitude,
                                              navigator.orientation.params.gyro_noise_var)

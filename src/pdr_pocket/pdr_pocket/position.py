@@ -82,23 +82,32 @@ class PositionFilter:
         return self.p[:3, :3].copy()
 
     def check_position(self, position, covariance) -> str | None:
-        """Why a position fix would be refused (None: it would be applied)."""
+        """Why a position fix would be refused (None: it would be applied). An axis that
+        both the filter and the fix know exactly (the height of a level walk) must agree
+        and is left out of the update."""
         z = np.asarray(position, float)
         r = np.asarray(covariance, float).reshape(3, 3)
         if not (np.isfinite(z).all() and np.isfinite(r).all()):
             return "position fix: not finite"
         if not np.allclose(r, r.T) or np.linalg.eigvalsh(r).min() < 0:
             return "position fix: covariance not symmetric positive semi-definite"
-        s = self.p[:3, :3] + r
-        if np.linalg.matrix_rank(s) < 3:
-            return "position fix: singular innovation covariance (both covariances zero)"
         innovation = z - self.x[:3]
-        nis = float(innovation @ np.linalg.solve(s, innovation))
-        limit = float(chi2.ppf(self.config.correction_gate_probability, 3))
+        keep = self._informative(r)
+        if np.any(np.abs(innovation[~keep]) > 1e-6):
+            return ("position fix: differs on an axis both know exactly (innovation "
+                    f"{np.round(innovation, 3).tolist()} m)")
+        if not keep.any():
+            return "position fix: both covariances zero"
+        s = (self.p[:3, :3] + r)[np.ix_(keep, keep)]
+        nis = float(innovation[keep] @ np.linalg.solve(s, innovation[keep]))
+        limit = float(chi2.ppf(self.config.correction_gate_probability, int(keep.sum())))
         if nis > limit:
-            return (f"position fix refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} (3 dof, "
-                    f"innovation {np.round(innovation, 2).tolist()} m)")
+            return (f"position fix refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} "
+                    f"({int(keep.sum())} dof, innovation {np.round(innovation, 2).tolist()} m)")
         return None
+
+    def _informative(self, r: np.ndarray) -> np.ndarray:
+        return np.diag(self.p[:3, :3] + r) > 1e-12
 
     def correct_position(self, position, covariance) -> tuple[bool, str]:
         """Eq. (6.3): the landmark's first-visit position and its covariance (3, 3) [m,
@@ -106,10 +115,12 @@ class PositionFilter:
         problem = self.check_position(position, covariance)
         if problem is not None:
             return False, problem
-        h = np.zeros((3, N_POSITION_STATE))
-        h[:, :3] = np.eye(3)
+        r = np.asarray(covariance, float).reshape(3, 3)
+        keep = self._informative(r)
+        h = np.zeros((int(keep.sum()), N_POSITION_STATE))
+        h[:, :3] = np.eye(3)[keep]
         z = np.asarray(position, float)
-        return True, self._update(h, z - self.x[:3], np.asarray(covariance, float).reshape(3, 3),
+        return True, self._update(h, (z - self.x[:3])[keep], r[np.ix_(keep, keep)],
                                   "position fix")
 
     def correct_heading(self, heading_rad: float, variance: float,

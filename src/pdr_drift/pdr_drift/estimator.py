@@ -1,0 +1,86 @@
+"""The drift estimator step by step (Muñoz Díaz 2016, chapter 5 and Section 6.1).
+
+:class:`DriftEstimator` takes the navigator's steps as :class:`~pdr_drift.corners.StepSample`
+and returns what happened at each: the landmark detected (a corner or a flight of
+stairs), and when it revisits a stored one, the association, the drift estimate and the
+online correction of Section 6.1 (:class:`Correction`, the fields of
+pdr_msgs/srv/ApplyCorrection): the yaw to add, δ, so that the heading is the first
+visit's again (direction-adjusted), with the variance of one landmark yaw; the drift ε to
+add to the z gyro bias with its variance; and the first visit's position with its
+covariance (Eq. (6.3)). It imports no navigator: the pocket and the foot alike can feed it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdr_drift.config import DriftConfig
+from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetector
+from pdr_drift.drift import YAW_SIGMA_RAD, DriftEstimate, drift_of
+from pdr_drift.landmarks import Association, Landmark, LandmarkDatabase, StairsTracker, from_corner
+
+
+@dataclass(frozen=True)
+class Correction:
+    """pdr_msgs/srv/ApplyCorrection: values to add [rad, rad/s] and variances, and the
+    position fix [m] with its covariance (3, 3)."""
+
+    yaw: float
+    yaw_variance: float
+    gyro_bias_z: float
+    gyro_bias_z_variance: float
+    position: np.ndarray
+    position_covariance: np.ndarray
+
+
+@dataclass
+class StepResult:
+    landmarks: list[Landmark] = field(default_factory=list)
+    associations: list[Association] = field(default_factory=list)
+    drifts: list[DriftEstimate] = field(default_factory=list)
+    corrections: list[Correction] = field(default_factory=list)
+
+
+def corner_detector(config: DriftConfig):
+    if config.corner_detector == "buffer":
+        return BufferCornerDetector(config.q_steps, config.m_steps, config.r1_deg,
+                                    config.r2_deg)
+    return TurnCornerDetector(config.turn_rate_min_deg_per_step, config.q_steps,
+                              config.turn_tolerance_deg)
+
+
+class DriftEstimator:
+    def __init__(self, config: DriftConfig | None = None) -> None:
+        self.config = config or DriftConfig()
+        self.corners = corner_detector(self.config)
+        self.stairs = StairsTracker()
+        self.database = LandmarkDatabase(self.config.gate_probability, self.config.gate_dof,
+                                         self.config.min_revisit_s)
+        self.next_id = 0
+
+    def push(self, step: StepSample) -> StepResult:
+        result = StepResult()
+        corner = self.corners.push(step)
+        found = [] if corner is None else [from_corner(corner, self._id())]
+        flight = self.stairs.push(step, self.next_id)
+        if flight is not None:
+            self._id()
+            found.append(flight)
+        for landmark in found:
+            result.landmarks.append(landmark)
+            association = self.database.associate(landmark)
+            if association is None:
+                continue
+            estimate = drift_of(association)
+            result.associations.append(association)
+            result.drifts.append(estimate)
+            result.corrections.append(Correction(
+                estimate.deviation, YAW_SIGMA_RAD**2, estimate.drift, estimate.drift_variance,
+                np.asarray(association.first.position, float),
+                np.asarray(association.first.covariance, float)))
+        return result
+
+    def _id(self) -> int:
+        self.next_id += 1
+        return self.next_id - 1

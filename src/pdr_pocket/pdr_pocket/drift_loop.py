@@ -1,0 +1,117 @@
+"""The pocket navigator with the landmark drift corrections in one process
+(``pdr-pocket run --drift online|offline``; Muñoz Díaz 2016, Sections 6.1 and 6.2).
+
+- :func:`navigate_online`: the record in chunks of ``chunk_s``; each step goes to
+  :class:`pdr_drift.estimator.DriftEstimator`, and each correction it returns goes to the
+  navigator through :meth:`PocketNavigator.apply_correction`, the code the
+  ``pocket_pdr`` node's service runs (Section 6.1).
+- :func:`navigate_offline`: a first pass collects every association's drift, ε₀ of
+  Eq. (6.5) (outliers rejected), and a second pass starts the orientation filter with
+  b_z = b̂_z + ε₀ (b̂_z: the first pass's last estimate; the thesis' filter has none, so
+  there b_z = ε₀) and the σ of ε₀, and applies no correction: the path has no jumps
+  (Section 6.2).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from pdr_drift.config import DriftConfig
+from pdr_drift.corners import StepSample
+from pdr_drift.drift import DriftEstimate, offline_drift
+from pdr_drift.estimator import DriftEstimator
+from pdr_drift.landmarks import Landmark
+from pdr_pocket.config import PocketConfig
+from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
+from pdr_pocket.orientation import AttitudeEstimate
+
+CHUNK_S = 1.0
+
+
+@dataclass
+class DriftLog:
+    """What the drift estimator did: landmarks, drift estimates, corrections with their
+    outcome (accepted, message), and offline ε₀ [rad/s] with the estimates kept."""
+
+    landmarks: list[Landmark] = field(default_factory=list)
+    drifts: list[DriftEstimate] = field(default_factory=list)
+    corrections: list[tuple[float, bool, str]] = field(default_factory=list)
+    offline_drift: float | None = None
+    kept: list[DriftEstimate] = field(default_factory=list)
+
+    def summary(self) -> dict:
+        accepted = sum(1 for _, ok, _ in self.corrections if ok)
+        return {"landmarks": len(self.landmarks),
+                "corners": sum(1 for m in self.landmarks if m.type == 0),
+                "stairs": sum(1 for m in self.landmarks if m.type == 1),
+                "associations": len(self.drifts),
+                "drift_deg_per_s": [float(np.degrees(d.drift)) for d in self.drifts],
+                "corrections_accepted": accepted,
+                "corrections_refused": len(self.corrections) - accepted,
+                "correction_messages": [m for _, _, m in self.corrections],
+                "offline_drift_deg_per_s": None if self.offline_drift is None
+                else float(np.degrees(self.offline_drift))}
+
+
+def step_sample(step: StepRecord) -> StepSample:
+    return StepSample(step.t, step.heading, step.activity, step.position, step.covariance,
+                      step.floor)
+
+
+def concatenate(outputs: list[NavigatorOutput]) -> NavigatorOutput:
+    """One output of the chunks' outputs."""
+    a = [o.attitude for o in outputs]
+    attitude = AttitudeEstimate(*(np.concatenate([getattr(x, f) for x in a]) for f in
+                                  ("t", "attitude", "bias", "covariance", "detected", "ran")))
+    return NavigatorOutput(attitude, np.concatenate([o.pitch for o in outputs]),
+                           np.concatenate([o.heading for o in outputs]),
+                           np.concatenate([o.activity for o in outputs]),
+                           [s for o in outputs for s in o.steps])
+
+
+def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, mag,
+                    apply: bool = True) -> tuple[PocketNavigator, NavigatorOutput, DriftLog]:
+    """The online loop (module docstring); ``apply=False`` only records."""
+    navigator = PocketNavigator(config)
+    estimator = DriftEstimator(drift)
+    log = DriftLog()
+    cuts = np.searchsorted(t, np.arange(t[0], t[-1] + CHUNK_S, CHUNK_S)[1:], side="left")
+    outputs = []
+    for part in np.split(np.arange(len(t)), cuts):
+        if not len(part):
+            continue
+        out = navigator.process(t[part], None if gyro is None else gyro[part], accel[part],
+                                mag[part])
+        outputs.append(out)
+        for step in out.steps:
+            result = estimator.push(step_sample(step))
+            log.landmarks += result.landmarks
+            log.drifts += result.drifts
+            for c in result.corrections if apply else []:
+                ok, message = navigator.apply_correction(
+                    c.yaw, c.yaw_variance, c.gyro_bias_z, c.gyro_bias_z_variance,
+                    c.position, c.position_covariance)
+                log.corrections.append((step.t, ok, message))
+    return navigator, concatenate(outputs), log
+
+
+def navigate_offline(config: PocketConfig, drift: DriftConfig, t, gyro, accel, mag
+                     ) -> tuple[PocketNavigator, NavigatorOutput, DriftLog]:
+    """The two passes of Section 6.2 (module docstring)."""
+    _, first, log = navigate_online(config, drift, t, gyro, accel, mag, apply=False)
+    epsilon, kept = offline_drift(log.drifts, np.radians(drift.max_drift_deg_per_s),
+                                  drift.outlier_spread)
+    log.offline_drift, log.kept = epsilon, kept
+    if epsilon is None or gyro is None:
+        navigator = PocketNavigator(config)
+        return navigator, navigator.process(t, gyro, accel, mag), log
+    weights = np.array([e.elapsed for e in kept])
+    sigma = float(np.sqrt(np.sum(weights**2 * [e.drift_variance for e in kept]))
+                  / weights.sum())
+    start = float(first.attitude.bias[-1, 2]) + epsilon
+    orientation = replace(config.orientation,
+                          initial_bias_z_deg_per_s=float(np.degrees(start)),
+                          initial_bias_z_sigma_deg_per_s=float(np.degrees(sigma)))
+    navigator = PocketNavigator(replace(config, orientation=orientation))
+    return navigator, navigator.process(t, gyro, accel, mag), log
