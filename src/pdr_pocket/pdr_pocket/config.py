@@ -68,8 +68,6 @@ class OrientationConfig:
     bias_mean_decays: bool = False      # True: Eq. (3.8) as written (see the class doc)
     # initial state
     initial_bias_sigma_deg_per_s: float = 0.2
-    initial_bias_z_deg_per_s: float = 0.0           # pdr-pocket run --drift offline sets it
-    initial_bias_z_sigma_deg_per_s: float | None = None   # None: initial_bias_sigma_deg_per_s
     initial_tilt_sigma_deg: float = 2.0
     initial_yaw_sigma_deg: float = 5.0
     initial_yaw_deg: float | None = None    # None: from the compass (magnetometer), else 0
@@ -269,12 +267,15 @@ class PositionConfig:
 
     heading_sigma_per_step_deg: float = 1.0   # the sway left in one step's mean heading
     heading_drift_sigma_deg_per_s: float = 0.01   # the heading error rate left (drift ε)
+    heading_drift_correction_deg_per_s: float = 0.0   # ε₀ taken off the step headings
     initial_position_sigma_m: float = 0.0
     correction_gate_probability: float = 0.999
 
     def __post_init__(self) -> None:
         _positive(self, ("heading_sigma_per_step_deg", "heading_drift_sigma_deg_per_s",
                          "correction_gate_probability"))
+        if not np.isfinite(self.heading_drift_correction_deg_per_s):
+            raise ValueError("heading_drift_correction_deg_per_s must be finite")
         if self.initial_position_sigma_m < 0:
             raise ValueError("initial_position_sigma_m must be >= 0")
 

@@ -15,8 +15,9 @@ offline, the same result either way):
 3. the pitch-maximum step detector (:mod:`pdr_pocket.steps`, Section 4.1);
 4. per step: the activity (Section 4.1.3), the stride (Eq. (4.2), or the configured
    model), the vertical displacement (Eqs. (4.4)-(4.5)), the heading (the circular mean
-   of the thigh's heading over the cycle, which cancels the hip sway) and the position
-   filter (Eq. (5.1), chapter 6).
+   of the thigh's heading over the cycle, which cancels the hip sway, less
+   ``heading_drift_correction_deg_per_s`` times the time: the offline drift correction)
+   and the position filter (Eq. (5.1), chapter 6).
 
 Between steps each sample's activity is the last step's, or standing/sitting from the
 thigh's tilt after ``rest_after_s`` without a step. External corrections (Eqs. (6.2)-(6.3))
@@ -248,7 +249,8 @@ class PocketNavigator:
             else c.steps.nominal_step_period_s)
         amplitude_deg = float(np.degrees(event[EV_MAX] - event[EV_MIN]))
         activity = self.classifier.classify(float(event[EV_MAX]), float(event[EV_MIN]))
-        heading = float(np.arctan2(self.sum_sin, self.sum_cos))
+        drift = np.radians(c.position.heading_drift_correction_deg_per_s)
+        heading = float(np.arctan2(self.sum_sin, self.sum_cos) - drift * t_max)
         vertical_range = self.vz_max - self.vz_min
         if activity == WALKING:
             length = self.stride.length(StrideInputs(amplitude_deg, duration, vertical_range))

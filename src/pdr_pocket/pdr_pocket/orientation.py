@@ -10,8 +10,7 @@ Kalman updates, refused when they fail a χ² gate.
 Frames and units: body (sensor) frame as the IMU gives it, ENU navigation frame; SI
 inside (rad, rad/s, m/s², T). The filter starts on its first sample: roll and pitch from
 that sample's specific force (Eqs. (3.12)-(3.13)), yaw from the compass when a
-magnetometer reading comes with it and no ``initial_yaw_deg`` is set (else 0), biases 0
-but b_z = ``initial_bias_z_deg_per_s`` (the offline drift correction sets it).
+magnetometer reading comes with it and no ``initial_yaw_deg`` is set (else 0), biases 0.
 """
 from __future__ import annotations
 
@@ -122,14 +121,10 @@ class OrientationFilter:
         else:
             yaw = 0.0
         attitude = rotation_from_euler(roll, pitch, yaw).as_matrix()
-        bias_sigma = [c.initial_bias_sigma_deg_per_s] * 2 + [
-            c.initial_bias_sigma_deg_per_s if c.initial_bias_z_sigma_deg_per_s is None
-            else c.initial_bias_z_sigma_deg_per_s]
         covariance = np.diag(np.concatenate([
             np.radians([c.initial_tilt_sigma_deg] * 2 + [c.initial_yaw_sigma_deg]) ** 2,
-            np.radians(bias_sigma) ** 2]))
-        bias = np.array([0.0, 0.0, np.radians(c.initial_bias_z_deg_per_s)])
-        return FilterState(np.ascontiguousarray(attitude), bias, covariance,
+            np.full(3, np.radians(c.initial_bias_sigma_deg_per_s) ** 2)]))
+        return FilterState(np.ascontiguousarray(attitude), np.zeros(3), covariance,
                            np.zeros(8), np.zeros(3), np.zeros(3), np.zeros(3),
                            np.full(3, np.nan), np.zeros(3),
                            np.zeros(RING), np.zeros(RING), np.zeros(RING),

@@ -1,0 +1,157 @@
+"""The drift estimator (Muñoz Díaz 2016, chapter 5): corners, stairs, association,
+deviation and drift, against constructed walks and the simulator's truth."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pdr_core.config_files import read_config_file
+from pdr_drift.config import DriftConfig, load_drift_config
+from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetector, wrap
+from pdr_drift.drift import DriftEstimate, deviation, drift_of, offline_drift
+from pdr_drift.estimator import DriftEstimator
+from pdr_drift.landmarks import CORNER, STAIRS, Association, Landmark, LandmarkDatabase
+
+CONFIG = Path(__file__).resolve().parents[1] / "config" / "landmark_drift.yaml"
+LEVEL, UP, DOWN = 1, 2, 3
+
+
+def walk(legs, drift_radps=0.0, sway_deg=1.0, seed=0, period_s=1.1, stride_m=1.3):
+    """Steps along ``legs``: (heading change at its start [deg], steps, activity);
+    turns spread over 2 steps; the heading drifts by ``drift_radps``; the covariance grows
+    as 0.02 m² per step."""
+    rng = np.random.default_rng(seed)
+    steps, heading, position, t = [], 0.0, np.zeros(3), 0.0
+    for turn_deg, count, activity in legs:
+        for k in range(count):
+            if k < 2:
+                heading += np.radians(turn_deg) / 2
+            t += period_s
+            position = position + [stride_m * np.cos(heading), stride_m * np.sin(heading),
+                                   0.34 if activity == UP else -0.34 if activity == DOWN
+                                   else 0.0]
+            estimated = heading + drift_radps * t + np.radians(sway_deg) * rng.standard_normal()
+            steps.append(StepSample(t, float(wrap(estimated)), activity, position.copy(),
+                                    np.diag([0.02, 0.02, 0.001]) * len(steps), 0))
+    return steps
+
+
+def corners_of(detector, steps):
+    return [c for c in (detector.push(s) for s in steps) if c is not None]
+
+
+@pytest.mark.parametrize("detector", [BufferCornerDetector(), TurnCornerDetector()])
+def test_both_detectors_find_left_and_right_right_angles(detector):
+    steps = walk([(0, 20, LEVEL), (90, 20, LEVEL), (-90, 20, LEVEL), (-90, 20, LEVEL)])
+    found = corners_of(detector, steps)
+    assert [round(np.degrees(c.turn) / 90) for c in found] == [1, -1, -1]
+
+
+def test_turn_detector_finds_wide_and_half_turns_the_buffer_one_does_not():
+    steps = walk([(0, 15, LEVEL)])
+    heading = 0.0
+    for _ in range(10):                         # a 90° turn of 10 steps (a wide corner)
+        heading += np.radians(9.0)
+        steps.append(StepSample(steps[-1].t + 1.1, heading, LEVEL, steps[-1].position,
+                                steps[-1].covariance, 0))
+    for _ in range(8):
+        steps.append(StepSample(steps[-1].t + 1.1, heading, LEVEL, steps[-1].position,
+                                steps[-1].covariance, 0))
+    for _ in range(2):                          # a 180° turn in two steps
+        heading += np.pi / 2
+        steps.append(StepSample(steps[-1].t + 1.1, heading, LEVEL, steps[-1].position,
+                                steps[-1].covariance, 0))
+    for _ in range(8):
+        steps.append(StepSample(steps[-1].t + 1.1, heading, LEVEL, steps[-1].position,
+                                steps[-1].covariance, 0))
+    turns = [round(abs(np.degrees(c.turn))) for c in corners_of(TurnCornerDetector(), steps)]
+    assert len(turns) == 2 and abs(turns[0] - 90) < 5 and abs(turns[1] - 180) < 5
+    assert all(abs(abs(np.degrees(c.turn)) - 90) < 10
+               for c in corners_of(BufferCornerDetector(), steps))
+
+
+def test_hip_sway_makes_no_corner():
+    """Step headings keep a few degrees of sway; a straight walk has no corner."""
+    steps = walk([(0, 200, LEVEL)], sway_deg=3.0)
+    assert corners_of(TurnCornerDetector(), steps) == []
+    assert corners_of(BufferCornerDetector(), steps) == []
+
+
+def landmark(id_, t, yaw_before, yaw_after, position=(0.0, 0.0, 0.0), var=1.0, kind=CORNER,
+             floor=0):
+    return Landmark(id_, kind, t, np.asarray(position, float), np.eye(3) * var,
+                    np.radians(yaw_before), np.radians(yaw_after), floor, floor)
+
+
+@pytest.mark.parametrize(("revisit", "expected_deg"), [
+    ((0.0, 90.0), 0.0),          # the same way
+    ((270.0, 180.0), 0.0),       # the opposite way (Fig. 5.6)
+    ((3.0, 93.0), -3.0),         # the same way, drifted by +3°
+    ((273.0, 183.0), -3.0),      # the opposite way, drifted by +3°
+    ((93.0, 183.0), -3.0),       # partial overlap (Fig. 5.4)
+])
+def test_deviation_is_direction_agnostic(revisit, expected_deg):
+    first = landmark(0, 0.0, 0.0, 90.0)
+    again = landmark(1, 300.0, *revisit)
+    delta, _ = deviation(Association(first, again, 0.0))
+    assert np.degrees(delta) == pytest.approx(expected_deg, abs=1e-9)
+
+
+def test_stairs_deviation_up_then_down():
+    first = landmark(0, 0.0, 40.0, 40.0, kind=STAIRS)
+    down = landmark(1, 400.0, 222.0, 222.0, kind=STAIRS)
+    estimate = drift_of(Association(first, down, 0.0))
+    assert np.degrees(estimate.deviation) == pytest.approx(-2.0)
+    assert np.degrees(estimate.drift) == pytest.approx(2.0 / 400.0)
+    assert estimate.drift_variance == pytest.approx(2 * np.radians(4.0) ** 2 / 400.0**2)
+
+
+def test_association_gate_type_floor_revisit_time_and_clearing():
+    db = LandmarkDatabase()
+    assert db.kappa == pytest.approx(4.48, abs=0.05)     # √χ²(99.7 %, 6) = 4.45
+    db.associate(landmark(0, 0.0, 0.0, 90.0))
+    db.associate(landmark(1, 10.0, 0.0, 90.0, position=(50.0, 0.0, 0.0)))
+    assert db.associate(landmark(2, 60.0, 0.0, 90.0)) is None          # under 2 min
+    assert db.associate(landmark(3, 200.0, 0.0, 90.0, kind=STAIRS)) is None
+    assert db.associate(landmark(4, 200.0, 0.0, 90.0, floor=1)) is None
+    far = landmark(5, 200.0, 0.0, 90.0, position=(10.0, 0.0, 0.0), var=1.0)
+    assert db.associate(far) is None                                   # Δ = 7.1 > κ
+    found = db.associate(landmark(6, 300.0, 0.0, 90.0, position=(1.0, 1.0, 0.0)))
+    assert found is not None and found.first.id == 0                    # the nearest
+    assert db.stored == []                                              # cleared
+
+
+def test_offline_drift_rejects_outliers_and_weights_by_elapsed_time():
+    def est(drift, elapsed):
+        return DriftEstimate(0, 1, 0.0, elapsed, np.radians(drift), 1e-8, 1e-3)
+
+    estimates = [est(0.05, 300), est(0.052, 600), est(0.049, 300), est(0.9, 300),
+                 est(-0.3, 200)]
+    epsilon, kept = offline_drift(estimates, np.radians(0.5))
+    assert len(kept) == 3
+    assert np.degrees(epsilon) == pytest.approx((0.05 * 300 + 0.052 * 600 + 0.049 * 300)
+                                                / 1200)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(-0.05, 0.05), st.integers(0, 1000))
+def test_estimator_recovers_a_constant_drift_on_a_revisited_block(drift_deg_per_s, seed):
+    """Two laps of a block: the corners of the second lap revisit the first's, and the
+    drift comes back within its own 3σ."""
+    sides = [(90, 30, LEVEL), (90, 45, LEVEL), (90, 30, LEVEL)]
+    steps = walk([(0, 45, LEVEL), *sides, (90, 45, LEVEL), *sides],
+                 drift_radps=np.radians(drift_deg_per_s), seed=seed)
+    estimator = DriftEstimator()
+    drifts = [d for s in steps for d in estimator.push(s).drifts]
+    assert drifts
+    for d in drifts:
+        assert abs(d.drift - np.radians(drift_deg_per_s)) <= 3 * np.sqrt(d.drift_variance)
+
+
+def test_shipped_yaml_holds_the_dataclass_defaults():
+    assert load_drift_config(CONFIG) == DriftConfig()
+    assert set(read_config_file(CONFIG)["drift"]) == set(DriftConfig.__dataclass_fields__)
