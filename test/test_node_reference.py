@@ -71,6 +71,7 @@ def mismatches(declared: dict[str, tuple[str, object]],
 
 def node_classes(tmp_path: Path) -> dict[str, tuple[type, list[str]]]:
     """Node name -> (class, the -p arguments it needs to be constructed)."""
+    from pdr_drift.nodes.landmark_drift import LandmarkDriftNode
     from pdr_ins_ekf.nodes.zupt_ekf import ZuptEkfNode
     from pdr_pocket.nodes.pocket_pdr import PocketPdrNode
     from pdr_sim.nodes.bag_play import BagPlayer
@@ -78,7 +79,8 @@ def node_classes(tmp_path: Path) -> dict[str, tuple[type, list[str]]]:
     from pdr_sim.nodes.imu_sim import ImuSim
     return {"imu_sim": (ImuSim, []), "bag_play": (BagPlayer, []),
             "bag_record": (BagRecorder, [f"out:={tmp_path / 'bag'}", "topics:=[imu/data]"]),
-            "zupt_ekf": (ZuptEkfNode, []), "pocket_pdr": (PocketPdrNode, [])}
+            "zupt_ekf": (ZuptEkfNode, []), "pocket_pdr": (PocketPdrNode, []),
+            "landmark_drift": (LandmarkDriftNode, [])}
 
 
 def construct(cls: type, parameters: list[str]) -> Node:
@@ -93,7 +95,7 @@ def ros():
     rclpy.try_shutdown()
 
 
-NODES = ["imu_sim", "bag_play", "bag_record", "zupt_ekf", "pocket_pdr"]
+NODES = ["imu_sim", "bag_play", "bag_record", "zupt_ekf", "pocket_pdr", "landmark_drift"]
 
 
 def test_every_node_has_a_section():

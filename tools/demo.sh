@@ -12,6 +12,8 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/out/demo"
 config="$root/src/pdr_ins_ekf/config/foot_ekf.yaml"
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$((RANDOM % 100 + 1))}"
+# shellcheck source=tools/live_graph.sh
+source "$root/tools/live_graph.sh"
 rm -rf "$out" && mkdir -p "$out"
 
 echo "== 1. simulate the built-in long mixed walk"
@@ -28,25 +30,47 @@ lag = load_run_config(sys.argv[2]).detector.context[1]
 print(2 * (len(BagReader(sys.argv[1]).read("/imu/data")) - lag))
 PY
 )
-"$root/ws" bag_record --ros-args -p out:="$out/estimated" \
-  -p "topics:=[pdr/foot/pose, pdr/foot/stance]" -p max_messages:="$expected" \
-  > "$out/bag_record.log" 2>&1 &
-recorder=$!
-"$root/ws" zupt_ekf --ros-args -p config:="$config" -p imu_durability:=transient_local \
-  > "$out/zupt_ekf.log" 2>&1 &
-node=$!
-# start playing once the recorder listens to the navigator's outputs
-for _ in $(seq 600); do
-  grep -q "recording /pdr/foot/stance" "$out/bag_record.log" && \
-    grep -q "recording /pdr/foot/pose" "$out/bag_record.log" && break
-  sleep 0.1
-done
-"$root/ws" bag_play --ros-args -p bag:="$out/simulated" -p "topics:=[/imu/data]" \
-  -p rate:=0.0 -p wait_for_subscribers:=1
-wait "$recorder"
-kill -INT "$node" && wait "$node" || true
-tail -n 2 "$out/bag_record.log"
+live_graph "$out" "$out/simulated" "[/imu/data]" "[pdr/foot/pose, pdr/foot/stance]" \
+  "$expected" "zupt_ekf --ros-args -p config:=$config -p imu_durability:=transient_local"
 
 echo "== 3. report against the ground truth"
-"$root/ws" pdr-ekf evaluate "$out/estimated" --truth "$out/simulated" --plot "$out/estimate.png"
-echo "plots: $out/trajectory.png $out/signals.png $out/estimate.png"
+"$root/ws" pdr-ekf evaluate "$out/live" --truth "$out/simulated" --plot "$out/estimate.png"
+
+echo "== 4. the pocket graph: bag_play -> pocket_pdr <-> landmark_drift -> bag_record"
+pocket="$out/pocket" && mkdir -p "$pocket"
+"$root/ws" pdr-sim generate --placement pocket --scenario block_two_laps \
+  --imu thesis_table_6_1 --seed 1 --out "$pocket/simulated"
+"$root/ws" pdr-pocket run "$pocket/simulated" --out "$pocket/alone" > /dev/null
+"$root/ws" pdr-pocket run "$pocket/simulated" --out "$pocket/offline" --drift online \
+  > "$pocket/report.json"
+expected=$(python -c "import json,sys; r=json.load(open(sys.argv[1])); d=r['drift']
+print(r['steps'] + d['landmarks'] + d['associations'])" "$pocket/report.json")
+live_graph "$pocket" "$pocket/simulated" "[/imu/data, /imu/mag]" \
+  "[pdr/pocket/pose, pdr/landmarks, pdr/drift]" "$expected" \
+  "pocket_pdr --ros-args -p imu_durability:=transient_local" "landmark_drift"
+grep -h "correction accepted\|correction refused" "$pocket/landmark_drift.log" | tail -n 3
+python - "$pocket" <<'PY'
+import sys
+from pathlib import Path
+import numpy as np
+from pdr_core.bag import BagReader
+from pdr_pocket.plots import corrections_png
+folder = Path(sys.argv[1])
+sim = BagReader(folder / "simulated")
+steps = sim.read("/ground_truth/step")
+truth = np.c_[np.cumsum(steps["length"] * np.cos(steps["heading"])),
+              np.cumsum(steps["length"] * np.sin(steps["heading"]))]
+alone = BagReader(folder / "alone").read("/pdr/pocket/pose")["pose.pose.position"][:, :2]
+live = BagReader(folder / "live")
+corrected = live.read("/pdr/pocket/pose")["pose.pose.position"][:, :2]
+marks = live.read("/pdr/landmarks")["position"][:, :2]
+drift = live.read("/pdr/drift")
+start = np.zeros((1, 2))
+corrections_png(np.r_[start, truth], np.r_[start, alone], np.r_[start, corrected], marks,
+                folder / "corrections.png", "a phone in the pocket, two laps of a block")
+end = lambda p: np.linalg.norm(p[-1] - truth[-1])
+print(f"{len(marks)} landmarks, {len(drift)} revisit(s): drift "
+      + ", ".join(f"{np.degrees(d):+.4f}" for d in drift["drift"]) + " deg/s; final error "
+      f"{end(alone):.2f} m alone, {end(corrected):.2f} m with the corrections")
+PY
+echo "plots: $out/trajectory.png $out/signals.png $out/estimate.png $pocket/corrections.png"

@@ -13,6 +13,8 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/out/demo_pocket"
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$((RANDOM % 100 + 1))}"
+# shellcheck source=tools/live_graph.sh
+source "$root/tools/live_graph.sh"
 rm -rf "$out" && mkdir -p "$out"
 
 echo "== 1. simulate UP/DW with a phone in the front pocket"
@@ -23,23 +25,9 @@ echo "== 2. bag_play -> pocket_pdr -> bag_record over ROS 2 (domain $ROS_DOMAIN_
 "$root/ws" pdr-pocket run "$out/simulated" --out "$out/offline" --plot > "$out/report.json"
 steps=$(python -c "import json,sys; print(json.load(open(sys.argv[1]))['steps'])" \
   "$out/report.json")
-"$root/ws" bag_record --ros-args -p out:="$out/live" \
-  -p "topics:=[pdr/pocket/step, pdr/pocket/pose]" -p max_messages:="$((2 * steps))" \
-  > "$out/bag_record.log" 2>&1 &
-recorder=$!
-"$root/ws" pocket_pdr --ros-args -p imu_durability:=transient_local \
-  > "$out/pocket_pdr.log" 2>&1 &
-node=$!
-for _ in $(seq 600); do
-  grep -q "recording /pdr/pocket/step" "$out/bag_record.log" && \
-    grep -q "recording /pdr/pocket/pose" "$out/bag_record.log" && break
-  sleep 0.1
-done
-"$root/ws" bag_play --ros-args -p bag:="$out/simulated" -p "topics:=[/imu/data, /imu/mag]" \
-  -p rate:=0.0 -p wait_for_subscribers:=1
-wait "$recorder"
-kill -INT "$node" && wait "$node" || true
-tail -n 2 "$out/bag_record.log"
+live_graph "$out" "$out/simulated" "[/imu/data, /imu/mag]" \
+  "[pdr/pocket/step, pdr/pocket/pose]" "$((2 * steps))" \
+  "pocket_pdr --ros-args -p imu_durability:=transient_local"
 
 echo "== 3. report against the ground truth"
 python - "$out" <<'PY'

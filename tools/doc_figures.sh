@@ -14,6 +14,9 @@ echo "== the demo (README picture, simulator.md)"
 demo="$root/out/demo"
 cp "$demo/estimate.png" "$work/demo.png"
 cp "$demo/trajectory.png" "$work/trajectory.png"
+cp "$demo/pocket/corrections.png" "$work/drift.png"
+"$root/tools/demo_pocket.sh" > "$work/demo_pocket.log"
+cp "$root/out/demo_pocket/offline/path.png" "$work/pocket_path.png"
 
 echo "== a pocket walk (simulator.md)"
 "$root/ws" pdr-sim generate --placement pocket --scenario up_dw --out "$work/up_dw" \
@@ -48,7 +51,7 @@ from PIL import Image
 
 work, img = Path(sys.argv[1]), Path(sys.argv[2])
 for name in ("demo", "trajectory", "pocket", "attitude", "smoothing", "vicon_path",
-             "growth", "mechanization"):
+             "growth", "mechanization", "drift", "pocket_path"):
     picture = Image.open(work / f"{name}.png").convert("RGB")
     picture.convert("P", palette=Image.Palette.ADAPTIVE, colors=64).save(
         img / f"{name}.png", optimize=True)

@@ -19,5 +19,5 @@ setup(
     maintainer_email="maintainers@pdr-stack.org",
     description="See package.xml.",
     license="Apache-2.0",
-    entry_points={"console_scripts": []},
+    entry_points={"console_scripts": ["landmark_drift = pdr_drift.nodes.landmark_drift:main"]},
 )

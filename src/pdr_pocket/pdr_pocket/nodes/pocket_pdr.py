@@ -36,6 +36,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from sensor_msgs.msg import Imu, MagneticField
 from std_srvs.srv import Trigger
 
+from pdr_core.headers import set_header, stamp_ns
 from pdr_core.node_main import spin_node
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_msgs.msg import Step
@@ -44,17 +45,6 @@ from pdr_pocket.config import load_pocket_config
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.pocket_offline import MAP_FRAME, pose_fields, step_fields
 from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
-
-_NS = 1_000_000_000
-
-
-def stamp_ns(msg) -> int:
-    return msg.header.stamp.sec * _NS + msg.header.stamp.nanosec
-
-
-def set_header(header, stamp: int, frame_id: str) -> None:
-    header.stamp.sec, header.stamp.nanosec = divmod(int(stamp), _NS)
-    header.frame_id = frame_id
 
 
 class PocketPdrNode(Node):

@@ -1,0 +1,170 @@
+"""Node ``landmark_drift``: corners and stairs as landmarks, revisits, heading drift, and
+the corrections sent to ``pocket_pdr`` (Muñoz Díaz 2016, chapter 5 and Section 6.1).
+
+Subscribes ``pdr/pocket/step`` (pdr_msgs/Step) and ``pdr/pocket/pose``
+(geometry_msgs/PoseWithCovarianceStamped), paired by stamp (pdr_drift.streaming).
+Publishes every landmark on ``pdr/landmarks`` (pdr_msgs/Landmark) and every drift
+estimate on ``pdr/drift`` (pdr_msgs/DriftEstimate). After each association it calls
+``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection) with an asynchronous
+client: a call not answered within ``correction_timeout_s`` is dropped, and while the
+service is not there the correction waits and is retried every ``retry_period_s`` up to
+``max_retries`` times, so a restarting ``pocket_pdr`` is caught up with and a refused
+correction blocks nothing. What happens to each correction is logged.
+
+Parameters: ``config`` (YAML of pdr_drift.config; default the installed
+config/landmark_drift.yaml), ``floor_height_m``, ``correction_timeout_s``,
+``retry_period_s``, ``max_retries``, ``frame_id`` ("map").
+"""
+from __future__ import annotations
+
+import numpy as np
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from pdr_core.headers import set_header, stamp_ns
+from pdr_core.node_main import spin_node
+from pdr_drift.config import load_drift_config
+from pdr_drift.streaming import StreamingDrift
+from pdr_msgs.msg import DriftEstimate, Landmark, Step
+from pdr_msgs.srv import ApplyCorrection
+
+
+def default_config_path() -> str:
+    from pathlib import Path
+
+    from ament_index_python.packages import get_package_share_directory
+
+    return str(Path(get_package_share_directory("pdr_drift")) / "config" /
+               "landmark_drift.yaml")
+
+
+class LandmarkDriftNode(Node):
+    """Adapter from steps and poses to the drift estimator and the correction client."""
+
+    def __init__(self) -> None:
+        super().__init__("landmark_drift")
+        path = self.declare_parameter("config", "").value
+        floor_height = float(self.declare_parameter("floor_height_m", 3.5).value)
+        self.timeout_s = float(self.declare_parameter("correction_timeout_s", 5.0).value)
+        retry_period = float(self.declare_parameter("retry_period_s", 1.0).value)
+        self.max_retries = int(self.declare_parameter("max_retries", 10).value)
+        self.frame_id = self.declare_parameter("frame_id", "map").value
+        self.drift = StreamingDrift(load_drift_config(path or default_config_path()),
+                                    floor_height)
+        qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.create_subscription(Step, "pdr/pocket/step", self.on_step, qos)
+        self.create_subscription(PoseWithCovarianceStamped, "pdr/pocket/pose", self.on_pose,
+                                 qos)
+        out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.landmark_pub = self.create_publisher(Landmark, "pdr/landmarks", out)
+        self.drift_pub = self.create_publisher(DriftEstimate, "pdr/drift", out)
+        self.client = self.create_client(ApplyCorrection, "pdr/pocket/apply_correction")
+        self.waiting: list[list] = []        # [request, tries]
+        self.in_flight: list[list] = []      # [future, sent at (s, node clock)]
+        self.create_timer(retry_period, self.service_corrections)
+        self.reported: dict[str, int] = {}
+        self.get_logger().info(f"landmark_drift: configuration {path or 'default'}")
+
+    def on_step(self, msg: Step) -> None:
+        self.on_result(stamp_ns(msg), self.drift.push_step(stamp_ns(msg), msg.heading,
+                                                        msg.activity))
+
+    def on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        p = msg.pose.pose.position
+        cov = np.asarray(msg.pose.covariance, float).reshape(6, 6)[:3, :3]
+        self.on_result(stamp_ns(msg), self.drift.push_pose(stamp_ns(msg), (p.x, p.y, p.z), cov))
+
+    def on_result(self, stamp: int, result) -> None:
+        self.report_problems()
+        if result is None:
+            return
+        for landmark in result.landmarks:
+            self.landmark_pub.publish(self.landmark_message(stamp, landmark))
+        for estimate in result.drifts:
+            self.drift_pub.publish(self.drift_message(stamp, estimate))
+            self.get_logger().info(
+                f"revisit of landmark {estimate.landmark_first}: deviation "
+                f"{np.degrees(estimate.deviation):.2f} deg over {estimate.elapsed:.0f} s, drift "
+                f"{np.degrees(estimate.drift):.4f} deg/s")
+        for correction in result.corrections:
+            request = ApplyCorrection.Request(
+                yaw=float(correction.yaw), yaw_variance=float(correction.yaw_variance),
+                gyro_bias_z=float(correction.gyro_bias_z),
+                gyro_bias_z_variance=float(correction.gyro_bias_z_variance),
+                has_position=True)
+            request.position.x, request.position.y, request.position.z = map(
+                float, correction.position)
+            request.position_covariance = [float(v) for v in correction.position_covariance.ravel()]
+            self.waiting.append([request, 0])
+        self.service_corrections()
+
+    def service_corrections(self) -> None:
+        """Send what waits when the service is there; give up on calls past the timeout
+        and on corrections past ``max_retries``."""
+        now = self.get_clock().now().nanoseconds * 1e-9
+        for item in list(self.in_flight):
+            future, sent = item
+            if future.done():
+                self.in_flight.remove(item)
+                self.log_response(future)
+            elif now - sent > self.timeout_s:
+                self.in_flight.remove(item)
+                future.cancel()
+                self.get_logger().warning("correction not answered in time, dropped")
+        for item in list(self.waiting):
+            if self.client.service_is_ready():
+                self.waiting.remove(item)
+                self.in_flight.append([self.client.call_async(item[0]), now])
+                continue
+            item[1] += 1
+            if item[1] > self.max_retries:
+                self.waiting.remove(item)
+                self.get_logger().error("pdr/pocket/apply_correction absent: correction "
+                                        f"dropped after {self.max_retries} retries")
+
+    def log_response(self, future) -> None:
+        try:
+            response = future.result()
+        except Exception as exc:   # a broken call must not stop the node
+            self.get_logger().warning(f"correction call failed: {exc}")
+            return
+        if response.accepted:
+            self.get_logger().info(f"correction accepted: {response.message}")
+        else:
+            self.get_logger().warning(f"correction refused: {response.message}")
+
+    def landmark_message(self, stamp: int, landmark) -> Landmark:
+        msg = Landmark()
+        set_header(msg.header, stamp, self.frame_id)
+        msg.id, msg.type, msg.floor = int(landmark.id), int(landmark.type), int(landmark.floor)
+        msg.position.x, msg.position.y, msg.position.z = map(float, landmark.position)
+        msg.position_covariance = [float(v) for v in np.asarray(landmark.covariance).ravel()]
+        msg.yaw_before, msg.yaw_after = float(landmark.yaw_before), float(landmark.yaw_after)
+        return msg
+
+    def drift_message(self, stamp: int, estimate) -> DriftEstimate:
+        msg = DriftEstimate()
+        set_header(msg.header, stamp, self.frame_id)
+        msg.landmark_first = estimate.landmark_first
+        msg.landmark_revisit = estimate.landmark_revisit
+        msg.deviation, msg.elapsed = float(estimate.deviation), float(estimate.elapsed)
+        msg.drift, msg.drift_variance = float(estimate.drift), float(estimate.drift_variance)
+        return msg
+
+    def report_problems(self) -> None:
+        for key, count in self.drift.counts.items():
+            if count > self.reported.get(key, 0):
+                self.get_logger().warning(f"{count} messages dropped: {key}",
+                                          throttle_duration_sec=5.0)
+                self.reported[key] = count
+
+
+def main(args: list[str] | None = None) -> None:
+    spin_node("landmark_drift", LandmarkDriftNode, args)
+
+
+if __name__ == "__main__":
+    main()
