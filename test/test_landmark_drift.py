@@ -14,11 +14,19 @@ from wstest import log_text, wait_for_log
 pytestmark = pytest.mark.ros
 
 
-def test_landmark_drift_corrects_pocket_pdr_over_the_service(procs, tmp_path):
-    walk = tmp_path / "walk"
-    generated = procs.run("pdr-sim", "generate", "--placement", "pocket", "--scenario",
-                          "block_two_laps", "--imu", "thesis_table_6_1", "--out", str(walk))
+@pytest.fixture(scope="module")
+def walk(tmp_path_factory):
+    """Two laps of a block, a phone in the pocket, Table 6.1's z gyro bias."""
+    from wstest import Processes
+    folder = tmp_path_factory.mktemp("block")
+    generated = Processes(0, folder).run(
+        "pdr-sim", "generate", "--placement", "pocket", "--scenario", "block_two_laps",
+        "--imu", "thesis_table_6_1", "--out", str(folder / "walk"))
     assert generated.returncode == 0, generated.stderr
+    return folder / "walk"
+
+
+def test_landmark_drift_corrects_pocket_pdr_over_the_service(procs, tmp_path, walk):
     offline = procs.run("pdr-pocket", "run", str(walk), "--out", str(tmp_path / "offline"),
                         "--drift", "online")
     assert offline.returncode == 0, offline.stderr
@@ -53,3 +61,32 @@ def test_landmark_drift_corrects_pocket_pdr_over_the_service(procs, tmp_path):
     offline_poses = BagReader(tmp_path / "offline").read("/pdr/pocket/pose")["pose.pose.position"]
     assert len(poses) == len(offline_poses)
     assert np.linalg.norm(poses[-1] - offline_poses[-1]) < 0.5
+
+
+def test_pdr_drift_run_corrects_an_output_bag_offline(procs, tmp_path, walk):
+    """Section 6.2 on a navigator's output: the same drift as the live estimator, a path
+    without jumps, and one clear line for a bag without steps."""
+    navigated = procs.run("pdr-pocket", "run", str(walk), "--out", str(tmp_path / "nav"))
+    assert navigated.returncode == 0, navigated.stderr
+    result = procs.run("pdr-drift", "run", str(tmp_path / "nav"), "--out",
+                       str(tmp_path / "drift"), "--plot")
+    assert result.returncode == 0, result.stderr
+    report = json.loads((tmp_path / "drift" / "report.json").read_text())
+    online = procs.run("pdr-pocket", "run", str(walk), "--out", str(tmp_path / "online"),
+                       "--drift", "online")
+    assert online.returncode == 0, online.stderr
+    live = json.loads((tmp_path / "online" / "report.json").read_text())["drift"]
+    assert report["associations"] >= 1 and report["landmarks"] == live["landmarks"]
+    # messages are stamped at each step's confirmation, the in-process steps at its pitch
+    # maximum: the elapsed times differ by a fraction of a step
+    assert report["drift_deg_per_s"][0] == pytest.approx(live["drift_deg_per_s"][0], rel=1e-3)
+    assert report["offline_drift_deg_per_s"] is not None
+    assert report["largest_move_m"] < 2.0                  # one stride at most: no jump
+    out = BagReader(tmp_path / "drift")
+    [(_, path)] = out.read_messages("/pdr/pocket/corrected_path")
+    assert len(path.poses) == report["steps"]
+    assert len(out.read("/pdr/landmarks")) == report["landmarks"]
+    assert (tmp_path / "drift" / "drift.png").stat().st_size > 20_000
+    refused = procs.run("pdr-drift", "run", str(walk), "--out", str(tmp_path / "x"))
+    assert refused.returncode == 2
+    assert "/pdr/pocket/step" in refused.stderr and str(walk) in refused.stderr

@@ -54,7 +54,7 @@ import sys
 from pathlib import Path
 import numpy as np
 from pdr_core.bag import BagReader
-from pdr_pocket.plots import corrections_png
+from pdr_drift.plots import paths_png
 folder = Path(sys.argv[1])
 sim = BagReader(folder / "simulated")
 steps = sim.read("/ground_truth/step")
@@ -66,8 +66,10 @@ corrected = live.read("/pdr/pocket/pose")["pose.pose.position"][:, :2]
 marks = live.read("/pdr/landmarks")["position"][:, :2]
 drift = live.read("/pdr/drift")
 start = np.zeros((1, 2))
-corrections_png(np.r_[start, truth], np.r_[start, alone], np.r_[start, corrected], marks,
-                folder / "corrections.png", "a phone in the pocket, two laps of a block")
+paths_png([(np.r_[start, truth], "truth", "k"), (np.r_[start, alone], "pocket_pdr alone",
+            "tab:red"), (np.r_[start, corrected], "with landmark_drift's corrections",
+            "tab:blue")], marks, folder / "corrections.png",
+          "a phone in the pocket, two laps of a block")
 end = lambda p: np.linalg.norm(p[-1] - truth[-1])
 print(f"{len(marks)} landmarks, {len(drift)} revisit(s): drift "
       + ", ".join(f"{np.degrees(d):+.4f}" for d in drift["drift"]) + " deg/s; final error "

@@ -19,5 +19,6 @@ setup(
     maintainer_email="maintainers@pdr-stack.org",
     description="See package.xml.",
     license="Apache-2.0",
-    entry_points={"console_scripts": ["landmark_drift = pdr_drift.nodes.landmark_drift:main"]},
+    entry_points={"console_scripts": ["pdr-drift = pdr_drift.cli:main",
+                                     "landmark_drift = pdr_drift.nodes.landmark_drift:main"]},
 )

@@ -22,6 +22,7 @@ PATH = "nav_msgs/msg/Path"
 CLOCK = "rosgraph_msgs/msg/Clock"
 STEP = "pdr_msgs/msg/Step"
 LANDMARK = "pdr_msgs/msg/Landmark"
+DRIFT_ESTIMATE = "pdr_msgs/msg/DriftEstimate"
 
 
 def pdr_msgs_dir() -> Path:

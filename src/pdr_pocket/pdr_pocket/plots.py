@@ -121,22 +121,3 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
-
-def corrections_png(truth: np.ndarray, uncorrected: np.ndarray, corrected: np.ndarray,
-                    landmarks: np.ndarray, path: Path, title: str) -> None:
-    """Top view [m] of the true route, the path without and with the landmark drift
-    corrections (one point per step, all starting at 0), and the landmarks (N, 2)."""
-    fig, ax = plt.subplots(figsize=(9, 7))
-    ax.plot(truth[:, 0], truth[:, 1], color="k", lw=1.2, label="truth")
-    ax.plot(uncorrected[:, 0], uncorrected[:, 1], color="tab:red", lw=1,
-            label="pocket_pdr alone")
-    ax.plot(corrected[:, 0], corrected[:, 1], color="tab:blue", lw=1.4,
-            label="with landmark_drift's corrections")
-    if len(landmarks):
-        ax.plot(landmarks[:, 0], landmarks[:, 1], "o", mfc="none", color="tab:green", ms=9,
-                label="landmarks")
-    ax.set(xlabel="east [m]", ylabel="north [m]", aspect="equal", title=title)
-    ax.legend(loc="best")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
