@@ -90,3 +90,47 @@ def test_pdr_drift_run_corrects_an_output_bag_offline(procs, tmp_path, walk):
     refused = procs.run("pdr-drift", "run", str(walk), "--out", str(tmp_path / "x"))
     assert refused.returncode == 2
     assert "/pdr/pocket/step" in refused.stderr and str(walk) in refused.stderr
+
+
+@pytest.fixture(scope="module")
+def navigated(walk, tmp_path_factory):
+    """pdr-pocket run's output of the walk: the steps and poses landmark_drift reads."""
+    from wstest import Processes
+    out = tmp_path_factory.mktemp("navigated") / "nav"
+    result = Processes(0, out.parent).run("pdr-pocket", "run", str(walk), "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    return out
+
+
+def play_steps(procs, bag):
+    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={bag}", "-p",
+                       "topics:=[/pdr/pocket/step, /pdr/pocket/pose]", "-p", "rate:=0.0",
+                       "-p", "wait_for_subscribers:=1")
+    assert played.returncode == 0, played.stderr
+
+
+def test_a_correction_waits_for_pocket_pdr_and_a_refusal_stops_nothing(procs, navigated):
+    """The service appears after the association (pocket_pdr started late, as after a
+    restart): the waiting correction is sent; pocket_pdr, with no IMU data yet, refuses it;
+    landmark_drift logs why and goes on."""
+    estimator = procs.start("landmark_drift", "--ros-args", "-p", "retry_period_s:=0.2", "-p",
+                            "max_retries:=300", name="landmark_drift")
+    wait_for_log(estimator, "configuration")
+    play_steps(procs, navigated)
+    wait_for_log(estimator, "revisit of landmark")
+    assert "correction" not in log_text(estimator).split("revisit of landmark")[1]
+    navigator = procs.start("pocket_pdr", name="pocket_pdr")
+    wait_for_log(estimator, "correction refused")
+    assert "has not started" in log_text(estimator)
+    assert estimator.poll() is None
+    assert procs.stop(navigator, signal.SIGINT) == 0, log_text(navigator)
+    assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
+
+
+def test_a_correction_without_a_service_is_dropped_after_the_retries(procs, navigated):
+    estimator = procs.start("landmark_drift", "--ros-args", "-p", "retry_period_s:=0.1", "-p",
+                            "max_retries:=5", name="landmark_drift")
+    wait_for_log(estimator, "configuration")
+    play_steps(procs, navigated)
+    wait_for_log(estimator, "dropped after 5 retries")
+    assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
