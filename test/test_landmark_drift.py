@@ -76,6 +76,10 @@ def test_pdr_drift_run_corrects_an_output_bag_offline(procs, tmp_path, walk):
                        "--drift", "online")
     assert online.returncode == 0, online.stderr
     live = json.loads((tmp_path / "online" / "report.json").read_text())["drift"]
+    assert live["landmarks_matched"] == live["true_landmarks"] and live["false_landmarks"] == 0
+    assert live["associations_correct"] >= 1 and live["associations_wrong"] == 0
+    assert abs(live["corrected"]["final_yaw_error_deg"]) < \
+        abs(live["uncorrected"]["final_yaw_error_deg"])
     assert report["associations"] >= 1 and report["landmarks"] == live["landmarks"]
     # messages are stamped at each step's confirmation, the in-process steps at its pitch
     # maximum: the elapsed times differ by a fraction of a step

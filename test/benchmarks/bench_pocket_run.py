@@ -3,11 +3,12 @@ position covariance's honesty over Monte-Carlo runs of H1.
 
 Run on purpose (``make bench``), not in CI. Prints two tables:
 
-1. Speed (issue 17, acceptance 9): an hour of simulated pocket walking (the 39-minute
-   out-and-back and the Theresienhöhe block, 61 min in all, Xsens MTw errors, every
-   update on) written as a bag, then ``pdr-pocket run`` on it, with and without
-   ``--plot``, as a child process: wall time, samples per second end to end (reading,
-   navigating, writing the bag and the report) and the child's peak resident memory.
+1. Speed (issue 17, acceptance 9; issue 18, acceptance 7): an hour of simulated pocket
+   walking (the 39-minute out-and-back and the Theresienhöhe block, 61 min in all, Xsens
+   MTw errors, the shipped updates) written as a bag, then ``pdr-pocket run`` on it, alone,
+   with ``--plot`` and with ``--drift online`` and ``offline``, as a child process: wall
+   time, samples per second end to end (reading, navigating, writing the bag and the
+   report) and the child's peak resident memory.
 2. NEES (acceptance 5): 50 runs of H1 with different seeds; at the last step, the
    position error against the true route (the sum of the true strides) and the filter's
    covariance: the mean normalised estimation error squared with its 95 % band for the
@@ -60,12 +61,12 @@ def hour_bag(folder: Path) -> tuple[Path, int]:
     return path, len(merged[topics.IMU_DATA])
 
 
-def timed_run(bag: Path, out: Path, plot: bool) -> tuple[float, float]:
+def timed_run(bag: Path, out: Path, *options: str) -> tuple[float, float]:
     """Wall time [s] and the child's peak resident memory [MB] of pdr-pocket run."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     start = time.perf_counter()
     subprocess.run([str(ROOT / "ws"), "pdr-pocket", "run", str(bag), "--out", str(out),
-                    *(["--plot"] if plot else [])], check=True, capture_output=True)
+                    *options], check=True, capture_output=True)
     wall = time.perf_counter() - start
     peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     return wall, max(peak, before) / 1024.0
@@ -78,9 +79,11 @@ def speed_table() -> None:
         bag, samples = hour_bag(folder)
         print(f"\n{'pdr-pocket run':<26}{'samples':>10}{'wall [s]':>10}{'samples/s':>12}"
               f"{'peak RSS [MB]':>15}")
-        for plot in (False, True):
-            wall, peak = timed_run(bag, folder / f"out{int(plot)}", plot)
-            label = "with --plot" if plot else "bag and report"
+        runs = {"bag and report": (), "with --plot": ("--plot",),
+                "with --drift online": ("--drift", "online"),
+                "with --drift offline": ("--drift", "offline")}
+        for k, (label, options) in enumerate(runs.items()):
+            wall, peak = timed_run(bag, folder / f"out{k}", *options)
             print(f"{label:<26}{samples:>10}{wall:>10.1f}{samples / wall:>12.0f}{peak:>15.0f}")
 
 

@@ -155,3 +155,22 @@ def test_estimator_recovers_a_constant_drift_on_a_revisited_block(drift_deg_per_
 def test_shipped_yaml_holds_the_dataclass_defaults():
     assert load_drift_config(CONFIG) == DriftConfig()
     assert set(read_config_file(CONFIG)["drift"]) == set(DriftConfig.__dataclass_fields__)
+
+
+def test_streaming_pairs_steps_and_poses_and_drops_bad_messages():
+    """Issue 18, acceptance 6: NaN, a covariance that is not positive semi-definite and
+    stamps from the past are dropped and counted; the pairing goes on."""
+    from pdr_drift.streaming import StreamingDrift
+
+    live = StreamingDrift()
+    good = np.eye(3) * 0.1
+    assert live.push_pose(2_000, (1.0, 0.0, 0.0), good) is None          # waits for its step
+    assert live.push_step(2_000, 0.1, LEVEL) is not None                 # paired
+    assert live.push_step(3_000, np.nan, LEVEL) is None
+    assert live.push_pose(3_000, (np.nan, 0.0, 0.0), good) is None
+    assert live.push_pose(4_000, (1.0, 0.0, 0.0), -good) is None         # negative
+    assert live.push_pose(4_000, (1.0, 0.0, 0.0), np.zeros((3, 3))) is None   # zero: usable
+    assert live.push_step(4_000, 0.2, 9) is None                          # no such activity
+    assert live.push_step(1_000, 0.2, LEVEL) is None                      # from the past
+    assert live.counts == {"bad_step": 2, "bad_pose": 2, "old_stamp": 1, "unpaired": 0}
+    assert live.push_step(4_000, 0.2, LEVEL) is not None

@@ -28,7 +28,7 @@ from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
 from pdr_pocket.orientation import AttitudeEstimate
 
-CHUNK_S = 1.0
+CHUNK_S = 5.0
 
 
 @dataclass

@@ -76,12 +76,14 @@ ELLIPSE_EVERY_STEPS = 20
 def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.ndarray,
                    truth: np.ndarray | None, t_s: np.ndarray, pitch_deg: np.ndarray,
                    step_t: np.ndarray, true_step_t: np.ndarray | None, path: Path,
-                   title: str) -> None:
+                   title: str, landmarks: np.ndarray | None = None,
+                   associations: list[tuple[np.ndarray, np.ndarray]] = ()) -> None:
     """Three panels: the 3D path (one point per step, coloured by activity: level
     blue, up green, down orange), the top view with the 1σ position ellipse every
     :data:`ELLIPSE_EVERY_STEPS` steps, and the thigh pitch with the detected steps (and
     the true ones). Decimated to at most 20,000 points per line, so an hour plots in
-    seconds."""
+    seconds. With the drift estimator's ``landmarks`` (N, 3) and ``associations`` (pairs
+    of positions), the top view marks them, as Muñoz Díaz 2016, Figs. 6.8-6.9."""
     from pdr_pocket.activity import ACTIVITY_NAMES
 
     fig = plt.figure(figsize=(15, 10))
@@ -104,6 +106,12 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
         values, vectors = np.linalg.eigh(covariances[k][:2, :2])
         ring = vectors @ (np.sqrt(np.maximum(values, 0))[:, None] * circle)
         top.plot(positions[k, 0] + ring[0], positions[k, 1] + ring[1], color="tab:red", lw=0.6)
+    if landmarks is not None and len(landmarks):
+        top.plot(landmarks[:, 0], landmarks[:, 1], "o", mfc="none", color="tab:green", ms=8,
+                 label="landmarks")
+    for k, (first, revisit) in enumerate(associations):
+        top.plot([first[0], revisit[0]], [first[1], revisit[1]], "-", color="tab:green", lw=2,
+                 label="associations" if k == 0 else None)
     top.set(xlabel="east [m]", ylabel="north [m]", aspect="equal",
             title=f"top view, 1σ ellipses every {ELLIPSE_EVERY_STEPS} steps")
     top.legend(loc="best", fontsize=8)

@@ -193,6 +193,40 @@ def _true_floors(record: dict) -> tuple[int, int] | None:
     return floors[-1], max(0, *floors)
 
 
+def _drift_marks(log) -> tuple:
+    """Landmark positions (N, 3) and the associations' pairs of positions, for the plot."""
+    if log is None:
+        return None, []
+    by_id = {m.id: m for m in log.landmarks}
+    marks = np.array([m.position for m in log.landmarks]).reshape(-1, 3)
+    pairs = [(by_id[d.landmark_first].position, by_id[d.landmark_revisit].position)
+             for d in log.drifts]
+    return marks, pairs
+
+
+def _drift_against_truth(log, reader, inputs, corrected, truth_positions, stamps,
+                         uncorrected) -> dict:
+    """Landmarks and associations against the truth, and the final yaw and position
+    errors with and without the corrections (pdr_pocket.drift_report)."""
+    from scipy.spatial.transform import Rotation
+
+    from pdr_core import topics
+    from pdr_core.metrics import truth_orientation_at
+    from pdr_pocket.drift_report import final_errors, truth_report
+
+    truth = reader.read_batches([topics.GROUND_TRUTH_LANDMARKS, topics.GROUND_TRUTH_POSE])
+    record = reader.custom_data("pdr.simulation") or {}
+    out = truth_report(log, truth[topics.GROUND_TRUTH_LANDMARKS], record.get("landmarks", []),
+                       int(inputs.stamp_ns[0]))
+    true_yaw = Rotation.from_quat(truth_orientation_at(
+        truth[topics.GROUND_TRUTH_POSE], inputs.stamp_ns)).as_euler("ZYX")[:, 0]
+    relative = truth_positions[1:] - truth_positions[0]
+    for name, run_ in (("corrected", corrected), ("uncorrected", uncorrected)):
+        position = np.array([s.position for s in run_.steps])
+        out[name] = final_errors(run_.attitude.euler[:, 2], true_yaw, position, relative)
+    return out
+
+
 def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *,
             plot: bool = False, overwrite: bool = False, drift: str = "none",
             drift_config=None) -> dict:
@@ -241,6 +275,11 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                "mounting_changes": int(navigator.mounting.scalars[CHANGES])}
     if drift_log is not None:
         report["drift"] = {"mode": drift, **drift_log.summary()}
+        if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in reader.topics:
+            report["drift"] |= _drift_against_truth(
+                drift_log, reader, inputs, result, truth_positions, stamps,
+                PocketNavigator(config).process(inputs.t, inputs.gyro_or_none, inputs.accel,
+                                                inputs.mag))
     with BagWriter(out, overwrite=overwrite) as writer:
         writer.write_merged(attitude_batches(inputs, result.attitude,
                                              navigator.orientation.params.gyro_noise_var)
@@ -262,5 +301,5 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                                  else truth_positions - truth_positions[0],
                                  inputs.t, np.degrees(result.pitch),
                                  np.array([s.t for s in steps]), true_t,
-                                 writer.staging / "path.png", str(bag))
+                                 writer.staging / "path.png", str(bag), *_drift_marks(drift_log))
     return report
