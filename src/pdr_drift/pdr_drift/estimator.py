@@ -7,7 +7,8 @@ online correction of Section 6.1 (:class:`Correction`, the fields of
 pdr_msgs/srv/ApplyCorrection): the yaw to add, δ, so that the heading is the first
 visit's again (direction-adjusted), with the variance of one landmark yaw; the drift ε to
 add to the z gyro bias with its variance; and the first visit's position with its
-covariance (Eq. (6.3)). It imports no navigator: the pocket and the foot alike can feed it.
+covariance (Eq. (6.3)), carried forward by the steps walked since the revisit's landmark.
+It imports no navigator: the pocket and the foot alike can feed it.
 """
 from __future__ import annotations
 
@@ -75,9 +76,13 @@ class DriftEstimator:
             estimate = drift_of(association)
             result.associations.append(association)
             result.drifts.append(estimate)
+            # the landmark lies a few steps back (a corner is known once the heading has
+            # settled after it): the fix is the first visit's position carried forward by
+            # what was walked since the revisit's landmark
+            since = np.asarray(step.position, float) - np.asarray(landmark.position, float)
             result.corrections.append(Correction(
                 estimate.deviation, YAW_SIGMA_RAD**2, estimate.drift, estimate.drift_variance,
-                np.asarray(association.first.position, float),
+                np.asarray(association.first.position, float) + since,
                 np.asarray(association.first.covariance, float)))
         return result
 

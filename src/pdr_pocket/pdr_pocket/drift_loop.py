@@ -91,9 +91,11 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
             log.landmarks += result.landmarks
             log.drifts += result.drifts
             for c in result.corrections if apply else []:
+                # the chunk went on past this step: carry the fix forward as far
+                moved = navigator.position.position - step.position
                 ok, message = navigator.apply_correction(
                     c.yaw, c.yaw_variance, c.gyro_bias_z, c.gyro_bias_z_variance,
-                    c.position, c.position_covariance)
+                    c.position + moved, c.position_covariance)
                 log.corrections.append((step.t, ok, message))
     return navigator, concatenate(outputs), log
 

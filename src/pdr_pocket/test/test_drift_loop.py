@@ -85,3 +85,27 @@ def test_offline_path_has_no_jumps():
     _, out, _ = run("offline")
     moves = np.linalg.norm(np.diff([s.position[:2] for s in out.steps], axis=0), axis=1)
     assert moves.max() <= 1.05 * max(s.length for s in out.steps)
+
+
+def test_building_associations_are_right_by_type_and_floor():
+    """Issue 18, acceptance 4: the 3D building walk (stairs up two floors and down the
+    same way, laps on the upper floor): every association pairs landmarks of one type and
+    floor, and is right against the truth."""
+    from pdr_pocket.drift_report import truth_report
+
+    _, data = load_pocket_scenario("building")
+    sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "building"), data,
+                                    "xsens_mtw", {}, 100.0, 0, placement="pocket"))
+    _, _, log = navigate_online(PocketConfig(), DriftConfig(), sim.trajectory.t,
+                                sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
+                                sim.mag["magnetic_field"])
+    by_id = {m.id: m for m in log.landmarks}
+    assert log.drifts
+    for d in log.drifts:
+        first, revisit = by_id[d.landmark_first], by_id[d.landmark_revisit]
+        assert (first.type, first.key_floor) == (revisit.type, revisit.key_floor)
+    truth = sim.truth["/ground_truth/landmarks"]
+    record = [{"id": m.id, "revisit_of": m.revisit_of} for m in sim.model.landmarks]
+    report = truth_report(log, truth, record, int(sim.imu.stamp_ns[0]))
+    assert report["associations_wrong"] == 0 and report["associations_correct"] == len(log.drifts)
+    assert report["landmarks_matched"] >= report["true_landmarks"] - 2
