@@ -242,20 +242,14 @@ class PocketNavigator:
     def _step(self, event: np.ndarray, yaw_var: float) -> StepRecord:
         c = self.config
         t_max, t_confirm = float(event[EV_T_MAX]), float(event[EV_T_CONFIRM])
-        previous = self.steps[-1].t if self.steps else -np.inf
-        gap = t_max - previous
-        duration = gap if gap <= c.steps.max_step_period_s else (
-            self.steps[-1].duration if self.steps and self.last_confirm > previous
-            else c.steps.nominal_step_period_s)
+        duration = self._duration(t_max)
         amplitude_deg = float(np.degrees(event[EV_MAX] - event[EV_MIN]))
         activity = self.classifier.classify(float(event[EV_MAX]), float(event[EV_MIN]))
         drift = np.radians(c.position.heading_drift_correction_deg_per_s)
         heading = float(np.arctan2(self.sum_sin, self.sum_cos) - drift * t_max)
         vertical_range = self.vz_max - self.vz_min
-        if activity == WALKING:
-            length = self.stride.length(StrideInputs(amplitude_deg, duration, vertical_range))
-        else:
-            length = c.step_length.stairs_stride_m
+        length = self.stride.length(StrideInputs(amplitude_deg, duration, vertical_range)) \
+            if activity == WALKING else c.step_length.stairs_stride_m
         vertical = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
         self.staircases.add(index, t_max, activity, vertical)
@@ -266,7 +260,7 @@ class PocketNavigator:
         record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
                             float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
                             self.position.position, self.position.covariance,
-                            self.staircases.floor(self.position.position[2], 0.0),
+                            self.staircases.floor(self.position.position[2]),
                             vertical_range)
         self.steps.append(record)
         self.sum_cos = self.sum_sin = 0.0
@@ -274,6 +268,14 @@ class PocketNavigator:
         self.last_confirm = t_confirm
         self.last_activity = activity
         return record
+
+    def _duration(self, t_max: float) -> float:
+        """The cycle's duration [s]: since the last step's maximum, or after a stop the
+        last cycle's (the nominal one before any)."""
+        c = self.config.steps
+        if self.steps and t_max - self.steps[-1].t <= c.max_step_period_s:
+            return t_max - self.steps[-1].t
+        return self.steps[-1].duration if self.steps else c.nominal_step_period_s
 
     def _activity(self, t: np.ndarray, tilt: np.ndarray, steps: list[StepRecord],
                   before: tuple[float, int]) -> np.ndarray:

@@ -69,5 +69,6 @@ class Staircases:
         last.end_s = t
         self.on_stairs = True
 
-    def floor(self, z_m: float, z_start_m: float) -> int:
-        return int(np.round((z_m - z_start_m) / self.config.floor_height_m))
+    def floor(self, z_m: float) -> int:
+        """The floor at height ``z_m`` above the start [m]."""
+        return int(np.round(z_m / self.config.floor_height_m))

@@ -53,14 +53,6 @@ class DetectedSteps:
     pitch_min: np.ndarray
     t_min: np.ndarray
 
-    @property
-    def steps(self) -> float:
-        return len(self.t) / self.per_cycle
-
-    @property
-    def footfalls(self) -> int:
-        return len(self.t) * 2 // self.per_cycle
-
 
 def peak_params(config: StepsConfig) -> PeakParams:
     return PeakParams(np.radians(config.drop_min_deg), config.drop_fraction,
