@@ -138,3 +138,44 @@ def test_a_correction_without_a_service_is_dropped_after_the_retries(procs, navi
     play_steps(procs, navigated)
     wait_for_log(estimator, "dropped after 5 retries")
     assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
+
+
+def test_pocket_pdr_killed_and_restarted_mid_walk(procs, tmp_path, walk):
+    """Issue 18, acceptance 5: pocket_pdr is killed at the end of the first lap and
+    started again for the second; landmark_drift keeps running, and the correction of the
+    second lap's revisit reaches the new pocket_pdr, which answers it. The cut is at the
+    start corner, so the new pocket_pdr's frame (position 0 there, yaw from the compass)
+    is the old one."""
+    from pdr_core.bag import write_batches
+
+    reader = BagReader(walk)
+    corners = reader.read("/ground_truth/landmarks")
+    cut = int(np.sort(corners.stamp_ns[corners["type"] == 0])[3]) - 5_000_000_000
+    batches = reader.read_batches(["/imu/data", "/imu/mag"])
+    for name, keep in (("lap1", lambda s: s < cut), ("lap2", lambda s: s >= cut)):
+        write_batches(tmp_path / name,
+                      {t: b.take(np.flatnonzero(keep(b.stamp_ns))) for t, b in batches.items()})
+    estimator = procs.start("landmark_drift", name="landmark_drift")
+    first = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
+                        name="pocket_pdr_1")
+    wait_for_log(estimator, "configuration")
+    wait_for_log(first, "configuration")
+    play = ["--ros-args", "-p", "topics:=[/imu/data, /imu/mag]", "-p", "rate:=0.0", "-p",
+            "wait_for_subscribers:=1"]
+    assert procs.run("bag_play", *play, "-p", f"bag:={tmp_path / 'lap1'}").returncode == 0
+    wait_for_log(estimator, "landmark_drift")
+    first.send_signal(signal.SIGKILL)
+    first.wait(timeout=30)
+    second = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
+                         name="pocket_pdr_2")
+    wait_for_log(second, "configuration")
+    assert procs.run("bag_play", *play, "-p", f"bag:={tmp_path / 'lap2'}",
+                     timeout=300).returncode == 0
+    wait_for_log(estimator, "revisit of landmark", timeout=120)
+    wait_for_log(second, "correction", timeout=60)          # pocket_pdr took the call ...
+    wait_for_log(estimator, "correction ", timeout=30)      # ... and landmark_drift the answer
+    assert estimator.poll() is None
+    answer = log_text(estimator).split("revisit of landmark")[1]
+    assert "correction accepted" in answer or "correction refused" in answer
+    assert procs.stop(second, signal.SIGINT) == 0, log_text(second)
+    assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
