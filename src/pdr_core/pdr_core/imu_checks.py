@@ -4,6 +4,8 @@
   increase.
 - :func:`check_units`: refuse an accelerometer in g or a gyroscope in deg/s.
 - :func:`check_mag_units`: refuse a magnetometer in µT or gauss (ROS wants tesla).
+- :func:`plausible`: samples within any IMU's reach (a garbage reading of 1e150 rad/s is
+  finite but no measurement).
 """
 from __future__ import annotations
 
@@ -14,6 +16,18 @@ from pdr_core.errors import InputError
 
 # |B| of the Earth's field is 25-65 µT; a disturbed indoor field rarely exceeds 1 mT
 MAX_FIELD_T = 1e-3
+# Beyond any MEMS or tactical IMU's range (±400 g, ±20,000 °/s): not a measurement
+MAX_PLAUSIBLE_ACCEL_MPS2 = 4000.0
+MAX_PLAUSIBLE_RATE_RADPS = 350.0
+
+
+def plausible(accel: np.ndarray, gyro: np.ndarray) -> np.ndarray:
+    """Per sample (or for one sample): finite and within :data:`MAX_PLAUSIBLE_ACCEL_MPS2`
+    and :data:`MAX_PLAUSIBLE_RATE_RADPS` on every axis."""
+    accel, gyro = np.asarray(accel, float), np.asarray(gyro, float)
+    with np.errstate(invalid="ignore"):
+        return ((np.abs(accel) <= MAX_PLAUSIBLE_ACCEL_MPS2).all(axis=-1)
+                & (np.abs(gyro) <= MAX_PLAUSIBLE_RATE_RADPS).all(axis=-1))
 
 
 def clean_samples(imu: MessageBatch) -> tuple[np.ndarray, dict[str, int]]:

@@ -1,9 +1,10 @@
 """The orientation filter on a whole bag: inputs, outputs and the report of
 ``pdr-pocket attitude``.
 
-- :func:`pocket_inputs`: ``imu/data`` cleaned (NaN/Inf and stamps that do not increase
-  dropped and counted, units checked) and ``imu/mag`` paired with it (the latest reading
-  at most :data:`MAG_MAX_AGE_S` old, else none), calibrated when a calibration is given;
+- :func:`pocket_inputs`: ``imu/data`` cleaned (NaN/Inf, values beyond any IMU's range
+  and stamps that do not increase dropped and counted, units checked) and ``imu/mag``
+  paired with it (the latest reading at most :data:`MAG_MAX_AGE_S` old, else none),
+  calibrated when a calibration is given;
 - :func:`attitude_batches`: ``pdr/pocket/attitude`` (sensor_msgs/Imu with orientation and
   its covariance, REP-145) and ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped);
 - :func:`attitude_report`: roll, pitch and yaw RMSE against ``ground_truth/pose``, the
@@ -19,7 +20,7 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_mag_units, check_units, clean_samples
+from pdr_core.imu_checks import check_mag_units, check_units, clean_samples, plausible
 from pdr_core.msgtypes import IMU, VECTOR3_STAMPED
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_pocket.magnetometer import MagCalibration
@@ -73,6 +74,9 @@ def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
                   calibration: MagCalibration | None = None) -> PocketInputs:
     """The filter's inputs from the two topics (see the module docstring)."""
     keep, counts = clean_samples(imu)
+    sane = plausible(imu["linear_acceleration"][keep], imu["angular_velocity"][keep])
+    counts["implausible"] = int((~sane).sum())
+    keep = keep[sane]
     if len(keep) < 2:
         raise InputError(topics.IMU_DATA, f"{len(keep)} usable samples are too few")
     stamp_ns = imu.stamp_ns[keep]

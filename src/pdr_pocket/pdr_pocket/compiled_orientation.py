@@ -590,8 +590,12 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
                     body[m] = (state.attitude[0, m] * state.force_sum[0]
                                + state.attitude[1, m] * state.force_sum[1]
                                + state.attitude[2, m] * state.force_sum[2])
-                update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, a, body, frozen, work)
-                ran_out[k, MEAN_GRAVITY] = True
+                # a window whose force is far from g (free fall, a sensor giving zeros) is
+                # no gravity reference
+                if np.sqrt(body[0] ** 2 + body[1] ** 2 + body[2] ** 2) > 0.5 * total:
+                    update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, a, body,
+                           frozen, work)
+                    ran_out[k, MEAN_GRAVITY] = True
             if s[WINDOW_TIME] >= window:
                 s[WINDOW_TIME] = 0.0
                 s[WINDOWS_DONE] += 1.0

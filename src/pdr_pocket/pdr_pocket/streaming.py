@@ -7,7 +7,8 @@ It applies the offline rules one message at a time, so the node and ``pdr-pocket
 (and ``attitude``) give the same estimates on the same bag (the navigator gives the same
 result whatever the chunks, pdr_pocket.navigator):
 
-- an IMU sample with NaN/Inf, or a stamp that does not increase, is dropped and counted;
+- an IMU sample with NaN/Inf, beyond any IMU's range (pdr_core.imu_checks.plausible), or
+  with a stamp that does not increase, is dropped and counted;
 - each IMU sample pairs with the latest magnetometer reading stamped at or before it and
   at most :data:`~pdr_pocket.attitude_offline.MAG_MAX_AGE_S` older, as offline. The two
   topics travel separately, so a reading may arrive after IMU samples stamped later than
@@ -28,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_mag_units, check_units
+from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_pocket.attitude_offline import MAG_MAX_AGE_S
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
@@ -77,7 +78,8 @@ class StreamingPocket:
         self.failed: str | None = None
         self.mag_error: str | None = None
         self.t0_ns: int | None = None
-        self.counts = {"non_finite": 0, "stamp_not_increasing": 0, "mag_non_finite": 0,
+        self.counts = {"non_finite": 0, "implausible": 0, "stamp_not_increasing": 0,
+                       "mag_non_finite": 0,
                        "mag_missing": 0}
 
     @property
@@ -107,6 +109,9 @@ class StreamingPocket:
         a, w = np.asarray(accel, float), np.asarray(gyro, float)
         if not (np.isfinite(a).all() and np.isfinite(w).all()):
             self.counts["non_finite"] += 1
+            return []
+        if not plausible(a, w):
+            self.counts["implausible"] += 1
             return []
         if self.last_stamp_ns is not None and stamp_ns <= self.last_stamp_ns:
             self.counts["stamp_not_increasing"] += 1
