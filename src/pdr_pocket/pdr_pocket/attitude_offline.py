@@ -5,6 +5,7 @@
   and stamps that do not increase dropped and counted, units checked) and ``imu/mag``
   paired with it (the latest reading at most :data:`MAG_MAX_AGE_S` old, else none),
   calibrated when a calibration is given;
+- :func:`read_pocket_bag`: a bag's batches and those inputs, for every offline tool;
 - :func:`attitude_batches`: ``pdr/pocket/attitude`` (sensor_msgs/Imu with orientation and
   its covariance, REP-145) and ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped);
 - :func:`attitude_report`: roll, pitch and yaw RMSE against ``ground_truth/pose``, the
@@ -92,6 +93,25 @@ def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
     counts["mag_missing"] = int((~np.isfinite(mag_values).all(axis=1)).sum())
     return PocketInputs(stamp_ns, (stamp_ns - stamp_ns[0]) * 1e-9, gyro, accel, mag_values,
                         imu["linear_acceleration_covariance"][keep], counts, has_gyro)
+
+
+TRUTH_TOPICS = (topics.GROUND_TRUTH_POSE, topics.GROUND_TRUTH_STEP,
+                topics.GROUND_TRUTH_LANDMARKS)
+
+
+def read_pocket_bag(bag, calibration_file=None, require=()):
+    """A bag's reader, its batches (imu/data, imu/mag and the truth topics it has) and
+    the filter's inputs; ``require``: topics it must have besides imu/data."""
+    from pdr_core.bag import BagReader
+
+    reader = BagReader(bag)
+    reader.require_topics([topics.IMU_DATA, *require])
+    wanted = [t for t in (topics.IMU_DATA, topics.IMU_MAG, *TRUTH_TOPICS)
+              if t in reader.topics]
+    batches = reader.read_batches(wanted)
+    calibration = MagCalibration.load(calibration_file) if calibration_file else None
+    inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG), calibration)
+    return reader, batches, inputs
 
 
 def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,

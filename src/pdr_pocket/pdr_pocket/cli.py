@@ -40,11 +40,20 @@ from pdr_pocket.attitude_offline import (
     attitude_batches,
     attitude_errors,
     attitude_report,
-    pocket_inputs,
+    read_pocket_bag,
 )
 from pdr_pocket.config import load_pocket_config, orientation_from_allan
-from pdr_pocket.magnetometer import MIN_COVERAGE, MagCalibration, calibrate
+from pdr_pocket.magnetometer import MIN_COVERAGE, calibrate
 from pdr_pocket.orientation import OrientationFilter
+
+
+def _add_navigator_options(p: argparse.ArgumentParser) -> None:
+    """--out, --config and --mag-calibration of run and attitude."""
+    p.add_argument("--out", type=Path, required=True)
+    p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
+                                               "default: the installed config/pocket_pdr.yaml")
+    p.add_argument("--mag-calibration", type=Path,
+                   help="YAML of pdr-pocket calibrate-mag (overrides the configuration's)")
 
 
 def _add_attitude(sub: argparse._SubParsersAction) -> None:
@@ -57,13 +66,9 @@ def _add_attitude(sub: argparse._SubParsersAction) -> None:
                     "final bias errors when the bag has the truth, the share of samples "
                     "each update ran).")
     p.add_argument("bag", type=Path)
-    p.add_argument("--out", type=Path, required=True)
-    p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
-                                               "default: the installed config/pocket_pdr.yaml")
+    _add_navigator_options(p)
     p.add_argument("--allan", type=Path, help="take the gyroscope noise from this allan.csv "
                                               "of pdr-sim allan")
-    p.add_argument("--mag-calibration", type=Path,
-                   help="YAML of pdr-pocket calibrate-mag (overrides the configuration's)")
     p.add_argument("--plot", action="store_true", help="also write OUT/attitude.png")
     p.add_argument("--overwrite", action="store_true")
     p.set_defaults(func=_run_attitude)
@@ -74,19 +79,12 @@ def _run_attitude(args: argparse.Namespace) -> int:
     orientation = config.orientation
     if args.allan:
         orientation = orientation_from_allan(args.allan, orientation)
-    calibration_file = args.mag_calibration or config.magnetometer_calibration
-    calibration = MagCalibration.load(calibration_file) if calibration_file else None
-    reader = BagReader(args.bag)
-    reader.require_topics([topics.IMU_DATA])
-    has_truth = topics.GROUND_TRUTH_POSE in reader.topics
-    wanted = [t for t in (topics.IMU_DATA, topics.IMU_MAG, topics.GROUND_TRUTH_POSE)
-              if t in reader.topics]
-    batches = reader.read_batches(wanted)
-    inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG), calibration)
+    reader, batches, inputs = read_pocket_bag(
+        args.bag, args.mag_calibration or config.magnetometer_calibration)
     filt = OrientationFilter(orientation)
     estimate = filt.run(inputs.t, inputs.gyro, inputs.accel, inputs.mag)
     truth = truth_orientation_at(batches[topics.GROUND_TRUTH_POSE], inputs.stamp_ns) \
-        if has_truth else None
+        if topics.GROUND_TRUTH_POSE in batches else None
     record = reader.custom_data("pdr.simulation") or {}
     true_bias = record.get("true_gyro_bias_radps")
     report = attitude_report(inputs, estimate, truth, true_bias)
@@ -115,11 +113,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                     "simulator's truth the steps missed and false, the activity confusion, "
                     "the distance and riser errors and the INTERFACES.md metrics.")
     p.add_argument("bag", type=Path)
-    p.add_argument("--out", type=Path, required=True)
-    p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
-                                               "default: the installed config/pocket_pdr.yaml")
-    p.add_argument("--mag-calibration", type=Path,
-                   help="YAML of pdr-pocket calibrate-mag (overrides the configuration's)")
+    _add_navigator_options(p)
     p.add_argument("--drift", choices=("none", "online", "offline"), default="none",
                    help="landmark drift corrections (Sections 6.1-6.2): online, applied at "
                         "each association as pocket_pdr's service does, or offline, a "

@@ -1,7 +1,7 @@
 """The pocket navigator with the landmark drift corrections in one process
 (``pdr-pocket run --drift online|offline``; Muñoz Díaz 2016, Sections 6.1 and 6.2).
 
-- :func:`navigate_online`: the record in chunks of ``chunk_s``; each step goes to
+- :func:`navigate_online`: the record in chunks of :data:`CHUNK_S`; each step goes to
   :class:`pdr_drift.estimator.DriftEstimator`, and each correction it returns goes to the
   navigator through :meth:`PocketNavigator.apply_correction`, the code the
   ``pocket_pdr`` node's service runs (Section 6.1).
@@ -78,7 +78,9 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
     navigator = PocketNavigator(config)
     estimator = DriftEstimator(drift)
     log = DriftLog()
-    cuts = np.searchsorted(t, np.arange(t[0], t[-1] + CHUNK_S, CHUNK_S)[1:], side="left")
+    # without corrections to apply, one pass is the same and faster
+    cuts = np.searchsorted(t, np.arange(t[0], t[-1] + CHUNK_S, CHUNK_S)[1:], side="left") \
+        if apply else []
     outputs = []
     for part in np.split(np.arange(len(t)), cuts):
         if not len(part):

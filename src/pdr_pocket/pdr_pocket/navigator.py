@@ -129,7 +129,7 @@ class PocketNavigator:
         self.staircases = Staircases(c.stairs)
         self.position = PositionFilter(c.position)
         self.steps: list[StepRecord] = []
-        self.pending: list[tuple[float, np.ndarray, float]] = []   # (t, C, vertical force)
+        self.pending: tuple | None = None       # (t, C, vertical force, yaw variance) held
         # per-cycle accumulators since the last confirmed step
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf
@@ -189,34 +189,40 @@ class PocketNavigator:
     def _stream(self, t, c, vz, yaw_var, pitch, heading, known, up, flex):
         """The samples the detector sees, in order: (t, θ, heading, vertical force, yaw
         variance), with the pending samples given the axes of the first known sample
-        after them."""
-        replay = self.config.mounting.replay_s
-        out_t, out_p, out_h, out_v, out_y = [], [], [], [], []
-        k = 0
-        n = len(t)
-        while k < n:
-            if not known[k]:
-                self.pending.append((t[k], c[k], vz[k], yaw_var[k]))
-                while self.pending[-1][0] - self.pending[0][0] > replay:
-                    self.pending.pop(0)
-                k += 1
+        after them. Runs of known and unknown samples are taken whole."""
+        change = np.flatnonzero(np.diff(known.astype(np.int8))) + 1
+        segments = []
+        for a, b in zip(np.r_[0, change], np.r_[change, len(t)], strict=True):
+            if a == b:
                 continue
-            if self.pending:
-                for tp, cp, vp, yp in self.pending:
-                    p, h = thigh_angles(cp, up[k], flex[k])
-                    out_t.append(tp), out_p.append(p), out_h.append(h), out_v.append(vp)
-                    out_y.append(yp)
-                    if tp >= t[0]:                   # a sample of this chunk: report it
-                        i = np.searchsorted(t, tp)
-                        pitch[i], heading[i] = p, h
-                self.pending = []
-            end = k
-            while end < n and known[end]:
-                end += 1
-            out_t.extend(t[k:end]), out_p.extend(pitch[k:end])
-            out_h.extend(heading[k:end]), out_v.extend(vz[k:end]), out_y.extend(yaw_var[k:end])
-            k = end
-        return tuple(np.asarray(x, float) for x in (out_t, out_p, out_h, out_v, out_y))
+            if not known[a]:
+                self._hold(t[a:b], c[a:b], vz[a:b], yaw_var[a:b])
+                continue
+            if self.pending is not None:
+                segments.append(self._replay(up[a], flex[a], t, pitch, heading))
+            segments.append((t[a:b], pitch[a:b], heading[a:b], vz[a:b], yaw_var[a:b]))
+        if not segments:
+            return tuple(np.empty(0) for _ in range(5))
+        return tuple(np.concatenate(parts) for parts in zip(*segments, strict=True))
+
+    def _hold(self, t, c, vz, yaw_var) -> None:
+        """Keep samples while the axes are unknown, the last ``replay_s`` of them."""
+        held = (t, c, vz, yaw_var) if self.pending is None else tuple(
+            np.concatenate([old, new]) for old, new in
+            zip(self.pending, (t, c, vz, yaw_var), strict=True))
+        first = np.searchsorted(held[0], held[0][-1] - self.config.mounting.replay_s,
+                                side="left")
+        self.pending = tuple(x[first:] for x in held)
+
+    def _replay(self, up, flex, t, pitch, heading):
+        """The held samples with the axes now known; those of this chunk are reported."""
+        tp, cp, vp, yp = self.pending
+        self.pending = None
+        angles = np.array([thigh_angles(c, up, flex) for c in cp]).reshape(-1, 2)
+        mine = tp >= t[0]
+        index = np.searchsorted(t, tp[mine])
+        pitch[index], heading[index] = angles[mine, 0], angles[mine, 1]
+        return tp, angles[:, 0], angles[:, 1], vp, yp
 
     def _steps(self, stream) -> list[StepRecord]:
         t, pitch, heading, vz, yaw_var = stream

@@ -204,7 +204,7 @@ def _drift_marks(log) -> tuple:
     return marks, pairs
 
 
-def _drift_against_truth(log, reader, inputs, corrected, truth_positions, stamps,
+def _drift_against_truth(log, reader, truth, inputs, corrected, truth_positions,
                          uncorrected) -> dict:
     """Landmarks and associations against the truth, and the final yaw and position
     errors with and without the corrections (pdr_pocket.drift_report)."""
@@ -214,7 +214,6 @@ def _drift_against_truth(log, reader, inputs, corrected, truth_positions, stamps
     from pdr_core.metrics import truth_orientation_at
     from pdr_pocket.drift_report import final_errors, truth_report
 
-    truth = reader.read_batches([topics.GROUND_TRUTH_LANDMARKS, topics.GROUND_TRUTH_POSE])
     record = reader.custom_data("pdr.simulation") or {}
     out = truth_report(log, truth[topics.GROUND_TRUTH_LANDMARKS], record.get("landmarks", []),
                        int(inputs.stamp_ns[0]))
@@ -234,22 +233,15 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     ``drift`` online or offline, with the landmark drift corrections
     (pdr_pocket.drift_loop)."""
     from pdr_core import topics
-    from pdr_core.bag import BagReader, BagWriter
+    from pdr_core.bag import BagWriter
     from pdr_core.metrics import truth_at
     from pdr_core.msgtypes import PATH
     from pdr_core.nav_path import encode_path
-    from pdr_pocket.attitude_offline import attitude_batches, pocket_inputs
-    from pdr_pocket.magnetometer import MagCalibration
+    from pdr_pocket.attitude_offline import attitude_batches, read_pocket_bag
     from pdr_pocket.navigator import PocketNavigator
 
-    calibration_file = mag_calibration or config.magnetometer_calibration
-    calibration = MagCalibration.load(calibration_file) if calibration_file else None
-    reader = BagReader(bag)
-    reader.require_topics([topics.IMU_DATA])
-    wanted = [t for t in (topics.IMU_DATA, topics.IMU_MAG, topics.GROUND_TRUTH_POSE,
-                          topics.GROUND_TRUTH_STEP) if t in reader.topics]
-    batches = reader.read_batches(wanted)
-    inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG), calibration)
+    reader, batches, inputs = read_pocket_bag(bag, mag_calibration
+                                              or config.magnetometer_calibration)
     drift_log = None
     if drift == "none":
         navigator = PocketNavigator(config)
@@ -275,9 +267,9 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                "mounting_changes": int(navigator.mounting.scalars[CHANGES])}
     if drift_log is not None:
         report["drift"] = {"mode": drift, **drift_log.summary()}
-        if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in reader.topics:
+        if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in batches:
             report["drift"] |= _drift_against_truth(
-                drift_log, reader, inputs, result, truth_positions, stamps,
+                drift_log, reader, batches, inputs, result, truth_positions,
                 PocketNavigator(config).process(inputs.t, inputs.gyro_or_none, inputs.accel,
                                                 inputs.mag))
     with BagWriter(out, overwrite=overwrite) as writer:

@@ -19,10 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader
 from pdr_core.errors import InputError
 from pdr_pocket.activity import WALKING
-from pdr_pocket.attitude_offline import pocket_inputs
+from pdr_pocket.attitude_offline import read_pocket_bag
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
 from pdr_pocket.pocket_offline import match_steps
@@ -32,15 +31,10 @@ from pdr_pocket.steps import table_4_1_detectors
 
 def navigate(bag: Path, config: PocketConfig, need_truth: bool = False):
     """The navigator's output on a bag, the inputs, and its ground_truth/step (or None)."""
-    reader = BagReader(bag)
-    reader.require_topics([topics.IMU_DATA, *([topics.GROUND_TRUTH_STEP] if need_truth else [])])
-    wanted = [t for t in (topics.IMU_DATA, topics.IMU_MAG, topics.GROUND_TRUTH_STEP)
-              if t in reader.topics]
-    batches = reader.read_batches(wanted)
-    inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG))
+    _, batches, inputs = read_pocket_bag(
+        bag, require=[topics.GROUND_TRUTH_STEP] if need_truth else [])
     out = PocketNavigator(config).process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
-    truth = batches.get(topics.GROUND_TRUTH_STEP)
-    return out, inputs, truth
+    return out, inputs, batches.get(topics.GROUND_TRUTH_STEP)
 
 
 def _true_times(truth, t0_ns: int) -> tuple[np.ndarray, np.ndarray]:

@@ -30,6 +30,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
+from pdr_core.headers import NS_PER_S, set_header, stamp_ns
 from pdr_core.node_main import spin_node
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import load_run_config
@@ -37,8 +38,6 @@ from pdr_ins_ekf.offline import UNKNOWN_VARIANCE
 from pdr_ins_ekf.streaming import Estimate, StreamingNavigator
 from pdr_ins_ekf.zupt_ekf import SmoothedSegment
 from pdr_msgs.msg import Stance
-
-_NS = 1_000_000_000
 
 
 class ZuptEkfNode(Node):
@@ -77,7 +76,7 @@ class ZuptEkfNode(Node):
 
     def on_imu(self, msg: Imu) -> None:
         a, w = msg.linear_acceleration, msg.angular_velocity
-        stamp = msg.header.stamp.sec * _NS + msg.header.stamp.nanosec
+        stamp = stamp_ns(msg)
         estimates = self.navigator.push(stamp, (a.x, a.y, a.z), (w.x, w.y, w.z))
         for estimate in estimates:
             self.publish(estimate)
@@ -96,7 +95,7 @@ class ZuptEkfNode(Node):
                                     throttle_duration_sec=5.0)
 
     def publish(self, e: Estimate) -> None:
-        sec, nanosec = divmod(e.stamp_ns, _NS)
+        sec, nanosec = divmod(e.stamp_ns, NS_PER_S)
         q = quaternion_from_orthonormal(e.attitude)
         pose = PoseWithCovarianceStamped()
         pose.header.stamp.sec, pose.header.stamp.nanosec = sec, nanosec
@@ -141,8 +140,7 @@ class ZuptEkfNode(Node):
         for stamp, p, q in zip(segment.stamp_ns.tolist(), segment.position.tolist(),
                                quats.tolist(), strict=True):
             pose = PoseStamped()
-            pose.header.stamp.sec, pose.header.stamp.nanosec = divmod(stamp, _NS)
-            pose.header.frame_id = self.frame_id
+            set_header(pose.header, stamp, self.frame_id)
             position, orientation = pose.pose.position, pose.pose.orientation
             position.x, position.y, position.z = p
             orientation.x, orientation.y, orientation.z, orientation.w = q
