@@ -6,9 +6,9 @@ Subscribes ``pdr/pocket/step`` (pdr_msgs/Step) and ``pdr/pocket/pose``
 Publishes every landmark on ``pdr/landmarks`` (pdr_msgs/Landmark) and every drift
 estimate on ``pdr/drift`` (pdr_msgs/DriftEstimate). After each association it calls
 ``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection) with an asynchronous
-client: a call not answered within ``correction_timeout_s`` is dropped, and while the
-service is not there the correction waits and is retried every ``retry_period_s`` up to
-``max_retries`` times, so a restarting ``pocket_pdr`` is caught up with and a refused
+client: a call not answered within ``correction_timeout_s`` is sent again, and while the
+service is not there the correction waits and is retried every ``retry_period_s``, up to
+``max_retries`` tries in all, so a restarting ``pocket_pdr`` is caught up with and a refused
 correction blocks nothing. What happens to each correction is logged.
 
 Parameters: ``config`` (YAML of pdr_drift.config; default the installed
@@ -63,7 +63,7 @@ class LandmarkDriftNode(Node):
         self.drift_pub = self.create_publisher(DriftEstimate, "pdr/drift", out)
         self.client = self.create_client(ApplyCorrection, "pdr/pocket/apply_correction")
         self.waiting: list[list] = []        # [request, tries]
-        self.in_flight: list[list] = []      # [future, sent at (s, node clock)]
+        self.in_flight: list[list] = []      # [future, sent at (s), request, tries]
         self.create_timer(retry_period, self.service_corrections)
         self.reported: dict[str, int] = {}
         self.get_logger().info(f"landmark_drift: configuration {path or 'default'}")
@@ -102,22 +102,24 @@ class LandmarkDriftNode(Node):
         self.service_corrections()
 
     def service_corrections(self) -> None:
-        """Send what waits when the service is there; give up on calls past the timeout
-        and on corrections past ``max_retries``."""
+        """Send what waits when the service is there, send again calls past the timeout
+        (a pocket_pdr just started may be slow to answer), give up on corrections past
+        ``max_retries`` tries."""
         now = self.get_clock().now().nanoseconds * 1e-9
         for item in list(self.in_flight):
-            future, sent = item
+            future, sent, request, tries = item
             if future.done():
                 self.in_flight.remove(item)
                 self.log_response(future)
             elif now - sent > self.timeout_s:
                 self.in_flight.remove(item)
                 future.cancel()
-                self.get_logger().warning("correction not answered in time, dropped")
+                self.get_logger().warning("correction not answered in time, sent again")
+                self.waiting.append([request, tries + 1])
         for item in list(self.waiting):
-            if self.client.service_is_ready():
+            if self.client.service_is_ready() and item[1] <= self.max_retries:
                 self.waiting.remove(item)
-                self.in_flight.append([self.client.call_async(item[0]), now])
+                self.in_flight.append([self.client.call_async(item[0]), now, *item])
                 continue
             item[1] += 1
             if item[1] > self.max_retries:
