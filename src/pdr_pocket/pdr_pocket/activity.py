@@ -42,6 +42,11 @@ class ActivityClassifier:
         self.config = config or ActivityConfig()
         self.level: deque = deque(maxlen=self.config.level_history_steps)
 
+    def restart(self) -> None:
+        """Forget the level steps (the phone was moved: θ is measured anew, and the steps
+        while it turned were not the gait's)."""
+        self.level.clear()
+
     def classify(self, pitch_max: float, pitch_min: float) -> int:
         """WALKING, UPSTAIRS or DOWNSTAIRS for one step (θ in rad)."""
         c = self.config

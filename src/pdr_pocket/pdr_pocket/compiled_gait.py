@@ -25,6 +25,10 @@ and a whole record give the same result:
     amplitudes came out 0.2–0.5° short.) It is known after ``flexion_min_s`` of motion.
     Its sign makes the mean pitch while walking positive (the thesis' asymmetry
     θ_max ≫ |θ_min|).
+  * The phone turned in the pocket while walking (beyond the thesis): a turn rate outside
+    span{f, vertical}, which the thigh cannot make, or a swing axis that stays away from
+    f; the new axes come from the swing after the turn (:func:`_foreign_turn`,
+    :func:`_check_turned`, :func:`_remount`).
   * θ = atan2(−ℓ·h, ℓ_z) with ℓ = C·u the long axis in ENU (hip above knee) and h the
     unit horizontal direction of C·(f × u), the thigh's forward axis: the knee ahead tilts
     ℓ backwards. The heading is atan2(h_y, h_x).
@@ -34,11 +38,14 @@ and a whole record give the same result:
   risen ``rise`` above the minimum since (both the larger of a floor and a fraction of the
   last accepted amplitude, so the heel-strike's second peak and the double minimum on
   stairs, Figs. 4.1–4.3, never count). A maximum is a step when its amplitude over the
-  preceding minimum is at least ``min_amplitude``, it was reached within ``max_rise_s`` of
-  that minimum and left within ``max_hold_s`` (sitting down and getting up are not steps),
+  preceding minimum is at least ``min_amplitude`` (at most ``max_amplitude``), it was
+  reached within ``max_rise_s`` of that minimum and left within ``max_hold_s`` (sitting
+  down and getting up are not steps),
   and it comes at least ``min_period_s`` after the last step's maximum (beyond the thesis:
   a gait cycle shorter than that is running; on the real ``s_both_thigh_1`` stairs walk
-  the turn at the top otherwise gives two extra steps).
+  the turn at the top otherwise gives two extra steps). After ``forget_s`` without a step
+  the last amplitude is forgotten, so one huge swing (the phone turned in the pocket)
+  cannot raise the thresholds beyond every later step.
 """
 from __future__ import annotations
 
@@ -49,8 +56,21 @@ from numba import njit
 
 # mounting scalars (MountingState.scalars)
 LAST_T, REST_S, REST_N, MOVING_S, UP_PROVISIONAL, FLEX_KNOWN, MEAN_PITCH, CHANGES, \
-    STARTED = range(9)
-N_MOUNTING_SCALARS = 9
+    STARTED, RECENT_S, LAST_CHECK_T, TURNED_S, RING_POS, RING_N, FOREIGN, TURN_SEEN, \
+    TURN_T, FLIP_S = range(18)
+N_MOUNTING_SCALARS = 18
+# the swing of the last moved_tau_s is a plane (the remount check) when its middle
+# eigenvalue is at least SWING_MIN (a pitch swing of about ±4°) and its smallest at most
+# PLANAR_RATIO of the middle one
+SWING_MIN = 0.003
+PLANAR_RATIO = 0.25
+CHECK_PERIOD_S = 0.1
+FOREIGN_TAU_S = 1.0             # leak of the turn integrated outside the thigh's axes
+TURN_HOLD_S = 2.0               # a phone is turned in the pocket within this
+FLIP_MIN_S = 5.0                # walking with a negative mean pitch this long: f flipped
+ANCHOR_RING = 80                # the checks of the last 8 s of walking (see _anchor)
+ANCHOR_LEAD_S = 1.0             # the anchor taken is this long before the turn was seen
+ANCHOR_PHI, ANCHOR_HEADING, ANCHOR_T = range(3)
 # peak detector scalars (PeakState.scalars)
 SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE, LAST_STEP_T = range(7)
 N_PEAK_SCALARS = 7
@@ -72,6 +92,11 @@ class MountingParams(NamedTuple):
     moving_rate: float          # ‖ω‖ above this is walking motion [rad/s]
     flexion_tau_s: float
     flexion_min_s: float
+    turned_min_angle: float     # walking about an axis this far from f: moved [rad]
+    turned_min_s: float         # ... for this long
+    turned_tau_s: float         # time constant of the recent swing
+    turned_angle: float         # turned outside span{f, vertical} this far, at once [rad]
+    turned_pitch_angle: float   # the mean walking pitch moved this far: turned about f [rad]
 
 
 class MountingState(NamedTuple):
@@ -82,6 +107,10 @@ class MountingState(NamedTuple):
     flex_sign: np.ndarray       # (1,) ±1
     moment: np.ndarray          # (3, 3) weighted ∑g gᵀ of the vertical while walking
     mean: np.ndarray            # (3,) weighted ∑g
+    recent: np.ndarray          # (3, 3) the same over turned_tau_s
+    recent_mean: np.ndarray     # (3,)
+    anchors: np.ndarray         # (ANCHOR_RING, 3) φ, thigh heading and t of the last checks
+    last_attitude: np.ndarray   # (3, 3) C_b^n of the previous sample
 
 
 class PeakParams(NamedTuple):
@@ -90,15 +119,19 @@ class PeakParams(NamedTuple):
     rise_min: float             # re-arming rise: max(rise_min, rise_fraction·amplitude)
     rise_fraction: float
     min_amplitude: float
+    max_amplitude: float        # beyond what a thigh can swing
     max_rise_s: float
     max_hold_s: float
     min_period_s: float         # from the previous step's maximum
+    forget_s: float             # no step this long: the last amplitude is forgotten
 
 
 def new_mounting_state(up=None, flexion=None) -> MountingState:
     """A fresh state; with ``up`` and ``flexion`` (a configured mounting) they are used."""
     state = MountingState(np.zeros(N_MOUNTING_SCALARS), np.zeros(3), np.zeros(3),
-                          np.zeros(3), np.ones(1), np.zeros((3, 3)), np.zeros(3))
+                          np.zeros(3), np.ones(1), np.zeros((3, 3)), np.zeros(3),
+                          np.zeros((3, 3)), np.zeros(3), np.zeros((ANCHOR_RING, 3)),
+                          np.eye(3))
     if up is not None:
         state.up[:] = up
         state.flex_raw[:] = flexion
@@ -148,8 +181,9 @@ def thigh_angles(c, up, flex):
 
 @njit(cache=True)
 def mounting_loop(state, params, t, rate, accel, attitude, out_pitch, out_heading,
-                  out_known, out_up, out_flex):
-    """The thigh frame per sample (module docstring); θ and heading NaN until known.
+                  out_known, out_up, out_flex, out_changes):
+    """The thigh frame per sample (module docstring); θ and heading NaN until known;
+    ``out_changes``: the mounting changes found so far.
     ``rate``: the turn rate's norm [rad/s] (N,), or without a gyroscope the accelerometer's
     motion measure scaled to it."""
     s = state.scalars
@@ -163,12 +197,14 @@ def mounting_loop(state, params, t, rate, accel, attitude, out_pitch, out_headin
                 s[UP_PROVISIONAL] = 1.0
                 s[STARTED] = 1.0
             _rest(state, params, w, a, dt)
+            _foreign_turn(state, params, dt, attitude[k])
             _motion(state, params, w, dt, attitude[k])
         known = s[FLEX_KNOWN] > 0
         up, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
         out_up[k] = up
         out_flex[k] = flex
         out_known[k] = known
+        out_changes[k] = s[CHANGES]
         if known:
             out_pitch[k], out_heading[k] = thigh_angles(attitude[k], up, flex)
         else:
@@ -223,12 +259,19 @@ def _motion(state, params, wn, dt, c):
         state.mean[i] = lam * state.mean[i] + (1.0 - lam) * g[i]
         for j in range(3):
             state.moment[i, j] = lam * state.moment[i, j] + (1.0 - lam) * g[i] * g[j]
+    lam = np.exp(-dt / params.turned_tau_s)
+    for i in range(3):
+        state.recent_mean[i] = lam * state.recent_mean[i] + (1.0 - lam) * g[i]
+        for j in range(3):
+            state.recent[i, j] = lam * state.recent[i, j] + (1.0 - lam) * g[i] * g[j]
+    s[RECENT_S] += dt
     spread = state.moment - np.outer(state.mean, state.mean)
     v = _least_swung_axis(spread, state.up)
     if v @ state.flex_raw < 0:
         v = -v
     state.flex_raw[:] = v
     if s[FLEX_KNOWN] > 0:
+        _check_turned(state, params, c)
         return
     s[MOVING_S] += dt
     up, flex = _thigh_axes(state.up, state.flex_raw, 1.0)
@@ -238,6 +281,188 @@ def _motion(state, params, wn, dt, c):
     if s[MOVING_S] >= params.flexion_min_s:
         state.flex_sign[0] = 1.0 if s[MEAN_PITCH] >= 0 else -1.0
         s[FLEX_KNOWN] = 1.0
+
+
+@njit(cache=True)
+def _check_turned(state, params, c):
+    """A phone turned in the pocket while walking. Right after a turn seen by
+    :func:`_foreign_turn`, the axes are derived again (:func:`_remount`). Otherwise a
+    slower turn: for ``turned_min_s`` of walking, the axis the vertical swung about over
+    the last ``turned_tau_s`` (the least axis of its second moment, g tracing a great circle
+    about f; the hip's yaw sway leaves g alone) stays more than ``turned_min_angle`` from f
+    or from orthogonal to u, or the mean pitch (φ) moves more than ``turned_pitch_angle``
+    from what it was (a turn about f itself; stairs move it by about 15°, sitting down is
+    not walking); the swing then starts afresh as after a turn seen at once. A mean
+    walking pitch that stays negative for FLIP_MIN_S flips f (:func:`_flip`). Checked every
+    CHECK_PERIOD_S."""
+    s = state.scalars
+    now = s[LAST_T]
+    if s[RECENT_S] < params.turned_tau_s or now - s[LAST_CHECK_T] < CHECK_PERIOD_S:
+        return
+    s[LAST_CHECK_T] = now
+    values, vectors = np.linalg.eigh(state.recent)
+    if values[1] < SWING_MIN or values[0] > PLANAR_RATIO * values[1]:
+        return
+    up, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
+    axis = vectors[:, 0].copy()
+    if s[TURN_SEEN] > 0:
+        _remount(state, params, c, axis, up, flex)
+        return
+    s[FLIP_S] = s[FLIP_S] + CHECK_PERIOD_S if _swing_angle(state.recent_mean, up, flex) > 0 \
+        else 0.0
+    same_axis = abs(axis @ flex) >= np.cos(params.turned_min_angle) and \
+        abs(axis @ up) <= np.sin(params.turned_min_angle)
+    d = _swing_angle(state.recent_mean, up, flex) - _oldest_anchor(state)[0]
+    same_pitch = s[RING_N] == 0 or abs(np.arctan2(np.sin(d), np.cos(d))) <= \
+        params.turned_pitch_angle
+    if same_axis and same_pitch:
+        s[TURNED_S] = 0.0
+        if s[FLIP_S] >= FLIP_MIN_S:
+            _flip(state)
+            return
+        _anchor(state, c, up, flex)
+        return
+    s[TURNED_S] += CHECK_PERIOD_S
+    if s[TURNED_S] >= params.turned_min_s:
+        _seen_turn(state, s[LAST_T] - params.turned_min_s - params.turned_tau_s)
+
+
+@njit(cache=True)
+def _foreign_turn(state, params, dt, c):
+    """The phone turning in the pocket, seen at once: the thigh turns only about f (its
+    pitch) and the vertical (its yaw), so a turn about n = f × (vertical ⊥ f), outside
+    that span, is the phone's own. Its rate (from successive attitudes) integrated with a
+    leak of FOREIGN_TAU_S beyond ``turned_angle`` is a turn: the thigh's own abduction
+    swings back and forth and integrates to a few degrees.
+    The recent swing then starts afresh TURN_HOLD_S after it began (a turn of the phone is
+    over by then, and the old axes see the thigh's own swing as foreign too), and
+    :func:`_check_turned` decides on it with the anchors from before."""
+    s = state.scalars
+    last = state.last_attitude
+    if dt > 0 and s[FLEX_KNOWN] > 0:
+        d = last.T @ c
+        w = np.array([d[2, 1] - d[1, 2], d[0, 2] - d[2, 0], d[1, 0] - d[0, 1]]) / (2.0 * dt)
+        _, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
+        g = c[2, :]
+        normal = _unit(np.cross(flex, g - (g @ flex) * flex))
+        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + (w @ normal) * dt
+        if s[TURN_SEEN] == 0.0 and abs(s[FOREIGN]) > params.turned_angle:
+            _seen_turn(state, s[LAST_T])
+    if s[TURN_SEEN] > 0 and s[LAST_T] - s[TURN_T] < TURN_HOLD_S:
+        _forget_recent(state)
+    last[:, :] = c
+
+
+@njit(cache=True)
+def _seen_turn(state, t):
+    """A turn of the phone that began at t: the recent swing starts afresh TURN_HOLD_S
+    after it, for :func:`_remount`."""
+    s = state.scalars
+    s[TURN_SEEN] = 1.0
+    s[TURN_T] = t
+    s[TURNED_S] = 0.0
+    _forget_recent(state)
+
+
+@njit(cache=True)
+def _forget_recent(state):
+    state.scalars[RECENT_S] = 0.0
+    state.recent[:, :] = 0.0
+    state.recent_mean[:] = 0.0
+
+
+@njit(cache=True)
+def _swing_angle(g, up, flex):
+    """φ: the angle about f from the mean vertical g (its part ⊥ f) to u [rad]."""
+    gp = _unit(g - (g @ flex) * flex)
+    return np.arctan2(np.cross(gp, up) @ flex, gp @ up)
+
+
+@njit(cache=True)
+def _anchor(state, c, up, flex):
+    """Keep φ of the mean vertical (the gait's mean pitch) and the thigh heading of each
+    check in a ring: a remount takes the oldest, from before the phone began to turn (it
+    is found turned_tau_s + turned_min_s later)."""
+    s = state.scalars
+    _, heading = thigh_angles(c, up, flex)
+    if not np.isfinite(heading):
+        return
+    k = int(s[RING_POS])
+    state.anchors[k, ANCHOR_PHI] = _swing_angle(state.mean, up, flex)
+    state.anchors[k, ANCHOR_HEADING] = heading
+    state.anchors[k, ANCHOR_T] = s[LAST_T]
+    s[RING_POS] = (k + 1) % ANCHOR_RING
+    s[RING_N] = min(s[RING_N] + 1.0, ANCHOR_RING)
+
+
+@njit(cache=True)
+def _flip(state):
+    """The walking pitch stayed negative (φ > 0): f is the other way round (the phone
+    turned about u, f followed it the short way). The thesis' asymmetry θ_max ≫ |θ_min|
+    makes the mean walking pitch positive, as when f's sign was first chosen."""
+    s = state.scalars
+    state.flex_raw[:] = -state.flex_raw
+    s[FLIP_S] = 0.0
+    s[RING_N] = 0.0
+    s[RING_POS] = 0.0
+    s[CHANGES] += 1.0
+
+
+@njit(cache=True)
+def _oldest_anchor(state):
+    """φ, heading and t of the oldest check in the ring (zeros while it is empty)."""
+    s = state.scalars
+    return state.anchors[int(s[RING_POS]) if s[RING_N] == ANCHOR_RING else 0]
+
+
+@njit(cache=True)
+def _anchor_before(state, t):
+    """The newest check at least ANCHOR_LEAD_S before t, else the oldest."""
+    s = state.scalars
+    for back in range(1, int(s[RING_N]) + 1):
+        row = state.anchors[int(s[RING_POS] - back) % ANCHOR_RING]
+        if row[ANCHOR_T] <= t - ANCHOR_LEAD_S:
+            return row
+    return _oldest_anchor(state)
+
+
+@njit(cache=True)
+def _remount(state, params, c, axis, up, flex):
+    """The thigh frame after the phone turned (at TURN_T): f along the recent swing axis,
+    u at the anchored φ from the recent mean vertical about it; of the two signs of f, the
+    one that keeps the thigh heading of the anchor (the thigh does not turn with the
+    phone). Taken when u or f moves by more than ``turned_min_angle``/2 (a turn seen that
+    was the thigh's own changes nothing)."""
+    s = state.scalars
+    s[TURNED_S] = 0.0
+    s[TURN_SEEN] = 0.0
+    if s[RING_N] == 0:
+        return
+    phi, before, _ = _anchor_before(state, s[TURN_T])
+    g = _unit(state.recent_mean.copy())
+    best = -np.inf
+    new_up, new_flex = up.copy(), flex.copy()
+    for sign in (1.0, -1.0):
+        f = sign * axis
+        gp = _unit(g - (g @ f) * f)
+        u = np.cos(phi) * gp + np.sin(phi) * np.cross(f, gp)
+        _, heading = thigh_angles(c, u, f)
+        score = np.cos(heading - before)
+        if score > best:
+            best = score
+            new_up[:], new_flex[:] = u, f
+    material = np.cos(params.turned_min_angle / 2)
+    if new_up @ up >= material and new_flex @ flex >= material:
+        return
+    state.up[:] = new_up
+    state.flex_raw[:] = new_flex
+    state.flex_sign[0] = 1.0
+    state.moment[:, :] = state.recent
+    state.mean[:] = state.recent_mean
+    s[UP_PROVISIONAL] = 0.0
+    s[RING_N] = 0.0
+    s[RING_POS] = 0.0
+    s[CHANGES] += 1.0
 
 
 @njit(cache=True)
@@ -289,6 +514,8 @@ def peak_loop(state, params, t, signal, events):
         x = signal[k]
         if not np.isfinite(x):
             continue
+        if t[k] - s[LAST_STEP_T] > params.forget_s:
+            s[LAST_AMPLITUDE] = 0.0
         amplitude = s[LAST_AMPLITUDE]
         if s[SEEKING_MAX] > 0:
             if x > s[CUR_MAX]:
@@ -296,7 +523,8 @@ def peak_loop(state, params, t, signal, events):
                 s[T_MAX] = t[k]
             if s[CUR_MAX] - x >= max(params.drop_min, params.drop_fraction * amplitude):
                 rise = s[CUR_MAX] - s[CUR_MIN]
-                if (rise >= params.min_amplitude and s[T_MAX] - s[T_MIN] <= params.max_rise_s
+                if (params.min_amplitude <= rise <= params.max_amplitude
+                        and s[T_MAX] - s[T_MIN] <= params.max_rise_s
                         and t[k] - s[T_MAX] <= params.max_hold_s
                         and s[T_MAX] - s[LAST_STEP_T] >= params.min_period_s):
                     events[count, EV_T_MAX] = s[T_MAX]

@@ -166,6 +166,11 @@ class MountingConfig:
     moving_rate_deg_per_s: float = 30.0
     flexion_time_constant_s: float = 4.0
     flexion_min_s: float = 1.5
+    turned_min_angle_deg: float = 25.0  # walking about an axis this far from the flexion
+    turned_min_s: float = 1.5           # axis this long: the phone turned in the pocket
+    turned_time_constant_s: float = 2.0
+    turned_angle_deg: float = 25.0      # turned this far outside the thigh's axes, at once
+    turned_pitch_angle_deg: float = 45.0  # the mean walking pitch moved this far
     replay_s: float = 3.0               # samples kept while the axes are learned
     # without a gyroscope (imu/data's angular_velocity_covariance[0] = -1, REP-145)
     gravity_cutoff_hz: float = 1.5      # the gravity direction: low-pass of the specific force
@@ -175,6 +180,8 @@ class MountingConfig:
         _positive(self, ("rest_rate_deg_per_s", "rest_acc_mps2", "rest_min_s",
                          "standing_max_angle_deg", "moved_min_angle_deg",
                          "moving_rate_deg_per_s", "flexion_time_constant_s", "flexion_min_s",
+                         "turned_min_angle_deg", "turned_min_s", "turned_time_constant_s",
+                         "turned_angle_deg", "turned_pitch_angle_deg",
                          "replay_s", "gravity_cutoff_hz", "accel_motion_mps2"))
         if self.rpy_deg is not None and len(self.rpy_deg) != 3:
             raise ValueError(f"rpy_deg must be [roll, pitch, yaw], got {self.rpy_deg}")
@@ -189,6 +196,7 @@ class StepsConfig:
     rise_min_deg: float = 5.0
     rise_fraction: float = 0.3
     min_amplitude_deg: float = 8.0
+    max_amplitude_deg: float = 110.0   # no thigh swings further (Δθ_U ≈ 53°, sitting 90°)
     max_rise_s: float = 1.5
     max_hold_s: float = 1.0
     min_step_period_s: float = 0.6     # a shorter gait cycle is running (compiled_gait)
@@ -196,7 +204,8 @@ class StepsConfig:
     nominal_step_period_s: float = 1.1  # the first step's duration (frequency model)
 
     def __post_init__(self) -> None:
-        _positive(self, ("drop_min_deg", "rise_min_deg", "min_amplitude_deg", "max_rise_s",
+        _positive(self, ("drop_min_deg", "rise_min_deg", "min_amplitude_deg",
+                         "max_amplitude_deg", "max_rise_s",
                          "max_hold_s", "min_step_period_s", "max_step_period_s",
                          "nominal_step_period_s"))
 

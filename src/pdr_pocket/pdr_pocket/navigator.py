@@ -101,7 +101,9 @@ def mounting_params(config: PocketConfig) -> MountingParams:
                           np.radians(m.standing_max_angle_deg),
                           np.radians(m.moved_min_angle_deg),
                           np.radians(m.moving_rate_deg_per_s), m.flexion_time_constant_s,
-                          m.flexion_min_s)
+                          m.flexion_min_s, np.radians(m.turned_min_angle_deg), m.turned_min_s,
+                          m.turned_time_constant_s, np.radians(m.turned_angle_deg),
+                          np.radians(m.turned_pitch_angle_deg))
 
 
 def configured_axes(rpy_deg) -> tuple[np.ndarray, np.ndarray]:
@@ -136,6 +138,8 @@ class PocketNavigator:
         self.last_confirm = -np.inf
         self.last_activity = WALKING
         self.corrections = {"accepted": 0, "refused": 0}
+        self.changes_seen = 0.0
+        self.remounts_t: list[float] = []       # mounting changes of this chunk
 
     # --- processing -----------------------------------------------------------------
     def process(self, t, gyro, accel, mag=None) -> NavigatorOutput:
@@ -151,9 +155,13 @@ class PocketNavigator:
         n = len(t)
         pitch, heading = np.full(n, np.nan), np.full(n, np.nan)
         known = np.zeros(n, dtype=np.bool_)
-        up, flex = np.zeros((n, 3)), np.zeros((n, 3))
-        mounting_loop(self.mounting, self.mounting_params, t, np.ascontiguousarray(rate),
-                      accel, attitude.attitude, pitch, heading, known, up, flex)
+        up, flex, changes = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n)
+        params = self.mounting_params if gyro is not None else \
+            self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf)
+        mounting_loop(self.mounting, params, t, np.ascontiguousarray(rate),
+                      accel, attitude.attitude, pitch, heading, known, up, flex, changes)
+        self.remounts_t.extend(t[np.flatnonzero(np.diff(np.r_[self.changes_seen, changes]))])
+        self.changes_seen = changes[-1] if n else self.changes_seen
         vz = np.einsum("nj,nj->n", attitude.attitude[:, 2, :], np.asarray(accel, float))
         yaw_var = attitude.covariance[:, 2, 2]
         stream = self._stream(t, attitude.attitude, vz, yaw_var, pitch, heading, known, up,
@@ -168,7 +176,9 @@ class PocketNavigator:
                       ) -> tuple[AttitudeEstimate, np.ndarray]:
         """Without a gyroscope: C_b^n of the gravity direction's tilt (yaw 0, unknown) and
         the motion measure scaled to a turn rate for the thigh frame's rest and motion
-        tests."""
+        tests. Its vertical, the low-passed specific force, carries the legs' accelerations,
+        too rough for the walking checks of a phone turned in the pocket: they are off, and
+        a moved phone is found at the next rest."""
         m = self.config.mounting
         n = len(t)
         gravity, motion = np.empty((n, 3)), np.empty(n)
@@ -226,16 +236,35 @@ class PocketNavigator:
 
     def _steps(self, stream) -> list[StepRecord]:
         t, pitch, heading, vz, yaw_var = stream
-        events = self.detector.push(t, pitch)
+        events, restarts = self._events(t, pitch)
         cuts = np.searchsorted(t, events[:, EV_T_CONFIRM], side="right")
         out = []
         start = 0
-        for event, cut in zip(events, cuts, strict=True):
+        for i, (event, cut) in enumerate(zip(events, cuts, strict=True)):
             self._accumulate(heading[start:cut], vz[start:cut])
             start = cut
+            if i in restarts:
+                self.classifier.restart()
             out.append(self._step(event, float(yaw_var[cut - 1])))
+        if len(events) in restarts:
+            self.classifier.restart()
         self._accumulate(heading[start:], vz[start:])
         return out
+
+    def _events(self, t: np.ndarray, pitch: np.ndarray) -> tuple[np.ndarray, set[int]]:
+        """The detector's confirmed maxima, and the indices of the events before which
+        the mounting changed: there the detector starts afresh, and so do the level steps
+        of the activities (θ is measured anew; the swings while the phone turned are not
+        the gait's)."""
+        parts, restarts, start = [], set(), 0
+        for cut in np.searchsorted(t, self.remounts_t, side="left"):
+            parts.append(self.detector.push(t[start:cut], pitch[start:cut]))
+            self.detector.restart()
+            restarts.add(sum(len(p) for p in parts))
+            start = cut
+        parts.append(self.detector.push(t[start:], pitch[start:]))
+        self.remounts_t = []
+        return np.concatenate(parts), restarts
 
     def _accumulate(self, heading: np.ndarray, vz: np.ndarray) -> None:
         ok = np.isfinite(heading)

@@ -57,8 +57,9 @@ class DetectedSteps:
 def peak_params(config: StepsConfig) -> PeakParams:
     return PeakParams(np.radians(config.drop_min_deg), config.drop_fraction,
                       np.radians(config.rise_min_deg), config.rise_fraction,
-                      np.radians(config.min_amplitude_deg), config.max_rise_s,
-                      config.max_hold_s, config.min_step_period_s)
+                      np.radians(config.min_amplitude_deg),
+                      np.radians(config.max_amplitude_deg), config.max_rise_s,
+                      config.max_hold_s, config.min_step_period_s, config.max_step_period_s)
 
 
 class PitchMaximumDetector:
@@ -69,6 +70,10 @@ class PitchMaximumDetector:
     def __init__(self, config: StepsConfig | None = None) -> None:
         self.config = config or StepsConfig()
         self.params = peak_params(self.config)
+        self.state = new_peak_state()
+
+    def restart(self) -> None:
+        """Seek a minimum afresh, with no amplitude or step remembered."""
         self.state = new_peak_state()
 
     def push(self, t: np.ndarray, pitch: np.ndarray) -> np.ndarray:

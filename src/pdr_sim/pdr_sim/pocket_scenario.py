@@ -12,6 +12,8 @@ A pocket scenario is a YAML mapping (built-in ones in ``pdr_sim/scenarios/pocket
       a_d_cm_per_deg: 2.0          # stairs down: v = a_D·Δθ_D + b_D [cm] (Eq. (4.5))
       b_d_cm: -19.24
     mounting: phone_front_pocket   # or thigh_frame, or {rpy_deg: [roll, pitch, yaw]}
+    remounts:                      # the phone turned in the pocket during the walk
+      - {at_s: 60, duration_s: 1, mounting: {rpy_deg: [30, 0, 90]}}
     initial: {position_m: [0, 0, 0], yaw_deg: 0}
     environment: {...}             # as for the foot (pdr_sim.scenario): field, latitude
     segments:
@@ -135,11 +137,22 @@ class PocketSegment:
 
 
 @dataclass(frozen=True)
+class Remount:
+    """The phone turned in the pocket from the mounting before to ``mounting``, over
+    [at_s, at_s + duration_s] (the sensor stays where it is on the thigh)."""
+
+    at_s: float
+    mounting: Any
+    duration_s: float = 1.0
+
+
+@dataclass(frozen=True)
 class PocketScenario:
     name: str
     segments: tuple[PocketSegment, ...]
     person: PersonSpec = field(default_factory=PersonSpec)
     mounting: Any = "phone_front_pocket"
+    remounts: tuple[Remount, ...] = ()
     seed: int = 0
     initial: InitialPlacement = field(default_factory=InitialPlacement)
     environment: Environment = field(default_factory=Environment)
@@ -149,6 +162,11 @@ class PocketScenario:
     def mounting_matrix(self) -> np.ndarray:
         """C_s^t, (3, 3): sensor axes in the thigh frame."""
         return mounting_matrix(self.mounting)
+
+    @property
+    def remount_matrices(self) -> list[tuple[float, float, np.ndarray]]:
+        """(start [s], duration [s], C_s^t after) of each remount, in time order."""
+        return [(r.at_s, r.duration_s, mounting_matrix(r.mounting)) for r in self.remounts]
 
 
 def cadence_hz(person: PersonSpec, speed_mps: float) -> float:
@@ -308,6 +326,26 @@ def _mounting(value: Any, where: str) -> Any:
     return {"rpy_deg": list(vector(value["rpy_deg"], f"{where}.rpy_deg"))}
 
 
+def _remounts(value: Any, where: str) -> tuple[Remount, ...]:
+    """Remounts in time order, none overlapping the one before."""
+    if not isinstance(value, list):
+        raise InputError(where, f"expected a list of {{at_s, mounting, duration_s}}, got {value!r}")
+    out, free_from = [], 0.0
+    for i, item in enumerate(value):
+        at = f"{where}[{i}]"
+        values = check_keys(item, Remount, at, required=("at_s", "mounting"))
+        remount = Remount(at_s=number(values["at_s"], f"{at}.at_s", 0.0),
+                          mounting=_mounting(values["mounting"], f"{at}.mounting"),
+                          duration_s=number(values.get("duration_s", 1.0), f"{at}.duration_s",
+                                            0.0, strict=True))
+        if remount.at_s < free_from:
+            raise InputError(f"{at}.at_s", f"{remount.at_s:g} s starts before the remount "
+                                           f"before it has ended ({free_from:g} s)")
+        free_from = remount.at_s + remount.duration_s
+        out.append(remount)
+    return tuple(out)
+
+
 def pocket_scenario_from_dict(data: Any, where: str) -> PocketScenario:
     """Validate a pocket scenario mapping; InputError names the key as WHERE: key.path."""
     values = check_keys(data, PocketScenario, f"{where}:", required=("segments",))
@@ -325,6 +363,7 @@ def pocket_scenario_from_dict(data: Any, where: str) -> PocketScenario:
         segments=tuple(_segment(s, f"{where}: segments[{i}]") for i, s in enumerate(segments)),
         person=_person(values.get("person", {}), f"{where}: person"),
         mounting=_mounting(values.get("mounting", "phone_front_pocket"), f"{where}: mounting"),
+        remounts=_remounts(values.get("remounts", []), f"{where}: remounts"),
         seed=seed_from(values.get("seed", 0), f"{where}: seed"),
         initial=placement,
         environment=environment_from(values.get("environment", {}), f"{where}: environment"))

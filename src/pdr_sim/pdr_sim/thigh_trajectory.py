@@ -371,8 +371,28 @@ class ThighTrajectory:
         thigh_kinematics(np.ascontiguousarray(t, dtype=float), spline.x,
                          np.ascontiguousarray(spline.c), self.body, position, velocity,
                          acceleration, quaternion, rate)
-        return Trajectory(t, position, velocity, acceleration,
-                          Rotation.from_quat(quaternion), rate)
+        attitude = Rotation.from_quat(quaternion)
+        if self.scenario.remounts:
+            attitude, rate = self._remounted(t, attitude, rate)
+        return Trajectory(t, position, velocity, acceleration, attitude, rate)
+
+    def _remounted(self, t: np.ndarray, attitude: Rotation,
+                   rate: np.ndarray) -> tuple[Rotation, np.ndarray]:
+        """The attitude and body rate with the scenario's remounts: each turns the sensor
+        by E = C_beforeᵀ·C_after (sensor frame) as exp(s(u)·φ), φ = log E, s = 3u² − 2u³
+        over its duration, so C_s^n = C_s0^n·P·exp(s·φ) (P: the remounts completed) and
+        ω_s = exp(s·φ)ᵀ·Pᵀ·ω_s0 + ṡ·φ."""
+        extra = Rotation.identity(len(t))
+        spin = np.zeros_like(rate)
+        before = self.scenario.mounting_matrix
+        for start, duration, after in self.scenario.remount_matrices:
+            phi = Rotation.from_matrix(before.T @ after).as_rotvec()
+            u = np.clip((t - start) / duration, 0.0, 1.0)
+            turning = (u > 0.0) & (u < 1.0)
+            extra = extra * Rotation.from_rotvec(np.outer(3 * u**2 - 2 * u**3, phi))
+            spin[turning] = np.outer(6 * u[turning] * (1 - u[turning]) / duration, phi)
+            before = after
+        return attitude * extra, extra.inv().apply(rate) + spin
 
     # --- the truth ------------------------------------------------------------------
     @cached_property

@@ -13,7 +13,12 @@ from pdr_core.magnetic_field import MagneticField, homogeneous
 from pdr_sim import signals
 from pdr_sim.compiled_thigh import HEADING, PITCH, SWAY
 from pdr_sim.gait_plan import DOWNSTAIRS, UPSTAIRS, WALKING
-from pdr_sim.pocket_scenario import PersonSpec, load_pocket_scenario, pocket_scenario_from_dict
+from pdr_sim.pocket_scenario import (
+    PersonSpec,
+    load_pocket_scenario,
+    mounting_matrix,
+    pocket_scenario_from_dict,
+)
 from pdr_sim.thigh_trajectory import ThighTrajectory
 
 G = STANDARD_GRAVITY_MPS2
@@ -92,6 +97,32 @@ def test_gyroscope_integrates_to_the_true_attitude(ten_minutes):
     attitude = prefix_products(Rotation.concatenate([truth[0], Rotation.from_rotvec(rotvec)]))
     error = (attitude.inv() * truth).magnitude()
     assert error.max() < 1e-6, error.max()
+
+
+def test_a_remount_turns_the_sensor_as_its_gyroscope_says():
+    """The phone turned in the pocket while walking (1.5 s): the gyroscope still integrates
+    to the attitude within 1e-6 rad across the turn, and the sensor ends in the new
+    mounting on the unchanged thigh."""
+    after = {"rpy_deg": [30.0, -20.0, 100.0]}
+    data = {**TEN_MINUTES, "remounts": [{"at_s": 20.0, "duration_s": 1.5, "mounting": after}]}
+    remounted = ThighTrajectory(pocket_scenario_from_dict(data, "remounted"))
+    fixed = ThighTrajectory(pocket_scenario_from_dict(TEN_MINUTES, "fixed"))
+    t = np.arange(18.0, 24.0, 1e-3)
+    h, mid = np.diff(t), (t[:-1] + t[1:]) / 2
+    half = h / 2 / np.sqrt(3)
+    w_a, w_b = remounted.at(mid - half).body_rate, remounted.at(mid + half).body_rate
+    rotvec = h[:, None] / 2 * (w_a + w_b) + (np.sqrt(3) / 12 * h**2)[:, None] * np.cross(w_a, w_b)
+    truth = remounted.at(t).attitude
+    attitude = prefix_products(Rotation.concatenate([truth[0], Rotation.from_rotvec(rotvec)]))
+    assert (attitude.inv() * truth).magnitude().max() < 1e-6
+    thigh = fixed.at(t).attitude * Rotation.from_matrix(fixed.body.mounting).inv()
+    relative = thigh.inv() * truth
+    before, later = t < 20.0, t > 21.5
+    np.testing.assert_allclose(relative[before].as_matrix(),
+                               np.broadcast_to(fixed.body.mounting, (before.sum(), 3, 3)),
+                               atol=1e-9)
+    np.testing.assert_allclose(relative[later].as_matrix(), np.broadcast_to(
+        mounting_matrix(after), (later.sum(), 3, 3)), atol=1e-9)
 
 
 def test_specific_force_double_integrates_to_the_true_position(ten_minutes):

@@ -57,6 +57,12 @@ def scenario(*segments, **top):
     (scenario(mounting="belt"), "s: mounting: unknown mounting 'belt'"),
     (scenario(mounting={"rpy_deg": [0, 0]}), "s: mounting.rpy_deg: expected a list of 3"),
     (scenario(placement="foot"), "s: placement: a pocket scenario"),
+    (scenario(remounts=[{"at_s": 5}]), "s: remounts[0].mounting: required"),
+    (scenario(remounts=[{"at_s": 5, "mounting": "belt"}]),
+     "s: remounts[0].mounting: unknown mounting 'belt'"),
+    (scenario(remounts=[{"at_s": 5, "mounting": "thigh_frame", "duration_s": 2},
+                        {"at_s": 6, "mounting": "phone_front_pocket"}]),
+     "s: remounts[1].at_s: 6 s starts before the remount before it has ended (7 s)"),
     ({"segments": []}, "s: segments: expected a non-empty list"),
 ])
 def test_impossible_scenarios_are_refused_by_key(data, message):
