@@ -86,6 +86,8 @@ def test_pdr_drift_run_corrects_an_output_bag_offline(procs, tmp_path, walk):
     assert report["drift_deg_per_s"][0] == pytest.approx(live["drift_deg_per_s"][0], rel=1e-3)
     assert report["offline_drift_deg_per_s"] is not None
     assert report["largest_move_m"] < 2.0                  # one stride at most: no jump
+    assert report["duration_s"] > 0 and report["distance_m"] > report["largest_move_m"]
+    assert report["loop_gap_m"] == report["loop_gap_after_m"]   # INTERFACES.md, no truth
     out = BagReader(tmp_path / "drift")
     [(_, path)] = out.read_messages("/pdr/pocket/corrected_path")
     assert len(path.poses) == report["steps"]

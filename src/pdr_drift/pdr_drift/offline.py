@@ -105,7 +105,9 @@ def _gap(path: np.ndarray) -> float:
 
 def report(result: OfflineResult) -> dict:
     moves = np.linalg.norm(np.diff(result.after, axis=0), axis=1)
-    return {"steps": len(result.after), "landmarks": len(result.landmarks),
+    return {"duration_s": float((result.stamps[-1] - result.stamps[0]) * 1e-9),
+            "distance_m": float(moves.sum()), "loop_gap_m": _gap(result.after),
+            "steps": len(result.after), "landmarks": len(result.landmarks),
             "associations": len(result.drifts),
             "drift_deg_per_s": [float(np.degrees(d.drift)) for _, d in result.drifts],
             "kept": len(result.kept),
