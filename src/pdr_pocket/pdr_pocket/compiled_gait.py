@@ -197,7 +197,7 @@ def mounting_loop(state, params, t, rate, accel, attitude, out_pitch, out_headin
                 s[UP_PROVISIONAL] = 1.0
                 s[STARTED] = 1.0
             _rest(state, params, w, a, dt)
-            _foreign_turn(state, params, dt, attitude[k])
+            _foreign_turn(state, params, w, dt, attitude[k])
             _motion(state, params, w, dt, attitude[k])
         known = s[FLEX_KNOWN] > 0
         up, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
@@ -328,24 +328,31 @@ def _check_turned(state, params, c):
 
 
 @njit(cache=True)
-def _foreign_turn(state, params, dt, c):
+def _foreign_turn(state, params, wn, dt, c):
     """The phone turning in the pocket, seen at once: the thigh turns only about f (its
     pitch) and the vertical (its yaw), so a turn about n = f × (vertical ⊥ f), outside
     that span, is the phone's own. Its rate (from successive attitudes) integrated with a
     leak of FOREIGN_TAU_S beyond ``turned_angle`` is a turn: the thigh's own abduction
-    swings back and forth and integrates to a few degrees.
+    swings back and forth and integrates to a few degrees. Integrated while moving
+    (``wn`` above ``moving_rate``).
     The recent swing then starts afresh TURN_HOLD_S after it began (a turn of the phone is
     over by then, and the old axes see the thigh's own swing as foreign too), and
     :func:`_check_turned` decides on it with the anchors from before."""
     s = state.scalars
     last = state.last_attitude
-    if dt > 0 and s[FLEX_KNOWN] > 0:
-        d = last.T @ c
-        w = np.array([d[2, 1] - d[1, 2], d[0, 2] - d[2, 0], d[1, 0] - d[0, 1]]) / (2.0 * dt)
-        _, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
+    if dt > 0 and s[FLEX_KNOWN] > 0 and wn > params.moving_rate:
+        # ω from the antisymmetric part of C_{k−1}ᵀ·C_k, without temporaries
+        w0 = w1 = w2 = 0.0
+        for i in range(3):
+            w0 += last[i, 1] * c[i, 2] - last[i, 2] * c[i, 1]
+            w1 += last[i, 2] * c[i, 0] - last[i, 0] * c[i, 2]
+            w2 += last[i, 0] * c[i, 1] - last[i, 1] * c[i, 0]
+        f = state.flex_raw * state.flex_sign[0]
+        f = _unit(f - (f @ state.up) * state.up)
         g = c[2, :]
-        normal = _unit(np.cross(flex, g - (g @ flex) * flex))
-        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + (w @ normal) * dt
+        normal = _unit(np.cross(f, g - (g @ f) * f))
+        rate = (w0 * normal[0] + w1 * normal[1] + w2 * normal[2]) / (2.0 * dt)
+        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + rate * dt
         if s[TURN_SEEN] == 0.0 and abs(s[FOREIGN]) > params.turned_angle:
             _seen_turn(state, s[LAST_T])
     if s[TURN_SEEN] > 0 and s[LAST_T] - s[TURN_T] < TURN_HOLD_S:
