@@ -7,41 +7,16 @@ import time
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader, write_batches
-from pdr_core.batch import MessageBatch
+from pdr_core.bag import BagReader
 from pdr_core.msgtypes import IMU
-from wstest import log_text
+from wstest import imu_bag, log_text, play
 
 pytestmark = pytest.mark.ros
-
-
-def imu_bag(path, n, rate_hz=200.0, seed=0):
-    rng = np.random.default_rng(seed)
-    stamps = 1_700_000_000_000_000_000 + np.round(np.arange(n) * 1e9 / rate_hz).astype(np.int64)
-    cov = np.zeros((n, 9))
-    cov[:, 0] = -1.0
-    batch = MessageBatch(IMU, stamps, "imu_link", {
-        "orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)),
-        "orientation_covariance": cov,
-        "angular_velocity": rng.normal(size=(n, 3)),
-        "angular_velocity_covariance": rng.normal(size=(n, 9)),
-        "linear_acceleration": rng.normal(size=(n, 3)) * 20,
-        "linear_acceleration_covariance": rng.normal(size=(n, 9)),
-    })
-    write_batches(path, {"/imu/data": batch})
-    return batch
 
 
 def record(procs, out, topics="[imu/data]"):
     return procs.start("bag_record", "--ros-args", "-p", f"out:={out}", "-p", f"topics:={topics}",
                        name="record")
-
-
-def play(procs, bag, *params):
-    args = ["bag_play", "--ros-args", "-p", f"bag:={bag}", "-p", "wait_for_subscribers:=1"]
-    for p in params:
-        args += ["-p", p]
-    return procs.run(*args)
 
 
 def test_recorded_bag_equals_played_bag(procs, tmp_path):
@@ -76,19 +51,24 @@ def test_rate_factor_clock_and_sigterm(procs, tmp_path):
     np.testing.assert_array_equal(clocks, batch.stamp_ns)
 
 
-def test_corrupt_tail_is_played_up_to_the_damage(procs, tmp_path):
+def test_a_bag_cut_short_is_played_up_to_the_damage_or_refused_when_strict(procs, tmp_path):
+    """Issue 19: the readable part is played, with a warning naming the file and how much;
+    ``strict:=true`` refuses the bag."""
     bag, out = tmp_path / "in", tmp_path / "out"
     batch = imu_bag(bag, 12000)
     mcap = bag / "in.mcap"
     data = mcap.read_bytes()
     mcap.write_bytes(data[: int(len(data) * 0.7)])
+    refused = play(procs, bag, "rate:=0.0", "strict:=true")
+    assert refused.returncode == 2 and str(mcap) in refused.stderr
+    assert "refused (--strict" in refused.stderr
     recorder = record(procs, out)
     played = play(procs, bag, "rate:=0.0")
-    assert played.returncode == 1
-    line = [s for s in played.stderr.splitlines() if "then stopped" in s]
-    assert len(line) == 1 and str(mcap) in line[0] and "corrupt MCAP after" in line[0]
-    published = int(line[0].split("published ")[1].split()[0])
-    assert published > 12000 * 0.4
+    assert played.returncode == 0, played.stderr
+    line = [s for s in played.stderr.splitlines() if "cut short or unindexed" in s]
+    assert len(line) == 1 and str(mcap) in line[0]
+    published = int(played.stderr.split("published ")[1].split()[0])
+    assert 12000 * 0.4 < published < 12000 * 0.7
     assert procs.stop(recorder) == 0
     np.testing.assert_array_equal(BagReader(out).read("/imu/data").stamp_ns,
                                   batch.stamp_ns[:published])

@@ -126,8 +126,11 @@ def test_bag_errors_are_one_line_naming_the_file(procs, tmp_path, case):
     args = ["--topic", "/nope"] if case == "unknown_topic" else []
     result = procs.run("pdr-sim", "allan", str(bag), *args)
     assert result.returncode == 2
-    [line] = result.stderr.strip().splitlines()
+    *warned, line = result.stderr.strip().splitlines()
     expected = {"missing": f"{bag}: no such bag",
-                "corrupt": f"{bag / 'bag.mcap'}: corrupt MCAP after 0 messages",
+                "corrupt": f"{bag}: 0 samples are too few",
                 "unknown_topic": f"{bag}: no topic /nope (the bag has: "}[case]
     assert line.startswith(f"pdr-sim: error: {expected}")
+    assert warned == ([f"pdr-sim: warning: {bag / 'bag.mcap'}: cut short or unindexed: "
+                       "readable to byte 43 of 5000, 0 messages: those are used, the rest is "
+                       "lost"] if case == "corrupt" else [])

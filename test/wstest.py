@@ -7,6 +7,12 @@ import subprocess
 import time
 from pathlib import Path
 
+import numpy as np
+
+from pdr_core.bag import write_batches
+from pdr_core.batch import MessageBatch
+from pdr_core.msgtypes import IMU
+
 ROOT = Path(__file__).resolve().parents[1]
 WS = ROOT / "ws"
 # The real recordings (../shared/data beside the repository; PDR_SHARED_DATA overrides).
@@ -73,3 +79,30 @@ def wait_for_log(proc: subprocess.Popen, *texts: str, timeout: float = 60.0) -> 
 
 def log_text(proc: subprocess.Popen) -> str:
     return Path(proc.log_path).read_text()
+
+
+def imu_bag(path, n, rate_hz=200.0, seed=0):
+    """A bag of ``n`` random Imu messages at ``rate_hz`` (bag_play and bag_record tests);
+    returns the batch."""
+    rng = np.random.default_rng(seed)
+    stamps = 1_700_000_000_000_000_000 + np.round(np.arange(n) * 1e9 / rate_hz).astype(np.int64)
+    cov = np.zeros((n, 9))
+    cov[:, 0] = -1.0
+    batch = MessageBatch(IMU, stamps, "imu_link", {
+        "orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)),
+        "orientation_covariance": cov,
+        "angular_velocity": rng.normal(size=(n, 3)),
+        "angular_velocity_covariance": rng.normal(size=(n, 9)),
+        "linear_acceleration": rng.normal(size=(n, 3)) * 20,
+        "linear_acceleration_covariance": rng.normal(size=(n, 9)),
+    })
+    write_batches(path, {"/imu/data": batch})
+    return batch
+
+
+def play(procs, bag, *params):
+    """Run bag_play on ``bag`` with ``name:=value`` parameters, waiting for a subscriber."""
+    args = ["bag_play", "--ros-args", "-p", f"bag:={bag}", "-p", "wait_for_subscribers:=1"]
+    for p in params:
+        args += ["-p", p]
+    return procs.run(*args)

@@ -2,16 +2,19 @@
 
 A bag is a rosbag2 directory (``metadata.yaml`` + ``*.mcap``), as ``ros2 bag`` writes it;
 a bare ``.mcap`` file is read too. Intact bags are read in log-time order by rosbags'
-indexed reader; when that fails before the first message (the summary at the end of the
-file is missing: a recording cut short, a damaged tail), the ``mcap`` library's
-streaming reader yields every message before the damage and then raises
-:class:`InputError` naming the file. Writing uses
+indexed reader. A file without its summary (a recording cut short, a copy interrupted, a
+damaged tail) or a directory without ``metadata.yaml`` (a recorder killed before it wrote
+one) is *recovered*: the ``mcap`` library's streaming reader yields every message up to
+the last complete chunk and an :class:`InputWarning` says how many and where it stopped.
+With ``strict=True`` (the CLIs' ``--strict``) such a bag is refused with an
+:class:`InputError` naming the file and that offset. Writing uses
 ``rosbags`` (valid ``metadata.yaml``, ROS 2 message definitions in the MCAP schemas) into
 a hidden temporary directory that is renamed into place only when the bag is complete,
 so a failure never leaves half-written output.
 
 Public: :class:`RawMessage`, :class:`BagReader`, :class:`BagWriter`,
-:func:`merged_messages`, :func:`write_batches`.
+:func:`merged_messages`, :func:`write_batches`, :func:`readable_extent`,
+:func:`repair`, :func:`add_strict_option`.
 """
 from __future__ import annotations
 
@@ -20,6 +23,7 @@ import heapq
 import shutil
 import struct
 import tempfile
+import warnings
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,13 +33,15 @@ import numpy as np
 import yaml
 from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, SeekingReader
+from mcap.records import Channel, Schema
+from mcap.stream_reader import StreamReader
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.rosbag2.errors import ReaderError
 
 from pdr_core import cdr, mcap_bulk
 from pdr_core.batch import LazyBatch, MessageBatch
-from pdr_core.errors import InputError
+from pdr_core.errors import InputError, InputWarning
 from pdr_core.msgtypes import typestore
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
@@ -82,32 +88,97 @@ def _mcap_topics(file: Path) -> dict[str, str]:
     return {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()}
 
 
+def _indexed(file: Path) -> bool:
+    """True when ``file`` has its summary and footer (closed cleanly)."""
+    try:
+        _mcap_topics(file)
+    except _READ_ERRORS:
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class Extent:
+    """How much of a damaged MCAP file is readable: the byte where the last complete
+    record ends, the file's size, the channels seen (topic -> type) and the messages."""
+
+    good_bytes: int
+    size: int
+    topics: dict[str, str]
+    messages: int
+
+    def describe(self) -> str:
+        return (f"cut short or unindexed: readable to byte {self.good_bytes} of {self.size}, "
+                f"{self.messages} messages")
+
+
+def readable_extent(file: Path) -> Extent:
+    """Walk ``file``'s records (inside chunks too) to the first that cannot be read."""
+    topics: dict[str, str] = {}
+    schemas: dict[int, str] = {}
+    messages = good = 0
+    with file.open("rb") as stream:
+        records = StreamReader(stream, validate_crcs=True).records
+        try:
+            for record in records:
+                if isinstance(record, Schema):
+                    schemas[record.id] = record.name
+                elif isinstance(record, Channel):
+                    topics[record.topic] = schemas.get(record.schema_id, "")
+                elif type(record).__name__ == "Message":
+                    messages += 1
+                good = stream.tell()
+        except _READ_ERRORS:
+            pass
+    return Extent(good, file.stat().st_size, topics, messages)
+
+
 class BagReader:
     """Read-only view of a bag directory or a bare ``.mcap`` file.
 
-    Raises :class:`InputError` (naming the path) for a missing, unreadable or corrupt bag
-    and for unknown topics.
+    Raises :class:`InputError` (naming the path) for a missing or unreadable bag and for
+    unknown topics. A bag cut short is recovered (module docstring), or refused with
+    ``strict``.
     """
 
-    def __init__(self, path: str | Path) -> None:
+    def __init__(self, path: str | Path, *, strict: bool = False) -> None:
         self.path = Path(path)
+        self.strict = strict
         if not self.path.exists():
             raise InputError(self.path, "no such bag")
-        if self.path.is_dir():
-            self.files, self.topics = _bag_files(self.path)
-        else:
-            self.files = [self.path]
-            self.topics = {}
+        self.files, self.topics = self._files()
         for file in self.files:
             with file.open("rb") as stream:
                 if stream.read(len(MCAP_MAGIC)) != MCAP_MAGIC:
                     raise InputError(file, "not an MCAP file (bad magic bytes)")
-        if not self.topics:
-            try:
-                self.topics = _mcap_topics(self.path)
-            except _READ_ERRORS as exc:
-                raise InputError(self.path,
-                                 f"corrupt MCAP, cannot read its summary ({exc})") from exc
+        listed = bool(self.topics)          # from metadata.yaml
+        self.damaged = {file: readable_extent(file) for file in self.files
+                        if not _indexed(file)}
+        for file in self.files:
+            if file not in self.damaged:
+                self.topics |= {} if listed else _mcap_topics(file)
+                continue
+            extent = self.damaged[file]
+            if strict:
+                raise InputError(file, f"{extent.describe()}; refused (--strict; "
+                                       "`pdr-sim repair` rebuilds its index)")
+            warnings.warn(InputWarning(file, f"{extent.describe()}: those are used, the rest "
+                                             "is lost"), stacklevel=2)
+            self.topics |= {} if listed else extent.topics
+
+    def _files(self) -> tuple[list[Path], dict[str, str]]:
+        """The MCAP files and the topics of metadata.yaml; a directory without it (a
+        recorder killed before writing it) is recovered from its MCAP files."""
+        if not self.path.is_dir():
+            return [self.path], {}
+        if (self.path / "metadata.yaml").is_file() or not list(self.path.glob("*.mcap")):
+            return _bag_files(self.path)
+        if self.strict:
+            raise InputError(self.path, "no metadata.yaml; refused (--strict; `pdr-sim "
+                                        "repair` rebuilds it)")
+        warnings.warn(InputWarning(self.path, "no metadata.yaml: reading its MCAP files "
+                                              "(`pdr-sim repair` rebuilds it)"), stacklevel=3)
+        return sorted(self.path.glob("*.mcap")), {}
 
     def custom_data(self, key: str) -> Any:
         """The YAML document stored under ``custom_data[key]`` of metadata.yaml (e.g.
@@ -134,7 +205,7 @@ class BagReader:
         """
         wanted = list(self.topics) if topics is None else list(topics)
         self.require_topics(wanted)
-        if self.path.is_dir():
+        if self.path.is_dir() and not self.damaged and (self.path / "metadata.yaml").is_file():
             yielded = 0
             try:
                 for message in self._indexed_messages(wanted):
@@ -158,26 +229,26 @@ class BagReader:
                 yield RawMessage(connection.topic, connection.msgtype, timestamp, data)
 
     def _file_messages(self, file: Path, topics: list[str]) -> Iterator[RawMessage]:
-        count = 0
+        """``file``'s messages on ``topics``: of a file cut short, those before the damage
+        (the reader warned); damage inside an intact file is an InputError."""
+        count = good = 0
         with file.open("rb") as stream:
             try:
-                try:
-                    reader: Any = SeekingReader(stream, validate_crcs=True)
-                    reader.get_summary()
-                    messages = reader.iter_messages(topics=topics, log_time_order=True)
-                    first = next(messages, None)
-                except _READ_ERRORS:
-                    stream.seek(0)
-                    reader = NonSeekingReader(stream, validate_crcs=True)
+                if file in self.damaged:
+                    reader: Any = NonSeekingReader(stream, validate_crcs=True)
                     messages = reader.iter_messages(topics=topics, log_time_order=False)
-                    first = next(messages, None)
-                if first is None:
-                    return
-                for schema, channel, message in _chain(first, messages):
+                else:
+                    reader = SeekingReader(stream, validate_crcs=True)
+                    messages = reader.iter_messages(topics=topics, log_time_order=True)
+                for schema, channel, message in messages:
                     yield RawMessage(channel.topic, schema.name, message.log_time, message.data)
                     count += 1
+                    good = stream.tell()
             except _READ_ERRORS as exc:
-                raise InputError(file, f"corrupt MCAP after {count} messages ({exc!r})") from exc
+                if file in self.damaged:        # its readable part, as warned
+                    return
+                raise InputError(file, f"corrupt MCAP at byte {good} after {count} messages "
+                                       f"({exc!r})") from exc
 
     def read(self, topic: str) -> MessageBatch:
         """All messages of a fixed-layout topic (Imu, PoseStamped, ...) as one batch."""
@@ -189,7 +260,7 @@ class BagReader:
         a topic has one size, else message by message in one pass over the files."""
         wanted = list(topics)
         self.require_topics(wanted)
-        if self.path.is_dir():
+        if self.path.is_dir() and not self.damaged:
             try:
                 return self._indexed_batches(wanted)
             except _READ_ERRORS:
@@ -255,11 +326,6 @@ class BagReader:
     def _msgtype(self, topic: str) -> str:
         self.require_topics([topic])
         return self.topics[topic]
-
-
-def _chain(first: Any, rest: Iterator[Any]) -> Iterator[Any]:
-    yield first
-    yield from rest
 
 
 class BagWriter:
@@ -380,6 +446,35 @@ def _generic_messages(topic: str, msgtype: str, items: list[tuple[int, Any]]
                       ) -> Iterator[RawMessage]:
     for t, msg in items:
         yield RawMessage(topic, msgtype, t, cdr.encode_generic(msg))
+
+
+def repair(source: str | Path, out: str | Path) -> dict[str, int]:
+    """``ros2 bag reindex``'s equivalent: every readable message of ``source`` (a bag cut
+    short, without its index or its metadata.yaml) written to a new bag ``out`` with its
+    summary, index and metadata.yaml (``source`` is never touched); its custom_data is
+    kept. Returns the message count per topic."""
+    reader = BagReader(source)
+    meta = Path(source) / "metadata.yaml"
+    custom = {}
+    if meta.is_file():
+        info = yaml.safe_load(meta.read_text())["rosbag2_bagfile_information"]
+        custom = info.get("custom_data") or {}
+    counts = dict.fromkeys(reader.topics, 0)
+    with BagWriter(out, custom_data=custom) as writer:
+        for topic, msgtype in reader.topics.items():
+            writer.add_topic(topic, msgtype)
+        for message in reader.raw_messages():
+            writer.write_raw(message.topic, message.msgtype, message.log_time_ns, message.data)
+            counts[message.topic] += 1
+    return counts
+
+
+def add_strict_option(parser: Any) -> None:
+    """``--strict`` of the CLIs that read a bag: refuse one cut short instead of using the
+    part before the damage."""
+    parser.add_argument("--strict", action="store_true",
+                        help="refuse a bag cut short or without its index instead of using "
+                             "its readable part (with a warning)")
 
 
 def write_batches(path: str | Path, batches: dict[str, MessageBatch],

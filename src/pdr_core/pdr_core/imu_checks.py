@@ -1,6 +1,7 @@
 """Checks every navigator runs on IMU data before using it.
 
-- :func:`clean_samples`: drop (and count) samples with NaN/Inf or stamps that do not
+- :func:`clean_samples`: drop (and count) samples with NaN/Inf, beyond any IMU's range, or
+  stamps that do not
   increase.
 - :func:`check_units`: refuse an accelerometer in g or a gyroscope in deg/s.
 - :func:`check_mag_units`: refuse a magnetometer in µT or gauss (ROS wants tesla).
@@ -31,14 +32,18 @@ def plausible(accel: np.ndarray, gyro: np.ndarray) -> np.ndarray:
 
 
 def clean_samples(imu: MessageBatch) -> tuple[np.ndarray, dict[str, int]]:
-    """Indices of the usable samples and the counts of the dropped ones."""
+    """Indices of the usable samples and the counts of the dropped ones: NaN/Inf, beyond
+    any IMU's range (:func:`plausible`), then stamps not later than every usable one
+    before, in that order, as the live nodes drop them one sample at a time."""
     accel, gyro = imu["linear_acceleration"], imu["angular_velocity"]
     finite = np.isfinite(accel).all(axis=1) & np.isfinite(gyro).all(axis=1)
-    stamps = np.where(finite, imu.stamp_ns, np.iinfo(np.int64).min)
+    sane = finite & plausible(accel, gyro)
+    stamps = np.where(sane, imu.stamp_ns, np.iinfo(np.int64).min)
     later = np.concatenate(([True], stamps[1:] > np.maximum.accumulate(stamps)[:-1]))
-    keep = finite & later
+    keep = sane & later
     return np.flatnonzero(keep), {"non_finite": int((~finite).sum()),
-                                  "stamp_not_increasing": int((finite & ~later).sum())}
+                                  "implausible": int((finite & ~sane).sum()),
+                                  "stamp_not_increasing": int((sane & ~later).sum())}
 
 
 def check_units(accel: np.ndarray, gyro: np.ndarray) -> None:

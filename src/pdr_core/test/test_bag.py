@@ -10,9 +10,9 @@ from mcap.reader import SeekingReader, make_reader
 from rosbags.highlevel import AnyReader
 
 from pdr_core import cdr, mcap_bulk
-from pdr_core.bag import BagReader, BagWriter, merged_messages, write_batches
+from pdr_core.bag import BagReader, BagWriter, merged_messages, readable_extent, write_batches
 from pdr_core.batch import LazyBatch
-from pdr_core.errors import InputError
+from pdr_core.errors import InputError, InputWarning
 from pdr_core.msgtypes import PATH, typestore
 from pdr_core.nav_path import path_message, path_poses
 
@@ -97,22 +97,40 @@ def test_unknown_topic_names_the_topics_present(tmp_path, imu):
         BagReader(tmp_path / "bag").read("/imu/mag")
 
 
-def test_truncated_bag_yields_everything_before_the_damage(tmp_path, make_imu):
+def test_truncated_bag_is_recovered_with_a_warning_or_refused_when_strict(tmp_path, make_imu):
+    """Issue 19: a bag cut short yields every message of its complete chunks and warns
+    where it stopped; ``strict`` refuses it, naming the file and the offset."""
     big = make_imu(12000)
     write_batches(tmp_path / "bag", {"/imu/data": big})
     mcap = tmp_path / "bag" / "bag.mcap"
     data = mcap.read_bytes()
     mcap.write_bytes(data[: int(len(data) * 0.7)])
-    reader = BagReader(tmp_path / "bag")
-    got = []
-    with pytest.raises(InputError, match="corrupt MCAP after") as err:
-        got.extend(reader.raw_messages(["/imu/data"]))
-    assert str(mcap) in str(err.value)
+    with pytest.warns(InputWarning, match="messages: those are used, the rest is lost") as caught:
+        reader = BagReader(tmp_path / "bag")
+    assert str(mcap) in str(caught[0].message)
+    got = list(reader.raw_messages(["/imu/data"]))
     # Damage costs at most the chunk it falls in (rosbags writes 1 MiB chunks).
     per_chunk = 2**20 // len(got[0].data) + 1
     assert 12000 * 0.7 - per_chunk <= len(got) < 12000 * 0.7
     stamps = [m.log_time_ns for m in got]
     np.testing.assert_array_equal(stamps, big.stamp_ns[: len(got)])
+    np.testing.assert_array_equal(reader.read("/imu/data").stamp_ns, stamps)
+    extent = readable_extent(mcap)
+    with pytest.raises(InputError, match=rf"readable to byte {extent.good_bytes} of "
+                                         rf"{len(data) * 7 // 10}") as err:
+        BagReader(tmp_path / "bag", strict=True)
+    assert str(mcap) in str(err.value) and "--strict" in str(err.value)
+    assert extent.messages == len(got)
+
+
+def test_a_directory_without_metadata_is_read_from_its_mcap_files(tmp_path, imu):
+    write_batches(tmp_path / "bag", {"/imu/data": imu})
+    (tmp_path / "bag" / "metadata.yaml").unlink()
+    with pytest.warns(InputWarning, match="no metadata.yaml"):
+        reader = BagReader(tmp_path / "bag")
+    np.testing.assert_array_equal(reader.read("/imu/data").stamp_ns, imu.stamp_ns)
+    with pytest.raises(InputError, match=r"no metadata\.yaml; refused"):
+        BagReader(tmp_path / "bag", strict=True)
 
 
 def test_failed_write_leaves_no_output(tmp_path, imu):

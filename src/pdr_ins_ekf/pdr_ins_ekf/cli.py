@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, BagWriter
+from pdr_core.bag import BagReader, BagWriter, add_strict_option
 from pdr_core.errors import dispatch
 from pdr_core.metrics import error_report, truth_at, within_step_rmse
 from pdr_core.msgtypes import PATH
@@ -65,6 +65,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--plot", action="store_true",
                    help="also write OUT/path.png (and OUT/smoothing.png when smoothing)")
     p.add_argument("--overwrite", action="store_true")
+    add_strict_option(p)
     p.set_defaults(func=_run_run)
 
 
@@ -73,7 +74,7 @@ def _run_run(args: argparse.Namespace) -> int:
     if args.smoother:
         config = dataclasses.replace(
             config, smoother=dataclasses.replace(config.smoother, mode=args.smoother))
-    reader = BagReader(args.bag)
+    reader = BagReader(args.bag, strict=args.strict)
     has_truth = args.truth_topic in reader.topics
     wanted = [args.imu_topic] + ([args.truth_topic] if has_truth else [])
     batches = reader.read_batches(wanted)

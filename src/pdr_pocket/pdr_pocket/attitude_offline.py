@@ -21,7 +21,7 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_mag_units, check_units, clean_samples, plausible
+from pdr_core.imu_checks import check_mag_units, check_units, clean_samples
 from pdr_core.msgtypes import IMU, VECTOR3_STAMPED
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_pocket.magnetometer import MagCalibration
@@ -75,9 +75,6 @@ def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
                   calibration: MagCalibration | None = None) -> PocketInputs:
     """The filter's inputs from the two topics (see the module docstring)."""
     keep, counts = clean_samples(imu)
-    sane = plausible(imu["linear_acceleration"][keep], imu["angular_velocity"][keep])
-    counts["implausible"] = int((~sane).sum())
-    keep = keep[sane]
     if len(keep) < 2:
         raise InputError(topics.IMU_DATA, f"{len(keep)} usable samples are too few")
     stamp_ns = imu.stamp_ns[keep]
@@ -99,12 +96,13 @@ TRUTH_TOPICS = (topics.GROUND_TRUTH_POSE, topics.GROUND_TRUTH_STEP,
                 topics.GROUND_TRUTH_LANDMARKS)
 
 
-def read_pocket_bag(bag, calibration_file=None, require=()):
+def read_pocket_bag(bag, calibration_file=None, require=(), *, strict=False):
     """A bag's reader, its batches (imu/data, imu/mag and the truth topics it has) and
-    the filter's inputs; ``require``: topics it must have besides imu/data."""
+    the filter's inputs; ``require``: topics it must have besides imu/data; ``strict``:
+    refuse a bag cut short (pdr_core.bag)."""
     from pdr_core.bag import BagReader
 
-    reader = BagReader(bag)
+    reader = BagReader(bag, strict=strict)
     reader.require_topics([topics.IMU_DATA, *require])
     wanted = [t for t in (topics.IMU_DATA, topics.IMU_MAG, *TRUTH_TOPICS)
               if t in reader.topics]

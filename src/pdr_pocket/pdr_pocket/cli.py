@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, BagWriter
+from pdr_core.bag import BagReader, BagWriter, add_strict_option
 from pdr_core.csv_import import MAG_UNITS_T, read_columns
 from pdr_core.errors import dispatch
 from pdr_core.magnetic_field import homogeneous
@@ -48,12 +48,13 @@ from pdr_pocket.orientation import OrientationFilter
 
 
 def _add_navigator_options(p: argparse.ArgumentParser) -> None:
-    """--out, --config and --mag-calibration of run and attitude."""
+    """--out, --config, --mag-calibration and --strict of run and attitude."""
     p.add_argument("--out", type=Path, required=True)
     p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
                                                "default: the installed config/pocket_pdr.yaml")
     p.add_argument("--mag-calibration", type=Path,
                    help="YAML of pdr-pocket calibrate-mag (overrides the configuration's)")
+    add_strict_option(p)
 
 
 def _add_attitude(sub: argparse._SubParsersAction) -> None:
@@ -80,7 +81,7 @@ def _run_attitude(args: argparse.Namespace) -> int:
     if args.allan:
         orientation = orientation_from_allan(args.allan, orientation)
     reader, batches, inputs = read_pocket_bag(
-        args.bag, args.mag_calibration or config.magnetometer_calibration)
+        args.bag, args.mag_calibration or config.magnetometer_calibration, strict=args.strict)
     filt = OrientationFilter(orientation)
     estimate = filt.run(inputs.t, inputs.gyro, inputs.accel, inputs.mag)
     truth = truth_orientation_at(batches[topics.GROUND_TRUTH_POSE], inputs.stamp_ns) \
@@ -131,7 +132,8 @@ def _run_navigator(args: argparse.Namespace) -> int:
 
     report = run_bag(args.bag, args.out, load_pocket_config(args.config),
                      args.mag_calibration, plot=args.plot, overwrite=args.overwrite,
-                     drift=args.drift, drift_config=load_drift_config(args.drift_config))
+                     drift=args.drift, drift_config=load_drift_config(args.drift_config),
+                     strict=args.strict)
     print(json.dumps(report, indent=2))
     return 0
 

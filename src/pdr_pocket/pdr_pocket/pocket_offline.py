@@ -228,7 +228,7 @@ def _drift_against_truth(log, reader, truth, inputs, corrected, truth_positions,
 
 def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *,
             plot: bool = False, overwrite: bool = False, drift: str = "none",
-            drift_config=None) -> dict:
+            drift_config=None, strict: bool = False) -> dict:
     """``pdr-pocket run``: navigate ``bag`` and write ``out`` (module docstring); with
     ``drift`` online or offline, with the landmark drift corrections
     (pdr_pocket.drift_loop)."""
@@ -241,7 +241,7 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     from pdr_pocket.navigator import PocketNavigator
 
     reader, batches, inputs = read_pocket_bag(bag, mag_calibration
-                                              or config.magnetometer_calibration)
+                                              or config.magnetometer_calibration, strict=strict)
     drift_log = None
     if drift == "none":
         navigator = PocketNavigator(config)

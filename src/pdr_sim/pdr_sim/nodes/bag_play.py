@@ -6,18 +6,25 @@ Parameters (``--ros-args -p name:=value`` or ``--params-file``):
     rate, clock, wait_for_subscribers, wait_timeout_s, ack_every: see
         :mod:`pdr_sim.nodes.playback`.
 
+    strict (bool, false): refuse a bag cut short or without its index (exit status 2)
+        instead of playing its readable part with a warning.
+
 Bag topics are absolute (``/imu/data``) and are published relative to the node's
-namespace (``imu/data``). A damaged bag is played up to the damage; then the node reports
-it and exits with status 1. Bad parameters or an unreadable bag exit with status 2.
+namespace (``imu/data``). A bag cut short (pdr_core.bag) is played up to its last
+complete chunk, with a warning saying how much; damage inside an intact bag stops the
+playback there, reported, with exit status 1. Bad parameters or an unreadable bag exit
+with status 2.
 """
 from __future__ import annotations
+
+import warnings
 
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from pdr_core import topics as bag_topics
 from pdr_core.bag import BagReader
-from pdr_core.errors import InputError
+from pdr_core.errors import InputError, InputWarning
 from pdr_sim.nodes.playback import Playback, run_player
 
 
@@ -29,14 +36,23 @@ class BagPlayer(Node):
         self.bag_path = self.declare_parameter("bag", "").value
         self.topic_filter = (self.declare_parameter("topics", Parameter.Type.STRING_ARRAY).value
                              or [])
+        self.strict = bool(self.declare_parameter("strict", False).value)
         self.playback = Playback(self)
 
     def run(self) -> int:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", InputWarning)
+            status = self._play()
+        for warning in caught:
+            self.get_logger().warning(str(warning.message))
+        return status
+
+    def _play(self) -> int:
         if not self.bag_path:
             self.get_logger().error("parameter 'bag' is required (-p bag:=PATH)")
             return 2
         try:
-            reader = BagReader(self.bag_path)
+            reader = BagReader(self.bag_path, strict=self.strict)
             wanted = [bag_topics.bag_name(t) for t in self.topic_filter] or sorted(reader.topics)
             reader.require_topics(wanted)
         except InputError as exc:

@@ -5,6 +5,8 @@ Parameters:
     topics (str[], required): graph topics to record, relative to the node's namespace
         (``imu/data``); stored in the bag as absolute names (``/imu/data``).
     max_messages (int, 0): stop after this many messages in all (0: until stopped).
+    flush_interval_s (float, 1.0): the open chunk is written and synced at least this
+        often (pdr_core.recording).
 
 Each topic is subscribed once a publisher of it appears, with its type taken from the
 graph and its reliability and durability matching the publishers'. Messages are stored
@@ -12,8 +14,12 @@ as received (raw CDR). The log time is the message's ``header.stamp`` when it ha
 the bag replays in data time; messages without a header (``/clock``) are logged at
 reception.
 
-SIGINT or SIGTERM stops recording: messages already received are drained from the
-subscriptions, the bag is closed and only then appears at ``out`` (atomically).
+The bag is written at ``out`` as it goes (:class:`pdr_core.recording.RecordingBag`): a
+SIGKILL or a power cut loses at most the last ``flush_interval_s``, and what is left is
+read with a warning or repaired by ``pdr-sim repair``. SIGINT or SIGTERM stops recording:
+messages already received are drained from the subscriptions and the bag is closed with
+its summary and index. A write that fails (disk full, the directory gone) is logged, the
+bag closed as far as it can be, and the node exits with status 1.
 """
 from __future__ import annotations
 
@@ -29,9 +35,9 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.signals import SignalHandlerOptions
 
 from pdr_core import topics as bag_topics
-from pdr_core.bag import BagWriter
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import typestore
+from pdr_core.recording import RecordingBag
 from pdr_sim.nodes.ros_types import message_class
 
 _NS = 1_000_000_000
@@ -79,14 +85,17 @@ class BagRecorder(Node):
         self.wanted = list(self.declare_parameter("topics", Parameter.Type.STRING_ARRAY).value
                            or [])
         self.max_messages = int(self.declare_parameter("max_messages", 0).value)
+        flush_interval_s = float(self.declare_parameter("flush_interval_s", 1.0).value)
         if not out:
             raise InputError("out", "parameter is required (-p out:=DIR)")
         if not self.wanted:
             raise InputError("topics", "parameter is required (-p topics:=[imu/data])")
-        self.writer = BagWriter(out).open()
+        self.writer = RecordingBag(out, flush_interval_s)
         self.count = 0
+        self.failure: OSError | None = None
         self.subscribed: dict[str, str] = {}
         self.discovery = self.create_timer(0.05, self._discover)
+        self.flusher = self.create_timer(flush_interval_s / 4, self._flush)
 
     def _discover(self) -> None:
         graph = dict(self.get_topic_names_and_types())
@@ -113,15 +122,33 @@ class BagRecorder(Node):
         stamped = has_header(msgtype)
 
         def record(data: bytes) -> None:
+            if self.failure is not None:
+                return
             log_time = header_stamp_ns(data) if stamped else self.get_clock().now().nanoseconds
-            self.writer.write_raw(bag_topic, msgtype, log_time, data)
+            try:
+                self.writer.write_raw(bag_topic, msgtype, log_time, data)
+            except OSError as exc:
+                self._failed(exc)
+                return
             self.count += 1
 
         return record
 
+    def _flush(self) -> None:
+        if self.failure is None:
+            try:
+                self.writer.flush_if_due()
+            except OSError as exc:
+                self._failed(exc)
+
+    def _failed(self, exc: OSError) -> None:
+        self.failure = exc
+        self.get_logger().error(f"cannot write {self.writer.path}: {exc}; stopping after "
+                                f"{self.count} messages")
+
     @property
     def done(self) -> bool:
-        return 0 < self.max_messages <= self.count
+        return self.failure is not None or 0 < self.max_messages <= self.count
 
     def drain(self, executor: SingleThreadedExecutor) -> None:
         """Take the messages already delivered to the subscriptions."""
@@ -152,13 +179,27 @@ def main(args: list[str] | None = None) -> None:
     try:
         while not stop[0] and not node.done:
             executor.spin_once(timeout_sec=0.1)
-        node.drain(executor)
+        if node.failure is None:
+            node.drain(executor)
     finally:
-        node.writer.close()
-        node.get_logger().info(f"recorded {node.count} messages on {len(node.subscribed)} "
-                               f"topics to {node.writer.path}")
+        _close(node)
         node.destroy_node()
         rclpy.try_shutdown()
+    if node.failure is not None:
+        sys.exit(1)
+
+
+def _close(node: BagRecorder) -> None:
+    """Close the bag (as far as it can be after a failed write) and say what it holds."""
+    try:
+        node.writer.close()
+    except OSError as exc:
+        node.failure = node.failure or exc
+        node.get_logger().error(f"cannot close {node.writer.path}: {exc}; what was flushed "
+                                "is readable, and `pdr-sim repair` rebuilds its index")
+        return
+    node.get_logger().info(f"recorded {node.count} messages on {len(node.subscribed)} "
+                           f"topics to {node.writer.path} ({node.writer.bytes_written} bytes)")
 
 
 if __name__ == "__main__":
