@@ -8,8 +8,9 @@ first sample near the start of the record, as offline), the filter is aligned on
 same first stationary period, and the filter steps are the offline ones
 (:meth:`ZuptEkf.step`), so the estimates agree with the offline run to rounding.
 
-Input hygiene as offline: non-finite samples and stamps that do not increase are dropped
-and counted; gaps longer than ``max_gap_s`` are counted (the filter propagates over them).
+Input hygiene as offline: samples with NaN/Inf or beyond any IMU's range
+(pdr_core.imu_checks.plausible) and stamps that do not increase are dropped and counted;
+gaps longer than ``max_gap_s`` are counted (the filter propagates over them).
 Data in g or deg/s is refused at alignment (:class:`UnitsError`), after which nothing is
 navigated until :meth:`reset`.
 """
@@ -20,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_units
+from pdr_core.imu_checks import check_units, plausible
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.offline import check_rest
 from pdr_ins_ekf.zupt_ekf import SegmentSmoother, SmoothedSegment, ZuptEkf
@@ -59,7 +60,7 @@ class StreamingNavigator:
 
     config: RunConfig
     counts: dict[str, int] = field(default_factory=lambda: {
-        "non_finite": 0, "stamp_not_increasing": 0, "gaps": 0})
+        "non_finite": 0, "implausible": 0, "stamp_not_increasing": 0, "gaps": 0})
 
     def __post_init__(self) -> None:
         if self.config.smoother.mode == "full":
@@ -97,6 +98,9 @@ class StreamingNavigator:
         accel, gyro = np.asarray(accel, float), np.asarray(gyro, float)
         if not (np.isfinite(accel).all() and np.isfinite(gyro).all()):
             self.counts["non_finite"] += 1
+            return []
+        if not plausible(accel, gyro):
+            self.counts["implausible"] += 1
             return []
         if self.stamps and stamp_ns <= self.stamps[-1]:
             self.counts["stamp_not_increasing"] += 1

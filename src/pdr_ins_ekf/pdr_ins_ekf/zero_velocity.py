@@ -159,7 +159,9 @@ class ShoeDetector(_CentredWindow):
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
         w = self.window
         mean_a = centred_mean(accel, w)
-        unit = mean_a / np.linalg.norm(mean_a, axis=-1, keepdims=True)
+        norm = np.linalg.norm(mean_a, axis=-1, keepdims=True)
+        # a window of zero mean force has no gravity direction: its u·mean(y) is 0 anyway
+        unit = np.divide(mean_a, norm, out=np.zeros_like(mean_a), where=norm > 0)
         # 1/W·Σ‖y − g·u‖² = mean‖y‖² − 2g·u·mean(y) + g², with u fixed over the window
         acc_term = (centred_mean(np.sum(accel**2, axis=-1), w)
                     - 2 * self.gravity_mps2 * np.sum(unit * mean_a, axis=-1)

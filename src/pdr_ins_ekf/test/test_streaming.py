@@ -56,7 +56,8 @@ def test_bad_samples_are_dropped_and_counted(imu):
     bad = imu.take(np.arange(len(imu)))  # a copy
     bad["linear_acceleration"][100] = np.nan
     out = stream(navigator, bad, list(range(500)) + [450, 499] + list(range(500, len(bad))))
-    assert navigator.counts == {"non_finite": 1, "stamp_not_increasing": 2, "gaps": 0}
+    assert navigator.counts == {"non_finite": 1, "implausible": 0, "stamp_not_increasing": 2,
+                                "gaps": 0}
     assert len(out) == len(bad) - 1
 
 
