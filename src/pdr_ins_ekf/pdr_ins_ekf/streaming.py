@@ -45,6 +45,37 @@ class Estimate:
     detector: int
 
 
+class _Rows:
+    """(n, 3) samples appended one at a time and dropped from the front, kept in one
+    array (slices are views; no list of arrays to stack at every decision)."""
+
+    def __init__(self, capacity: int = 1024) -> None:
+        self._data = np.empty((capacity, 3))
+        self._start = self._end = 0
+
+    def __len__(self) -> int:
+        return self._end - self._start
+
+    def append(self, row: np.ndarray) -> None:
+        if self._end == len(self._data):
+            kept = self._data[self._start:self._end]
+            if 2 * len(kept) > len(self._data):
+                self._data = np.empty((2 * len(self._data), 3))
+            self._data[:len(kept)] = kept.copy()
+            self._start, self._end = 0, len(kept)
+        self._data[self._end] = row
+        self._end += 1
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            a, b, _ = index.indices(len(self))
+            return self._data[self._start + a:self._start + max(a, b)]
+        return self._data[self._start + index]
+
+    def __delitem__(self, index: slice) -> None:
+        self._start += index.indices(len(self))[1]
+
+
 @dataclass
 class StreamingNavigator:
     """Push samples in stamp order; get the estimates that became available.
@@ -71,8 +102,8 @@ class StreamingNavigator:
     def reset(self) -> None:
         """Forget everything (the ``~/reset`` service)."""
         self.stamps: list[int] = []      # record indices [offset, offset + len)
-        self.accel: list[np.ndarray] = []
-        self.gyro: list[np.ndarray] = []
+        self.accel = _Rows()
+        self.gyro = _Rows()
         self.stance: list[bool] = []     # record indices [offset, offset + len)
         self.statistic: list[float] = []
         self.offset = 0
@@ -146,8 +177,8 @@ class StreamingNavigator:
         """The stance decision of record sample k, from exactly its context."""
         left, right = self.config.detector.context
         start, stop = max(0, k - left), min(k + right, self.received - 1)
-        a = np.array(self.accel[start - self.offset:stop + 1 - self.offset])
-        w = np.array(self.gyro[start - self.offset:stop + 1 - self.offset])
+        a = self.accel[start - self.offset:stop + 1 - self.offset]
+        w = self.gyro[start - self.offset:stop + 1 - self.offset]
         result = self.config.detector.detect(a, w, 0.0)
         self.stance.append(bool(result.mask[k - start]))
         self.statistic.append(float(result.statistic[k - start]))
@@ -165,7 +196,7 @@ class StreamingNavigator:
             return
         self.units_checked = True
         try:
-            check_units(np.array(self.accel), np.array(self.gyro))
+            check_units(self.accel[:], self.gyro[:])
         except InputError as exc:
             self.failed = UnitsError(exc.source, exc.problem)
 
@@ -178,7 +209,7 @@ class StreamingNavigator:
             if stop == len(mask) and not final:
                 return
             if self._t(stop - 1) - self._t(start) >= self.config.alignment_min_s:
-                a, w = np.array(self.accel[start:stop]), np.array(self.gyro[start:stop])
+                a, w = self.accel[start:stop].copy(), self.gyro[start:stop].copy()
                 try:
                     check_rest(a, w)
                 except InputError as exc:
