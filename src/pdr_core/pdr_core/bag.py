@@ -33,7 +33,7 @@ import numpy as np
 import yaml
 from mcap.exceptions import McapError
 from mcap.reader import NonSeekingReader, SeekingReader
-from mcap.records import Channel, Schema
+from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
@@ -125,7 +125,7 @@ def readable_extent(file: Path) -> Extent:
                     schemas[record.id] = record.name
                 elif isinstance(record, Channel):
                     topics[record.topic] = schemas.get(record.schema_id, "")
-                elif type(record).__name__ == "Message":
+                elif isinstance(record, Message):
                     messages += 1
                 good = stream.tell()
         except _READ_ERRORS:
