@@ -1,8 +1,9 @@
 """The pocket navigator's live adapter against garbage (issue 19's rule, started here for
 pocket_pdr and landmark_drift): NaN, ±Inf, huge and zero values, stamps that jump back,
-repeat or leap ahead, garbage corrections. Nothing raises, nothing published is not
-finite, and what was dropped is counted. Found by it: a window of zero specific force
-divided by zero in the mean gravity update, and a finite rate of 1e151 rad/s did too."""
+repeat or leap ahead, garbage corrections, resets at any time. Nothing raises, nothing
+published is not finite, and what was dropped is counted. Found by it: a window of zero
+specific force divided by zero in the mean gravity update, and a finite rate of 1e151
+rad/s did too."""
 from __future__ import annotations
 
 import numpy as np
@@ -30,8 +31,8 @@ def started() -> StreamingPocket:
 
 
 @FUZZ
-@given(st.lists(st.tuples(st.sampled_from(["imu", "mag", "correction"]), stamp, vector,
-                          vector, st.tuples(value, value, value, value)), max_size=60))
+@given(st.lists(st.tuples(st.sampled_from(["imu", "mag", "correction", "reset"]), stamp,
+                          vector, vector, st.tuples(value, value, value, value)), max_size=60))
 def test_pocket_pdr_adapter_survives_garbage(events):
     live = started()
     for kind, offset, a, b, c in events:
@@ -39,6 +40,9 @@ def test_pocket_pdr_adapter_survives_garbage(events):
             chunks = live.push_imu(BASE + offset, a, b)
         elif kind == "mag":
             chunks = live.push_mag(BASE + offset, np.asarray(a) * 1e-6)
+        elif kind == "reset":              # the ~/reset service
+            live.reset()
+            chunks = []
         else:
             with np.errstate(all="ignore"):
                 ok, message = live.navigator.apply_correction(
