@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 from pdr_pocket.activity import WALKING
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import PocketNavigator
-from pdr_pocket.pocket_offline import match_steps
+from pdr_pocket.pocket_offline import steps_since
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
@@ -36,10 +36,8 @@ def found_again_after(rpy: tuple[float, float, float]) -> float:
         sim.mag["magnetic_field"])
     truth = sim.model.true_steps
     for wait in np.arange(0.0, LONGEST_WAIT_S, 1.0):
-        later = truth.end_s > TURN_AT_S + TURN_S + wait
-        steps = [s for s in out.steps if s.t > (truth.end_s - truth.duration)[later][0]]
-        match = match_steps(np.array([s.t for s in steps]), truth.end_s[later],
-                            truth.duration[later])
+        steps, match = steps_since(out.steps, truth.end_s, truth.duration,
+                                   TURN_AT_S + TURN_S + wait)
         if (match >= 0).all() and len(steps) == len(match) and \
                 all(s.activity == WALKING for s in steps):
             return float(wait)

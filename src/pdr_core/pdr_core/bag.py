@@ -80,21 +80,17 @@ def _bag_files(path: Path) -> tuple[list[Path], dict[str, str]]:
     return files, topics
 
 
-def _mcap_topics(file: Path) -> dict[str, str]:
-    with file.open("rb") as stream:
-        summary = SeekingReader(stream).get_summary()
-    if summary is None:
-        raise McapError("no summary section")
-    return {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()}
-
-
-def _indexed(file: Path) -> bool:
-    """True when ``file`` has its summary and footer (closed cleanly)."""
+def _summary_topics(file: Path) -> dict[str, str] | None:
+    """The topics (name -> type) of ``file``'s summary; None when it has none (not
+    closed cleanly)."""
     try:
-        _mcap_topics(file)
+        with file.open("rb") as stream:
+            summary = SeekingReader(stream).get_summary()
     except _READ_ERRORS:
-        return False
-    return True
+        return None
+    if summary is None:
+        return None
+    return {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()}
 
 
 @dataclass(frozen=True)
@@ -152,13 +148,13 @@ class BagReader:
                 if stream.read(len(MCAP_MAGIC)) != MCAP_MAGIC:
                     raise InputError(file, "not an MCAP file (bad magic bytes)")
         listed = bool(self.topics)          # from metadata.yaml
-        self.damaged = {file: readable_extent(file) for file in self.files
-                        if not _indexed(file)}
+        self.damaged: dict[Path, Extent] = {}
         for file in self.files:
-            if file not in self.damaged:
-                self.topics |= {} if listed else _mcap_topics(file)
+            indexed = _summary_topics(file)
+            if indexed is not None:
+                self.topics |= {} if listed else indexed
                 continue
-            extent = self.damaged[file]
+            extent = self.damaged[file] = readable_extent(file)
             if strict:
                 raise InputError(file, f"{extent.describe()}; refused (--strict; "
                                        "`pdr-sim repair` rebuilds its index)")
@@ -180,15 +176,20 @@ class BagReader:
                                               "(`pdr-sim repair` rebuilds it)"), stacklevel=3)
         return sorted(self.path.glob("*.mcap")), {}
 
+    @property
+    def custom_texts(self) -> dict[str, str]:
+        """``custom_data`` of metadata.yaml as stored (key -> text); {} when none."""
+        meta_path = self.path / "metadata.yaml"
+        if not meta_path.is_file():
+            return {}
+        info = yaml.safe_load(meta_path.read_text())["rosbag2_bagfile_information"]
+        return info.get("custom_data") or {}
+
     def custom_data(self, key: str) -> Any:
         """The YAML document stored under ``custom_data[key]`` of metadata.yaml (e.g.
         ``pdr.simulation``: a simulated run's configuration and truth), parsed; None when
         the bag has none."""
-        meta_path = self.path / "metadata.yaml"
-        if not meta_path.is_file():
-            return None
-        info = yaml.safe_load(meta_path.read_text())["rosbag2_bagfile_information"]
-        text = (info.get("custom_data") or {}).get(key)
+        text = self.custom_texts.get(key)
         return None if text is None else yaml.safe_load(text)
 
     def require_topics(self, topics: Iterable[str]) -> None:
@@ -454,13 +455,8 @@ def repair(source: str | Path, out: str | Path) -> dict[str, int]:
     summary, index and metadata.yaml (``source`` is never touched); its custom_data is
     kept. Returns the message count per topic."""
     reader = BagReader(source)
-    meta = Path(source) / "metadata.yaml"
-    custom = {}
-    if meta.is_file():
-        info = yaml.safe_load(meta.read_text())["rosbag2_bagfile_information"]
-        custom = info.get("custom_data") or {}
     counts = dict.fromkeys(reader.topics, 0)
-    with BagWriter(out, custom_data=custom) as writer:
+    with BagWriter(out, custom_data=reader.custom_texts) as writer:
         for topic, msgtype in reader.topics.items():
             writer.add_topic(topic, msgtype)
         for message in reader.raw_messages():

@@ -308,11 +308,11 @@ def _check_turned(state, params, c):
     if s[TURN_SEEN] > 0:
         _remount(state, params, c, axis, up, flex)
         return
-    s[FLIP_S] = s[FLIP_S] + CHECK_PERIOD_S if _swing_angle(state.recent_mean, up, flex) > 0 \
-        else 0.0
+    phi = _swing_angle(state.recent_mean, up, flex)
+    s[FLIP_S] = s[FLIP_S] + CHECK_PERIOD_S if phi > 0 else 0.0
     same_axis = abs(axis @ flex) >= np.cos(params.turned_min_angle) and \
         abs(axis @ up) <= np.sin(params.turned_min_angle)
-    d = _swing_angle(state.recent_mean, up, flex) - _oldest_anchor(state)[0]
+    d = phi - _oldest_anchor(state)[0]
     same_pitch = s[RING_N] == 0 or abs(np.arctan2(np.sin(d), np.cos(d))) <= \
         params.turned_pitch_angle
     if same_axis and same_pitch:
@@ -341,18 +341,17 @@ def _foreign_turn(state, params, wn, dt, c):
     s = state.scalars
     last = state.last_attitude
     if dt > 0 and s[FLEX_KNOWN] > 0 and wn > params.moving_rate:
-        # ω from the antisymmetric part of C_{k−1}ᵀ·C_k, without temporaries
-        w0 = w1 = w2 = 0.0
+        # the turn over the sample, ω·δt: twice it is the antisymmetric part of C_{k−1}ᵀ·C_k
+        r0 = r1 = r2 = 0.0
         for i in range(3):
-            w0 += last[i, 1] * c[i, 2] - last[i, 2] * c[i, 1]
-            w1 += last[i, 2] * c[i, 0] - last[i, 0] * c[i, 2]
-            w2 += last[i, 0] * c[i, 1] - last[i, 1] * c[i, 0]
-        f = state.flex_raw * state.flex_sign[0]
-        f = _unit(f - (f @ state.up) * state.up)
+            r0 += last[i, 1] * c[i, 2] - last[i, 2] * c[i, 1]
+            r1 += last[i, 2] * c[i, 0] - last[i, 0] * c[i, 2]
+            r2 += last[i, 0] * c[i, 1] - last[i, 1] * c[i, 0]
+        _, f = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
         g = c[2, :]
         normal = _unit(np.cross(f, g - (g @ f) * f))
-        rate = (w0 * normal[0] + w1 * normal[1] + w2 * normal[2]) / (2.0 * dt)
-        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + rate * dt
+        turned = 0.5 * (r0 * normal[0] + r1 * normal[1] + r2 * normal[2])
+        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + turned
         if s[TURN_SEEN] == 0.0 and abs(s[FOREIGN]) > params.turned_angle:
             _seen_turn(state, s[LAST_T])
     if s[TURN_SEEN] > 0 and s[LAST_T] - s[TURN_T] < TURN_HOLD_S:

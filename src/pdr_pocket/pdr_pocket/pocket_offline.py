@@ -104,6 +104,18 @@ def match_steps(detected_t: np.ndarray, true_end: np.ndarray, true_duration: np.
     return match
 
 
+def steps_since(steps: list[StepRecord], true_end: np.ndarray, true_duration: np.ndarray,
+                since_s: float) -> tuple[list[StepRecord], np.ndarray]:
+    """The true gait cycles ending after ``since_s`` [s], the detected steps inside their
+    span and the :func:`match_steps` of the two (a step in the first cycle's span, before
+    ``since_s``, is not counted false)."""
+    later = true_end > since_s
+    first = (true_end - true_duration)[later][0]
+    kept = [s for s in steps if s.t > first]
+    return kept, match_steps(np.array([s.t for s in kept]), true_end[later],
+                             true_duration[later])
+
+
 def true_staircases(activity: np.ndarray, vertical: np.ndarray, end_s: np.ndarray
                     ) -> list[dict]:
     """Flights: runs of stairs steps of one direction, as

@@ -16,7 +16,7 @@ from pdr_core.errors import InputError
 from pdr_pocket.activity import SITTING, STANDING, WALKING
 from pdr_pocket.config import MountingConfig, PocketConfig, PositionConfig
 from pdr_pocket.navigator import PocketNavigator
-from pdr_pocket.pocket_offline import match_steps, riser_errors
+from pdr_pocket.pocket_offline import match_steps, riser_errors, steps_since
 from pdr_pocket.position import PositionFilter
 from pdr_pocket.step_length import fit_line, fit_offset
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
@@ -165,12 +165,9 @@ def test_steps_are_found_again_within_10_s_of_a_mid_walk_change_of_mounting(name
     the activities' level steps start afresh)."""
     sim, out = repocketed_h1(REPOCKETED[name])
     truth = sim.model.true_steps
-    since = REMOUNT_AT_S + REMOUNT_S + FOUND_AGAIN_S
-    later = truth.end_s > since
-    steps = [s for s in out.steps if s.t > (truth.end_s - truth.duration)[later][0]]
-    match = match_steps(np.array([s.t for s in steps]), truth.end_s[later],
-                        truth.duration[later])
-    assert (match >= 0).all(), f"missed at {truth.end_s[later][match < 0]}"
+    steps, match = steps_since(out.steps, truth.end_s, truth.duration,
+                               REMOUNT_AT_S + REMOUNT_S + FOUND_AGAIN_S)
+    assert (match >= 0).all(), f"missed {(match < 0).sum()}"
     assert len(steps) == len(match)
     assert all(s.activity == WALKING for s in steps)
 
