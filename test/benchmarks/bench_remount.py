@@ -2,9 +2,10 @@
 for random turns. Run on purpose (``python test/benchmarks/bench_remount.py [SEED ...]``),
 not in CI: 20 random new mountings per seed (default seeds 17, 5, 23), each turned over
 1.5 s at 60 s of the walk, and for each the time after the turn from which every step is
-found, nothing else, and every step is labelled level walking (the criterion of
+found and nothing else (the acceptance's "steps are found again"), and from which every
+step is also labelled level walking (the criterion of
 ``test_steps_are_found_again_within_10_s_of_a_mid_walk_change_of_mounting``). Prints one
-line per turn and the count within 10 s.
+line per turn and the counts within 10 s.
 """
 from __future__ import annotations
 
@@ -24,8 +25,9 @@ from pdr_sim.simulation import SimulationConfig, simulate
 TURN_AT_S, TURN_S, LONGEST_WAIT_S = 60.0, 1.5, 60.0
 
 
-def found_again_after(rpy: tuple[float, float, float]) -> float:
-    """Seconds after the turn from which the steps are right (inf: not in the walk)."""
+def found_again_after(rpy: tuple[float, float, float]) -> tuple[float, float]:
+    """Seconds after the turn from which the steps are right, and from which they are also
+    all labelled level (inf: not in the walk)."""
     _, data = load_pocket_scenario("h1_rectangle")
     data = {**data, "remounts": [{"at_s": TURN_AT_S, "duration_s": TURN_S,
                                   "mounting": {"rpy_deg": list(rpy)}}]}
@@ -35,13 +37,15 @@ def found_again_after(rpy: tuple[float, float, float]) -> float:
         sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
         sim.mag["magnetic_field"])
     truth = sim.model.true_steps
+    found = labelled = np.inf
     for wait in np.arange(0.0, LONGEST_WAIT_S, 1.0):
         steps, match = steps_since(out.steps, truth.end_s, truth.duration,
                                    TURN_AT_S + TURN_S + wait)
-        if (match >= 0).all() and len(steps) == len(match) and \
-                all(s.activity == WALKING for s in steps):
-            return float(wait)
-    return np.inf
+        if (match >= 0).all() and len(steps) == len(match):
+            found = min(found, wait)
+            if all(s.activity == WALKING for s in steps):
+                return found, float(wait)
+    return found, labelled
 
 
 def main(seeds: list[int]) -> None:
@@ -52,11 +56,13 @@ def main(seeds: list[int]) -> None:
             "ZYX", degrees=True)[::-1], 1).tolist()) for _ in range(20)]
         with ProcessPoolExecutor(2) as pool:
             for rpy, wait in zip(turns, pool.map(found_again_after, turns), strict=True):
-                print(f"seed {seed}  rpy {rpy}  found again after {wait:g} s")
+                print(f"seed {seed}  rpy {rpy}  steps right after {wait[0]:g} s, "
+                      f"and labelled level after {wait[1]:g} s")
                 waits.append(wait)
-    waits = np.array(waits)
-    print(f"\nwithin 10 s: {(waits <= 10).sum()} of {len(waits)}; median "
-          f"{np.median(waits[np.isfinite(waits)]):g} s")
+    for name, column in (("steps right", 0), ("and labelled level", 1)):
+        w = np.array(waits)[:, column]
+        print(f"{name} within 10 s: {(w <= 10).sum()} of {len(w)}; median "
+              f"{np.median(w[np.isfinite(w)]):g} s")
 
 
 if __name__ == "__main__":

@@ -11,7 +11,10 @@ ground) and so adapted to their gait, mood and hurry:
   forwards (|θ_Umin| slightly smaller than |θ_Hmin|, Section 4.1.2). Without it a change
   from 2.5 to 4.8 km/h (scenario H2) reads as stairs;
 - downstairs when Δθ ≪ mean Δθ_H and θ_min ≫ mean θ_Hmin: Δθ below
-  ``down_amplitude_ratio`` times the mean and θ_min above it by ``down_min_margin_deg``;
+  ``down_amplitude_ratio`` times the mean and θ_min above it by ``down_min_margin_deg``.
+  Beyond the thesis, θ_min must stay below mean θ_Hmax: a step down swings the leg
+  through the level swing's range (θ_Dmax only slightly above θ_Hmax, Section 4.1.2), and
+  a swing wholly above it is the phone turned about the flexion axis in the pocket;
 - else walking (level), and the step joins the running means.
 
 The first ``level_history_steps`` steps are level by the thesis' assumption (the walk
@@ -59,7 +62,7 @@ class ActivityClassifier:
                     lo > mean_lo - c.up_min_tolerance_deg:
                 return UPSTAIRS
             if amplitude < c.down_amplitude_ratio * mean_amp and \
-                    lo > mean_lo + c.down_min_margin_deg:
+                    mean_lo + c.down_min_margin_deg < lo < mean_hi:
                 return DOWNSTAIRS
         self.level.append((hi, lo, amplitude))
         return WALKING

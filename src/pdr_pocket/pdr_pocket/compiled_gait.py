@@ -57,8 +57,8 @@ from numba import njit
 # mounting scalars (MountingState.scalars)
 LAST_T, REST_S, REST_N, MOVING_S, UP_PROVISIONAL, FLEX_KNOWN, MEAN_PITCH, CHANGES, \
     STARTED, RECENT_S, LAST_CHECK_T, TURNED_S, RING_POS, RING_N, FOREIGN, TURN_SEEN, \
-    TURN_T, FLIP_S = range(18)
-N_MOUNTING_SCALARS = 18
+    TURN_T, FLIP_S, RATE2, RATE3 = range(20)
+N_MOUNTING_SCALARS = 20
 # the swing of the last moved_tau_s is a plane (the remount check) when its middle
 # eigenvalue is at least SWING_MIN (a pitch swing of about ±4°) and its smallest at most
 # PLANAR_RATIO of the middle one
@@ -68,6 +68,8 @@ CHECK_PERIOD_S = 0.1
 FOREIGN_TAU_S = 1.0             # leak of the turn integrated outside the thigh's axes
 TURN_HOLD_S = 2.0               # a phone is turned in the pocket within this
 FLIP_MIN_S = 5.0                # walking with a negative mean pitch this long: f flipped
+SKEW_TAU_S = 4.0                # the pitch rate's moments, over about three gait cycles
+SKEW_FLIP = 0.3                 # a pitch-rate skewness below −SKEW_FLIP: f is reversed
 ANCHOR_RING = 80                # the checks of the last 8 s of walking (see _anchor)
 ANCHOR_LEAD_S = 1.0             # the anchor taken is this long before the turn was seen
 ANCHOR_PHI, ANCHOR_HEADING, ANCHOR_T = range(3)
@@ -97,6 +99,7 @@ class MountingParams(NamedTuple):
     turned_tau_s: float         # time constant of the recent swing
     turned_angle: float         # turned outside span{f, vertical} this far, at once [rad]
     turned_pitch_angle: float   # the mean walking pitch moved this far: turned about f [rad]
+    skew_check: bool            # f's sign from the pitch rate's skew (off without a gyro)
 
 
 class MountingState(NamedTuple):
@@ -197,7 +200,9 @@ def mounting_loop(state, params, t, rate, accel, attitude, out_pitch, out_headin
                 s[UP_PROVISIONAL] = 1.0
                 s[STARTED] = 1.0
             _rest(state, params, w, a, dt)
-            _foreign_turn(state, params, w, dt, attitude[k])
+            _foreign_turn(state, params, w, dt, attitude[k],
+                          _sample_turn(state.last_attitude, attitude[k]))
+            state.last_attitude[:, :] = attitude[k]
             _motion(state, params, w, dt, attitude[k])
         known = s[FLEX_KNOWN] > 0
         up, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
@@ -293,7 +298,8 @@ def _check_turned(state, params, c):
     or from orthogonal to u, or the mean pitch (φ) moves more than ``turned_pitch_angle``
     from what it was (a turn about f itself; stairs move it by about 15°, sitting down is
     not walking); the swing then starts afresh as after a turn seen at once. A mean
-    walking pitch that stays negative for FLIP_MIN_S flips f (:func:`_flip`). Checked every
+    walking pitch that stays negative, or a pitch rate skewed the wrong way, for FLIP_MIN_S
+    turns f or u round (:func:`_reorient`). Checked every
     CHECK_PERIOD_S."""
     s = state.scalars
     now = s[LAST_T]
@@ -309,7 +315,8 @@ def _check_turned(state, params, c):
         _remount(state, params, c, axis, up, flex)
         return
     phi = _swing_angle(state.recent_mean, up, flex)
-    s[FLIP_S] = s[FLIP_S] + CHECK_PERIOD_S if phi > 0 else 0.0
+    skew = s[RATE2] ** 1.5 * SKEW_FLIP if params.skew_check else np.inf
+    s[FLIP_S] = s[FLIP_S] + CHECK_PERIOD_S if phi > 0 or s[RATE3] < -skew else 0.0
     same_axis = abs(axis @ flex) >= np.cos(params.turned_min_angle) and \
         abs(axis @ up) <= np.sin(params.turned_min_angle)
     d = phi - _oldest_anchor(state)[0]
@@ -318,7 +325,7 @@ def _check_turned(state, params, c):
     if same_axis and same_pitch:
         s[TURNED_S] = 0.0
         if s[FLIP_S] >= FLIP_MIN_S:
-            _flip(state)
+            _reorient(state, s[RATE3] <= skew, phi, flex)
             return
         _anchor(state, c, up, flex)
         return
@@ -328,35 +335,53 @@ def _check_turned(state, params, c):
 
 
 @njit(cache=True)
-def _foreign_turn(state, params, wn, dt, c):
+def _sample_turn(last, c):
+    """The turn over a sample, ω·δt in the sensor frame [rad], from the attitudes C_b^n
+    before and after it: twice it is the antisymmetric part of C_{k−1}ᵀ·C_k."""
+    r = np.zeros(3)
+    for i in range(3):
+        r[0] += 0.5 * (last[i, 1] * c[i, 2] - last[i, 2] * c[i, 1])
+        r[1] += 0.5 * (last[i, 2] * c[i, 0] - last[i, 0] * c[i, 2])
+        r[2] += 0.5 * (last[i, 0] * c[i, 1] - last[i, 1] * c[i, 0])
+    return r
+
+
+@njit(cache=True)
+def _foreign_turn(state, params, wn, dt, c, turn):
     """The phone turning in the pocket, seen at once: the thigh turns only about f (its
     pitch) and the vertical (its yaw), so a turn about n = f × (vertical ⊥ f), outside
-    that span, is the phone's own. Its rate (from successive attitudes) integrated with a
-    leak of FOREIGN_TAU_S beyond ``turned_angle`` is a turn: the thigh's own abduction
-    swings back and forth and integrates to a few degrees. Integrated while moving
-    (``wn`` above ``moving_rate``).
+    that span, is the phone's own. Its rate (``turn``, :func:`_sample_turn`) integrated
+    with a leak of FOREIGN_TAU_S beyond ``turned_angle`` is a turn: the thigh's own
+    abduction swings back and forth and integrates to a few degrees. Integrated while
+    moving (``wn`` above ``moving_rate``).
     The recent swing then starts afresh TURN_HOLD_S after it began (a turn of the phone is
     over by then, and the old axes see the thigh's own swing as foreign too), and
     :func:`_check_turned` decides on it with the anchors from before."""
     s = state.scalars
-    last = state.last_attitude
     if dt > 0 and s[FLEX_KNOWN] > 0 and wn > params.moving_rate:
-        # the turn over the sample, ω·δt: twice it is the antisymmetric part of C_{k−1}ᵀ·C_k
-        r0 = r1 = r2 = 0.0
-        for i in range(3):
-            r0 += last[i, 1] * c[i, 2] - last[i, 2] * c[i, 1]
-            r1 += last[i, 2] * c[i, 0] - last[i, 0] * c[i, 2]
-            r2 += last[i, 0] * c[i, 1] - last[i, 1] * c[i, 0]
         _, f = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
         g = c[2, :]
         normal = _unit(np.cross(f, g - (g @ f) * f))
-        turned = 0.5 * (r0 * normal[0] + r1 * normal[1] + r2 * normal[2])
-        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + turned
+        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + turn @ normal
         if s[TURN_SEEN] == 0.0 and abs(s[FOREIGN]) > params.turned_angle:
             _seen_turn(state, s[LAST_T])
+        _pitch_rate_moments(state, dt, turn @ f / dt)
     if s[TURN_SEEN] > 0 and s[LAST_T] - s[TURN_T] < TURN_HOLD_S:
         _forget_recent(state)
-    last[:, :] = c
+
+
+@njit(cache=True)
+def _pitch_rate_moments(state, dt, rate):
+    """The second and third moments of the rate about f [rad/s], weighted over SKEW_TAU_S.
+    The thigh swings forward fast (the swing, about 40 % of the gait cycle) and back slowly
+    (the stance, about 60 %), so the rate of θ is skewed positive, whatever the offset of
+    u (beyond the thesis: it tells f's sign where the mean pitch cannot, :func:`_reorient`).
+    Not used without a gyroscope: the pitch from the low-passed gravity loses the swing's
+    fast rise (on the real Oxford phone it read reversed and flipped f)."""
+    s = state.scalars
+    lam = np.exp(-dt / SKEW_TAU_S)
+    s[RATE2] = lam * s[RATE2] + (1.0 - lam) * rate * rate
+    s[RATE3] = lam * s[RATE3] + (1.0 - lam) * rate * rate * rate
 
 
 @njit(cache=True)
@@ -402,12 +427,22 @@ def _anchor(state, c, up, flex):
 
 
 @njit(cache=True)
-def _flip(state):
-    """The walking pitch stayed negative (φ > 0): f is the other way round (the phone
-    turned about u, f followed it the short way). The thesis' asymmetry θ_max ≫ |θ_min|
-    makes the mean walking pitch positive, as when f's sign was first chosen."""
+def _reorient(state, flip, phi, flex):
+    """The walking pitch stayed negative (φ > 0) or its rate skewed negative: f is the
+    other way round (``flip``; the phone turned about u, f followed it the short way), or
+    u is on the wrong side of the mean vertical. f takes the sign the skew of the pitch
+    rate gives (:func:`_pitch_rate_moments`), and u is put about it so that the mean
+    walking pitch is |φ| (the thesis' asymmetry θ_max ≫ |θ_min| makes it positive, as when
+    f's sign was first chosen)."""
     s = state.scalars
-    state.flex_raw[:] = -state.flex_raw
+    f = -flex if flip else flex
+    gp = _unit(state.recent_mean - (state.recent_mean @ f) * f)
+    angle = -abs(phi)
+    state.up[:] = np.cos(angle) * gp + np.sin(angle) * np.cross(f, gp)
+    state.flex_raw[:] = f
+    state.flex_sign[0] = 1.0
+    if flip:
+        s[RATE3] = -s[RATE3]
     s[FLIP_S] = 0.0
     s[RING_N] = 0.0
     s[RING_POS] = 0.0
@@ -465,6 +500,7 @@ def _remount(state, params, c, axis, up, flex):
     state.flex_sign[0] = 1.0
     state.moment[:, :] = state.recent
     state.mean[:] = state.recent_mean
+    s[RATE2] = s[RATE3] = 0.0
     s[UP_PROVISIONAL] = 0.0
     s[RING_N] = 0.0
     s[RING_POS] = 0.0

@@ -170,7 +170,7 @@ class MountingConfig:
     turned_min_s: float = 1.5           # axis this long: the phone turned in the pocket
     turned_time_constant_s: float = 2.0
     turned_angle_deg: float = 25.0      # turned this far outside the thigh's axes, at once
-    turned_pitch_angle_deg: float = 45.0  # the mean walking pitch moved this far
+    turned_pitch_angle_deg: float = 35.0  # the mean walking pitch moved this far
     replay_s: float = 3.0               # samples kept while the axes are learned
     # without a gyroscope (imu/data's angular_velocity_covariance[0] = -1, REP-145)
     gravity_cutoff_hz: float = 1.5      # the gravity direction: low-pass of the specific force

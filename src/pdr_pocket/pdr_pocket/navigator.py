@@ -103,7 +103,7 @@ def mounting_params(config: PocketConfig) -> MountingParams:
                           np.radians(m.moving_rate_deg_per_s), m.flexion_time_constant_s,
                           m.flexion_min_s, np.radians(m.turned_min_angle_deg), m.turned_min_s,
                           m.turned_time_constant_s, np.radians(m.turned_angle_deg),
-                          np.radians(m.turned_pitch_angle_deg))
+                          np.radians(m.turned_pitch_angle_deg), True)
 
 
 def configured_axes(rpy_deg) -> tuple[np.ndarray, np.ndarray]:
@@ -157,7 +157,8 @@ class PocketNavigator:
         known = np.zeros(n, dtype=np.bool_)
         up, flex, changes = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n)
         params = self.mounting_params if gyro is not None else \
-            self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf)
+            self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf,
+                                          skew_check=False)
         mounting_loop(self.mounting, params, t, np.ascontiguousarray(rate),
                       accel, attitude.attitude, pitch, heading, known, up, flex, changes)
         self.remounts_t.extend(t[np.flatnonzero(np.diff(np.r_[self.changes_seen, changes]))])
