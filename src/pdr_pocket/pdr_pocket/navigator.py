@@ -351,7 +351,9 @@ class PocketNavigator:
             return False, problem
         done = []
         if with_yaw:
+            before = f.yaw
             done.append(f.correct_yaw(f.yaw + yaw_rad, yaw_var)[1])
+            self._turn_partial_heading(f.yaw - before)
             self.position.correct_heading(self.position.x[PSI] + yaw_rad, yaw_var,
                                           f.yaw_variance)
         if with_bias:
@@ -361,6 +363,16 @@ class PocketNavigator:
             done.append(self.position.correct_position(position, position_cov)[1])
         self.corrections["accepted"] += 1
         return True, "; ".join(done) or "nothing to apply"
+
+
+    def _turn_partial_heading(self, turned_rad: float) -> None:
+        """The heading summed since the last step, turned as the yaw was: a correction
+        counts from the step it was made at (the one that found the landmark), whether it
+        comes right after that step's sample (``pdr-pocket run --drift online``) or some
+        samples later over the service (``pocket_pdr``), so both give the same next step."""
+        c, s = np.cos(turned_rad), np.sin(turned_rad)
+        self.sum_cos, self.sum_sin = (c * self.sum_cos - s * self.sum_sin,
+                                      s * self.sum_cos + c * self.sum_sin)
 
 
 def _invalid(yaw_var, bias_var, position, position_cov, *values) -> str | None:
