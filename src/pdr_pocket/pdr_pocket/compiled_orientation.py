@@ -30,8 +30,12 @@ Per sample k, with δt from the stamps:
   ZARU ω − b = 0 (Eq. (3.22)); and, beyond the thesis, a mean gravity update: over each
   window of W seconds the specific force turned to the navigation frame sums to
   g·W·e_up plus the window's change of velocity, which is bounded while walking, so the
-  horizontal part of the summed direction, [0, 0] expected, measures the tilt with
-  σ ≈ σ_Δv/(g·W) (0.6° for W = 10 s and σ_Δv = 1 m/s) at any walking speed. The
+  summed direction, turned to the body frame, is the vertical there: the up axis of the
+  attitude (the row C[2, :], which no yaw moves) across it, [0, 0] expected, measures the
+  tilt with σ ≈ σ_Δv/(g·W) (0.6° for W = 10 s and σ_Δv = 1 m/s) at any walking speed.
+  (Its first model, the horizontal part of the sum in the navigation frame, turned with
+  the yaw too: with the window's velocity change in it, the update moved the yaw, and took
+  0.08° of a landmark's 0.24° yaw correction back one sample after it.) The
   zero-acceleration periods it does not need are rare on a thigh: on the real
   ``thigh_revalew`` walk, |‖α‖ − g| ≤ 0.4 m/s² and ‖ω‖ ≤ 40 °/s over 0.1 s never hold
   while walking, so without it roll and pitch drift through a long walk without stops.
@@ -333,17 +337,26 @@ def _measure(kind, att, bias, gyro, previous_gyro, dt, params, prev_vec, ref_vec
     elif kind in (COMPASS, YAW_CORRECTION):
         out[0] = np.arctan2(att[1, 0], att[0, 0])
     elif kind == MEAN_GRAVITY:
-        v0 = att[0, 0] * ref_vec[0] + att[0, 1] * ref_vec[1] + att[0, 2] * ref_vec[2]
-        v1 = att[1, 0] * ref_vec[0] + att[1, 1] * ref_vec[1] + att[1, 2] * ref_vec[2]
-        v2 = att[2, 0] * ref_vec[0] + att[2, 1] * ref_vec[1] + att[2, 2] * ref_vec[2]
-        norm = np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
-        out[0], out[1] = v0 / norm, v1 / norm
+        b1, b2 = _across(ref_vec)
+        out[0] = att[2, 0] * b1[0] + att[2, 1] * b1[1] + att[2, 2] * b1[2]
+        out[1] = att[2, 0] * b2[0] + att[2, 1] * b2[1] + att[2, 2] * b2[2]
     elif kind == ZARU:
         e = params.earth_rate_n
         for m in range(3):
             out[m] = gyro[m] - bias[m] - (att[0, m] * e[0] + att[1, m] * e[1] + att[2, m] * e[2])
     else:  # BIAS_Z_CORRECTION
         out[0] = bias[2]
+
+
+@njit(cache=True)
+def _across(v):
+    """Two unit vectors orthogonal to v and to each other."""
+    d = v / np.sqrt(v @ v)
+    e = np.zeros(3)
+    e[np.argmin(np.abs(d))] = 1.0
+    b1 = np.cross(d, e)
+    b1 /= np.sqrt(b1 @ b1)
+    return b1, np.cross(d, b1)
 
 
 @njit(cache=True)
