@@ -34,7 +34,7 @@ class Updates:
 
     absolute_gravity: bool = True       # Eqs. (3.12)-(3.14), zero acceleration
     differential_gravity: bool = False  # Eqs. (3.15)-(3.16), zero acceleration
-    absolute_magnetic: bool = False     # Eq. (3.17), quasi-constant field
+    absolute_magnetic: bool = True      # Eq. (3.17), quasi-constant field
     differential_magnetic: bool = True  # Eqs. (3.18)-(3.19), quasi-constant field
     compass: bool = False               # Eqs. (3.20)-(3.21), quasi-constant field
     zaru: bool = True                   # Eq. (3.22), zero angular rate

@@ -19,10 +19,20 @@ result whatever the chunks, pdr_pocket.navigator):
 - the units are checked on the first :data:`UNIT_CHECK_SAMPLES` samples: data in g or
   deg/s is refused (nothing is navigated until :meth:`reset`), a magnetometer in µT or
   gauss is switched off (:attr:`mag_error`);
-- gaps longer than ``max_gap_s`` are propagated over and counted by the filter.
+- gaps longer than ``max_gap_s`` are propagated over and counted by the filter;
+- a correction (:meth:`StreamingPocket.apply_correction`, the node's service) counts from
+  the last step, the one whose landmark it comes from: the navigator as it was right
+  after that step's sample takes it, and the samples since are run again. The service
+  call comes some samples after the step, more or fewer by how busy the graph is, and
+  an update of the orientation filter in between (a mean gravity window closing) turns
+  out differently with the yaw corrected or not: 2.3 m at the end of a two-lap walk
+  without magnetometer updates between 0 and 2 samples late. ``pdr-pocket run --drift
+  online`` applies it at that same point (pdr_pocket.drift_loop), so the two agree. After
+  more than ``replay_max_s`` without a step the correction applies from now.
 """
 from __future__ import annotations
 
+import copy
 from collections import deque
 from dataclasses import dataclass, field
 
@@ -40,6 +50,9 @@ MAG_HISTORY = 256
 MAG_WAIT_S = 1.0
 """Default wait for a late magnetometer reading [s of IMU data]: playback at full speed
 acknowledges every 100 messages, so the topics drift at most that far apart."""
+REPLAY_MAX_S = 5.0
+"""A correction counts from the last step when it comes within this of the step [s of
+IMU data]: two gait cycles at the slowest walk."""
 
 
 @dataclass(frozen=True)
@@ -64,6 +77,7 @@ class StreamingPocket:
     config: PocketConfig
     calibration: MagCalibration | None = None
     mag_wait_s: float = MAG_WAIT_S
+    replay_max_s: float = REPLAY_MAX_S
     counts: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -71,6 +85,9 @@ class StreamingPocket:
 
     def reset(self) -> None:
         self.navigator = PocketNavigator(self.config)
+        self.at_step: PocketNavigator | None = None     # right after the last step ...
+        self.at_step_t = 0.0                             # ... at this navigator time [s]
+        self.since_step: list[tuple] = []                # the inputs processed since
         self.last_stamp_ns: int | None = None
         self.mags: deque = deque(maxlen=MAG_HISTORY)
         self.held: list[tuple[int, np.ndarray, np.ndarray]] = []
@@ -190,7 +207,60 @@ class StreamingPocket:
                 self.counts["mag_missing"] += 1
             else:
                 mag[i] = value
-        out = self.navigator.process((stamps - self.t0_ns) * 1e-9,
-                                     np.array([h[2] for h in held]),
-                                     np.array([h[1] for h in held]), mag)
+        inputs = ((stamps - self.t0_ns) * 1e-9, np.array([h[2] for h in held]),
+                  np.array([h[1] for h in held]), mag)
+        before = _detached_copy(self.navigator) if count > 1 else None
+        out = self.navigator.process(*inputs)
+        self._remember(inputs, out, before)
         return [Processed(stamps, out, self.t0_ns)]
+
+    # --- corrections from the last step --------------------------------------------
+    def apply_correction(self, *correction) -> tuple[bool, str]:
+        """:meth:`PocketNavigator.apply_correction` as of right after the last step (the
+        module docstring), the samples since run again; from now when there is none."""
+        if self.at_step is None:
+            return self.navigator.apply_correction(*correction)
+        navigator = _detached_copy(self.at_step)
+        result = navigator.apply_correction(*correction)
+        self.at_step = _detached_copy(navigator)
+        for inputs in self.since_step:
+            navigator.process(*inputs)
+        navigator.steps = self.navigator.steps
+        self.navigator = navigator
+        return result
+
+    def _remember(self, inputs: tuple, out: NavigatorOutput, before) -> None:
+        """Keep the state right after the last step and the inputs since (the module
+        docstring)."""
+        t = inputs[0]
+        if not out.steps:
+            self.since_step.append(inputs)
+            if self.at_step is not None and t[-1] - self.at_step_t > self.replay_max_s:
+                self.at_step, self.since_step = None, []
+            return
+        confirm = out.steps[-1].t_confirm
+        self.at_step_t = confirm
+        cut = max(int(np.searchsorted(t, confirm, side="right")), 1)
+        if cut >= len(t):
+            self.at_step, self.since_step = _detached_copy(self.navigator), []
+            return
+        # the chunk went on past the step: run it again from before, up to the step
+        steps = self.navigator.steps
+        before.process(*(x[:cut] for x in inputs))
+        self.at_step = _detached_copy(before)
+        before.process(*(x[cut:] for x in inputs))
+        before.steps = steps
+        self.navigator = before
+        self.since_step = [tuple(x[cut:] for x in inputs)]
+
+
+def _detached_copy(navigator: PocketNavigator) -> PocketNavigator:
+    """A copy of the navigator's state whose list of steps holds the same (frozen) step
+    records: a deep copy of them per step would grow with the walk."""
+    steps, navigator.steps = navigator.steps, []
+    try:
+        duplicate = copy.deepcopy(navigator)
+    finally:
+        navigator.steps = steps
+    duplicate.steps = list(steps)
+    return duplicate

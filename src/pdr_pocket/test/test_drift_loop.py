@@ -6,13 +6,12 @@ Our mean gravity update stays on: through the thigh's swing it sees b_z, slowly,
 landmarks correct the heading error it leaves (12° after 22 min)."""
 from __future__ import annotations
 
-from dataclasses import replace
 from functools import cache
 
 import numpy as np
 
 from pdr_drift.config import DriftConfig
-from pdr_pocket.config import PocketConfig, Updates
+from pdr_pocket.config import PocketConfig, default_config_path, load_pocket_config
 from pdr_pocket.drift_loop import navigate_offline, navigate_online
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
@@ -26,9 +25,7 @@ def theresienhoehe():
 
 
 def thesis_setting() -> PocketConfig:
-    config = PocketConfig()
-    updates = Updates(differential_magnetic=False, zaru=False)
-    return replace(config, orientation=replace(config.orientation, updates=updates))
+    return load_pocket_config(default_config_path().with_name("pocket_pdr_no_mag.yaml"))
 
 
 @cache

@@ -45,7 +45,7 @@ def test_pocket_pdr_adapter_survives_garbage(events):
             chunks = []
         else:
             with np.errstate(all="ignore"):
-                ok, message = live.navigator.apply_correction(
+                ok, message = live.apply_correction(
                     c[0], c[1], c[2], c[3], b, np.eye(3).ravel() * c[0])
             assert isinstance(ok, bool) and message
             chunks = []

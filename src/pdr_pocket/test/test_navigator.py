@@ -238,9 +238,15 @@ def test_corrections_gated_and_refused_when_unusable():
     ok, message = nav.apply_correction(np.radians(1.0), np.radians(2.0) ** 2, 0.0, 0.0)
     assert ok, message
     assert nav.orientation.yaw != yaw
-    before = nav.position.position
+    before, p = nav.position.position, nav.position.covariance
     ok, message = nav.apply_correction(0.0, 0.0, 0.0, 0.0, before + 0.2, np.eye(3) * 0.25)
-    assert ok and np.linalg.norm(nav.position.position - before) > 0.05
+    # the fix moves the position by the Kalman gain of Eq. (6.3), K·(fix − x) with
+    # K = P·(P + R)⁻¹ (the level walk's exact height stays)
+    assert ok
+    np.testing.assert_allclose(nav.position.position - before,
+                               p @ np.linalg.solve(p + np.eye(3) * 0.25, np.full(3, 0.2)),
+                               atol=1e-9)
+    assert np.linalg.norm(nav.position.position - before) > 0
     for bad in [(np.nan, 0.1, 0.0, 0.0), (0.1, -1.0, 0.0, 0.0), (0.0, 0.0, 1e-4, -1e-8)]:
         ok, message = nav.apply_correction(*bad)
         assert not ok and ("non-finite" in message or "negative" in message)
@@ -271,3 +277,42 @@ def test_walking_label_for_level_steps_at_any_speed():
     _, out = navigated("h2_rectangle_speeds")
     assert all(s.activity == WALKING for s in out.steps)
 
+
+
+# --- corrections over the service, some samples after their step -----------------------
+def late_correction(delay: int, replay_max_s: float = 5.0) -> list:
+    """sit_stand through the live navigator, sample by sample (no magnetometer), with a
+    yaw, z bias and position correction ``delay`` samples after its 20th step; the 15
+    steps after it."""
+    from pdr_pocket.streaming import StreamingPocket
+
+    sim = simulated("sit_stand")
+    live = StreamingPocket(PocketConfig(), replay_max_s=replay_max_s)
+    stamps = (sim.trajectory.t * 1e9).astype(np.int64)
+    steps, due = [], None
+    for i, stamp in enumerate(stamps.tolist()):
+        for chunk in live.push_imu(stamp, sim.imu["linear_acceleration"][i],
+                                   sim.imu["angular_velocity"][i]):
+            steps += chunk.output.steps
+        if due is None and len(steps) == 20:
+            due = i + delay
+        if i == due:
+            position = steps[-1].position + np.array([0.5, -0.3, 0.0])
+            ok, message = live.apply_correction(np.radians(5.0), np.radians(2.0) ** 2,
+                                                np.radians(0.01), np.radians(0.005) ** 2,
+                                                position, np.eye(3).ravel() * 0.5)
+            assert ok, message
+        if len(steps) == 35:
+            return steps[20:]
+    raise AssertionError("sit_stand has fewer than 35 steps")
+
+
+def test_a_correction_counts_from_its_step_however_late_it_comes():
+    """pocket_pdr's service call comes some samples after the step that found the
+    landmark; the navigator takes it as of right after that step, as ``pdr-pocket run
+    --drift online`` does, so the steps after it do not depend on the delay."""
+    right_after, late = late_correction(0), late_correction(60)
+    for a, b in zip(right_after, late, strict=True):
+        assert a.t == b.t
+        assert a.heading == pytest.approx(b.heading, abs=1e-9)
+        np.testing.assert_allclose(a.position, b.position, atol=1e-9)

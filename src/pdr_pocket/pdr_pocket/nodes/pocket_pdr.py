@@ -172,7 +172,7 @@ class PocketPdrNode(Node):
             if request.has_position else None
         covariance = list(request.position_covariance) if request.has_position else None
         try:
-            accepted, message = self.navigator.navigator.apply_correction(
+            accepted, message = self.navigator.apply_correction(
                 request.yaw, request.yaw_variance, request.gyro_bias_z,
                 request.gyro_bias_z_variance, position, covariance)
         except (ValueError, np.linalg.LinAlgError) as exc:
