@@ -19,7 +19,6 @@
 """
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -97,14 +96,14 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
     outputs, start = [], 0
     for end in np.searchsorted(t, np.arange(t[0], t[-1] + CHUNK_S, CHUNK_S)[1:], "left"):
         while start < end:
-            before = _copy(navigator)
+            before = navigator.copy_state()
             out = run(start, end)
             step, corrections = _estimate(estimator, out.steps, log)
             if step is None:
                 outputs.append(out)
                 start = end
                 continue
-            navigator = _restored(*before)
+            navigator = before
             stop = max(int(np.searchsorted(t, step.t_confirm, "right")), start + 1)
             outputs.append(run(start, stop))
             for c in corrections:
@@ -130,20 +129,6 @@ def _record(result: StepResult, log: DriftLog) -> StepResult:
     log.landmarks += result.landmarks
     log.drifts += result.drifts
     return result
-
-
-def _copy(navigator: PocketNavigator) -> tuple[PocketNavigator, list[StepRecord], int]:
-    """A copy of the navigator's state (its steps so far shared, not copied)."""
-    steps, navigator.steps = navigator.steps, []
-    try:
-        return copy.deepcopy(navigator), steps, len(steps)
-    finally:
-        navigator.steps = steps
-
-
-def _restored(saved: PocketNavigator, steps: list[StepRecord], count: int) -> PocketNavigator:
-    saved.steps = steps[:count]
-    return saved
 
 
 def navigate_offline(config: PocketConfig, drift: DriftConfig, t, gyro, accel, mag

@@ -25,6 +25,7 @@ go through :meth:`PocketNavigator.apply_correction`.
 """
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -140,6 +141,18 @@ class PocketNavigator:
         self.corrections = {"accepted": 0, "refused": 0}
         self.changes_seen = 0.0
         self.remounts_t: list[float] = []       # mounting changes of this chunk
+
+    def copy_state(self) -> PocketNavigator:
+        """A copy to run on from here (a correction taken as of an earlier sample): its
+        state deep-copied, its list of steps a new list of the same frozen records (a deep
+        copy of them at every step would grow with the walk)."""
+        steps, self.steps = self.steps, []
+        try:
+            duplicate = copy.deepcopy(self)
+        finally:
+            self.steps = steps
+        duplicate.steps = list(steps)
+        return duplicate
 
     # --- processing -----------------------------------------------------------------
     def process(self, t, gyro, accel, mag=None) -> NavigatorOutput:

@@ -32,7 +32,6 @@ result whatever the chunks, pdr_pocket.navigator):
 """
 from __future__ import annotations
 
-import copy
 from collections import deque
 from dataclasses import dataclass, field
 
@@ -209,7 +208,7 @@ class StreamingPocket:
                 mag[i] = value
         inputs = ((stamps - self.t0_ns) * 1e-9, np.array([h[2] for h in held]),
                   np.array([h[1] for h in held]), mag)
-        before = _detached_copy(self.navigator) if count > 1 else None
+        before = self.navigator.copy_state() if count > 1 else None
         out = self.navigator.process(*inputs)
         self._remember(inputs, out, before)
         return [Processed(stamps, out, self.t0_ns)]
@@ -220,9 +219,9 @@ class StreamingPocket:
         module docstring), the samples since run again; from now when there is none."""
         if self.at_step is None:
             return self.navigator.apply_correction(*correction)
-        navigator = _detached_copy(self.at_step)
+        navigator = self.at_step.copy_state()
         result = navigator.apply_correction(*correction)
-        self.at_step = _detached_copy(navigator)
+        self.at_step = navigator.copy_state()
         for inputs in self.since_step:
             navigator.process(*inputs)
         navigator.steps = self.navigator.steps
@@ -242,25 +241,14 @@ class StreamingPocket:
         self.at_step_t = confirm
         cut = max(int(np.searchsorted(t, confirm, side="right")), 1)
         if cut >= len(t):
-            self.at_step, self.since_step = _detached_copy(self.navigator), []
+            self.at_step, self.since_step = self.navigator.copy_state(), []
             return
         # the chunk went on past the step: run it again from before, up to the step
         steps = self.navigator.steps
         before.process(*(x[:cut] for x in inputs))
-        self.at_step = _detached_copy(before)
+        self.at_step = before.copy_state()
         before.process(*(x[cut:] for x in inputs))
         before.steps = steps
         self.navigator = before
         self.since_step = [tuple(x[cut:] for x in inputs)]
 
-
-def _detached_copy(navigator: PocketNavigator) -> PocketNavigator:
-    """A copy of the navigator's state whose list of steps holds the same (frozen) step
-    records: a deep copy of them per step would grow with the walk."""
-    steps, navigator.steps = navigator.steps, []
-    try:
-        duplicate = copy.deepcopy(navigator)
-    finally:
-        navigator.steps = steps
-    duplicate.steps = list(steps)
-    return duplicate
