@@ -337,9 +337,9 @@ def _measure(kind, att, bias, gyro, previous_gyro, dt, params, prev_vec, ref_vec
     elif kind in (COMPASS, YAW_CORRECTION):
         out[0] = np.arctan2(att[1, 0], att[0, 0])
     elif kind == MEAN_GRAVITY:
-        b1, b2 = _across(ref_vec)
-        out[0] = att[2, 0] * b1[0] + att[2, 1] * b1[1] + att[2, 2] * b1[2]
-        out[1] = att[2, 0] * b2[0] + att[2, 1] * b2[1] + att[2, 2] * b2[2]
+        # prev_vec, ref_vec: two unit vectors across the summed force (body frame)
+        out[0] = att[2, 0] * prev_vec[0] + att[2, 1] * prev_vec[1] + att[2, 2] * prev_vec[2]
+        out[1] = att[2, 0] * ref_vec[0] + att[2, 1] * ref_vec[1] + att[2, 2] * ref_vec[2]
     elif kind == ZARU:
         e = params.earth_rate_n
         for m in range(3):
@@ -606,7 +606,8 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
                 # a window whose force is far from g (free fall, a sensor giving zeros) is
                 # no gravity reference
                 if np.sqrt(body[0] ** 2 + body[1] ** 2 + body[2] ** 2) > 0.5 * total:
-                    update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, a, body,
+                    b1, b2 = _across(body)
+                    update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, b1, b2,
                            frozen, work)
                     ran_out[k, MEAN_GRAVITY] = True
             if s[WINDOW_TIME] >= window:

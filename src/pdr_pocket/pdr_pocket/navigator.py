@@ -377,7 +377,6 @@ class PocketNavigator:
         self.corrections["accepted"] += 1
         return True, "; ".join(done) or "nothing to apply"
 
-
     def _turn_partial_heading(self, turned_rad: float) -> None:
         """The heading summed since the last step, turned as the yaw was: a correction
         counts from the step it was made at (the one that found the landmark), whether it

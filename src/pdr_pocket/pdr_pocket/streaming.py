@@ -233,8 +233,10 @@ class StreamingPocket:
         docstring)."""
         t = inputs[0]
         if not out.steps:
+            if self.at_step is None:        # no step yet, or too long ago: nothing kept
+                return
             self.since_step.append(inputs)
-            if self.at_step is not None and t[-1] - self.at_step_t > self.replay_max_s:
+            if t[-1] - self.at_step_t > self.replay_max_s:
                 self.at_step, self.since_step = None, []
             return
         confirm = out.steps[-1].t_confirm
