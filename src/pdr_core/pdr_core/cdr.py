@@ -143,6 +143,8 @@ def _decode_buffer(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> Messag
     if n and not np.all(representation == np.frombuffer(_CDR_LE[:2], np.uint8)):
         raise ValueError(f"{msgtype}: not little-endian CDR")
     strlen = buf[starts[:, None] + 12 + np.arange(4)].copy().view("<u4").ravel()
+    if n and (strlen.astype(np.int64) > lengths - 16).any():
+        raise ValueError(f"{msgtype}: frame_id longer than its message")
     stamp_ns = np.empty(n, np.int64)
     frame_id = np.empty(n, dtype=object)
     fields = {leaf.path: np.empty((n,) if leaf.count == 1 else (n, leaf.count), leaf.dtype)

@@ -1,8 +1,7 @@
 """Checks every navigator runs on IMU data before using it.
 
-- :func:`clean_samples`: drop (and count) samples with NaN/Inf, beyond any IMU's range, or
-  stamps that do not
-  increase.
+- :func:`clean_samples`, :func:`usable_samples`: drop (and count) samples with NaN/Inf,
+  beyond any IMU's range, or stamps that do not increase.
 - :func:`check_units`: refuse an accelerometer in g or a gyroscope in deg/s.
 - :func:`check_mag_units`: refuse a magnetometer in µT or gauss (ROS wants tesla).
 - :func:`plausible`: samples within any IMU's reach (a garbage reading of 1e150 rad/s is
@@ -32,18 +31,31 @@ def plausible(accel: np.ndarray, gyro: np.ndarray) -> np.ndarray:
 
 
 def clean_samples(imu: MessageBatch) -> tuple[np.ndarray, dict[str, int]]:
-    """Indices of the usable samples and the counts of the dropped ones: NaN/Inf, beyond
-    any IMU's range (:func:`plausible`), then stamps not later than every usable one
-    before, in that order, as the live nodes drop them one sample at a time."""
-    accel, gyro = imu["linear_acceleration"], imu["angular_velocity"]
+    """Indices of the usable samples of a record and the counts of the dropped ones
+    (:func:`usable_samples`)."""
+    keep, counts = usable_samples(imu.stamp_ns, imu["linear_acceleration"],
+                                  imu["angular_velocity"])
+    return np.flatnonzero(keep), counts
+
+
+def usable_samples(stamp_ns: np.ndarray, accel: np.ndarray, gyro: np.ndarray,
+                   after_ns: int | None = None) -> tuple[np.ndarray, dict[str, int]]:
+    """Mask of the usable samples (N,) and the counts of the dropped ones: NaN/Inf, beyond
+    any IMU's range (:func:`plausible`), then stamps [ns] not later than every usable one
+    before (and than ``after_ns``, the last kept before these), in that order, as the
+    live nodes drop them one sample at a time."""
     finite = np.isfinite(accel).all(axis=1) & np.isfinite(gyro).all(axis=1)
     sane = finite & plausible(accel, gyro)
-    stamps = np.where(sane, imu.stamp_ns, np.iinfo(np.int64).min)
-    later = np.concatenate(([True], stamps[1:] > np.maximum.accumulate(stamps)[:-1]))
+    stamps = np.where(sane, np.asarray(stamp_ns, np.int64), np.iinfo(np.int64).min)
+    before = np.maximum.accumulate(stamps)[:-1]
+    if after_ns is None:
+        later = np.concatenate(([True], stamps[1:] > before))
+    else:
+        later = stamps > np.maximum(np.concatenate(([after_ns], before)), after_ns)
     keep = sane & later
-    return np.flatnonzero(keep), {"non_finite": int((~finite).sum()),
-                                  "implausible": int((finite & ~sane).sum()),
-                                  "stamp_not_increasing": int((sane & ~later).sum())}
+    return keep, {"non_finite": int((~finite).sum()),
+                  "implausible": int((finite & ~sane).sum()),
+                  "stamp_not_increasing": int((sane & ~later).sum())}
 
 
 def check_units(accel: np.ndarray, gyro: np.ndarray) -> None:

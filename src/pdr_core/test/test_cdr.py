@@ -118,6 +118,14 @@ def test_truncated_message_is_refused():
         cdr.decode(batch.msgtype, [raws[0], raws[1][:-8]])
 
 
+def test_frame_id_longer_than_the_message_is_refused():
+    batch = random_batch("sensor_msgs/msg/Imu", 1, np.random.default_rng(6), ["imu_link"])
+    raw = cdr.encode(batch)[0]
+    garbage = raw[:12] + (len(raw)).to_bytes(4, "little") + raw[16:]
+    with pytest.raises(ValueError, match="frame_id longer than its message"):
+        cdr.decode(batch.msgtype, [garbage])
+
+
 def test_big_endian_is_refused():
     batch = random_batch("sensor_msgs/msg/Imu", 1, np.random.default_rng(5), ["imu_link"])
     raw = cdr.encode(batch)[0]

@@ -1,5 +1,5 @@
 """The ZUPT EKF's equations as compiled kernels (numba), shared by the offline loop and
-the one-sample steps of :class:`pdr_ins_ekf.zupt_ekf.ZuptEkf` (the live node).
+the block steps of :class:`pdr_ins_ekf.zupt_ekf.ZuptEkf` (the live node).
 
 State arrays are changed in place: position p, velocity v (3,), attitude C (3, 3), biases
 b (6,) [accelerometer, gyroscope], covariance P (n, n), and ``prev`` (3, 3), whose rows
@@ -314,20 +314,34 @@ def feed_back(p, v, C, b, dx, prev):
 
 @njit(cache=True)
 def filter_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, zaru_sigma):
-    """All samples: returns position, velocity (N, 3), attitude (N, 3, 3), bias (N, 6),
-    covariance diagonal (N, n) and position and velocity covariance (N, 3, 3)."""
+    """All samples of a record from the aligned state (C0, b0, P0) at the origin at rest:
+    :func:`filter_block` over stamps t [s]."""
     N = t.shape[0]
-    n = P0.shape[0]
     p, v = np.zeros(3), np.zeros(3)
     C, b, P = C0.copy(), b0.copy(), P0.copy()
     prev = np.empty((3, 3))
     start(C, b, prev, accel[0], gyro[0])
+    dt = np.zeros(N)
+    for k in range(1, N):
+        dt[k] = t[k] - t[k - 1]
+    return filter_block(p, v, C, b, P, prev, accel, gyro, dt, stance, zaru, params,
+                        zupt_sigma, zaru_sigma)
+
+
+@njit(cache=True)
+def filter_block(p, v, C, b, P, prev, accel, gyro, dt, stance, zaru, params, zupt_sigma,
+                 zaru_sigma):
+    """Consecutive samples from the state (p, v, C, b, P, prev), changed in place: each
+    propagated over dt[k] [s], then ZUPT (and ZARU) where ``stance``. Returns position,
+    velocity (N, 3), attitude (N, 3, 3), bias (N, 6), covariance diagonal (N, n) and
+    position and velocity covariance (N, 3, 3) after each sample."""
+    N = accel.shape[0]
+    n = P.shape[0]
     pos, vel, bias = np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 6))
     att, pcov, vcov = np.empty((N, 3, 3)), np.empty((N, 3, 3)), np.empty((N, 3, 3))
     var = np.empty((N, n))
     for k in range(N):
-        predict(p, v, C, b, P, prev, accel[k], gyro[k], t[k] - t[k - 1] if k else 0.0,
-                params)
+        predict(p, v, C, b, P, prev, accel[k], gyro[k], dt[k], params)
         if stance[k]:
             update(p, v, C, b, P, prev, -v, 3, zupt_sigma)
             if zaru:

@@ -125,14 +125,12 @@ def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, byt
     """``pdr/foot/smoothed_path``: one Path (CDR) per smoother segment with every
     sample's smoothed pose, stamped (and logged) at the segment's last sample."""
     out = run_.smoothed
-    quat = quaternion_from_orthonormal(out.attitude)
     paths, first = [], 0
     for end in out.segment_ends.tolist():
         part = slice(first, end + 1)
-        poses = MessageBatch("geometry_msgs/msg/PoseStamped", run_.stamp_ns[part], frame, {
-            "pose.position": out.position[part], "pose.orientation": quat[part]})
         stamp = int(run_.stamp_ns[end])
-        paths.append((stamp, encode_path(poses, stamp, frame)))
+        paths.append((stamp, pose_path(run_.stamp_ns[part], out.position[part],
+                                       out.attitude[part], stamp, frame)))
         first = end + 1
     return paths
 
@@ -141,7 +139,15 @@ def step_path(run_: FootRun, frame: str = MAP_FRAME) -> tuple[int, bytes]:
     """The ``pdr/foot/path`` (CDR) of the whole run, one pose per step (at each stance
     onset), stamped with the last sample."""
     onsets = np.flatnonzero(run_.stance[1:] & ~run_.stance[:-1]) + 1
-    poses = MessageBatch("geometry_msgs/msg/PoseStamped", run_.stamp_ns[onsets], frame, {
-        "pose.position": run_.output.position[onsets],
-        "pose.orientation": quaternion_from_orthonormal(run_.output.attitude[onsets])})
-    return int(run_.stamp_ns[-1]), encode_path(poses, int(run_.stamp_ns[-1]), frame)
+    stamp = int(run_.stamp_ns[-1])
+    return stamp, pose_path(run_.stamp_ns[onsets], run_.output.position[onsets],
+                            run_.output.attitude[onsets], stamp, frame)
+
+
+def pose_path(stamp_ns: np.ndarray, position: np.ndarray, attitude: np.ndarray,
+              path_stamp_ns: int, frame: str) -> bytes:
+    """A nav_msgs/Path (CDR) of the poses at ``stamp_ns`` (N,) [ns]: positions (N, 3) [m]
+    and attitudes C_b^n (N, 3, 3), all in ``frame``, the Path stamped ``path_stamp_ns``."""
+    poses = MessageBatch("geometry_msgs/msg/PoseStamped", stamp_ns, frame, {
+        "pose.position": position, "pose.orientation": quaternion_from_orthonormal(attitude)})
+    return encode_path(poses, path_stamp_ns, frame)

@@ -1,12 +1,15 @@
-"""The foot navigator sample by sample, for the live node, with the same numbers as the
-offline :func:`pdr_ins_ekf.offline.navigate`.
+"""The foot navigator as samples arrive, one at a time or in blocks, for the live node,
+with the same numbers as the offline :func:`pdr_ins_ekf.offline.navigate`.
 
 Each stance decision needs ``detector.context`` samples before and after the sample, so
 decisions, and the filter behind them, run that many samples behind the input. The
-detector is evaluated on exactly the samples its decision depends on (starting at the
-first sample near the start of the record, as offline), the filter is aligned on the
-same first stationary period, and the filter steps are the offline ones
-(:meth:`ZuptEkf.step`), so the estimates agree with the offline run to rounding.
+detector runs once per block, over the newly decidable samples and their context
+(starting at the first sample near the start of the record, as offline); the filter is
+aligned on the same first stationary period, and its block steps are the offline loop's
+kernels (:meth:`ZuptEkf.run_block`), so the estimates agree with the offline run to
+rounding. A block costs one detector call and one compiled loop, so a node that takes its
+subscription's backlog in blocks keeps up with input rates far above its per-message
+overhead.
 
 Input hygiene as offline: samples with NaN/Inf or beyond any IMU's range
 (pdr_core.imu_checks.plausible) and stamps that do not increase are dropped and counted;
@@ -21,33 +24,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_units, plausible
+from pdr_core.imu_checks import check_units, usable_samples
 from pdr_ins_ekf.config import RunConfig
-from pdr_ins_ekf.offline import check_rest
-from pdr_ins_ekf.zupt_ekf import SegmentSmoother, SmoothedSegment, ZuptEkf
+from pdr_ins_ekf.offline import FootRun, check_rest
+from pdr_ins_ekf.zupt_ekf import FilterOutput, SegmentSmoother, SmoothedSegment, ZuptEkf
 
 
 class UnitsError(InputError):
     """The data at rest is not 1 g of specific force and near-zero rate."""
 
 
-@dataclass
-class Estimate:
-    """The filter's state after one sample (ENU, SI)."""
-
-    stamp_ns: int
-    position: np.ndarray
-    velocity: np.ndarray
-    attitude: np.ndarray
-    covariance: np.ndarray
-    stance: bool
-    statistic: float
-    detector: int
-
-
 class _Rows:
-    """(n, 3) samples appended one at a time and dropped from the front, kept in one
-    array (slices are views; no list of arrays to stack at every decision)."""
+    """(n, 3) samples appended at the back and dropped from the front, kept in one array
+    (slices are views; no list of arrays to stack at every decision)."""
 
     def __init__(self, capacity: int = 1024) -> None:
         self._data = np.empty((capacity, 3))
@@ -56,15 +45,20 @@ class _Rows:
     def __len__(self) -> int:
         return self._end - self._start
 
-    def append(self, row: np.ndarray) -> None:
-        if self._end == len(self._data):
-            kept = self._data[self._start:self._end]
-            if 2 * len(kept) > len(self._data):
-                self._data = np.empty((2 * len(self._data), 3))
-            self._data[:len(kept)] = kept.copy()
+    def extend(self, rows: np.ndarray) -> None:
+        """Append rows (n, 3); when the array is full, the kept rows move to its front
+        (into one twice the size while they would fill more than half of it)."""
+        if self._end + len(rows) > len(self._data):
+            kept = self._data[self._start:self._end].copy()
+            capacity = len(self._data)
+            while 2 * (len(kept) + len(rows)) > capacity:
+                capacity *= 2
+            if capacity > len(self._data):
+                self._data = np.empty((capacity, 3))
+            self._data[:len(kept)] = kept
             self._start, self._end = 0, len(kept)
-        self._data[self._end] = row
-        self._end += 1
+        self._data[self._end:self._end + len(rows)] = rows
+        self._end += len(rows)
 
     def __getitem__(self, index):
         if isinstance(index, slice):
@@ -124,29 +118,33 @@ class StreamingNavigator:
         """Record index after the last kept sample."""
         return self.offset + len(self.stamps)
 
-    def push(self, stamp_ns: int, accel, gyro) -> list[Estimate]:
-        """Add one sample; returns the estimates of the samples now decided."""
+    def push(self, stamp_ns: int, accel, gyro) -> FootRun:
+        """Add one sample (:meth:`push_many`)."""
+        return self.push_many([stamp_ns], np.reshape(accel, (1, 3)), np.reshape(gyro, (1, 3)))
+
+    def push_many(self, stamp_ns, accel, gyro) -> FootRun:
+        """Add samples: stamps (N,) [ns], specific force [m/s²] and rate [rad/s] (N, 3) in
+        the IMU frame. Returns the estimates of the samples now decided (none, or the
+        same as :meth:`push` one at a time would give, in one block)."""
+        stamp_ns = np.asarray(stamp_ns, np.int64)
         accel, gyro = np.asarray(accel, float), np.asarray(gyro, float)
-        if not (np.isfinite(accel).all() and np.isfinite(gyro).all()):
-            self.counts["non_finite"] += 1
-            return []
-        if not plausible(accel, gyro):
-            self.counts["implausible"] += 1
-            return []
-        if self.stamps and stamp_ns <= self.stamps[-1]:
-            self.counts["stamp_not_increasing"] += 1
-            return []
-        if not self.stamps and self.offset == 0:
-            self.first_stamp = int(stamp_ns)
-        elif (stamp_ns - self.stamps[-1]) * 1e-9 > self.config.max_gap_s:
-            self.counts["gaps"] += 1
-        self.stamps.append(int(stamp_ns))
-        self.accel.append(accel)
-        self.gyro.append(gyro)
+        keep, dropped = usable_samples(stamp_ns, accel, gyro,
+                                       self.stamps[-1] if self.stamps else None)
+        for key, count in dropped.items():
+            self.counts[key] += count
+        stamp_ns = stamp_ns[keep]
+        if len(stamp_ns):
+            if not self.stamps and self.offset == 0:
+                self.first_stamp = int(stamp_ns[0])
+            previous = np.concatenate((self.stamps[-1:], stamp_ns))
+            self.counts["gaps"] += int((np.diff(previous) * 1e-9 > self.config.max_gap_s).sum())
+            self.stamps.extend(stamp_ns.tolist())
+            self.accel.extend(accel[keep])
+            self.gyro.extend(gyro[keep])
         _, right = self.config.detector.context
         return self._advance(self.received - 1 - right, final=False)
 
-    def flush(self) -> list[Estimate]:
+    def flush(self) -> FootRun:
         """At the end of the input: decide and filter the remaining samples."""
         out = self._advance(self.received - 1, final=True)
         if self.smoother is not None:
@@ -160,28 +158,29 @@ class StreamingNavigator:
         out, self.smoothed = self.smoothed, []
         return out
 
-    def _advance(self, last: int, final: bool) -> list[Estimate]:
-        while self.offset + len(self.stance) <= last:
-            self._decide(self.offset + len(self.stance))
+    def _advance(self, last: int, final: bool) -> FootRun:
+        if self.offset + len(self.stance) <= last:
+            self._decide(self.offset + len(self.stance), last)
         if self.ekf is None and self.failed is None:
             self._check_units(final)
         if self.ekf is None and self.failed is None:
             self._try_align(final)
-        if self.ekf is None:
-            return []
-        out = [self._filter(k) for k in range(self.next_filtered, last + 1)]
-        self._trim()
+        out = self._filter(self.next_filtered, last)
+        if self.ekf is not None:
+            self._trim()
         return out
 
-    def _decide(self, k: int) -> None:
-        """The stance decision of record sample k, from exactly its context."""
+    def _decide(self, first: int, last: int) -> None:
+        """The stance decisions of record samples first..last, each from its context (one
+        detector call over the block's samples and their context)."""
         left, right = self.config.detector.context
-        start, stop = max(0, k - left), min(k + right, self.received - 1)
+        start, stop = max(0, first - left), min(last + right, self.received - 1)
         a = self.accel[start - self.offset:stop + 1 - self.offset]
         w = self.gyro[start - self.offset:stop + 1 - self.offset]
         result = self.config.detector.detect(a, w, 0.0)
-        self.stance.append(bool(result.mask[k - start]))
-        self.statistic.append(float(result.statistic[k - start]))
+        decided = slice(first - start, last + 1 - start)
+        self.stance.extend(result.mask[decided].tolist())
+        self.statistic.extend(result.statistic[decided].tolist())
         self.detector_id = result.detector
 
     def _t(self, k: int) -> float:
@@ -223,19 +222,37 @@ class StreamingNavigator:
                 self.filter_start = self.next_filtered = int(start)
                 return
 
-    def _filter(self, k: int) -> Estimate:
-        i = k - self.offset
-        dt = self._t(k) - self._t(k - 1) if k > self.filter_start else 0.0
-        self.ekf.step(self.accel[i], self.gyro[i], dt, self.stance[i])
+    def _filter(self, first: int, last: int) -> FootRun:
+        """Filter record samples first..last (none if last < first) in one block."""
+        if self.ekf is None or last < first:
+            return self._none_filtered()
+        kept = slice(first - self.offset, last + 1 - self.offset)
+        stamps = np.array(self.stamps[kept], np.int64)
+        if first > self.filter_start:
+            dt = np.diff((np.array(self.stamps[kept.start - 1:kept.stop], np.int64)
+                          - self.first_stamp) * 1e-9)
+        else:
+            dt = np.concatenate(([0.0], np.diff((stamps - self.first_stamp) * 1e-9)))
+        stance = np.array(self.stance[kept], bool)
+        accel, gyro = self.accel[kept], self.gyro[kept]
+        output = self.ekf.run_block(accel, gyro, dt, stance)
         if self.smoother is not None:
-            segment = self.smoother.step(self.stamps[i], self.accel[i], self.gyro[i], dt,
-                                         self.stance[i])
-            if segment is not None:
-                self.smoothed.append(segment)
-        self.next_filtered = k + 1
-        return Estimate(self.stamps[i], self.ekf.p.copy(), self.ekf.v.copy(),
-                        self.ekf.C.copy(), self.ekf.P.copy(), self.stance[i],
-                        self.statistic[i], self.detector_id)
+            for i, stamp in enumerate(stamps.tolist()):
+                segment = self.smoother.step(stamp, accel[i], gyro[i], dt[i], stance[i])
+                if segment is not None:
+                    self.smoothed.append(segment)
+        self.next_filtered = last + 1
+        return FootRun(stamps, stance, np.array(self.statistic[kept], float),
+                       self.detector_id, output)
+
+    def _none_filtered(self) -> FootRun:
+        """An empty block of estimates."""
+        n = self.config.filter.states
+        empty = FilterOutput(np.empty((0, 3)), np.empty((0, 3)), np.empty((0, 3, 3)),
+                             np.empty((0, 6)), np.empty((0, n)), np.empty((0, 3, 3)),
+                             np.empty((0, 3, 3)))
+        return FootRun(np.empty(0, np.int64), np.empty(0, bool), np.empty(0),
+                       self.detector_id, empty)
 
     def _trim(self) -> None:
         """Drop the samples no decision or filter step will need again."""

@@ -206,9 +206,9 @@ class SegmentSmoother:
 
 
 class ZuptEkf:
-    """The filter state and one-sample step (the live node's engine); the equations are
-    the compiled kernels of :mod:`pdr_ins_ekf.compiled_filter`, which :func:`run` also
-    loops over, so both give the same numbers."""
+    """The filter state and its steps over blocks of samples (the live node's engine);
+    the equations are the compiled kernels of :mod:`pdr_ins_ekf.compiled_filter`, which
+    :func:`run` also loops over, so both give the same numbers."""
 
     def __init__(self, config: FilterConfig, attitude: np.ndarray, gyro_bias=(0.0, 0.0, 0.0),
                  position=(0.0, 0.0, 0.0)) -> None:
@@ -239,13 +239,20 @@ class ZuptEkf:
         return cls(config, initial_attitude(accel_rest, yaw_rad),
                    gyro_bias=gyro_rest.mean(axis=0))
 
-    def step(self, f: np.ndarray, w: np.ndarray, dt: float, stance: bool) -> None:
-        """One sample: propagate over dt (0 for the first), then the pseudo-measurements."""
-        self.predict(f, w, dt)
-        if stance:
-            self.zupt()
-            if self.config.zaru:
-                self.zaru(w)
+    def run_block(self, f: np.ndarray, w: np.ndarray, dt: np.ndarray, stance: np.ndarray
+                  ) -> FilterOutput:
+        """Consecutive samples f, w (N, 3), each propagated over dt (N,) [s] (0 for the
+        first of the record), then ZUPT (and ZARU) where ``stance``: the estimates after
+        each (:func:`pdr_ins_ekf.compiled_filter.filter_block`, as :func:`run`)."""
+        f, w = np.ascontiguousarray(f, float), np.ascontiguousarray(w, float)
+        if len(f) and not self.started:
+            kernels.start(self.C, self.b, self.prev, f[0], w[0])
+            self.started = True
+        c = self.config
+        return FilterOutput(*kernels.filter_block(
+            self.p, self.v, self.C, self.b, self.P, self.prev, f, w,
+            np.ascontiguousarray(dt, float), np.ascontiguousarray(stance, bool), c.zaru,
+            self.params, c.zupt_sigma_mps, c.zaru_sigma_radps))
 
     def zupt(self) -> None:
         """Zero-velocity pseudo-measurement: z = −v̂ observes δv."""
@@ -289,7 +296,7 @@ def run(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
         config: FilterConfig, alignment: slice, yaw_rad: float = 0.0) -> FilterOutput:
     """Filter a whole recording: stamps t (N,) [s], specific force and rate (N, 3), the
     stance mask (N,) and the samples to align on (at rest). The loop runs compiled
-    (:mod:`pdr_ins_ekf.compiled_filter`), with the equations of :meth:`ZuptEkf.step`."""
+    (:mod:`pdr_ins_ekf.compiled_filter`), with the equations of :meth:`ZuptEkf.run_block`."""
     return FilterOutput(*kernels.filter_loop(
         *_loop_inputs(t, accel, gyro, stance, config, alignment, yaw_rad)))
 

@@ -36,11 +36,16 @@ def _running() -> StreamingNavigator:
 RUNNING, LAST = _running(), BASE + 399 * PERIOD_NS
 
 
-def assert_finite(estimates) -> None:
-    for e in estimates:
-        assert np.isfinite(e.position).all() and np.isfinite(e.velocity).all()
-        assert np.isfinite(e.attitude).all() and np.isfinite(e.covariance).all()
-        assert np.isfinite(e.statistic) or e.statistic == np.inf
+def assert_finite(run) -> None:
+    out = run.output
+    for array in (out.position, out.velocity, out.attitude, out.variance, out.position_cov,
+                  out.velocity_cov):
+        assert np.isfinite(array).all()
+    assert (np.isfinite(run.statistic) | (run.statistic == np.inf)).all()
+
+
+def dropped(live) -> int:
+    return sum(v for k, v in live.counts.items() if k != "gaps")
 
 
 @FUZZ
@@ -53,12 +58,27 @@ def test_zupt_ekf_adapter_survives_garbage(events):
         if kind == "reset":
             live.reset()
             continue
-        before = sum(v for k, v in live.counts.items() if k != "gaps")
-        received = live.received
+        before, received = dropped(live), live.received
         assert_finite(live.push(last + offset, accel, gyro))
         pushed += 1
-        dropped = sum(v for k, v in live.counts.items() if k != "gaps") - before
-        assert dropped + (live.received - received) == 1, "kept or counted, never lost"
-        dropped_before += dropped
+        lost = dropped(live) - before
+        assert lost + (live.received - received) == 1, "kept or counted, never lost"
+        dropped_before += lost
     assert_finite(live.flush())
     assert pushed >= dropped_before >= 0
+
+
+@FUZZ
+@given(st.lists(st.lists(st.tuples(stamp, vector, vector), max_size=40), max_size=6))
+def test_zupt_ekf_blocks_survive_garbage(blocks):
+    """The node takes its backlog in blocks (push_many): every sample of a block is kept
+    or counted, and nothing estimated is non-finite."""
+    live = copy.deepcopy(RUNNING)
+    for block in blocks:
+        stamps = np.array([LAST + offset for offset, _, _ in block], np.int64)
+        accel = np.array([a for _, a, _ in block], float).reshape(-1, 3)
+        gyro = np.array([w for _, _, w in block], float).reshape(-1, 3)
+        before, received = dropped(live), live.received
+        assert_finite(live.push_many(stamps, accel, gyro))
+        assert dropped(live) - before + live.received - received == len(block)
+    assert_finite(live.flush())

@@ -14,21 +14,23 @@ def imu(request):
     return BagReader(root / "bags" / "foot_walk").read("/imu/data")
 
 
-def stream(navigator, imu, indices=None):
-    out = []
-    for k in range(len(imu)) if indices is None else indices:
-        out += navigator.push(int(imu.stamp_ns[k]), imu["linear_acceleration"][k],
-                              imu["angular_velocity"][k])
-    return out + navigator.flush()
+def stream(navigator, imu, indices=None, block=1):
+    """The positions estimated live, pushing ``block`` samples at a time."""
+    indices = np.arange(len(imu)) if indices is None else np.asarray(indices)
+    runs = [navigator.push_many(imu.stamp_ns[part], imu["linear_acceleration"][part],
+                                imu["angular_velocity"][part])
+            for part in np.array_split(indices, max(1, len(indices) // block))]
+    runs.append(navigator.flush())
+    return np.concatenate([run.output.position for run in runs])
 
 
 @pytest.mark.parametrize("detector", ["retarded", "limited", "shoe", "adaptive_shoe"])
-def test_stream_equals_offline(imu, detector):
+@pytest.mark.parametrize("block", [1, 37])
+def test_stream_equals_offline(imu, detector, block):
     config = run_config({"detector": {"type": detector}})
     offline = navigate(imu, config)
-    live = stream(StreamingNavigator(config), imu)
-    assert len(live) == len(offline.stamp_ns)
-    np.testing.assert_array_equal([e.position for e in live], offline.output.position)
+    live = stream(StreamingNavigator(config), imu, block=block)
+    np.testing.assert_array_equal(live, offline.output.position)
 
 
 def test_stream_smoother_equals_offline_segments(imu):
@@ -36,7 +38,7 @@ def test_stream_smoother_equals_offline_segments(imu):
                          "filter": {"acc_noise": 0.02, "gyro_noise": 0.002}})
     offline = navigate(imu, config).smoothed
     navigator = StreamingNavigator(config)
-    stream(navigator, imu)
+    stream(navigator, imu, block=50)
     segments = navigator.take_smoothed()
     ends = np.cumsum([len(s.stamp_ns) for s in segments]) - 1
     np.testing.assert_array_equal(ends, offline.segment_ends)
@@ -51,11 +53,13 @@ def test_full_smoothing_is_refused_live():
         StreamingNavigator(run_config({"smoother": {"mode": "full"}}))
 
 
-def test_bad_samples_are_dropped_and_counted(imu):
+@pytest.mark.parametrize("block", [1, 16])
+def test_bad_samples_are_dropped_and_counted(imu, block):
     navigator = StreamingNavigator(RunConfig())
     bad = imu.take(np.arange(len(imu)))  # a copy
     bad["linear_acceleration"][100] = np.nan
-    out = stream(navigator, bad, list(range(500)) + [450, 499] + list(range(500, len(bad))))
+    out = stream(navigator, bad, list(range(500)) + [450, 499] + list(range(500, len(bad))),
+                 block)
     assert navigator.counts == {"non_finite": 1, "implausible": 0, "stamp_not_increasing": 2,
                                 "gaps": 0}
     assert len(out) == len(bad) - 1
@@ -71,7 +75,7 @@ def test_data_in_g_is_refused_at_alignment(imu):
     navigator = StreamingNavigator(run_config({"detector": {"type": "shoe"}}))
     scaled = imu.take(np.arange(len(imu)))
     scaled.fields["linear_acceleration"] = scaled["linear_acceleration"] / 9.80665
-    assert stream(navigator, scaled) == []
+    assert len(stream(navigator, scaled)) == 0
     assert "the accelerometer looks like it is in g" in str(navigator.failed)
     navigator.reset()
     assert navigator.failed is None and len(stream(navigator, imu)) == len(imu)

@@ -15,29 +15,42 @@ config/foot_ekf.yaml) or ``imu_profile`` (the shipped config/foot_ekf_<profile>.
 transient_local, to match the publisher), ``smoothed_path`` (false).
 
 Estimates lag the input by the detector's look-ahead (a few samples) and agree with
-``pdr-ekf run`` on the same data. Bad samples (NaN/Inf, stamps going backwards) are
-dropped and counted with a throttled warning; data in g or deg/s is refused at alignment
-with an error, and nothing is navigated until ``~/reset``.
+``pdr-ekf run`` on the same data. The node keeps up with input far faster than real
+time: each callback takes the subscription's waiting messages as one block (up to
+``MAX_BLOCK``; pdr_core.backlog), runs the navigator once over the block, and decodes
+and encodes the messages as raw CDR (pdr_core.cdr). ``pdr/foot/path`` is latched
+(depth 1: its last message holds every step).
+
+Bad samples (NaN/Inf, stamps going backwards) and malformed messages are dropped and
+counted with a throttled warning; data in g or deg/s is refused at alignment with an
+error, and nothing is navigated until ``~/reset``.
 """
 from __future__ import annotations
 
 import dataclasses
 
-from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, TwistWithCovarianceStamped
+import numpy as np
+from geometry_msgs.msg import PoseWithCovarianceStamped, TwistWithCovarianceStamped
 from nav_msgs.msg import Path as PathMsg
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
-from pdr_core.headers import NS_PER_S, set_header, stamp_ns
+from pdr_core import cdr
+from pdr_core.backlog import waiting_messages
+from pdr_core.batch import MessageBatch
+from pdr_core.msgtypes import IMU
 from pdr_core.node_main import spin_node
-from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import load_run_config
-from pdr_ins_ekf.offline import UNKNOWN_VARIANCE
-from pdr_ins_ekf.streaming import Estimate, StreamingNavigator
+from pdr_ins_ekf.offline import FootRun, output_batches, pose_path
+from pdr_ins_ekf.streaming import StreamingNavigator
 from pdr_ins_ekf.zupt_ekf import SmoothedSegment
 from pdr_msgs.msg import Stance
+
+# messages taken from the subscription's queue per callback: 2 s at 200 Hz, so a backlog
+# is worked off in large blocks while the ~/reset service still gets its turn
+MAX_BLOCK = 400
 
 
 class ZuptEkfNode(Node):
@@ -57,35 +70,58 @@ class ZuptEkfNode(Node):
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
-        self.create_subscription(Imu, "imu/data", self.on_imu, qos)
+        self.subscription = self.create_subscription(Imu, "imu/data", self.on_imu, qos,
+                                                     raw=True)
         # transient local: a recorder that joins late still gets the last 1000 estimates
         out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pdr/foot/pose", out)
-        self.velocity_pub = self.create_publisher(TwistWithCovarianceStamped,
-                                                  "pdr/foot/velocity", out)
-        self.stance_pub = self.create_publisher(Stance, "pdr/foot/stance", out)
-        self.path_pub = self.create_publisher(PathMsg, "pdr/foot/path", out)
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.estimate_pubs = {
+            "/pdr/foot/pose": self.create_publisher(PoseWithCovarianceStamped,
+                                                    "pdr/foot/pose", out),
+            "/pdr/foot/velocity": self.create_publisher(TwistWithCovarianceStamped,
+                                                        "pdr/foot/velocity", out),
+            "/pdr/foot/stance": self.create_publisher(Stance, "pdr/foot/stance", out)}
+        self.path_pub = self.create_publisher(PathMsg, "pdr/foot/path", latched)
         self.smoothed_pub = self.create_publisher(PathMsg, "pdr/foot/smoothed_path", out)
         self.create_service(Trigger, "~/reset", self.on_reset)
-        self.path = PathMsg()
-        self.path.header.frame_id = self.frame_id
-        self.previous_stance = False
+        self.steps = _Steps()
+        self.undecodable = 0
         self.reported: dict[str, int] = {}
         self.get_logger().info(f"zupt_ekf: configuration {path or profile or 'default'}")
 
-    def on_imu(self, msg: Imu) -> None:
-        a, w = msg.linear_acceleration, msg.angular_velocity
-        stamp = stamp_ns(msg)
-        estimates = self.navigator.push(stamp, (a.x, a.y, a.z), (w.x, w.y, w.z))
-        for estimate in estimates:
-            self.publish(estimate)
+    def on_imu(self, raw: bytes) -> None:
+        """One message from the executor, and the ones waiting behind it, as one block."""
+        self.on_imu_block([raw, *waiting_messages(self.subscription, MAX_BLOCK - 1)])
+
+    def on_imu_block(self, raws: list[bytes]) -> None:
+        """Serialized Imu messages (CDR) in arrival order: navigate, publish, report."""
+        imu = self._decode(raws)
+        run = self.navigator.push_many(imu.stamp_ns, imu["linear_acceleration"],
+                                       imu["angular_velocity"])
+        self.publish(run)
         for segment in self.navigator.take_smoothed():
             self.publish_smoothed(segment)
         self.report_problems()
 
+    def _decode(self, raws: list[bytes]) -> MessageBatch:
+        """The block decoded; if a message is malformed, the others one by one, and the
+        malformed ones counted."""
+        try:
+            return cdr.decode(IMU, raws)
+        except ValueError:
+            good = []
+            for raw in raws:
+                try:
+                    good.append(cdr.decode(IMU, [raw]))
+                except ValueError:
+                    self.undecodable += 1
+            return MessageBatch.concatenate(good) if good else cdr.decode(IMU, [])
+
     def report_problems(self) -> None:
-        for key, count in self.navigator.counts.items():
+        counts = {**self.navigator.counts, "undecodable messages": self.undecodable}
+        for key, count in counts.items():
             if count > self.reported.get(key, 0):
                 self.get_logger().warning(f"imu/data: {count} samples with {key} so far",
                                           throttle_duration_sec=5.0)
@@ -94,66 +130,54 @@ class ZuptEkfNode(Node):
             self.get_logger().error(f"not navigating: {self.navigator.failed}",
                                     throttle_duration_sec=5.0)
 
-    def publish(self, e: Estimate) -> None:
-        sec, nanosec = divmod(e.stamp_ns, NS_PER_S)
-        q = quaternion_from_orthonormal(e.attitude)
-        pose = PoseWithCovarianceStamped()
-        pose.header.stamp.sec, pose.header.stamp.nanosec = sec, nanosec
-        pose.header.frame_id = self.frame_id
-        p = pose.pose.pose
-        p.position.x, p.position.y, p.position.z = map(float, e.position)
-        p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = map(float, q)
-        cov = [0.0] * 36
-        for i in range(3):
-            for j in range(3):
-                cov[6 * i + j] = float(e.covariance[i, j])
-            cov[7 * (i + 3)] = float(e.covariance[6 + i, 6 + i])
-        pose.pose.covariance = cov
-        self.pose_pub.publish(pose)
-        twist = TwistWithCovarianceStamped()
-        twist.header = pose.header
-        v = twist.twist.twist.linear
-        v.x, v.y, v.z = map(float, e.velocity)
-        tcov = [0.0] * 36
-        for i in range(3):
-            for j in range(3):
-                tcov[6 * i + j] = float(e.covariance[3 + i, 3 + j])
-            tcov[7 * (i + 3)] = UNKNOWN_VARIANCE
-        twist.twist.covariance = tcov
-        self.velocity_pub.publish(twist)
-        stance = Stance(stationary=e.stance, statistic=e.statistic, detector=e.detector)
-        stance.header.stamp = pose.header.stamp
-        stance.header.frame_id = "imu_link"
-        self.stance_pub.publish(stance)
-        if e.stance and not self.previous_stance:
-            step = PoseStamped(header=pose.header, pose=p)
-            self.path.poses.append(step)
-            self.path.header.stamp = pose.header.stamp
-            self.path_pub.publish(self.path)
-        self.previous_stance = e.stance
+    def publish(self, run: FootRun) -> None:
+        """Pose, velocity and stance of every sample of the block (raw CDR), and the step
+        path if a step began in it."""
+        if not len(run.stamp_ns):
+            return
+        for topic, batch in output_batches(run, self.frame_id).items():
+            publisher = self.estimate_pubs[topic]
+            for data in cdr.encode(batch.take(slice(None))):
+                publisher.publish(data)
+        if self.steps.add(run):
+            self.path_pub.publish(self.steps.path(self.frame_id))
 
     def publish_smoothed(self, segment: SmoothedSegment) -> None:
         """One Path with every sample's smoothed pose, stamped at the segment's end."""
-        path = PathMsg()
-        path.header.frame_id = self.frame_id
-        quats = quaternion_from_orthonormal(segment.attitude)
-        for stamp, p, q in zip(segment.stamp_ns.tolist(), segment.position.tolist(),
-                               quats.tolist(), strict=True):
-            pose = PoseStamped()
-            set_header(pose.header, stamp, self.frame_id)
-            position, orientation = pose.pose.position, pose.pose.orientation
-            position.x, position.y, position.z = p
-            orientation.x, orientation.y, orientation.z, orientation.w = q
-            path.poses.append(pose)
-        path.header.stamp = path.poses[-1].header.stamp
-        self.smoothed_pub.publish(path)
+        self.smoothed_pub.publish(pose_path(segment.stamp_ns, segment.position,
+                                            segment.attitude, int(segment.stamp_ns[-1]),
+                                            self.frame_id))
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
-        self.path.poses = []
-        self.previous_stance = False
+        self.steps = _Steps()
         response.success, response.message = True, "navigator reset"
         return response
+
+
+class _Steps:
+    """The pose at every stance onset so far (``pdr/foot/path``)."""
+
+    def __init__(self) -> None:
+        self.stamp_ns: list[int] = []
+        self.position: list[np.ndarray] = []
+        self.attitude: list[np.ndarray] = []
+        self.previous_stance = False
+
+    def add(self, run: FootRun) -> bool:
+        """Keep the block's stance onsets; True if there were any."""
+        before = np.concatenate(([self.previous_stance], run.stance[:-1]))
+        onsets = np.flatnonzero(run.stance & ~before)
+        self.previous_stance = bool(run.stance[-1])
+        self.stamp_ns += run.stamp_ns[onsets].tolist()
+        self.position += list(run.output.position[onsets])
+        self.attitude += list(run.output.attitude[onsets])
+        return len(onsets) > 0
+
+    def path(self, frame: str) -> bytes:
+        """The path of every step (CDR), stamped at the last one."""
+        return pose_path(np.array(self.stamp_ns, np.int64), np.array(self.position),
+                         np.array(self.attitude), self.stamp_ns[-1], frame)
 
 
 def main(args: list[str] | None = None) -> None:

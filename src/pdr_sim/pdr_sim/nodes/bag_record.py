@@ -35,12 +35,15 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.signals import SignalHandlerOptions
 
 from pdr_core import topics as bag_topics
+from pdr_core.backlog import waiting_messages
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import typestore
 from pdr_core.recording import RecordingBag
 from pdr_sim.nodes.ros_types import message_class
 
 _NS = 1_000_000_000
+# messages taken from a subscription's queue per callback (pdr_core.backlog)
+BACKLOG_BLOCK = 1000
 _HEADER = ("header", "std_msgs/msg/Header")
 
 
@@ -94,6 +97,7 @@ class BagRecorder(Node):
         self.count = 0
         self.failure: OSError | None = None
         self.subscribed: dict[str, str] = {}
+        self.subscriptions_by_topic: dict = {}
         self.discovery = self.create_timer(0.05, self._discover)
         self.flusher = self.create_timer(flush_interval_s / 4, self._flush)
 
@@ -112,25 +116,30 @@ class BagRecorder(Node):
                                         throttle_duration_sec=10.0)
                 continue
             qos = matching_qos(self.get_publishers_info_by_topic(full))
-            self.create_subscription(message_class(msgtype), topic,
-                                     self._callback(bag_topics.bag_name(topic), msgtype),
-                                     qos, raw=True)
+            self.subscriptions_by_topic[topic] = self.create_subscription(
+                message_class(msgtype), topic,
+                self._callback(topic, bag_topics.bag_name(topic), msgtype), qos, raw=True)
             self.subscribed[topic] = msgtype
             self.get_logger().info(f"recording {full} ({msgtype})")
 
-    def _callback(self, bag_topic: str, msgtype: str):
+    def _callback(self, topic: str, bag_topic: str, msgtype: str):
+        """The topic's callback: its message and the ones waiting behind it (up to
+        BACKLOG_BLOCK, pdr_core.backlog), written until done."""
         stamped = has_header(msgtype)
 
         def record(data: bytes) -> None:
-            if self.failure is not None:
-                return
-            log_time = header_stamp_ns(data) if stamped else self.get_clock().now().nanoseconds
-            try:
-                self.writer.write_raw(bag_topic, msgtype, log_time, data)
-            except OSError as exc:
-                self._failed(exc)
-                return
-            self.count += 1
+            waiting = waiting_messages(self.subscriptions_by_topic[topic], BACKLOG_BLOCK)
+            for message in (data, *waiting):
+                if self.done:
+                    return
+                log_time = (header_stamp_ns(message) if stamped
+                            else self.get_clock().now().nanoseconds)
+                try:
+                    self.writer.write_raw(bag_topic, msgtype, log_time, message)
+                except OSError as exc:
+                    self._failed(exc)
+                    return
+                self.count += 1
 
         return record
 
