@@ -120,7 +120,7 @@ class ZuptEkfNode(Node):
             return MessageBatch.concatenate(good) if good else cdr.decode(IMU, [])
 
     def report_problems(self) -> None:
-        counts = {**self.navigator.counts, "undecodable messages": self.undecodable}
+        counts = {**self.navigator.counts, "malformed_cdr": self.undecodable}
         for key, count in counts.items():
             if count > self.reported.get(key, 0):
                 self.get_logger().warning(f"imu/data: {count} samples with {key} so far",
