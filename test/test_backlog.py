@@ -16,6 +16,7 @@ pytestmark = pytest.mark.ros
 
 
 def test_one_callback_takes_the_messages_waiting_behind_it(ros):
+    from rclpy.duration import Duration
     from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
     from std_msgs.msg import String
 
@@ -34,7 +35,7 @@ def test_one_callback_takes_the_messages_waiting_behind_it(ros):
         time.sleep(0.01)
     for k in range(50):
         publisher.publish(String(data=f"m{k}"))
-    time.sleep(0.5)  # all delivered to the subscription's queue
+    assert publisher.wait_for_all_acked(Duration(seconds=10))  # all in the queue
     while sum(len(c) for c in calls) < 50 and time.monotonic() < deadline:
         executor.spin_once(timeout_sec=0.1)
     assert [len(c) for c in calls] == [31, 19]
