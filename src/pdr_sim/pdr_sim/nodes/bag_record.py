@@ -96,8 +96,7 @@ class BagRecorder(Node):
         self.writer = RecordingBag(out, flush_interval_s)
         self.count = 0
         self.failure: OSError | None = None
-        self.subscribed: dict[str, str] = {}
-        self.subscriptions_by_topic: dict = {}
+        self.subscribed: dict = {}      # graph topic -> its subscription
         self.discovery = self.create_timer(0.05, self._discover)
         self.flusher = self.create_timer(flush_interval_s / 4, self._flush)
 
@@ -116,10 +115,9 @@ class BagRecorder(Node):
                                         throttle_duration_sec=10.0)
                 continue
             qos = matching_qos(self.get_publishers_info_by_topic(full))
-            self.subscriptions_by_topic[topic] = self.create_subscription(
+            self.subscribed[topic] = self.create_subscription(
                 message_class(msgtype), topic,
                 self._callback(topic, bag_topics.bag_name(topic), msgtype), qos, raw=True)
-            self.subscribed[topic] = msgtype
             self.get_logger().info(f"recording {full} ({msgtype})")
 
     def _callback(self, topic: str, bag_topic: str, msgtype: str):
@@ -128,7 +126,7 @@ class BagRecorder(Node):
         stamped = has_header(msgtype)
 
         def record(data: bytes) -> None:
-            waiting = waiting_messages(self.subscriptions_by_topic[topic], BACKLOG_BLOCK)
+            waiting = waiting_messages(self.subscribed[topic], BACKLOG_BLOCK)
             for message in (data, *waiting):
                 if self.done:
                     return
