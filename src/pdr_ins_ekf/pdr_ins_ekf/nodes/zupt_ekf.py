@@ -32,6 +32,7 @@ import dataclasses
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped, TwistWithCovarianceStamped
 from nav_msgs.msg import Path as PathMsg
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu
@@ -51,6 +52,14 @@ from pdr_msgs.msg import Stance
 # messages taken from the subscription's queue per callback: 2 s at 200 Hz, so a backlog
 # is worked off in large blocks while the ~/reset service still gets its turn
 MAX_BLOCK = 400
+# history of the estimate publishers (messages). Estimates go out in slices of at most
+# half of it (the first block after alignment holds every sample since the rest it
+# aligned on), each once the reliable subscribers have acknowledged the previous one (or
+# ACK_TIMEOUT has passed): a subscriber slower than the node (a recorder behind a bag
+# played at full speed) then slows the node down instead of losing what the history
+# overwrote before it was delivered
+HISTORY = 1000
+ACK_TIMEOUT = Duration(seconds=1.0)
 
 
 class ZuptEkfNode(Node):
@@ -73,7 +82,7 @@ class ZuptEkfNode(Node):
         self.subscription = self.create_subscription(Imu, "imu/data", self.on_imu, qos,
                                                      raw=True)
         # transient local: a recorder that joins late still gets the last 1000 estimates
-        out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+        out = QoSProfile(depth=HISTORY, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -131,14 +140,20 @@ class ZuptEkfNode(Node):
                                     throttle_duration_sec=5.0)
 
     def publish(self, run: FootRun) -> None:
-        """Pose, velocity and stance of every sample of the block (raw CDR), and the step
-        path if a step began in it."""
-        if not len(run.stamp_ns):
+        """Pose, velocity and stance of every sample of the block (raw CDR; a large block
+        in acknowledged slices, see HISTORY), and the step path if a step began in it."""
+        n = len(run.stamp_ns)
+        if not n:
             return
-        for topic, batch in output_batches(run, self.frame_id).items():
-            publisher = self.estimate_pubs[topic]
-            for data in cdr.encode(batch.take(slice(None))):
-                publisher.publish(data)
+        batches = output_batches(run, self.frame_id)
+        for start in range(0, n, HISTORY // 2):
+            for publisher in self.estimate_pubs.values():
+                publisher.wait_for_all_acked(ACK_TIMEOUT)
+            part = slice(start, start + HISTORY // 2)
+            for topic, batch in batches.items():
+                publisher = self.estimate_pubs[topic]
+                for data in cdr.encode(batch.take(part)):
+                    publisher.publish(data)
         if self.steps.add(run):
             self.path_pub.publish(self.steps.path(self.frame_id))
 
