@@ -1,7 +1,11 @@
 """Fixtures for the cross-package tests.
 
 Every test that starts ROS processes gets its own ROS_DOMAIN_ID, so concurrent runs and
-leftover processes cannot disturb it (../shared/ROS_JAZZY_FROM_PYPI.md).
+leftover processes cannot disturb it (../shared/ROS_JAZZY_FROM_PYPI.md). Under
+pytest-xdist each worker draws from its own block of ids, so two workers never share one.
+
+Tests marked ``shared_data`` (wstest.needs_shared) skip when a recording is missing, with
+one line naming it, and fail instead under PDR_REQUIRE_SHARED_DATA=1 (CI).
 """
 from __future__ import annotations
 
@@ -10,14 +14,52 @@ import os
 
 import pytest
 
-from wstest import Processes
+from wstest import REQUIRE_SHARED_DATA, Processes, missing_shared
 
-_domains = itertools.count((os.getpid() * 17) % 100)
+DOMAIN_IDS = 100                    # 1..100: ids every RMW accepts on one machine
+
+
+def domain_block() -> range:
+    """This process's ROS domain ids: all of them, or its worker's share under xdist."""
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    worker = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0")[2:])
+    size = DOMAIN_IDS // workers
+    return range(1 + worker * size, 1 + (worker + 1) * size)
+
+
+def domain_ids():
+    """The block's ids in turn, from a start that depends on the process id (two runs at
+    once rarely start on the same id)."""
+    block = domain_block()
+    start = (os.getpid() * 17) % len(block)
+    return (block[(start + k) % len(block)] for k in itertools.count())
+
+
+_domains = domain_ids()
+
+
+def pytest_collection_modifyitems(items):
+    """Skip, at the test's own line, a test whose shared recording is missing."""
+    if REQUIRE_SHARED_DATA:
+        return
+    for item in items:
+        for mark in item.iter_markers("shared_data"):
+            reason = missing_shared(mark.args)
+            if reason is not None:
+                item.add_marker(pytest.mark.skip(reason=reason))
+
+
+def pytest_runtest_setup(item):
+    """Under PDR_REQUIRE_SHARED_DATA=1 a missing recording is an error."""
+    for mark in item.iter_markers("shared_data"):
+        reason = missing_shared(mark.args)
+        if reason is not None:
+            pytest.fail(f"{reason}; PDR_REQUIRE_SHARED_DATA=1", pytrace=False)
 
 
 @pytest.fixture
 def domain_id() -> int:
-    return 1 + next(_domains) % 100
+    return next(_domains)
 
 
 @pytest.fixture

@@ -7,20 +7,17 @@ import re
 import pytest
 import yaml
 
-from wstest import SHARED_DATA
+from wstest import PYSHOE, PYSHOE_ARGS, needs_shared
 
-TRIALS = sorted((SHARED_DATA / "foot" / "pyshoe_vicon").glob("*.csv"))
-IMPORT = ["--time-col", "t_s", "--acc-cols", "acc_x_mps2,acc_y_mps2,acc_z_mps2",
-          "--gyro-cols", "gyr_x_radps,gyr_y_radps,gyr_z_radps",
-          "--pos-cols", "gt_x_m,gt_y_m,gt_z_m"]
 # 2017-12-15-18-03-05 is mostly shuffling in place: one swing passes the step filter.
 TOO_FEW = {"2017-12-15-18-03-05"}
 
 
-@pytest.mark.parametrize("csv", TRIALS, ids=[p.stem for p in TRIALS])
+@pytest.mark.parametrize("csv", [pytest.param(p, id=p.stem, marks=needs_shared(p))
+                                 for p in PYSHOE])
 def test_fit_steps_on_vicon(procs, tmp_path, csv):
     imported = procs.run("pdr-sim", "import-csv", str(csv), "--out", str(tmp_path / "bag"),
-                         *IMPORT)
+                         *PYSHOE_ARGS)
     assert imported.returncode == 0, imported.stderr
     out = tmp_path / "pattern.yaml"
     fitted = procs.run("pdr-sim", "fit-steps", str(tmp_path / "bag"), "--out", str(out),

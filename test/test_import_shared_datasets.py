@@ -8,10 +8,7 @@ import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader
-from wstest import PYSHOE, PYSHOE_ARGS, SHARED_DATA, XIO, XIO_ARGS
-
-OXFORD = next((SHARED_DATA / "pocket" / "oxford_step_counter").glob("user1_frontpocket_*.csv"))
-OXFORD_ARGS = ["--no-header", "--time-col", "0", "--time-unit", "ns", "--acc-cols", "1,2,3"]
+from wstest import OXFORD, OXFORD_ARGS, PYSHOE, PYSHOE_ARGS, XIO, XIO_ARGS, needs_shared
 
 
 def csv_rows(path) -> np.ndarray:
@@ -40,7 +37,8 @@ def import_bag(procs, tmp_path, csv, args):
     return BagReader(out), result.stdout
 
 
-@pytest.mark.parametrize("csv", PYSHOE, ids=[p.stem for p in PYSHOE])
+@pytest.mark.parametrize("csv", [pytest.param(p, id=p.stem, marks=needs_shared(p))
+                                 for p in PYSHOE])
 def test_pyshoe_vicon(procs, tmp_path, csv):
     reader, _ = import_bag(procs, tmp_path, csv, PYSHOE_ARGS)
     table = csv_rows(csv)
@@ -52,6 +50,7 @@ def test_pyshoe_vicon(procs, tmp_path, csv):
                - 9.81) <= 0.2
 
 
+@needs_shared(XIO)
 def test_xio_gait_tracking(procs, tmp_path):
     reader, stdout = import_bag(procs, tmp_path, XIO, XIO_ARGS)
     table = csv_rows(XIO)
@@ -64,6 +63,7 @@ def test_xio_gait_tracking(procs, tmp_path):
                - 9.81) <= 0.2, "g converted to m/s²"
 
 
+@needs_shared(OXFORD)
 def test_oxford_pocket_accelerometer_only(procs, tmp_path):
     reader, _ = import_bag(procs, tmp_path, OXFORD, OXFORD_ARGS)
     table = csv_rows(OXFORD)
@@ -77,6 +77,7 @@ def test_oxford_pocket_accelerometer_only(procs, tmp_path):
                - 9.81) <= 0.2
 
 
+@needs_shared(XIO)
 def test_xio_without_drop_duplicates_names_the_row(procs, tmp_path):
     result = procs.run("pdr-sim", "import-csv", str(XIO), "--out", str(tmp_path / "bag"),
                        *[arg for arg in XIO_ARGS if arg != "--drop-duplicates"])

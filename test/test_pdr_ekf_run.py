@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader, write_batches
-from wstest import ROOT, XIO, XIO_COLUMNS
+from wstest import ROOT, XIO, XIO_COLUMNS, needs_shared
 
 REPORT_KEYS = {"duration_s", "distance_m", "final_error_m", "final_error_pct",
                "mean_error_3d_m", "armse_3d_m", "armse_2d_m"}
@@ -45,6 +45,7 @@ def test_non_finite_samples_are_dropped_and_counted(procs, tmp_path):
     assert "loop_gap_m" in report, "no ground truth in this bag"
 
 
+@needs_shared(XIO)
 @pytest.mark.parametrize("units, message", [
     (["--acc-unit", "mps2", "--gyro-unit", "deg/s"], "the accelerometer looks like it is in g"),
     (["--acc-unit", "g", "--gyro-unit", "radps"], "the gyroscope looks like it is in deg/s")])

@@ -13,14 +13,13 @@ from pdr_pocket.attitude_offline import pocket_inputs
 from pdr_pocket.config import OrientationConfig
 from pdr_pocket.mounting import flexion_axis, signed_flexion_axis, thigh_pitch, up_axis
 from pdr_pocket.orientation import OrientationFilter
-from wstest import SHARED_DATA
+from wstest import OXFORD, OXFORD_ARGS, THIGH, needs_shared
 
-pytestmark = pytest.mark.ros
-THIGH = SHARED_DATA / "pocket" / "thigh_revalew"
 IMPORT = ["--time-col", "time", "--acc-cols", "accel_x,accel_y,accel_z",
           "--gyro-cols", "gyro_x,gyro_y,gyro_z", "--mag-cols", "mag_x,mag_y,mag_z",
           "--mag-unit", "ut"]
 RECORDINGS = {"norm_thigh_1": 89, "s_both_thigh_1": 51}     # footfalls (both legs)
+pytestmark = [pytest.mark.ros, needs_shared(OXFORD, *(THIGH / name for name in RECORDINGS))]
 
 
 @pytest.fixture(scope="module")
@@ -97,10 +96,8 @@ def test_accelerometer_only_pocket_counts_the_footfalls(tmp_path):
     switch."""
     from wstest import Processes
     procs = Processes(0, tmp_path)
-    oxford = next((SHARED_DATA / "pocket" / "oxford_step_counter").glob("user1_frontpocket_*"))
-    imported = procs.run("pdr-sim", "import-csv", str(oxford), "--out", str(tmp_path / "bag"),
-                         "--no-header", "--time-col", "0", "--time-unit", "ns", "--acc-cols",
-                         "1,2,3")
+    imported = procs.run("pdr-sim", "import-csv", str(OXFORD), "--out", str(tmp_path / "bag"),
+                         *OXFORD_ARGS)
     assert imported.returncode == 0, imported.stderr
     result = procs.run("pdr-pocket", "run", str(tmp_path / "bag"), "--out", str(tmp_path / "run"))
     assert result.returncode == 0, result.stderr
