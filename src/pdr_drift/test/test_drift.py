@@ -1,12 +1,17 @@
 """The drift estimator (Muñoz Díaz 2016, chapter 5): corners, stairs, association,
-deviation and drift, against constructed walks and the simulator's truth."""
+deviation and drift, against constructed walks and the simulator's truth; and its live
+adapter against garbage (steps and poses with NaN, ±Inf, huge values, covariances that
+are not positive semi-definite, activities that don't exist, stamps from the past):
+nothing raises, every message is paired, waiting or counted, no correction is not finite,
+and garbage mixed into a walk whose corners are revisited changes none of its
+corrections."""
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pdr_core.config_files import read_config_file
@@ -15,9 +20,11 @@ from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetect
 from pdr_drift.drift import DriftEstimate, deviation, drift_of, offline_drift
 from pdr_drift.estimator import DriftEstimator
 from pdr_drift.landmarks import CORNER, STAIRS, Association, Landmark, LandmarkDatabase
+from pdr_drift.streaming import StreamingDrift
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "landmark_drift.yaml"
 LEVEL, UP, DOWN = 1, 2, 3
+BASE = 1_700_000_000_000_000_000
 
 
 def walk(legs, drift_radps=0.0, sway_deg=1.0, seed=0, period_s=1.1, stride_m=1.3):
@@ -38,6 +45,11 @@ def walk(legs, drift_radps=0.0, sway_deg=1.0, seed=0, period_s=1.1, stride_m=1.3
             steps.append(StepSample(t, float(wrap(estimated)), activity, position.copy(),
                                     np.diag([0.02, 0.02, 0.001]) * len(steps), 0))
     return steps
+
+
+# Two laps of a block, its corners revisited, the heading drifting.
+SIDES = [(90, 30, LEVEL), (90, 45, LEVEL), (90, 30, LEVEL)]
+BLOCK = walk([(0, 45, LEVEL), *SIDES, (90, 45, LEVEL), *SIDES], drift_radps=np.radians(0.05))
 
 
 def corners_of(detector, steps):
@@ -142,8 +154,7 @@ def test_offline_drift_rejects_outliers_and_weights_by_elapsed_time():
 def test_estimator_recovers_a_constant_drift_on_a_revisited_block(drift_deg_per_s, seed):
     """Two laps of a block: the corners of the second lap revisit the first's, and the
     drift comes back within its own 3σ."""
-    sides = [(90, 30, LEVEL), (90, 45, LEVEL), (90, 30, LEVEL)]
-    steps = walk([(0, 45, LEVEL), *sides, (90, 45, LEVEL), *sides],
+    steps = walk([(0, 45, LEVEL), *SIDES, (90, 45, LEVEL), *SIDES],
                  drift_radps=np.radians(drift_deg_per_s), seed=seed)
     estimator = DriftEstimator()
     drifts = [d for s in steps for d in estimator.push(s).drifts]
@@ -160,8 +171,6 @@ def test_shipped_yaml_holds_the_dataclass_defaults():
 def test_streaming_pairs_steps_and_poses_and_drops_bad_messages():
     """Issue 18, acceptance 6: NaN, a covariance that is not positive semi-definite and
     stamps from the past are dropped and counted; the pairing goes on."""
-    from pdr_drift.streaming import StreamingDrift
-
     live = StreamingDrift()
     good = np.eye(3) * 0.1
     assert live.push_pose(2_000, (1.0, 0.0, 0.0), good) is None          # waits for its step
@@ -174,3 +183,81 @@ def test_streaming_pairs_steps_and_poses_and_drops_bad_messages():
     assert live.push_step(1_000, 0.2, LEVEL) is None                      # from the past
     assert live.counts == {"bad_step": 2, "bad_pose": 2, "old_stamp": 1, "unpaired": 0}
     assert live.push_step(4_000, 0.2, LEVEL) is not None
+
+
+value = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.floats(-1e3, 1e3),
+                  st.sampled_from([0.0, 9.81, -9.81, 1e300, -1e300]))
+vector = st.tuples(value, value, value)
+FUZZ = settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+def push_pair(live, stamp_ns, heading, activity, position, covariance, pose_first):
+    """A step and its pose (same stamp), in either order; the result of the pair."""
+    if pose_first:
+        first = live.push_pose(stamp_ns, position, covariance)
+        return first if first is not None else live.push_step(stamp_ns, heading, activity)
+    first = live.push_step(stamp_ns, heading, activity)
+    return first if first is not None else live.push_pose(stamp_ns, position, covariance)
+
+
+def rule(live, is_step, stamp_ns, heading, activity, position, covariance) -> str | None:
+    """The documented rule (pdr_drift.streaming): the count's key of a message dropped, or
+    None when it is paired or waits for its partner."""
+    if is_step and not (np.isfinite(heading) and 0 <= activity <= 4):
+        return "bad_step"
+    if not is_step:
+        c = np.asarray(covariance, float).reshape(3, 3)
+        if not (np.isfinite(position).all() and np.isfinite(c).all() and np.allclose(c, c.T)
+                and np.linalg.eigvalsh(c).min() >= -1e-9):
+            return "bad_pose"
+    if live.last_stamp_ns is not None and stamp_ns <= live.last_stamp_ns:
+        return "old_stamp"
+    return None
+
+
+@FUZZ
+@given(st.lists(st.tuples(st.booleans(), st.integers(-2_000_000_000, 2_000_000_000), value,
+                          st.integers(-3, 8), vector, st.lists(value, min_size=9, max_size=9)),
+                max_size=60))
+def test_landmark_drift_adapter_survives_garbage(events):
+    live = StreamingDrift()
+    stamp = BASE
+    for is_step, offset, heading, activity, position, covariance in events:
+        stamp += offset                     # mostly forward, sometimes back, often repeated
+        before = dict(live.counts)
+        with np.errstate(all="ignore"):
+            expected = rule(live, is_step, stamp, heading, activity, position, covariance)
+            result = (live.push_step(stamp, heading, activity) if is_step
+                      else live.push_pose(stamp, position, covariance))
+        counted = {k: n - before[k] for k, n in live.counts.items() if n != before[k]}
+        assert counted == ({} if expected is None else {expected: 1}), "paired, waiting or counted"
+        if expected is None:
+            assert result is not None or stamp in (live.steps if is_step else live.poses)
+        for correction in [] if result is None else result.corrections:
+            assert np.isfinite([correction.yaw, correction.gyro_bias_z]).all()
+
+
+def run_block(garbage_every: int = 0) -> tuple[list, StreamingDrift]:
+    """BLOCK through StreamingDrift; with ``garbage_every`` > 0, before every such step a
+    NaN step, a pose with a negative covariance and a step from the past."""
+    live, results = StreamingDrift(), []
+    for k, s in enumerate(BLOCK):
+        stamp = BASE + round(s.t * 1e9)
+        if garbage_every and k % garbage_every == 1:
+            live.push_step(stamp, np.nan, LEVEL)
+            live.push_pose(stamp, s.position, -np.eye(3))
+            live.push_step(stamp - 10**10, s.heading, LEVEL)
+        results.append(push_pair(live, stamp, s.heading, s.activity, s.position, s.covariance,
+                                 k % 2 == 0))
+    return results, live
+
+
+def test_garbage_in_a_walk_changes_no_correction():
+    clean, _ = run_block()
+    corrections = [c for r in clean for c in r.corrections]
+    assert len(corrections) >= 1 and all(np.isfinite(c.yaw) for c in corrections)
+    mixed, live = run_block(garbage_every=3)
+    assert [[c.yaw for c in r.corrections] for r in mixed] == \
+        [[c.yaw for c in r.corrections] for r in clean]
+    assert [len(r.landmarks) for r in mixed] == [len(r.landmarks) for r in clean]
+    garbage = sum(1 for k in range(len(BLOCK)) if k % 3 == 1)
+    assert live.counts == {"bad_step": garbage, "bad_pose": garbage, "old_stamp": garbage,
+                           "unpaired": 0}
