@@ -27,6 +27,7 @@ from scipy.stats import chi2
 from pdr_drift.corners import Corner, StepSample, circular_mean
 
 CORNER, STAIRS = 0, 1            # pdr_msgs/Landmark types
+LANDMARK_NAMES = ("corner", "stairs")
 UPSTAIRS, DOWNSTAIRS = 2, 3      # pdr_msgs/Step activities
 
 

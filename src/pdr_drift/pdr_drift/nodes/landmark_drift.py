@@ -25,6 +25,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from pdr_core.headers import set_header, stamp_ns
 from pdr_core.node_main import spin_node
 from pdr_drift.config import load_drift_config
+from pdr_drift.landmarks import LANDMARK_NAMES
 from pdr_drift.streaming import StreamingDrift
 from pdr_msgs.msg import DriftEstimate, Landmark, Step
 from pdr_msgs.srv import ApplyCorrection
@@ -83,6 +84,10 @@ class LandmarkDriftNode(Node):
             return
         for landmark in result.landmarks:
             self.landmark_pub.publish(self.landmark_message(stamp, landmark))
+            x, y, z = landmark.position
+            self.get_logger().info(
+                f"new landmark {landmark.id}: {LANDMARK_NAMES[landmark.type]} at ({x:.1f}, "
+                f"{y:.1f}, {z:.1f}) m, floor {landmark.floor}")
         for estimate in result.drifts:
             self.drift_pub.publish(self.drift_message(stamp, estimate))
             self.get_logger().info(
