@@ -24,8 +24,11 @@ def test_attitude_report_and_outputs_on_the_sample_bag(procs, tmp_path):
     assert result.returncode == 0, result.stderr
     report = json.loads((tmp_path / "att" / "report.json").read_text())
     assert report["samples"] == 11538
-    assert report["rmse_deg"]["roll"] < 1.0 and report["rmse_deg"]["pitch"] < 1.0
-    assert max(abs(e) for e in report["final_bias_error_deg_per_s"]) < 0.02
+    # docs/pocket.md: roll and pitch within 0.3-0.8° RMS on the simulated walks, yaw
+    # 0.7-2.8°, the biases within 0.01 °/s; this walk: 0.06°, 0.04°, 0.08°, 0.005 °/s
+    assert report["rmse_deg"]["roll"] < 0.3 and report["rmse_deg"]["pitch"] < 0.3
+    assert report["rmse_deg"]["yaw"] < 0.7
+    assert max(abs(e) for e in report["final_bias_error_deg_per_s"]) < 0.01
     assert 0 < report["update_fraction"]["absolute_gravity"] < 1
     assert report["update_fraction"]["differential_magnetic"] > 0.9
     reader = BagReader(tmp_path / "att")
@@ -136,8 +139,8 @@ def test_run_writes_steps_poses_path_and_report_on_the_sample_bag(procs, tmp_pat
     assert result.returncode == 0, result.stderr
     report = json.loads((tmp_path / "run" / "report.json").read_text())
     assert report["missed_steps"] == 0 and report["false_steps"] == 0
-    assert abs(report["distance_error_pct"]) < 1.5
-    assert report["activity_correct_pct"] > 98
+    assert abs(report["distance_error_pct"]) < 0.7        # −0.50 % measured
+    assert report["activity_correct_pct"] == 100
     reader = BagReader(tmp_path / "run")
     steps = reader.read("/pdr/pocket/step")
     poses = reader.read("/pdr/pocket/pose")
@@ -280,8 +283,9 @@ def chapter_4_bags(tmp_path_factory):
 
 def test_table_4_1_pitch_maximum_and_the_baselines(chapter_4_bags):
     """Issue 17, acceptance 1: the pitch maximum misses and adds nothing; the acceleration
-    detectors miss slow steps (H2) and stairs steps; the zero crossing misses at least
-    the downstairs steps (θ_min > 0)."""
+    detectors miss slow steps (H2: 33.3 and 33.1 %) and stairs steps (UP/DW: 5.6 and
+    8.2 %); the zero crossing misses at least the downstairs steps (θ_min > 0; 38.2 %), as
+    docs/pocket.md's table gives them."""
     folder, procs = chapter_4_bags
     bags = [str(folder / n) for n in ("h1_rectangle", "h2_rectangle_speeds", "up_dw")]
     result = procs.run("pdr-pocket", "table-steps", *bags, "--json")
@@ -291,25 +295,26 @@ def test_table_4_1_pitch_maximum_and_the_baselines(chapter_4_bags):
         assert rows[bag, "pitch maximum"]["undetected_pct"] == 0
         assert rows[bag, "pitch maximum"]["false_pct"] == 0
     for detector in ("|acc| peaks", "LPF(15) |acc| peaks"):
-        assert rows["h2_rectangle_speeds", detector]["undetected_pct"] > 20
-        assert rows["up_dw", detector]["undetected_pct"] > 2
+        assert rows["h2_rectangle_speeds", detector]["undetected_pct"] > 30
+        assert rows["up_dw", detector]["undetected_pct"] > 5
     down = BagReader(folder / "up_dw").read("/ground_truth/step")["activity"] == 3
     assert rows["up_dw", "pitch zero crossing"]["undetected_pct"] >= 100 * down.mean()
+    assert rows["up_dw", "pitch zero crossing"]["undetected_pct"] >= 35
     printed = procs.run("pdr-pocket", "table-steps", bags[0])
     assert "pitch maximum" in printed.stdout and "undetected_pct" in printed.stdout
 
 
 def test_table_4_4_and_calibrate_step(chapter_4_bags, tmp_path):
-    """Issue 17, acceptance 3: the person's line within 1 % on H1, H2 and H3, frequency and
-    Weinberg beside it; b_H calibrated on H1 with calibrate-step keeps H2 and H3 within
-    1.5 %."""
+    """Issue 17, acceptance 3: the person's line within 0.1 % on H1, H2 and H3 (Table 4.4
+    in docs/pocket.md), frequency and Weinberg beside it far off on H3 (+31 %, +16 %); b_H
+    calibrated on H1 with calibrate-step keeps H2 and H3 within 1.5 %."""
     folder, procs = chapter_4_bags
     bags = [str(folder / n) for n in ("h1_rectangle", "h2_rectangle_speeds", "h3_museum")]
     result = procs.run("pdr-pocket", "table-stride", *bags, "--json")
     assert result.returncode == 0, result.stderr
     rows = json.loads(result.stdout)
-    assert all(abs(r["pitch_error_pct"]) <= 1.0 for r in rows)
-    assert {"frequency_error_pct", "weinberg_error_pct"} <= set(rows[0])
+    assert all(abs(r["pitch_error_pct"]) <= 0.1 for r in rows)
+    assert rows[2]["frequency_error_pct"] > 20 and rows[2]["weinberg_error_pct"] > 10
     h1 = BagReader(folder / "h1_rectangle").read("/ground_truth/step")["length"].sum()
     wrong = tmp_path / "wrong.yaml"
     wrong.write_text("step_length: {b_h_m: 0.30}\n")

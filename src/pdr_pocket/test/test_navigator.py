@@ -57,13 +57,15 @@ def test_pitch_maximum_finds_every_step_and_nothing_else(name):
     assert len(out.steps) == len(match)
 
 
-@pytest.mark.parametrize("name", ["up_dw", "sit_stand"])
-def test_activities_of_the_steps(name):
+@pytest.mark.parametrize(("name", "wrong"), [("up_dw", 1), ("sit_stand", 0)])
+def test_activities_of_the_steps(name, wrong):
+    """docs/pocket.md: 177 of 178 steps right on UP/DW (the first step of one flight read
+    as level), 66 of 66 on sit/stand."""
     sim, out = navigated(name)
     match = matched(sim, out)
     truth = sim.model.true_steps.activity
     labels = np.array([s.activity for s in out.steps])[match]
-    assert (labels == truth).mean() >= 0.98
+    assert (labels != truth).sum() <= wrong
 
 
 def test_sitting_and_standing_periods_have_no_step_and_are_named():
@@ -80,14 +82,16 @@ def test_sitting_and_standing_periods_have_no_step_and_are_named():
 
 
 @pytest.mark.parametrize("name", ["h1_rectangle", "h2_rectangle_speeds", "h3_museum"])
-def test_distance_with_the_persons_line_within_one_percent(name):
+def test_distance_with_the_persons_line_within_a_tenth_of_a_percent(name):
+    """docs/pocket.md: within 0.1 % with the person's line (−0.08 % measured on each)."""
     sim, out = navigated(name)
     true = sim.model.true_steps.length.sum()
-    assert abs(sum(s.length for s in out.steps) / true - 1) <= 0.01
+    assert abs(sum(s.length for s in out.steps) / true - 1) <= 0.001
 
 
 def test_riser_heights_and_floors():
-    """Every flight found; risers within 1 % up and down (Table 4.5); floors exact."""
+    """Every flight found; risers within 0.4 % up and down (Table 4.5; 0.29 % measured);
+    floors exact."""
     sim = simulated("up_dw")
     nav = PocketNavigator(PocketConfig())
     out = nav.process(sim.trajectory.t, sim.imu["angular_velocity"],
@@ -97,7 +101,7 @@ def test_riser_heights_and_floors():
     assert len(flights) == 16 and all(f["riser_m"] is not None for f in flights)
     assert {f["direction"] for f in flights} == {"upstairs", "downstairs"}
     for flight in flights:
-        assert abs(flight["error_pct"]) <= 1.0
+        assert abs(flight["error_pct"]) <= 0.4
     assert max(s.floor for s in out.steps) == 4 and out.steps[-1].floor == 0
 
 
@@ -112,8 +116,8 @@ def h1_outcome(mounting) -> tuple[int, int, float]:
 
 def test_twenty_random_mountings_do_as_well_as_the_default():
     """Issue 17, acceptance 6: with 20 random fixed phone mountings on H1, every step is
-    found and nothing else, and the distance error is within 0.5 percentage points of the
-    default mounting's (two processes, as CI has two cores)."""
+    found and nothing else, and the distance error is within 0.3 percentage points of the
+    default mounting's (docs/pocket.md; two processes, as CI has two cores)."""
     from concurrent.futures import ProcessPoolExecutor
 
     from scipy.spatial.transform import Rotation
@@ -125,7 +129,7 @@ def test_twenty_random_mountings_do_as_well_as_the_default():
         (_, _, reference), *others = pool.map(h1_outcome, mountings)
     for mounting, (missed, false, error) in zip(mountings[1:], others, strict=True):
         assert missed == 0 and false == 0, mounting
-        assert abs(error - reference) <= 0.5, mounting
+        assert abs(error - reference) <= 0.3, mounting
 
 
 # A phone put back in the front pocket another way, as a turn of the phone about its own
@@ -246,7 +250,6 @@ def test_corrections_gated_and_refused_when_unusable():
     np.testing.assert_allclose(nav.position.position - before,
                                p @ np.linalg.solve(p + np.eye(3) * 0.25, np.full(3, 0.2)),
                                atol=1e-9)
-    assert np.linalg.norm(nav.position.position - before) > 0
     for bad in [(np.nan, 0.1, 0.0, 0.0), (0.1, -1.0, 0.0, 0.0), (0.0, 0.0, 1e-4, -1e-8)]:
         ok, message = nav.apply_correction(*bad)
         assert not ok and ("non-finite" in message or "negative" in message)
@@ -316,3 +319,6 @@ def test_a_correction_counts_from_its_step_however_late_it_comes():
         assert a.t == b.t
         assert a.heading == pytest.approx(b.heading, abs=1e-9)
         np.testing.assert_allclose(a.position, b.position, atol=1e-9)
+    # and the correction did move them: a 0.5 m fix and a 5° turn (no correction: 1e9 s late)
+    never = late_correction(10**9)
+    assert np.linalg.norm(never[-1].position - late[-1].position) > 0.3
