@@ -2,9 +2,11 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from pdr_core.bag import BagReader, write_batches
 from wstest import ROOT, XIO, XIO_COLUMNS, needs_shared
@@ -130,7 +132,23 @@ def test_analytic_prints_the_papers_quantities_as_json(procs):
     assert out.keys() >= {"sigma_v_mps", "sigma_theta_rad", "sigma_gN_radps", "sigma_par_m",
                           "sigma_perp_m", "sigma_yaw_rad"}
     assert len(out["sigma_perp_m"]) == 2 and out["sigma_perp_m"][1] > out["sigma_perp_m"][0]
-    assert 1e-4 < out["sigma_v_mps"] < 1e-2
+    assert out["sigma_v_mps"] == pytest.approx(vn200_sigma_v_mps(), rel=1e-6)  # 1.5195 mm/s
+
+
+def vn200_sigma_v_mps() -> float:
+    """σ_v of the defaults (VN-200 at 800 Hz, r = 0.02 m/s, 0.2 s of stance in a 0.536 s
+    stride, a_c = 0.84) from Eq. (43) with P12 of Eq. (45), solved for σ_v² by bisection
+    (not through Eq. (44)'s quartic, as the model does): x²/K − VRW² = −2g·P12."""
+    g = 9.80665
+    arw, vrw = math.radians(0.21) / 60, 0.14e-3 * g          # rad/√s, m/s²/√Hz
+    rrw = math.radians(0.048) / 60                            # rad/s/√s
+    k = 0.02**2 * 0.536 / (800 * 0.2)                         # Eq. (53)
+
+    def balance(x):
+        return x**2 / k - vrw**2 - 2 * g * math.sqrt(arw**2 * k + 2 * 0.84 * rrw * x
+                                                     * math.sqrt(k) / g)
+
+    return math.sqrt(brentq(balance, math.sqrt(k) * vrw, 1.0, xtol=1e-300, rtol=1e-15))
 
 
 @pytest.mark.parametrize("args, message", [

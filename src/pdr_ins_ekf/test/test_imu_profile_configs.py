@@ -12,9 +12,15 @@ from pdr_sim.scenario import load_scenario
 from pdr_sim.simulation import SimulationConfig, simulate
 
 SEEDS = range(5)
-# mean ARMSE [m] over SEEDS with the profile's configuration on the long mixed walk
-# (measured: 0.140, 0.050, 0.038 and 2.83 m; README table)
-BOUNDS_M = {"xsens_mti": 0.16, "xsens_mtw": 0.06, "vn200": 0.045, "consumer_phone": 3.2}
+# mean ARMSE [m] over SEEDS on the long mixed walk, as docs/foot_ins.md's table and the
+# README give them: with the profile's configuration (measured 0.1400, 0.0499, 0.0383,
+# 2.828 m) and with the default foot_ekf.yaml (measured 0.4781, 0.1239, 0.1422, 5.450 m)
+DOCUMENTED_M = {"xsens_mti": 0.140, "xsens_mtw": 0.050, "vn200": 0.038,
+                "consumer_phone": 2.83}
+DEFAULT_DOCUMENTED_M = {"xsens_mti": 0.478, "xsens_mtw": 0.124, "vn200": 0.142,
+                        "consumer_phone": 5.45}
+# the profile's bound: documented + 5 %
+BOUNDS_M = {profile: 1.05 * armse_m for profile, armse_m in DOCUMENTED_M.items()}
 
 
 def armse(sim, config) -> float:
@@ -40,9 +46,11 @@ def test_profile_configuration_beats_the_default_on_its_imu(profile):
     sims = [simulate(SimulationConfig(scenario, data, profile, {}, 100.0, s)) for s in SEEDS]
     ours = np.mean([armse(sim, tuned) for sim in sims])
     theirs = np.mean([armse(sim, default) for sim in sims])
-    print(f"{profile}: {ours:.3f} m against {theirs:.3f} m")
-    assert ours < 0.8 * theirs
+    print(f"{profile}: {ours:.4f} m against {theirs:.4f} m")
+    # documented ratios 0.29, 0.40, 0.27, 0.52 (0.519 measured for consumer_phone) + 5 %
+    assert ours < 0.55 * theirs
     assert ours < BOUNDS_M[profile]
+    assert theirs == pytest.approx(DEFAULT_DOCUMENTED_M[profile], rel=0.05)
 
 
 def test_unknown_profile_and_both_sources_are_refused(tmp_path):

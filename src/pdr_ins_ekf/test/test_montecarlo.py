@@ -32,22 +32,34 @@ def test_batch_runs_are_the_single_run_mechanization(walk):
         np.testing.assert_array_equal(yaw[r], y[keep])
 
 
-# Table I: σ_p ∝ t^1.5, t^2.5, t^2, t^3; σ_ψ ∝ t^0.5 (gyro noise), t (gyro bias)
-@pytest.mark.parametrize("noise, p_exponent, yaw_exponent", [
-    (NoiseLevels(acc_noise_mps2_per_sqrt_hz=0.01), 1.5, None),
-    (NoiseLevels(gyro_noise_radps_per_sqrt_hz=1e-3), 2.5, 0.5),
-    (NoiseLevels(acc_bias_mps2=0.01), 2.0, None),
-    (NoiseLevels(gyro_bias_radps=1e-3), 3.0, 1.0)], ids=["acc_noise", "gyro_noise",
-                                                         "acc_bias", "gyro_bias"])
-def test_error_growth_exponents_of_table_1(walk, noise, p_exponent, yaw_exponent):
+# Table I: σ_p ∝ t^1.5, t^2.5, t^2, t^3; σ_ψ ∝ t^0.5 (gyro noise), t (gyro bias).
+# Measured with these 200 runs of 30 s, σ_p from the noise alone (what docs/error_analysis.md
+# fits: 1.498, 2.495, 1.998, 2.997 with 1,000 runs of 100 s): 1.502, 2.489, 1.997, 2.997,
+# σ_ψ 0.509 and 1.005, so within 0.011 of Table I; tolerance 0.025 (twice that, rounded up).
+# Against the truth the noiseless mechanization's own error adds in: 1.579, 2.476, 2.000,
+# 2.976 measured; tolerance 0.10 for accelerometer noise (smallest error, 0.079 off), 0.05
+# for the others (0.024 off).
+NOISE_TOLERANCE = 0.025
+
+
+@pytest.mark.parametrize("noise, p_exponent, yaw_exponent, truth_tolerance", [
+    (NoiseLevels(acc_noise_mps2_per_sqrt_hz=0.01), 1.5, None, 0.10),
+    (NoiseLevels(gyro_noise_radps_per_sqrt_hz=1e-3), 2.5, 0.5, 0.05),
+    (NoiseLevels(acc_bias_mps2=0.01), 2.0, None, 0.05),
+    (NoiseLevels(gyro_bias_radps=1e-3), 3.0, 1.0, 0.05)], ids=["acc_noise", "gyro_noise",
+                                                               "acc_bias", "gyro_bias"])
+def test_error_growth_exponents_of_table_1(walk, noise, p_exponent, yaw_exponent,
+                                           truth_tolerance):
     study = ins_study(walk, noise, runs=200, seed=1)
-    for growth in (study.noise_only, study.against_truth):
-        assert power_law(growth.t_s, growth.sigma_p_m)[1] == pytest.approx(p_exponent, abs=0.15)
+    for growth, tolerance in ((study.noise_only, NOISE_TOLERANCE),
+                              (study.against_truth, truth_tolerance)):
+        assert (power_law(growth.t_s, growth.sigma_p_m)[1]
+                == pytest.approx(p_exponent, abs=tolerance))
         if yaw_exponent is None:
             assert growth.sigma_yaw_rad.max() < 1e-9
         else:
             assert (power_law(growth.t_s, growth.sigma_yaw_rad)[1]
-                    == pytest.approx(yaw_exponent, abs=0.15))
+                    == pytest.approx(yaw_exponent, abs=NOISE_TOLERANCE))
 
 
 def test_impossible_noise_is_refused():
