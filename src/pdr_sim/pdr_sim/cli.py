@@ -77,9 +77,7 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
                         "segments[1].steps=20 (YAML value; repeatable)")
     p.add_argument("--imu-set", action="append", default=[], metavar="SENSOR.KEY=VALUE",
                    help="override a profile value, e.g. gyro.arw_deg_per_sqrt_h=1.0")
-    p.add_argument("--out", type=Path, required=True, help="output bag directory")
-    p.add_argument("--overwrite", action="store_true")
-    p.add_argument("--compress", action="store_true", help="zstd-compress the MCAP chunks")
+    _add_bag_output(p)
     p.add_argument("--plot", type=Path, metavar="DIR",
                    help="also write DIR/trajectory.png and DIR/signals.png (pocket: and "
                         "DIR/pocket.png, the 3D path, the pitch with the true steps and "
@@ -198,6 +196,12 @@ def _run_fit_steps(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_bag_output(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", type=Path, required=True, help="output bag directory")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    p.add_argument("--compress", action="store_true", help="zstd-compress the MCAP chunks")
+
+
 def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
     p.add_argument("--no-header", dest="header", action="store_false",
                    help="the first row is data, not column names")
@@ -246,8 +250,7 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
                     "imu/mag (sensor_msgs/MagneticField, tesla) and ground_truth/pose. "
                     "Columns are header names or 0-based indices.")
     p.add_argument("csv", type=Path, help="input CSV file")
-    p.add_argument("--out", type=Path, required=True, help="output bag directory")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    _add_bag_output(p)
     _add_csv_format(p)
     p.add_argument("--pos-cols", type=_columns, default=(),
                    help="ground-truth position x,y,z (map frame, z up)")
@@ -271,8 +274,9 @@ def _run_import_csv(args: argparse.Namespace) -> int:
         batches[topics.GROUND_TRUTH_POSE] = result.pose
     if result.mag is not None:
         batches[topics.IMU_MAG] = result.mag
-    write_batches(args.out, batches, overwrite=args.overwrite,
-                  custom_data={"pdr.source": str(args.csv), "pdr.command": " ".join(sys.argv)})
+    command = " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
+    write_batches(args.out, batches, overwrite=args.overwrite, compress=args.compress,
+                  custom_data={"pdr.source": str(args.csv), "pdr.command": command})
     t = result.imu.t_s
     rate = (len(t) - 1) / (t[-1] - t[0]) if len(t) > 1 else float("nan")
     acc_norm = np.linalg.norm(result.imu["linear_acceleration"], axis=1)
