@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -135,6 +136,8 @@ def _run_navigator(args: argparse.Namespace) -> int:
                      drift=args.drift, drift_config=load_drift_config(args.drift_config),
                      strict=args.strict)
     print(json.dumps(report, indent=2))
+    for warning in report["warnings"]:
+        print(f"pdr-pocket: warning: {args.bag}: {warning}", file=sys.stderr)
     return 0
 
 
@@ -182,7 +185,8 @@ def _run_calibrate_step(args: argparse.Namespace) -> int:
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text("# The person's stride line (pdr-pocket calibrate-step), Eq. (4.2)\n" +
                         yaml.safe_dump({"step_length": {"a_h_m_per_deg": round(float(a_h), 6),
-                                                        "b_h_m": round(float(b_h), 6)}}))
+                                                        "b_h_m": round(float(b_h), 6),
+                                                        "calibrated": True}}))
     steps = sum(len(a) for a in amplitudes)
     print(f"{where}: {steps} level steps, mean pitch amplitude "
           f"{np.mean(np.concatenate(amplitudes)):.1f} deg\n"

@@ -57,8 +57,8 @@ from numba import njit
 # mounting scalars (MountingState.scalars)
 LAST_T, REST_S, REST_N, MOVING_S, UP_PROVISIONAL, FLEX_KNOWN, MEAN_PITCH, CHANGES, \
     STARTED, RECENT_S, LAST_CHECK_T, TURNED_S, RING_POS, RING_N, FOREIGN, TURN_SEEN, \
-    TURN_T, FLIP_S, RATE2, RATE3 = range(20)
-N_MOUNTING_SCALARS = 20
+    TURN_T, FLIP_S, RATE2, RATE3, SEATED_S = range(21)
+N_MOUNTING_SCALARS = 21
 # the swing of the last moved_tau_s is a plane (the remount check) when its middle
 # eigenvalue is at least SWING_MIN (a pitch swing of about ±4°) and its smallest at most
 # PLANAR_RATIO of the middle one
@@ -68,14 +68,15 @@ CHECK_PERIOD_S = 0.1
 FOREIGN_TAU_S = 1.0             # leak of the turn integrated outside the thigh's axes
 TURN_HOLD_S = 2.0               # a phone is turned in the pocket within this
 FLIP_MIN_S = 5.0                # walking with a negative mean pitch this long: f flipped
+SEATED_MIN_S = 2.0              # walking this far above standing this long: u was seated
 SKEW_TAU_S = 4.0                # the pitch rate's moments, over about three gait cycles
 SKEW_FLIP = 0.3                 # a pitch-rate skewness below −SKEW_FLIP: f is reversed
 ANCHOR_RING = 80                # the checks of the last 8 s of walking (see _anchor)
 ANCHOR_LEAD_S = 1.0             # the anchor taken is this long before the turn was seen
 ANCHOR_PHI, ANCHOR_HEADING, ANCHOR_T = range(3)
 # peak detector scalars (PeakState.scalars)
-SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE, LAST_STEP_T = range(7)
-N_PEAK_SCALARS = 7
+SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE, LAST_STEP_T, LAST_PERIOD = range(8)
+N_PEAK_SCALARS = 8
 # columns of the peak events
 EV_T_MAX, EV_MAX, EV_MIN, EV_T_MIN, EV_T_CONFIRM = range(5)
 N_EVENT_COLUMNS = 5
@@ -99,6 +100,7 @@ class MountingParams(NamedTuple):
     turned_tau_s: float         # time constant of the recent swing
     turned_angle: float         # turned outside span{f, vertical} this far, at once [rad]
     turned_pitch_angle: float   # the mean walking pitch moved this far: turned about f [rad]
+    walking_pitch: float        # the mean pitch of level walking (u placed from it) [rad]
     skew_check: bool            # f's sign from the pitch rate's skew (off without a gyro)
 
 
@@ -121,11 +123,13 @@ class PeakParams(NamedTuple):
     drop_fraction: float
     rise_min: float             # re-arming rise: max(rise_min, rise_fraction·amplitude)
     rise_fraction: float
-    min_amplitude: float
+    min_amplitude: float        # a step's rise: at least this ...
+    min_amplitude_fraction: float   # ... and this share of the last step's
     max_amplitude: float        # beyond what a thigh can swing
     max_rise_s: float
     max_hold_s: float
-    min_period_s: float         # from the previous step's maximum
+    min_period_s: float         # from the previous step's maximum ...
+    min_period_fraction: float  # ... and at least this share of the last period
     forget_s: float             # no step this long: the last amplitude is forgotten
 
 
@@ -299,7 +303,10 @@ def _check_turned(state, params, c):
     from what it was (a turn about f itself; stairs move it by about 15°, sitting down is
     not walking); the swing then starts afresh as after a turn seen at once. A mean
     walking pitch that stays negative, or a pitch rate skewed the wrong way, for FLIP_MIN_S
-    turns f or u round (:func:`_reorient`). Checked every
+    turns f or u round (:func:`_reorient`). A mean walking pitch beyond
+    ``turned_pitch_angle`` for SEATED_MIN_S (the first rest was sitting, not standing: a
+    walk that starts from a chair, or the phone turned about f while standing) puts u
+    where level walking has its mean pitch ``walking_pitch``. Checked every
     CHECK_PERIOD_S."""
     s = state.scalars
     now = s[LAST_T]
@@ -317,6 +324,11 @@ def _check_turned(state, params, c):
     phi = _swing_angle(state.recent_mean, up, flex)
     skew = s[RATE2] ** 1.5 * SKEW_FLIP if params.skew_check else np.inf
     s[FLIP_S] = s[FLIP_S] + CHECK_PERIOD_S if phi > 0 or s[RATE3] < -skew else 0.0
+    s[SEATED_S] = s[SEATED_S] + CHECK_PERIOD_S if -phi > params.turned_pitch_angle else 0.0
+    if s[SEATED_S] >= SEATED_MIN_S:
+        s[SEATED_S] = 0.0
+        _reorient(state, False, params.walking_pitch, flex)
+        return
     same_axis = abs(axis @ flex) >= np.cos(params.turned_min_angle) and \
         abs(axis @ up) <= np.sin(params.turned_min_angle)
     d = phi - _oldest_anchor(state)[0]
@@ -325,7 +337,7 @@ def _check_turned(state, params, c):
     if same_axis and same_pitch:
         s[TURNED_S] = 0.0
         if s[FLIP_S] >= FLIP_MIN_S:
-            _reorient(state, s[RATE3] <= skew, phi, flex)
+            _reorient(state, s[RATE3] <= skew, params.walking_pitch, flex)
             return
         _anchor(state, c, up, flex)
         return
@@ -427,17 +439,17 @@ def _anchor(state, c, up, flex):
 
 
 @njit(cache=True)
-def _reorient(state, flip, phi, flex):
+def _reorient(state, flip, pitch, flex):
     """The walking pitch stayed negative (φ > 0) or its rate skewed negative: f is the
     other way round (``flip``; the phone turned about u, f followed it the short way), or
-    u is on the wrong side of the mean vertical. f takes the sign the skew of the pitch
-    rate gives (:func:`_pitch_rate_moments`), and u is put about it so that the mean
-    walking pitch is |φ| (the thesis' asymmetry θ_max ≫ |θ_min| makes it positive, as when
-    f's sign was first chosen)."""
+    u is on the wrong side of the mean vertical, or far from it (a seated start). f takes
+    the sign the skew of the pitch rate gives (:func:`_pitch_rate_moments`), and u is put
+    about it so that the mean walking pitch is ``pitch`` (level walking's, positive by the
+    thesis' asymmetry θ_max ≫ |θ_min|)."""
     s = state.scalars
     f = -flex if flip else flex
     gp = _unit(state.recent_mean - (state.recent_mean @ f) * f)
-    angle = -abs(phi)
+    angle = -abs(pitch)
     state.up[:] = np.cos(angle) * gp + np.sin(angle) * np.cross(f, gp)
     state.flex_raw[:] = f
     state.flex_sign[0] = 1.0
@@ -558,6 +570,7 @@ def peak_loop(state, params, t, signal, events):
             continue
         if t[k] - s[LAST_STEP_T] > params.forget_s:
             s[LAST_AMPLITUDE] = 0.0
+            s[LAST_PERIOD] = 0.0
         amplitude = s[LAST_AMPLITUDE]
         if s[SEEKING_MAX] > 0:
             if x > s[CUR_MAX]:
@@ -565,10 +578,13 @@ def peak_loop(state, params, t, signal, events):
                 s[T_MAX] = t[k]
             if s[CUR_MAX] - x >= max(params.drop_min, params.drop_fraction * amplitude):
                 rise = s[CUR_MAX] - s[CUR_MIN]
-                if (params.min_amplitude <= rise <= params.max_amplitude
+                since = s[T_MAX] - s[LAST_STEP_T]
+                if (max(params.min_amplitude, params.min_amplitude_fraction * amplitude)
+                        <= rise <= params.max_amplitude
                         and s[T_MAX] - s[T_MIN] <= params.max_rise_s
                         and t[k] - s[T_MAX] <= params.max_hold_s
-                        and s[T_MAX] - s[LAST_STEP_T] >= params.min_period_s):
+                        and since >= max(params.min_period_s,
+                                         params.min_period_fraction * s[LAST_PERIOD])):
                     events[count, EV_T_MAX] = s[T_MAX]
                     events[count, EV_MAX] = s[CUR_MAX]
                     events[count, EV_MIN] = s[CUR_MIN]
@@ -576,6 +592,7 @@ def peak_loop(state, params, t, signal, events):
                     events[count, EV_T_CONFIRM] = t[k]
                     count += 1
                     s[LAST_AMPLITUDE] = rise
+                    s[LAST_PERIOD] = since if since <= params.forget_s else 0.0
                     s[LAST_STEP_T] = s[T_MAX]
                 s[SEEKING_MAX] = 0.0
                 s[CUR_MIN] = x

@@ -90,6 +90,10 @@ class FilterParams(NamedTuple):
     zaru_var: float                 # [rad²/s²] per axis
     mean_gravity_window_s: float    # the mean gravity update's window [s]
     mean_gravity_velocity_var: float    # [m²/s²] of the velocity change over a window
+    cycle_window_min_s: float       # a window from one swing marker to another: at least
+    cycle_velocity_var: float       # ... this long [s], its velocity change's variance
+    swing_time_constant_s: float    # of the swing axis (the principal axis of ω) [s]
+    swing_rate_threshold: float     # a swing lobe this fast [rad/s] arms the next marker
     field_azimuth: float            # γ = π/2 − declination [rad]
     zero_acc_window_s: float
     zero_acc_threshold: float       # [m/s²]
@@ -100,6 +104,8 @@ class FilterParams(NamedTuple):
     mag_norm_threshold: float       # [T]
     mag_direction_threshold: float  # [rad]
     max_gap_s: float
+    gyro_scale_var: float           # σ_s² of the rate's scale and cross-axis errors
+    mag_reference_max_var: float    # tilt variance up to which a field reference is taken
 
 
 class FilterState(NamedTuple):
@@ -110,7 +116,8 @@ class FilterState(NamedTuple):
     bias: np.ndarray                # (3,) [rad/s]
     covariance: np.ndarray          # (6, 6)
     scalars: np.ndarray             # [t_prev, started, ring_count, ring_head, mag_was_steady,
-                                    #  gap_count, mean_gravity_time, windows_done]
+                                    #  gap_count, mean_gravity_time, windows_done,
+                                    #  swing_armed, window_from_marker]
     force_sum: np.ndarray           # (3,) Σ C·f·δt over the mean gravity window
     previous_gyro: np.ndarray       # (3,)
     previous_accel: np.ndarray      # (3,)
@@ -120,9 +127,12 @@ class FilterState(NamedTuple):
     ring_acc: np.ndarray            # (RING,) |‖α‖ − g|
     ring_rate: np.ndarray           # (RING,) ‖ω‖
     ring_mag: np.ndarray            # (RING, 3) C·μ (NaN: no reading)
+    swing: np.ndarray               # (3, 3) E[ω·ωᵀ], exponentially weighted
+    swing_axis: np.ndarray          # (3,) its principal axis (the thigh's flexion axis)
 
 
-T_PREV, STARTED, RING_COUNT, RING_HEAD, MAG_WAS_STEADY, GAPS, WINDOW_TIME, WINDOWS_DONE = range(8)
+(T_PREV, STARTED, RING_COUNT, RING_HEAD, MAG_WAS_STEADY, GAPS, WINDOW_TIME, WINDOWS_DONE,
+ SWING_ARMED, WINDOW_FROM_MARKER) = range(10)
 
 
 class Workspace(NamedTuple):
@@ -312,8 +322,15 @@ def predict(state, params, gyro, dt, work):
                 p[a, b] += da * (prop[i, b] - centre[b])
     q_att = params.gyro_noise_var * dt * dt
     q_bias = params.bias_sigma ** 2 * (1.0 - c_decay * c_decay)
+    gap = dt > params.max_gap_s
     for m in range(3):
-        p[m, m] += q_att
+        turned = 0.5 * (gyro[m] + prev[m]) * dt
+        p[m, m] += q_att + params.gyro_scale_var * turned * turned
+        if gap:
+            # over a gap the trapezoid guesses the rate between its two ends: its error
+            # is of the order of half their difference times the gap
+            unknown = 0.5 * (gyro[m] - prev[m]) * dt
+            p[m, m] += unknown * unknown
         p[BIAS + m, BIAS + m] += q_bias
     state.covariance[:, :] = 0.5 * (p + p.T)
 
@@ -346,6 +363,34 @@ def _measure(kind, att, bias, gyro, previous_gyro, dt, params, prev_vec, ref_vec
             out[m] = gyro[m] - bias[m] - (att[0, m] * e[0] + att[1, m] * e[1] + att[2, m] * e[2])
     else:  # BIAS_Z_CORRECTION
         out[0] = bias[2]
+
+
+@njit(cache=True)
+def swing_marker(state, params, gyro, dt):
+    """True once per gait cycle, at the same phase of each: where the rate about the swing
+    axis turns from a lobe faster than ``swing_rate_threshold`` back through zero. The
+    swing axis is the principal axis of E[ω·ωᵀ] (time constant ``swing_time_constant_s``),
+    one power iteration per sample; a thigh's swing and stance turn it about one axis, the
+    flexion axis, so its sign stays and the marker keeps its phase."""
+    s = state.scalars
+    alpha = min(dt / params.swing_time_constant_s, 1.0)
+    m, u = state.swing, state.swing_axis
+    for a in range(3):
+        for b in range(3):
+            m[a, b] += alpha * (gyro[a] * gyro[b] - m[a, b])
+    v0 = m[0, 0] * u[0] + m[0, 1] * u[1] + m[0, 2] * u[2]
+    v1 = m[1, 0] * u[0] + m[1, 1] * u[1] + m[1, 2] * u[2]
+    v2 = m[2, 0] * u[0] + m[2, 1] * u[1] + m[2, 2] * u[2]
+    norm = np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+    if norm > 0.0:
+        u[0], u[1], u[2] = v0 / norm, v1 / norm, v2 / norm
+    rate = gyro[0] * u[0] + gyro[1] * u[1] + gyro[2] * u[2]
+    if rate > params.swing_rate_threshold:
+        s[SWING_ARMED] = 1.0
+    elif rate < 0.0 and s[SWING_ARMED] == 1.0:
+        s[SWING_ARMED] = 0.0
+        return True
+    return False
 
 
 @njit(cache=True)
@@ -530,7 +575,12 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
         else:
             dt = t[k] - s[T_PREV]
             if dt > params.max_gap_s:
+                # a gap: the attitude across it is a guess (predict widens P), and a mean
+                # gravity window that straddles it would average two attitudes; start anew
                 s[GAPS] += 1.0
+                s[WINDOW_TIME] = 0.0
+                s[WINDOW_FROM_MARKER] = 0.0
+                state.force_sum[:] = 0.0
         s[T_PREV] = t[k]
         if dt > 0.0:
             predict(state, params, gyro[k], dt, work)
@@ -552,9 +602,14 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
         zero_rate = 0.0 <= _window_max(state, state.ring_rate, t[k],
                                        params.zero_rate_window_s) <= params.zero_rate_threshold
         steady = has_mag and _mag_steady(state, t[k], params)
-        if steady and s[MAG_WAS_STEADY] == 0.0:
+        # the absolute field update holds the attitude to the field's direction taken at
+        # the start of the steady period: taken while the tilt is uncertain (after a gap)
+        # it would hold an error as if it were known
+        anchored = steady and (s[MAG_WAS_STEADY] == 1.0 or max(
+            state.covariance[0, 0], state.covariance[1, 1]) <= params.mag_reference_max_var)
+        if anchored and s[MAG_WAS_STEADY] == 0.0:
             state.mag_reference[:] = nav
-        s[MAG_WAS_STEADY] = 1.0 if steady else 0.0
+        s[MAG_WAS_STEADY] = 1.0 if anchored else 0.0
         frozen = saturated[k]
         detected_out[k, ZERO_ACC], detected_out[k, ZERO_RATE] = zero_acc, zero_rate
         detected_out[k, MAG_STEADY], detected_out[k, SATURATED] = steady, frozen
@@ -573,7 +628,7 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
                 update(state, params, DIFF_GRAVITY, a.copy(), r3 * params.diff_gravity_var,
                        gyro[k], dt, state.previous_accel, a, frozen, work)
                 ran_out[k, DIFF_GRAVITY] = True
-            if use[ABS_MAG] and steady:
+            if use[ABS_MAG] and anchored:
                 update(state, params, ABS_MAG, mu.copy(), r3 * params.mag_var, gyro[k], dt,
                        mu, state.mag_reference, frozen, work)
                 ran_out[k, ABS_MAG] = True
@@ -592,12 +647,20 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
                                             + state.attitude[m, 1] * a[1]
                                             + state.attitude[m, 2] * a[2])
             # the first windows are short (2, 4, 8 s ... up to W): a start while walking
-            # leaves the first sample's tilt up to 15° off
+            # leaves the first sample's tilt up to 15° off. A window from one swing marker
+            # to another spans whole gait cycles, over which the velocity comes back: it
+            # closes at the first marker after cycle_window_min_s, with the smaller variance
             window = min(params.mean_gravity_window_s, 2.0 * 2.0 ** s[WINDOWS_DONE])
-            if use[MEAN_GRAVITY] and s[WINDOW_TIME] >= window:
+            marker = swing_marker(state, params, w, dt)
+            cycles = marker and s[WINDOW_FROM_MARKER] == 1.0 and \
+                s[WINDOW_TIME] >= params.cycle_window_min_s
+            closes = cycles or s[WINDOW_TIME] >= window
+            if use[MEAN_GRAVITY] and closes:
                 total = params.gravity * s[WINDOW_TIME]
                 two[0], two[1] = 0.0, 0.0
-                r2[0, 0] = r2[1, 1] = params.mean_gravity_velocity_var / (total * total)
+                velocity_var = params.cycle_velocity_var if cycles else \
+                    params.mean_gravity_velocity_var
+                r2[0, 0] = r2[1, 1] = velocity_var / (total * total)
                 body = np.empty(3)
                 for m in range(3):
                     body[m] = (state.attitude[0, m] * state.force_sum[0]
@@ -610,9 +673,10 @@ def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bia
                     update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, b1, b2,
                            frozen, work)
                     ran_out[k, MEAN_GRAVITY] = True
-            if s[WINDOW_TIME] >= window:
+            if closes or (marker and s[WINDOW_FROM_MARKER] == 0.0):
                 s[WINDOW_TIME] = 0.0
-                s[WINDOWS_DONE] += 1.0
+                s[WINDOWS_DONE] += 1.0 if closes else 0.0
+                s[WINDOW_FROM_MARKER] = 1.0 if marker else 0.0
                 state.force_sum[:] = 0.0
             if use[ZARU] and zero_rate:
                 update(state, params, ZARU, np.zeros(3), r3 * params.zaru_var, gyro[k], dt,

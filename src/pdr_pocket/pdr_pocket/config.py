@@ -62,6 +62,7 @@ class OrientationConfig:
 
     # sensor noise, as pdr-sim allan reads it (Eqs. (3.7)-(3.11))
     gyro_arw_deg_per_sqrt_h: float = 0.6
+    gyro_scale_sigma: float = 0.03      # sensitivity and cross-axis errors, a fraction
     bias_instability_deg_per_h: float = 10.0
     bias_instability_time_s: float = 200.0
     nominal_rate_hz: float = 100.0      # the f_s of Eq. (3.10): τ = t_β·f_s samples
@@ -84,6 +85,10 @@ class OrientationConfig:
     zaru_sigma_deg_per_s: float = 0.05
     mean_gravity_window_s: float = 10.0
     mean_gravity_velocity_sigma_mps: float = 1.0
+    mean_gravity_cycle_min_s: float = 1.0       # a window of whole gait cycles: this long
+    mean_gravity_cycle_velocity_sigma_mps: float = 0.15  # ... and its velocity change
+    swing_time_constant_s: float = 4.0          # the thigh's swing axis, for the cycles
+    swing_rate_threshold_deg_per_s: float = 60.0
     # detectors (trailing windows, so the live node gives the offline result)
     zero_acc_window_s: float = 0.1
     zero_acc_threshold_mps2: float = 0.4
@@ -93,6 +98,7 @@ class OrientationConfig:
     mag_window_s: float = 0.5
     mag_norm_threshold_ut: float = 1.0
     mag_direction_threshold_deg: float = 3.0
+    mag_reference_max_tilt_sigma_deg: float = 5.0   # the field reference needs this tilt
     # data
     gyro_range_deg_per_s: float | None = None   # saturation limit; None: flat tops only
     max_gap_s: float = 0.1
@@ -104,11 +110,16 @@ class OrientationConfig:
                     "gravity_angle_sigma_deg", "differential_gravity_sigma_mps2",
                     "magnetic_sigma_ut", "compass_sigma_deg", "zaru_sigma_deg_per_s",
                     "mean_gravity_window_s", "mean_gravity_velocity_sigma_mps",
+                    "mean_gravity_cycle_min_s", "mean_gravity_cycle_velocity_sigma_mps",
+                    "swing_time_constant_s", "swing_rate_threshold_deg_per_s",
                     "zero_acc_window_s", "zero_acc_threshold_mps2", "zero_acc_max_rate_deg_per_s",
                     "zero_rate_window_s",
                     "zero_rate_threshold_deg_per_s", "mag_window_s", "mag_norm_threshold_ut",
-                    "mag_direction_threshold_deg", "max_gap_s")
+                    "mag_direction_threshold_deg", "mag_reference_max_tilt_sigma_deg",
+                    "max_gap_s")
         _positive(self, positive)
+        if not self.gyro_scale_sigma >= 0:
+            raise ValueError(f"gyro_scale_sigma must be >= 0, got {self.gyro_scale_sigma}")
         if self.latitude_deg is not None and not -90 <= self.latitude_deg <= 90:
             raise ValueError(f"latitude_deg must be within ±90, got {self.latitude_deg}")
 
@@ -140,6 +151,10 @@ class OrientationConfig:
             zaru_var=np.radians(self.zaru_sigma_deg_per_s) ** 2,
             mean_gravity_window_s=self.mean_gravity_window_s,
             mean_gravity_velocity_var=self.mean_gravity_velocity_sigma_mps**2,
+            cycle_window_min_s=self.mean_gravity_cycle_min_s,
+            cycle_velocity_var=self.mean_gravity_cycle_velocity_sigma_mps**2,
+            swing_time_constant_s=self.swing_time_constant_s,
+            swing_rate_threshold=np.radians(self.swing_rate_threshold_deg_per_s),
             field_azimuth=np.pi / 2 - np.radians(self.declination_deg),
             zero_acc_window_s=self.zero_acc_window_s,
             zero_acc_threshold=self.zero_acc_threshold_mps2,
@@ -148,7 +163,9 @@ class OrientationConfig:
             zero_rate_threshold=np.radians(self.zero_rate_threshold_deg_per_s),
             mag_window_s=self.mag_window_s, mag_norm_threshold=self.mag_norm_threshold_ut * 1e-6,
             mag_direction_threshold=np.radians(self.mag_direction_threshold_deg),
-            max_gap_s=self.max_gap_s)
+            max_gap_s=self.max_gap_s,
+            gyro_scale_var=self.gyro_scale_sigma**2,
+            mag_reference_max_var=np.radians(self.mag_reference_max_tilt_sigma_deg) ** 2)
 
 
 @dataclass(frozen=True)
@@ -171,6 +188,8 @@ class MountingConfig:
     turned_time_constant_s: float = 2.0
     turned_angle_deg: float = 25.0      # turned this far outside the thigh's axes, at once
     turned_pitch_angle_deg: float = 35.0  # the mean walking pitch moved this far
+    walking_pitch_deg: float = 5.0      # level walking's mean pitch: u placed from it when
+                                        # the walking pitch says the first rest was seated
     replay_s: float = 3.0               # samples kept while the axes are learned
     # without a gyroscope (imu/data's angular_velocity_covariance[0] = -1, REP-145)
     gravity_cutoff_hz: float = 1.5      # the gravity direction: low-pass of the specific force
@@ -200,10 +219,16 @@ class StepsConfig:
     max_rise_s: float = 1.5
     max_hold_s: float = 1.0
     min_step_period_s: float = 0.6     # a shorter gait cycle is running (compiled_gait)
+    # without a gyroscope the pitch from the gravity direction carries the legs'
+    # accelerations: a maximum is a step only this share of the last cycle after it
+    no_gyroscope_min_period_fraction: float = 0.65
     max_step_period_s: float = 2.5     # longer gaps start a new walking bout
     nominal_step_period_s: float = 1.1  # the first step's duration (frequency model)
 
     def __post_init__(self) -> None:
+        if not 0 <= self.no_gyroscope_min_period_fraction < 1:
+            raise ValueError("no_gyroscope_min_period_fraction must be within [0, 1), got "
+                             f"{self.no_gyroscope_min_period_fraction}")
         _positive(self, ("drop_min_deg", "rise_min_deg", "min_amplitude_deg",
                          "max_amplitude_deg", "max_rise_s",
                          "max_hold_s", "min_step_period_s", "max_step_period_s",
@@ -212,33 +237,89 @@ class StepsConfig:
 
 @dataclass(frozen=True)
 class ActivityConfig:
-    """Activities from the pitch (Muñoz Díaz 2016, Section 4.1.3): per step, θ_max, θ_min
-    and Δθ against the running means of the last ``level_history_steps`` level steps."""
+    """The activity of each step (pdr_pocket.activity): ``model`` thesis (Muñoz Díaz 2016,
+    Section 4.1.3: θ_min, θ_max and Δθ against the running means of the last
+    ``level_history_steps`` level steps) or level_prior (beyond the thesis: a hidden
+    Markov model of level, up and down with the level floor as the strong prior). Angles
+    in degrees."""
 
-    level_history_steps: int = 6
+    model: str = "level_prior"
+    level_history_steps: int = 6             # both: the person's last level steps
+    # thesis
     up_amplitude_margin_deg: float = 8.0     # Δθ ≫ mean Δθ_H: Δθ above it by this
     up_max_margin_deg: float = 10.0          # θ_max ≫ mean θ_Hmax
     up_min_tolerance_deg: float = 2.0        # and θ_min not below mean θ_Hmin by more
     down_min_margin_deg: float = 5.0         # θ_min ≫ mean θ_Hmin
     down_amplitude_ratio: float = 1.1        # Δθ ≪ mean Δθ_H: below this times it
+    # level_prior: the chain ...
+    enter_stairs_probability: float = 0.01   # a level step followed by a step up (or down)
+    stay_on_stairs_probability: float = 0.85  # a stairs step followed by one more
+    # ... the population's level gait, weighing this many steps of the person's ...
+    level_max_deg: float = 24.0
+    level_min_deg: float = -8.0
+    prior_weight_steps: float = 3.0
+    # ... each state's evidence against the level gait: the mid pitch (θ_max + θ_min)/2
+    # above it, ln(Δθ/Δθ_H), θ_min above it, with their spreads ...
+    level_mid_sigma_deg: float = 4.0
+    level_log_amplitude_sigma: float = 0.3
+    level_min_sigma_deg: float = 4.0
+    level_outlier_probability: float = 0.05  # heavy tails: this much of a wider level
+    level_outlier_sigma_factor: float = 4.0  # ... spread
+    up_mid_excess_deg: float = 16.0
+    up_amplitude_ratio: float = 1.7
+    up_min_excess_deg: float = 5.0
+    down_mid_excess_deg: float = 12.0
+    down_amplitude_ratio_mean: float = 0.95
+    down_min_deg: float = 5.0                # θ_min of a step down (absolute: θ_Dmin > 0)
+    stairs_mid_sigma_deg: float = 6.0
+    stairs_log_amplitude_sigma: float = 0.2
+    stairs_min_sigma_deg: float = 5.0
+    stairs_cycle_min_s: float = 1.1          # stairs are walked: a shorter cycle counts
+    stairs_cycle_sigma_s: float = 0.15       # ... against them by this Gaussian tail
+    # ... a step turning more than this carries no evidence, and the level gait is
+    # learned from steps at least this probably level
+    turn_max_deg: float = 60.0
+    turn_sigma_factor: float = 1.5
+    learn_min_probability: float = 0.9
+    # at rest
     sitting_min_pitch_deg: float = 30.0      # at rest: sitting above, standing below
     rest_after_s: float = 2.5                # no step for this long: standing or sitting
 
     def __post_init__(self) -> None:
+        if self.model not in ACTIVITY_MODELS:
+            raise ValueError(f"model must be one of {', '.join(ACTIVITY_MODELS)}, "
+                             f"got {self.model!r}")
         _positive(self, ("level_history_steps", "up_amplitude_margin_deg", "up_max_margin_deg",
-                         "up_min_tolerance_deg",
-                         "down_min_margin_deg", "down_amplitude_ratio",
+                         "up_min_tolerance_deg", "down_min_margin_deg", "down_amplitude_ratio",
+                         "prior_weight_steps", "level_mid_sigma_deg",
+                         "level_log_amplitude_sigma", "level_min_sigma_deg",
+                         "up_amplitude_ratio", "down_amplitude_ratio_mean",
+                         "stairs_mid_sigma_deg", "stairs_log_amplitude_sigma",
+                         "stairs_min_sigma_deg", "turn_max_deg", "turn_sigma_factor",
+                         "level_outlier_sigma_factor", "stairs_cycle_min_s",
+                         "stairs_cycle_sigma_s",
                          "sitting_min_pitch_deg", "rest_after_s"))
+        for name in ("enter_stairs_probability", "stay_on_stairs_probability",
+                     "learn_min_probability", "level_outlier_probability"):
+            if not 0 < getattr(self, name) < 1:
+                raise ValueError(f"{name} must be within (0, 1), got {getattr(self, name)}")
+        if not self.enter_stairs_probability < 0.5:
+            raise ValueError("enter_stairs_probability must be below 0.5")
+        if not self.level_max_deg > self.level_min_deg:
+            raise ValueError("level_max_deg must be above level_min_deg")
 
 
 @dataclass(frozen=True)
 class StepLengthConfig:
     """Stride (one gait cycle) models. ``model``: pitch (Eq. (4.2), the thesis'),
-    frequency (Eq. (4.3)) or weinberg (Eq. (2.3), ζ·(α_z,max − α_z,min)^¼)."""
+    frequency (Eq. (4.3)) or weinberg (Eq. (2.3), ζ·(α_z,max − α_z,min)^¼). The shipped
+    a_H, b_H are a population's line (pdr_pocket.step_length); ``calibrated`` true (what
+    ``pdr-pocket calibrate-step`` writes) says they are the person's."""
 
     model: str = "pitch"
     a_h_m_per_deg: float = 0.025        # universal slope a_H
-    b_h_m: float = 0.42                 # personal offset b_H (pdr-pocket calibrate-step)
+    b_h_m: float = 0.42                 # offset b_H: a population's, or the person's
+    calibrated: bool = False            # the line fitted to this person's walks
     c_h_m_per_hz: float = 1.60          # s = c_H·f + d_H, f in gait cycles per second
     d_h_m: float = 0.0
     weinberg_zeta: float = 0.95         # s = ζ·(Δα_z [m/s²])^¼
@@ -290,6 +371,18 @@ class PositionConfig:
 
 
 @dataclass(frozen=True)
+class PersonConfig:
+    """Who carries the phone. ``height_m`` scales an uncalibrated stride line by geometric
+    similarity (pdr_pocket.step_length); null: the population's adult."""
+
+    height_m: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.height_m is not None and not 1.0 <= self.height_m <= 2.3:
+            raise ValueError(f"height_m must be within 1.0-2.3 m, got {self.height_m}")
+
+
+@dataclass(frozen=True)
 class PocketConfig:
     """The whole navigator."""
 
@@ -300,13 +393,15 @@ class PocketConfig:
     step_length: StepLengthConfig = field(default_factory=StepLengthConfig)
     stairs: StairsConfig = field(default_factory=StairsConfig)
     position: PositionConfig = field(default_factory=PositionConfig)
+    person: PersonConfig = field(default_factory=PersonConfig)
     magnetometer_calibration: str | None = None   # YAML of pdr-pocket calibrate-mag
 
 
 STEP_LENGTH_MODELS = ("pitch", "frequency", "weinberg")
+ACTIVITY_MODELS = ("thesis", "level_prior")
 SECTIONS = {"mounting": MountingConfig, "steps": StepsConfig, "activity": ActivityConfig,
             "step_length": StepLengthConfig, "stairs": StairsConfig,
-            "position": PositionConfig}
+            "position": PositionConfig, "person": PersonConfig}
 
 
 def _positive(config, names: tuple[str, ...]) -> None:

@@ -31,7 +31,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.rotations import rotation_from_euler
-from pdr_pocket.activity import DOWNSTAIRS, UPSTAIRS, WALKING, ActivityClassifier, rest_activity
+from pdr_pocket.activity import (
+    DOWNSTAIRS,
+    UPSTAIRS,
+    WALKING,
+    StepShape,
+    activity_classifier,
+    rest_activity,
+)
 from pdr_pocket.compiled_gait import (
     EV_MAX,
     EV_MIN,
@@ -57,6 +64,7 @@ GRAVITY_TILT_SIGMA_RAD = np.radians(5.0)    # tilt from the low-passed specific 
 MOTION_TIME_CONSTANT_S = 0.5                # of the accelerometer's motion measure
 # a cascade of two first-order low-passes has its −3 dB point at √(√2 − 1)/(2πτ)
 CASCADE_FACTOR = np.sqrt(np.sqrt(2.0) - 1.0)
+NO_GAIT_MIN_MOVING_S = 5.0                  # moving this long without a step: no thigh gait
 
 
 @dataclass(frozen=True)
@@ -104,7 +112,8 @@ def mounting_params(config: PocketConfig) -> MountingParams:
                           np.radians(m.moving_rate_deg_per_s), m.flexion_time_constant_s,
                           m.flexion_min_s, np.radians(m.turned_min_angle_deg), m.turned_min_s,
                           m.turned_time_constant_s, np.radians(m.turned_angle_deg),
-                          np.radians(m.turned_pitch_angle_deg), True)
+                          np.radians(m.turned_pitch_angle_deg),
+                          np.radians(m.walking_pitch_deg), True)
 
 
 def configured_axes(rpy_deg) -> tuple[np.ndarray, np.ndarray]:
@@ -126,9 +135,10 @@ class PocketNavigator:
         axes = configured_axes(c.mounting.rpy_deg) if c.mounting.rpy_deg is not None \
             else (None, None)
         self.mounting = new_mounting_state(*axes)
+        self.gyroscope: bool | None = None      # known from the first samples
         self.detector = PitchMaximumDetector(c.steps)
-        self.classifier = ActivityClassifier(c.activity)
-        self.stride = stride_model(c.step_length)
+        self.classifier = activity_classifier(c.activity)
+        self.stride = stride_model(c.step_length, c.person.height_m)
         self.staircases = Staircases(c.stairs)
         self.position = PositionFilter(c.position)
         self.steps: list[StepRecord] = []
@@ -136,11 +146,14 @@ class PocketNavigator:
         # per-cycle accumulators since the last confirmed step
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf
+        self.tilt_var_max = 0.0                 # the tilt's largest variance [rad²]
         self.last_confirm = -np.inf
         self.last_activity = WALKING
         self.corrections = {"accepted": 0, "refused": 0}
         self.changes_seen = 0.0
         self.remounts_t: list[float] = []       # mounting changes of this chunk
+        self.seen_s = self.moving_s = 0.0       # data seen, and moving [s]
+        self.last_t: float | None = None
 
     def copy_state(self) -> PocketNavigator:
         """A copy to run on from here (a correction taken as of an earlier sample): its
@@ -160,6 +173,8 @@ class PocketNavigator:
         [m/s²], mag [T] (N, 3)."""
         t = np.asarray(t, float)
         accel = np.ascontiguousarray(accel, dtype=float)
+        if self.gyroscope is None and len(t):
+            self._sensors(gyro is not None)
         if gyro is None:
             attitude, rate = self._gravity_tilt(t, accel)
         else:
@@ -169,22 +184,76 @@ class PocketNavigator:
         pitch, heading = np.full(n, np.nan), np.full(n, np.nan)
         known = np.zeros(n, dtype=np.bool_)
         up, flex, changes = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n)
+        # without a gyroscope the checks that read the phone's turns and the walking
+        # pitch's mean are off: the gravity direction's pitch is too rough for them
         params = self.mounting_params if gyro is not None else \
             self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf,
-                                          skew_check=False)
+                                          turned_pitch_angle=np.inf, skew_check=False)
         mounting_loop(self.mounting, params, t, np.ascontiguousarray(rate),
                       accel, attitude.attitude, pitch, heading, known, up, flex, changes)
+        self._count_motion(t, rate)
         self.remounts_t.extend(t[np.flatnonzero(np.diff(np.r_[self.changes_seen, changes]))])
         self.changes_seen = changes[-1] if n else self.changes_seen
         vz = np.einsum("nj,nj->n", attitude.attitude[:, 2, :], np.asarray(accel, float))
-        yaw_var = attitude.covariance[:, 2, 2]
-        stream = self._stream(t, attitude.attitude, vz, yaw_var, pitch, heading, known, up,
+        # per sample: the yaw's variance (the step's heading) and the tilt's (how far the
+        # pitch can be trusted)
+        variances = np.column_stack([attitude.covariance[:, 2, 2],
+                                     np.maximum(attitude.covariance[:, 0, 0],
+                                                attitude.covariance[:, 1, 1])])
+        stream = self._stream(t, attitude.attitude, vz, variances, pitch, heading, known, up,
                               flex)
         before = (self.last_confirm, self.last_activity)
         steps = self._steps(stream)
         tilt = np.arccos(np.clip(np.einsum("nj,nj->n", attitude.attitude[:, 2, :], up), -1, 1))
         return NavigatorOutput(attitude, pitch, heading,
                                self._activity(t, tilt, steps, before), steps)
+
+    def _count_motion(self, t: np.ndarray, rate: np.ndarray) -> None:
+        """Add the chunk's time, and its time moving (the turn rate, or without a
+        gyroscope the accelerometer's motion measure, above ``moving_rate_deg_per_s``)."""
+        if not len(t):
+            return
+        dt = np.diff(np.r_[t[0] if self.last_t is None else self.last_t, t])
+        self.last_t = float(t[-1])
+        self.seen_s += float(dt.sum())
+        self.moving_s += float(dt[rate > np.radians(
+            self.config.mounting.moving_rate_deg_per_s)].sum())
+
+    def no_step_reason(self) -> str | None:
+        """Why no step was found, when none was (None otherwise): the signals were still
+        (standing, or stamps in the wrong unit), or something moved that was no thigh's
+        gait (the phone in a hand or a bag)."""
+        if self.steps:
+            return None
+        if self.moving_s < NO_GAIT_MIN_MOVING_S:
+            return (f"no walking found: the signals were still for {self.seen_s:.1f} s "
+                    f"(moving {self.moving_s:.1f} s; standing, or a time column in the wrong "
+                    "unit?)")
+        return (f"motion but no thigh gait: {self.moving_s:.1f} s of {self.seen_s:.1f} s "
+                "moving without a step; is the phone in a trouser pocket?")
+
+    def _sensors(self, gyroscope: bool) -> None:
+        """Choose the step detector and the activities by the signals there are (the
+        first samples tell): without a gyroscope the pitch comes from the gravity
+        direction alone (:meth:`_gravity_tilt`), its maxima are held to the gait's rhythm
+        and every step is level (pdr_pocket.activity.LevelOnlyActivity)."""
+        self.gyroscope = gyroscope
+        self.detector = PitchMaximumDetector(self.config.steps, gyroscope)
+        self.classifier = activity_classifier(self.config.activity, gyroscope)
+
+    def detection(self) -> dict:
+        """What counted the steps and what named their activities, and why (the report
+        and the node's log say it)."""
+        if self.gyroscope is None:
+            return {"step_detector": self.detector.name, "pitch_from": "no sample yet",
+                    "activities": self.classifier.name}
+        pitch_from = "the orientation filter (gyroscope and accelerometer)" \
+            if self.gyroscope else "the gravity direction alone (no gyroscope: the " \
+            "accelerometer's low-passed specific force)"
+        activities = self.classifier.name if self.gyroscope else \
+            "level only (no gyroscope: the gravity direction's pitch holds no stairs evidence)"
+        return {"step_detector": self.detector.name, "pitch_from": pitch_from,
+                "activities": activities}
 
     def _gravity_tilt(self, t: np.ndarray, accel: np.ndarray
                       ) -> tuple[AttitudeEstimate, np.ndarray]:
@@ -210,30 +279,30 @@ class PocketNavigator:
         scale = np.radians(m.moving_rate_deg_per_s) / m.accel_motion_mps2
         return attitude, motion * scale
 
-    def _stream(self, t, c, vz, yaw_var, pitch, heading, known, up, flex):
+    def _stream(self, t, c, vz, variances, pitch, heading, known, up, flex):
         """The samples the detector sees, in order: (t, θ, heading, vertical force, yaw
-        variance), with the pending samples given the axes of the first known sample
-        after them. Runs of known and unknown samples are taken whole."""
+        and tilt variances (N, 2)), with the pending samples given the axes of the first
+        known sample after them. Runs of known and unknown samples are taken whole."""
         change = np.flatnonzero(np.diff(known.astype(np.int8))) + 1
         segments = []
         for a, b in zip(np.r_[0, change], np.r_[change, len(t)], strict=True):
             if a == b:
                 continue
             if not known[a]:
-                self._hold(t[a:b], c[a:b], vz[a:b], yaw_var[a:b])
+                self._hold(t[a:b], c[a:b], vz[a:b], variances[a:b])
                 continue
             if self.pending is not None:
                 segments.append(self._replay(up[a], flex[a], t, pitch, heading))
-            segments.append((t[a:b], pitch[a:b], heading[a:b], vz[a:b], yaw_var[a:b]))
+            segments.append((t[a:b], pitch[a:b], heading[a:b], vz[a:b], variances[a:b]))
         if not segments:
-            return tuple(np.empty(0) for _ in range(5))
+            return (*(np.empty(0) for _ in range(4)), np.empty((0, 2)))
         return tuple(np.concatenate(parts) for parts in zip(*segments, strict=True))
 
-    def _hold(self, t, c, vz, yaw_var) -> None:
+    def _hold(self, t, c, vz, variances) -> None:
         """Keep samples while the axes are unknown, the last ``replay_s`` of them."""
-        held = (t, c, vz, yaw_var) if self.pending is None else tuple(
+        held = (t, c, vz, variances) if self.pending is None else tuple(
             np.concatenate([old, new]) for old, new in
-            zip(self.pending, (t, c, vz, yaw_var), strict=True))
+            zip(self.pending, (t, c, vz, variances), strict=True))
         first = np.searchsorted(held[0], held[0][-1] - self.config.mounting.replay_s,
                                 side="left")
         self.pending = tuple(x[first:] for x in held)
@@ -249,20 +318,20 @@ class PocketNavigator:
         return tp, angles[:, 0], angles[:, 1], vp, yp
 
     def _steps(self, stream) -> list[StepRecord]:
-        t, pitch, heading, vz, yaw_var = stream
+        t, pitch, heading, vz, variances = stream
         events, restarts = self._events(t, pitch)
         cuts = np.searchsorted(t, events[:, EV_T_CONFIRM], side="right")
         out = []
         start = 0
         for i, (event, cut) in enumerate(zip(events, cuts, strict=True)):
-            self._accumulate(heading[start:cut], vz[start:cut])
+            self._accumulate(heading[start:cut], vz[start:cut], variances[start:cut, 1])
             start = cut
             if i in restarts:
                 self.classifier.restart()
-            out.append(self._step(event, float(yaw_var[cut - 1])))
+            out.append(self._step(event, float(variances[cut - 1, 0])))
         if len(events) in restarts:
             self.classifier.restart()
-        self._accumulate(heading[start:], vz[start:])
+        self._accumulate(heading[start:], vz[start:], variances[start:, 1])
         return out
 
     def _events(self, t: np.ndarray, pitch: np.ndarray) -> tuple[np.ndarray, set[int]]:
@@ -280,22 +349,26 @@ class PocketNavigator:
         self.remounts_t = []
         return np.concatenate(parts), restarts
 
-    def _accumulate(self, heading: np.ndarray, vz: np.ndarray) -> None:
+    def _accumulate(self, heading: np.ndarray, vz: np.ndarray, tilt_var: np.ndarray) -> None:
         ok = np.isfinite(heading)
         self.sum_cos += float(np.cos(heading[ok]).sum())
         self.sum_sin += float(np.sin(heading[ok]).sum())
         if len(vz):
             self.vz_max = max(self.vz_max, float(vz.max()))
             self.vz_min = min(self.vz_min, float(vz.min()))
+            self.tilt_var_max = max(self.tilt_var_max, float(tilt_var.max()))
 
     def _step(self, event: np.ndarray, yaw_var: float) -> StepRecord:
         c = self.config
         t_max, t_confirm = float(event[EV_T_MAX]), float(event[EV_T_CONFIRM])
         duration = self._duration(t_max)
         amplitude_deg = float(np.degrees(event[EV_MAX] - event[EV_MIN]))
-        activity = self.classifier.classify(float(event[EV_MAX]), float(event[EV_MIN]))
         drift = np.radians(c.position.heading_drift_correction_deg_per_s)
         heading = float(np.arctan2(self.sum_sin, self.sum_cos) - drift * t_max)
+        turn = heading - self.steps[-1].heading if self.steps else 0.0
+        activity = self.classifier.classify(StepShape(
+            float(event[EV_MAX]), float(event[EV_MIN]), float(np.angle(np.exp(1j * turn))),
+            duration, float(np.sqrt(self.tilt_var_max))))
         vertical_range = self.vz_max - self.vz_min
         length = self.stride.length(StrideInputs(amplitude_deg, duration, vertical_range)) \
             if activity == WALKING else c.step_length.stairs_stride_m
@@ -314,6 +387,7 @@ class PocketNavigator:
         self.steps.append(record)
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf
+        self.tilt_var_max = 0.0
         self.last_confirm = t_confirm
         self.last_activity = activity
         return record

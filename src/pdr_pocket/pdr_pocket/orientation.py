@@ -125,10 +125,11 @@ class OrientationFilter:
             np.radians([c.initial_tilt_sigma_deg] * 2 + [c.initial_yaw_sigma_deg]) ** 2,
             np.full(3, np.radians(c.initial_bias_sigma_deg_per_s) ** 2)]))
         return FilterState(np.ascontiguousarray(attitude), np.zeros(3), covariance,
-                           np.zeros(8), np.zeros(3), np.zeros(3), np.zeros(3),
+                           np.zeros(10), np.zeros(3), np.zeros(3), np.zeros(3),
                            np.full(3, np.nan), np.zeros(3),
                            np.zeros(RING), np.zeros(RING), np.zeros(RING),
-                           np.full((RING, 3), np.nan))
+                           np.full((RING, 3), np.nan), np.zeros((3, 3)),
+                           np.full(3, 1.0 / np.sqrt(3.0)))
 
     def reset(self) -> None:
         self.state = None

@@ -29,6 +29,7 @@ from pdr_pocket.activity import ACTIVITY_NAMES
 from pdr_pocket.compiled_gait import CHANGES
 from pdr_pocket.navigator import NavigatorOutput, StepRecord
 from pdr_pocket.stairs import Staircases
+from pdr_pocket.step_length import height_scale
 
 STEP_TOPIC, POSE_TOPIC, PATH_TOPIC = "/pdr/pocket/step", "/pdr/pocket/pose", "/pdr/pocket/path"
 MAP_FRAME = "map"
@@ -57,7 +58,7 @@ def pose_fields(steps: list[StepRecord], attitude: np.ndarray) -> dict[str, np.n
     diagonal per REP-145 would be read as "no orientation", so the attitude filter's are
     not repeated here and the block is left 0) and the sensor attitude (N, 3, 3)."""
     cov = np.zeros((len(steps), 6, 6))
-    cov[:, :3, :3] = [s.covariance for s in steps]
+    cov[:, :3, :3] = np.reshape([s.covariance for s in steps], (-1, 3, 3))
     return {"pose.pose.position": np.array([s.position for s in steps]).reshape(-1, 3),
             "pose.pose.orientation": quaternion_from_orthonormal(attitude),
             "pose.covariance": cov.reshape(-1, 36)}
@@ -276,7 +277,13 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     report = navigation_report(steps, navigator.staircases, truth_steps, truth_positions,
                                int(inputs.stamp_ns[0]), _true_floors(record))
     report |= {"samples": len(inputs.t), "dropped": inputs.counts,
-               "mounting_changes": int(navigator.mounting.scalars[CHANGES])}
+               "mounting_changes": int(navigator.mounting.scalars[CHANGES]),
+               "detection": navigator.detection(),
+               "step_length": {"model": config.step_length.model,
+                               "calibrated": config.step_length.calibrated,
+                               "height_m": config.person.height_m,
+                               "scale": height_scale(config.step_length, config.person.height_m)},
+               "warnings": [w for w in (navigator.no_step_reason(),) if w is not None]}
     if drift_log is not None:
         report["drift"] = {"mode": drift, **drift_log.summary()}
         if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in batches:

@@ -11,6 +11,18 @@ level line: the navigator gives them ``stairs_stride_m`` (two treads, Section 4.
 
 :func:`fit_offset` and :func:`fit_line` calibrate from a walk of known length
 (``pdr-pocket calibrate-step``).
+
+For a person nobody calibrated, the shipped line is a population's: a_H = 0.025 m/°, the
+slope the thesis finds alike among its 18 volunteers (Section 4.2.3), and b_H = 0.42 m,
+which puts a thigh swing of Δθ ≈ 41° at a stride of 1.45 m, the mean of adult men
+(1.58 m) and women (1.32 m) walking at their free speed (Murray, Drought and Kory 1964;
+Murray, Kory and Sepic 1970). People's own lines lie up to 14 cm per step from it
+(Section 4.2.3), so an uncalibrated distance is good to about ±10 % (the report says it is
+uncalibrated). ``person.height_m`` scales the line by height/:data:`POPULATION_HEIGHT_M`:
+walkers of one build at equal angles differ in stride as in leg length (geometric
+similarity, as in Alexander's dynamic similarity of gaits, "Stride length and speed for
+adults, children, and fossil hominids", 1984). A calibrated line is the person's and is
+not scaled.
 """
 from __future__ import annotations
 
@@ -22,6 +34,7 @@ from pdr_core.errors import InputError
 from pdr_pocket.config import StepLengthConfig
 
 MIN_CALIBRATION_STEPS = 20
+POPULATION_HEIGHT_M = 1.70          # the adult the population line stands for
 MIN_AMPLITUDE_SPREAD_DEG = 3.0      # a slope needs Δθ spread over at least this (1σ)
 
 
@@ -58,13 +71,32 @@ class Weinberg:
         return self.zeta * max(x.vertical_range_mps2, 0.0) ** 0.25
 
 
-def stride_model(config: StepLengthConfig):
-    """The configured model."""
+class Scaled:
+    """A model's strides times a factor (a person's height over the population's)."""
+
+    def __init__(self, model, factor: float) -> None:
+        self.model, self.factor = model, factor
+
+    def length(self, x: StrideInputs) -> float:
+        return self.factor * self.model.length(x)
+
+
+def height_scale(config: StepLengthConfig, height_m: float | None) -> float:
+    """The factor on an uncalibrated line's strides: height / :data:`POPULATION_HEIGHT_M`
+    (1 for a calibrated line or an unknown height)."""
+    return 1.0 if config.calibrated or height_m is None else height_m / POPULATION_HEIGHT_M
+
+
+def stride_model(config: StepLengthConfig, height_m: float | None = None):
+    """The configured model, scaled to the person's height when uncalibrated."""
     if config.model == "frequency":
-        return FrequencyLine(config.c_h_m_per_hz, config.d_h_m)
-    if config.model == "weinberg":
-        return Weinberg(config.weinberg_zeta)
-    return PitchLine(config.a_h_m_per_deg, config.b_h_m)
+        model = FrequencyLine(config.c_h_m_per_hz, config.d_h_m)
+    elif config.model == "weinberg":
+        model = Weinberg(config.weinberg_zeta)
+    else:
+        model = PitchLine(config.a_h_m_per_deg, config.b_h_m)
+    factor = height_scale(config, height_m)
+    return model if factor == 1.0 else Scaled(model, factor)
 
 
 def _check_walk(amplitude_deg: np.ndarray, where: str) -> None:

@@ -54,12 +54,18 @@ class DetectedSteps:
     t_min: np.ndarray
 
 
-def peak_params(config: StepsConfig) -> PeakParams:
+def peak_params(config: StepsConfig, gyroscope: bool = True) -> PeakParams:
+    """The detector's thresholds in radians; without a gyroscope a maximum must also come
+    ``no_gyroscope_min_period_fraction`` of the last cycle after the last step (the pitch
+    from the gravity direction alone has the legs' accelerations in it, and with them
+    maxima half a cycle apart)."""
+    rhythm = 0.0 if gyroscope else config.no_gyroscope_min_period_fraction
     return PeakParams(np.radians(config.drop_min_deg), config.drop_fraction,
                       np.radians(config.rise_min_deg), config.rise_fraction,
-                      np.radians(config.min_amplitude_deg),
+                      np.radians(config.min_amplitude_deg), 0.0,
                       np.radians(config.max_amplitude_deg), config.max_rise_s,
-                      config.max_hold_s, config.min_step_period_s, config.max_step_period_s)
+                      config.max_hold_s, config.min_step_period_s, rhythm,
+                      config.max_step_period_s)
 
 
 class PitchMaximumDetector:
@@ -67,9 +73,10 @@ class PitchMaximumDetector:
 
     name = "pitch maximum"
 
-    def __init__(self, config: StepsConfig | None = None) -> None:
+    def __init__(self, config: StepsConfig | None = None, gyroscope: bool = True) -> None:
         self.config = config or StepsConfig()
-        self.params = peak_params(self.config)
+        self.gyroscope = gyroscope
+        self.params = peak_params(self.config, gyroscope)
         self.state = new_peak_state()
 
     def restart(self) -> None:
@@ -86,7 +93,7 @@ class PitchMaximumDetector:
 
     def detect(self, t: np.ndarray, pitch: np.ndarray, accel: np.ndarray) -> DetectedSteps:
         """A whole record, from a fresh state (this detector's is left alone)."""
-        rows = PitchMaximumDetector(self.config).push(t, pitch)
+        rows = PitchMaximumDetector(self.config, self.gyroscope).push(t, pitch)
         return DetectedSteps(rows[:, EV_T_MAX], 1, rows[:, EV_MAX], rows[:, EV_MIN],
                              rows[:, EV_T_MIN])
 

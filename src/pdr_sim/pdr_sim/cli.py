@@ -61,8 +61,10 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
                     "pocket placement adds ground_truth/step and ground_truth/landmarks. The "
                     "complete configuration is stored in the bag's metadata "
                     "(custom_data 'pdr.simulation') so the run can be reproduced.")
-    p.add_argument("--placement", default="foot", choices=["foot", "pocket"],
-                   help="foot-mounted IMU, or a phone in the trouser pocket (thigh)")
+    p.add_argument("--placement", default="foot", choices=["foot", *CARRIED_BY_PLACEMENT],
+                   help="foot-mounted IMU, or a phone in the front trouser pocket (thigh), "
+                        "in a back pocket (buttock) or held in the hand (the last three walk "
+                        "pocket scenarios; their key 'carried')")
     p.add_argument("--scenario",
                    help=f"built-in (foot: {', '.join(BUILTIN)}; pocket: "
                         f"{', '.join(POCKET_BUILTIN)}) or a YAML file; default: straight "
@@ -85,15 +87,23 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_run_generate)
 
 
+# --placement of a pocket scenario: where the phone is carried (None: as the scenario says)
+CARRIED_BY_PLACEMENT = {"pocket": None, "back_pocket": "back_pocket", "hand": "hand"}
+
+
 def _run_generate(args: argparse.Namespace) -> int:
-    name = args.scenario or ("h1_rectangle" if args.placement == "pocket" else "straight")
-    scenario, data = load_placement_scenario(name, args.placement)
-    if args.set:
+    family = "foot" if args.placement == "foot" else "pocket"
+    name = args.scenario or ("h1_rectangle" if family == "pocket" else "straight")
+    scenario, data = load_placement_scenario(name, family)
+    carried = CARRIED_BY_PLACEMENT.get(args.placement)
+    if carried is not None:
+        data = {**data, "carried": carried}
+    if args.set or carried is not None:
         data = with_overrides(data, args.set, "--set")
-        scenario = scenario_of(data, f"{name} (with --set)", args.placement)
+        scenario = scenario_of(data, f"{name} ({args.placement})", family)
     overrides = with_overrides({}, args.imu_set, "--imu-set")
     config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
-                              args.gravity, args.placement)
+                              args.gravity, family)
     sim = simulate(config)
     write_batches(args.out, sim.batches, overwrite=args.overwrite, compress=args.compress,
                   custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(sim),
@@ -109,7 +119,7 @@ def _run_generate(args: argparse.Namespace) -> int:
                           sim.imu["linear_acceleration"], sim.mag["magnetic_field"],
                           args.plot / "signals.png", title)
         written = ["trajectory.png", "signals.png"]
-        if args.placement == "pocket":
+        if family == "pocket":
             plots.pocket_png(sim.model, sim.trajectory, args.plot / "pocket.png", title)
             written.append("pocket.png")
         print("plots: " + ", ".join(str(args.plot / w) for w in written))

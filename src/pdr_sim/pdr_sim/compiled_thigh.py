@@ -29,12 +29,14 @@ X, Y, Z, HEADING, PITCH, SWAY = range(6)       # spline channels
 class ThighBody(NamedTuple):
     """The body of the model, SI units: hip joint from the pelvis centre (pelvis frame,
     (3,)), sensor from the hip joint (thigh frame, (3,)), mounting C_s^t (3, 3) and its
-    quaternion (x, y, z, w)."""
+    quaternion (x, y, z, w), and the share of the thigh's pitch the sensor's body follows
+    (1 in a front pocket, less on the buttock, 0 in a hand: the pelvis' frame)."""
 
     hip_offset: np.ndarray
     lever_arm: np.ndarray
     mounting: np.ndarray
     mounting_quaternion: np.ndarray
+    pitch_coupling: float
 
 
 @njit(cache=True)
@@ -76,7 +78,8 @@ def thigh_kinematics(t, breaks, coeffs, body: ThighBody, position, velocity, acc
         _channels(t[k], breaks, coeffs, ch)
         psi, psi_d, psi_dd = ch[0, HEADING] + ch[0, SWAY], ch[1, HEADING] + ch[1, SWAY], \
             ch[2, HEADING] + ch[2, SWAY]
-        a, a_d, a_dd = -ch[0, PITCH], -ch[1, PITCH], -ch[2, PITCH]
+        k_p = body.pitch_coupling
+        a, a_d, a_dd = -k_p * ch[0, PITCH], -k_p * ch[1, PITCH], -k_p * ch[2, PITCH]
         cp, sp, ca, sa = np.cos(psi), np.sin(psi), np.cos(a), np.sin(a)
         w0, w1, w2 = -sa * psi_d, a_d, ca * psi_d
         wd0, wd1, wd2 = -ca * a_d * psi_d - sa * psi_dd, a_dd, -sa * a_d * psi_d + ca * psi_dd

@@ -75,6 +75,42 @@ MOUNTINGS = {
     # a phone upright in a front pocket, screen facing out (forward): Android axes, x to
     # the screen's right (the person's left), y up, z out of the screen
     "phone_front_pocket": np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+    # upright in a back pocket, screen facing out (backward): x to the person's right
+    "phone_back_pocket": np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+    # held in front of the chest to read it: top forward and 30° up, screen up and back
+    "phone_in_hand": np.array([[0.0, np.cos(np.pi / 6), -np.sin(np.pi / 6)],
+                               [-1.0, 0.0, 0.0],
+                               [0.0, np.sin(np.pi / 6), np.cos(np.pi / 6)]]),
+}
+
+
+@dataclass(frozen=True)
+class Carry:
+    """Where on the body the phone is carried: the share of the thigh's pitch its body
+    follows, the hip joint's offset from the pelvis centre (m, pelvis frame; None: the
+    person's), the sensor's lever arm (m, thigh frame; None: the person's) and the
+    mounting it takes unless the scenario names one."""
+
+    pitch_coupling: float
+    hip_offset_m: tuple[float, float, float] | None
+    lever_arm_m: tuple[float, float, float] | None
+    mounting: str
+
+
+# ``carried:`` of a pocket scenario (pdr-sim generate --placement pocket, back_pocket,
+# hand). Brajdic and Harle (2013) recorded phones in front and back trouser pockets and in
+# the hand (the Oxford step counter data), the cases a pocket navigator meets:
+# - front_pocket: on the thigh, as the thesis' sensor (Muñoz Díaz 2016, Fig. 4.7);
+# - back_pocket: on the buttock, behind and a little below the hip joint; the gluteal soft
+#   tissue follows the thigh's flexion only in part, taken here as 40 % of its pitch (an
+#   assumption, the share no study we know measured; it makes the pitch swing smaller than
+#   a front pocket's, the case the step detector must fall back for);
+# - hand: held in front of the chest to read it, moving with the trunk: the pelvis' bob
+#   (twice per cycle, ``hip_bob_m``) and yaw sway, no thigh swing.
+CARRIED = {
+    "front_pocket": Carry(1.0, None, None, "phone_front_pocket"),
+    "back_pocket": Carry(0.4, None, (-0.12, 0.0, -0.06), "phone_back_pocket"),
+    "hand": Carry(0.0, (0.0, 0.0, 0.0), (0.35, -0.05, 0.45), "phone_in_hand"),
 }
 
 
@@ -157,6 +193,7 @@ class PocketScenario:
     initial: InitialPlacement = field(default_factory=InitialPlacement)
     environment: Environment = field(default_factory=Environment)
     placement: str = "pocket"
+    carried: str = "front_pocket"
 
     @property
     def mounting_matrix(self) -> np.ndarray:
@@ -351,6 +388,9 @@ def pocket_scenario_from_dict(data: Any, where: str) -> PocketScenario:
     values = check_keys(data, PocketScenario, f"{where}:", required=("segments",))
     if values.get("placement", "pocket") != "pocket":
         raise InputError(f"{where}: placement", f"a pocket scenario, got {values['placement']!r}")
+    carried = values.get("carried", "front_pocket")
+    if carried not in CARRIED:
+        raise InputError(f"{where}: carried", f"one of {', '.join(CARRIED)}, got {carried!r}")
     segments = values["segments"]
     if not isinstance(segments, list) or not segments:
         raise InputError(f"{where}: segments", "expected a non-empty list")
@@ -362,7 +402,9 @@ def pocket_scenario_from_dict(data: Any, where: str) -> PocketScenario:
         name=str(values.get("name", where)),
         segments=tuple(_segment(s, f"{where}: segments[{i}]") for i, s in enumerate(segments)),
         person=_person(values.get("person", {}), f"{where}: person"),
-        mounting=_mounting(values.get("mounting", "phone_front_pocket"), f"{where}: mounting"),
+        mounting=_mounting(values.get("mounting", CARRIED[carried].mounting),
+                           f"{where}: mounting"),
+        carried=carried,
         remounts=_remounts(values.get("remounts", []), f"{where}: remounts"),
         seed=seed_from(values.get("seed", 0), f"{where}: seed"),
         initial=placement,

@@ -43,7 +43,7 @@ from pdr_sim.gait_plan import (
     GaitPlan,
     plan_gait,
 )
-from pdr_sim.pocket_scenario import PocketScenario
+from pdr_sim.pocket_scenario import CARRIED, PocketScenario
 from pdr_sim.trajectory import Trajectory
 
 KNOT_PHASES = np.array([0.0, 0.08, 0.30, 0.44, 0.58, 0.72, 0.86, 0.94])
@@ -354,12 +354,14 @@ class ThighTrajectory:
     @cached_property
     def body(self) -> ThighBody:
         """The body dimensions and mounting the compiled kernel needs."""
-        p = self.scenario.person
+        p, carry = self.scenario.person, CARRIED[self.scenario.carried]
         side = -1.0 if p.leg == "right" else 1.0
+        hip = (0.0, side * p.hip_half_width_m, 0.0) if carry.hip_offset_m is None \
+            else carry.hip_offset_m
+        lever = p.lever_arm_m if carry.lever_arm_m is None else carry.lever_arm_m
         mounting = np.ascontiguousarray(self.scenario.mounting_matrix, dtype=float)
-        return ThighBody(np.array([0.0, side * p.hip_half_width_m, 0.0]),
-                         np.asarray(p.lever_arm_m, float), mounting,
-                         Rotation.from_matrix(mounting).as_quat())
+        return ThighBody(np.asarray(hip, float), np.asarray(lever, float), mounting,
+                         Rotation.from_matrix(mounting).as_quat(), carry.pitch_coupling)
 
     def at(self, t: np.ndarray) -> Trajectory:
         """The sensor's trajectory at times ``t`` [s] (0 ≤ t ≤ duration), by
