@@ -121,14 +121,22 @@ class StreamingPocket:
         return self._process(self._ready())
 
     def push_imu(self, stamp_ns: int, accel, gyro) -> list[Processed]:
-        """An IMU sample [m/s², rad/s]."""
-        a, w = np.asarray(accel, float), np.asarray(gyro, float)
-        if not (np.isfinite(a).all() and np.isfinite(w).all()):
+        """An IMU sample [m/s², rad/s]; ``gyro`` None when the IMU has no gyroscope
+        (REP-145: angular_velocity_covariance[0] = −1), for which the navigator takes the
+        pitch from the gravity direction alone."""
+        a = np.asarray(accel, float)
+        w = np.full(3, np.nan) if gyro is None else np.asarray(gyro, float)
+        checked = np.zeros(3) if gyro is None else w
+        if not (np.isfinite(a).all() and np.isfinite(checked).all()):
             self.counts["non_finite"] += 1
             return []
-        if not plausible(a, w):
+        if not plausible(a, checked):
             self.counts["implausible"] += 1
             return []
+        return self._accept(stamp_ns, a, w)
+
+    def _accept(self, stamp_ns: int, a: np.ndarray, w: np.ndarray) -> list[Processed]:
+        """A sample of finite, plausible values: kept unless its stamp goes back."""
         if self.last_stamp_ns is not None and stamp_ns <= self.last_stamp_ns:
             self.counts["stamp_not_increasing"] += 1
             return []
@@ -206,7 +214,8 @@ class StreamingPocket:
                 self.counts["mag_missing"] += 1
             else:
                 mag[i] = value
-        inputs = ((stamps - self.t0_ns) * 1e-9, np.array([h[2] for h in held]),
+        gyro = np.array([h[2] for h in held])
+        inputs = ((stamps - self.t0_ns) * 1e-9, None if np.isnan(gyro).all() else gyro,
                   np.array([h[1] for h in held]), mag)
         before = self.navigator.copy_state() if count > 1 else None
         out = self.navigator.process(*inputs)

@@ -410,3 +410,21 @@ def test_the_population_line_scales_with_height_unless_calibrated():
                         step_length=StepLengthConfig(calibrated=True))
     _, calibrated = navigated("h1_rectangle", config=mine)
     assert [s.length for s in calibrated.steps] == [s.length for s in out.steps]
+
+
+def test_live_without_a_gyroscope_equals_the_whole_record():
+    """An IMU without gyroscope (REP-145: angular_velocity_covariance[0] = −1, the node
+    passes gyro None) sample by sample gives the steps of the offline navigator."""
+    from pdr_pocket.streaming import StreamingPocket
+
+    sim = simulated("sit_stand")
+    whole = PocketNavigator(PocketConfig()).process(
+        sim.trajectory.t, None, sim.imu["linear_acceleration"]).steps
+    live, steps = StreamingPocket(PocketConfig()), []
+    for stamp, accel in zip((sim.trajectory.t * 1e9).astype(np.int64).tolist(),
+                            sim.imu["linear_acceleration"], strict=True):
+        steps += [s for chunk in live.push_imu(stamp, accel, None) for s in chunk.output.steps]
+    steps += [s for chunk in live.flush() for s in chunk.output.steps]
+    assert len(whole) >= 30 and len(steps) == len(whole)
+    np.testing.assert_allclose([s.t for s in steps], [s.t for s in whole], atol=1e-6)
+    assert live.navigator.detection()["activities"].startswith("level only")

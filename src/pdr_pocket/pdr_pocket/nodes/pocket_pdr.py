@@ -46,6 +46,8 @@ from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.pocket_offline import MAP_FRAME, pose_fields, step_fields
 from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
 
+NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
+
 
 class PocketPdrNode(Node):
     """Adapter from Imu and MagneticField messages to the streaming navigator."""
@@ -81,13 +83,15 @@ class PocketPdrNode(Node):
         self.inputs: deque[tuple[int, Imu]] = deque()
         self.reported: dict[str, int] = {}
         self.mag_was_stale = False
+        self.detection_told = self.no_gait_told = False
         self.get_logger().info(f"pocket_pdr: configuration {path or 'default'}")
 
     def on_imu(self, msg: Imu) -> None:
         stamp = stamp_ns(msg)
         a, w = msg.linear_acceleration, msg.angular_velocity
+        gyro = None if msg.angular_velocity_covariance[0] == -1 else (w.x, w.y, w.z)
         self.inputs.append((stamp, msg))
-        self.publish(self.navigator.push_imu(stamp, (a.x, a.y, a.z), (w.x, w.y, w.z)))
+        self.publish(self.navigator.push_imu(stamp, (a.x, a.y, a.z), gyro))
         if self.navigator.failed is not None:
             self.inputs.clear()
         self.report_problems()
@@ -199,6 +203,16 @@ class PocketPdrNode(Node):
         if nav.mag_error is not None:
             self.get_logger().error(f"magnetometer off: {nav.mag_error}",
                                     throttle_duration_sec=10.0)
+        navigator = nav.navigator
+        if navigator.gyroscope is not None and not self.detection_told:
+            told = navigator.detection()
+            self.get_logger().info(f"steps by {told['step_detector']}, the pitch from "
+                                   f"{told['pitch_from']}; activities: {told['activities']}")
+            self.detection_told = True
+        if not self.no_gait_told and navigator.moving_s >= NO_GAIT_WARN_S and \
+                navigator.no_step_reason() is not None:
+            self.get_logger().warning(navigator.no_step_reason())
+            self.no_gait_told = True
         stale = nav.mag_stale
         if stale and not self.mag_was_stale and nav.last_stamp_ns is not None:
             self.get_logger().warning("imu/mag: no recent reading, magnetic updates paused",
@@ -207,6 +221,7 @@ class PocketPdrNode(Node):
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
+        self.detection_told = self.no_gait_told = False
         self.inputs.clear()
         self.path.poses = []
         response.success, response.message = True, "navigator reset"

@@ -1,0 +1,160 @@
+"""Benchmark: pdr-pocket's navigator beside a textbook pocket navigator, side by side.
+
+Run on purpose (``make bench``, which installs the peers of tools/requirements-bench.in),
+not in CI. The textbook navigator is what a user writes in an afternoon:
+
+- footfalls: peaks of the specific force's norm, low-passed at 3 Hz (second-order
+  Butterworth, both ways), at least 0.3 s apart and 1 m/s² prominent
+  (``scipy.signal.find_peaks``);
+- step length: Weinberg's, K·(max − min)^¼ of that norm between footfalls (Weinberg,
+  "Using the ADXL202 in pedometer and personal navigation applications", 2002), with the
+  population K = 0.47 m;
+- heading: VQF's 6D attitude (``vqf``; Laidig and Seel 2023), the sensor's yaw averaged
+  over each footfall (no heading at all without a gyroscope).
+
+On every shared real pocket recording (../shared/data, or PDR_SHARED_DATA) and on
+simulated walks with truth (front pocket, back pocket, stairs), in one run. Columns:
+footfall error, the steps labelled stairs on level walks, the final floor, and where there
+is a position truth (the simulated walks) the 2D ARMSE and the final error [m] of the
+report (heading aligned on the first 0.8 m). Prints a Markdown table (docs/pocket.md has
+it).
+"""
+from __future__ import annotations
+
+import itertools
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy.signal import butter, filtfilt, find_peaks
+from scipy.spatial.transform import Rotation
+
+from pdr_core.csv_import import CsvImuFormat, import_csv
+from pdr_core.metrics import error_report, truth_at
+from pdr_pocket.attitude_offline import pocket_inputs
+from pdr_pocket.config import PocketConfig
+from pdr_pocket.navigator import PocketNavigator
+from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
+from pdr_sim.simulation import SimulationConfig, simulate
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = Path(os.environ.get("PDR_SHARED_DATA", ROOT.parent / "shared" / "data")) / "pocket"
+G = 9.80665
+WEINBERG_K_M = 0.47
+BOARD = ("norm_thigh_1", "fast_thigh_1", "jog_thigh_1", "tug_thigh_1", "s_up_thigh_1",
+         "s_down_thigh_1", "s_both_thigh_1")
+LEVEL = {"norm_thigh_1", "fast_thigh_1", "jog_thigh_1", "tug_thigh_1", "oxford"}
+
+
+def board(name: str, gyroscope: bool = True):
+    fmt = CsvImuFormat(time_col="time", acc_cols=("accel_x", "accel_y", "accel_z"),
+                       gyro_cols=("gyro_x", "gyro_y", "gyro_z") if gyroscope else (),
+                       mag_cols=("mag_x", "mag_y", "mag_z"), mag_unit="ut")
+    result = import_csv(DATA / "thigh_revalew" / name / "imu.csv", fmt)
+    truth = len((DATA / "thigh_revalew" / name / "step_times.csv").read_text().split()) - 1
+    return result.imu, result.mag, truth
+
+
+def oxford():
+    csv = next((DATA / "oxford_step_counter").glob("user1_frontpocket_*.csv"))
+    fmt = CsvImuFormat(time_col="0", time_unit="ns", acc_cols=("1", "2", "3"), header=False)
+    return import_csv(csv, fmt).imu, None, 327
+
+
+def recordings() -> dict:
+    out = {name: board(name) for name in BOARD}
+    out |= {f"{name} (no gyro)": board(name, False) for name in ("norm_thigh_1", "fast_thigh_1")}
+    out["oxford"] = oxford()
+    return out
+
+
+def simulated() -> dict:
+    out = {}
+    for label, scenario, carried in (("H1, front pocket", "h1_rectangle", "front_pocket"),
+                                     ("H1, back pocket", "h1_rectangle", "back_pocket"),
+                                     ("UP/DW, front pocket", "up_dw", "front_pocket")):
+        _, data = load_pocket_scenario(scenario)
+        data = {**data, "carried": carried}
+        out[label] = simulate(SimulationConfig(pocket_scenario_from_dict(data, label), data,
+                                               "xsens_mtw", {}, 100.0, 1, placement="pocket"))
+    return out
+
+
+def textbook(t, gyro, accel):
+    """Footfall times [s] and positions (N + 1, 3) of the textbook navigator."""
+    rate = (len(t) - 1) / (t[-1] - t[0])
+    b, a = butter(2, 3.0 / (rate / 2))
+    norm = filtfilt(b, a, np.linalg.norm(accel, axis=1))
+    peaks, _ = find_peaks(norm, distance=max(1, int(0.3 * rate)), prominence=1.0)
+    if gyro is not None:
+        from vqf import VQF
+        quat = VQF(1.0 / rate).updateBatch(np.ascontiguousarray(gyro),
+                                           np.ascontiguousarray(accel))["quat6D"]
+        yaw = np.unwrap(Rotation.from_quat(quat[:, [1, 2, 3, 0]]).as_euler("ZYX")[:, 0])
+    else:
+        yaw = np.zeros(len(t))
+    edges = np.r_[0, peaks]
+    steps = [(WEINBERG_K_M * (norm[i:j + 1].max() - norm[i:j + 1].min()) ** 0.25,
+              yaw[i:j + 1].mean()) for i, j in itertools.pairwise(edges)]
+    moves = np.array([[s * np.cos(h), s * np.sin(h), 0.0] for s, h in steps]).reshape(-1, 3)
+    return t[peaks], np.vstack([np.zeros(3), np.cumsum(moves, axis=0)])
+
+
+def ours(t, gyro, accel, mag=None):
+    """Step times [s], positions (N + 1, 3), footfalls and the navigator's steps."""
+    out = PocketNavigator(PocketConfig()).process(t, gyro, accel, mag)
+    positions = np.vstack([np.zeros(3), *(s.position for s in out.steps)])
+    return np.array([s.t for s in out.steps]), positions, 2 * len(out.steps), out.steps
+
+
+def row(name, truth_footfalls, ours_run, book, truth_positions=None, level=True) -> str:
+    t_ours, p_ours, footfalls, steps = ours_run
+    t_book, p_book = book
+    stairs = sum(s.activity in (2, 3) for s in steps)
+    floor = int(np.round(p_ours[-1, 2] / PocketConfig().stairs.floor_height_m))
+    cells = [name, f"{100 * (footfalls - truth_footfalls) / truth_footfalls:+.1f} %",
+             f"{100 * (len(t_book) - truth_footfalls) / truth_footfalls:+.1f} %",
+             f"{stairs} of {len(steps)}" if level else "—", "0" if level else "—",
+             f"{floor:+d}", "+0"]
+    if truth_positions is not None:
+        for times, positions in ((t_ours, p_ours), (t_book, p_book)):
+            truth = truth_positions(np.r_[0.0, times])
+            report = error_report(np.r_[0.0, times], positions, truth)
+            cells += [f"{report['armse_2d_m']:.2f}", f"{report['final_error_m']:.2f}"]
+    else:
+        cells += ["—"] * 4
+    return "| " + " | ".join(cells) + " |"
+
+
+def main() -> int:
+    print("| walk | footfalls, ours | textbook | stairs steps on a level walk, ours | "
+          "textbook | final floor, ours | textbook | ARMSE 2D [m], ours | final error [m], "
+          "ours | ARMSE, textbook | final error, textbook |")
+    print("|---" * 11 + "|")
+    if DATA.is_dir():
+        for name, (imu, mag, truth) in recordings().items():
+            inputs = pocket_inputs(imu, mag)
+            print(row(name, truth, ours(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag),
+                      textbook(inputs.t, inputs.gyro_or_none, inputs.accel),
+                      level=name.split(" ")[0] in LEVEL), flush=True)
+    else:
+        print(f"({DATA} missing: the real recordings are left out)", file=sys.stderr)
+    for name, sim in simulated().items():
+        inputs = pocket_inputs(sim.batches["/imu/data"], sim.batches["/imu/mag"])
+        truth_pose = sim.batches["/ground_truth/pose"]
+        t0 = int(sim.batches["/imu/data"].stamp_ns[0])
+        steps = sim.model.true_steps
+
+        def truth_positions(times, pose=truth_pose, t0=t0):
+            return truth_at(pose, t0 + np.round(np.asarray(times) * 1e9).astype(np.int64))
+
+        print(row(name, 2 * len(steps.length),
+                  ours(inputs.t, inputs.gyro, inputs.accel, inputs.mag),
+                  textbook(inputs.t, inputs.gyro, inputs.accel), truth_positions,
+                  level="UP" not in name), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
