@@ -61,8 +61,11 @@ class DriftLog:
 
 
 def step_sample(step: StepRecord) -> StepSample:
-    return StepSample(step.t, step.heading, step.activity, step.position, step.covariance,
-                      step.floor)
+    """The drift estimator's view of a step, timed at its confirmation: the instant the
+    live node stamps its messages with, so that the drifts here and ``landmark_drift``'s
+    are the same numbers."""
+    return StepSample(step.t_confirm, step.heading, step.activity, step.position,
+                      step.covariance, step.floor)
 
 
 def concatenate(outputs: list[NavigatorOutput]) -> NavigatorOutput:

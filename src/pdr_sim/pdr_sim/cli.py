@@ -100,7 +100,8 @@ def _run_generate(args: argparse.Namespace) -> int:
         data = {**data, "carried": carried}
     if args.set or carried is not None:
         data = with_overrides(data, args.set, "--set")
-        scenario = scenario_of(data, f"{name} ({args.placement})", family)
+        scenario = scenario_of(data, f"{name} ({'with --set' if args.set else args.placement})",
+                               family)
     overrides = with_overrides({}, args.imu_set, "--imu-set")
     config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
                               args.gravity, family)
