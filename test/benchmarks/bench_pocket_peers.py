@@ -103,9 +103,10 @@ def textbook(t, gyro, accel):
 
 def ours(t, gyro, accel, mag=None):
     """Step times [s], positions (N + 1, 3), footfalls and the navigator's steps."""
-    out = PocketNavigator(PocketConfig()).process(t, gyro, accel, mag)
+    navigator = PocketNavigator(PocketConfig())
+    out = navigator.process(t, gyro, accel, mag)
     positions = np.vstack([np.zeros(3), *(s.position for s in out.steps)])
-    return np.array([s.t for s in out.steps]), positions, 2 * len(out.steps), out.steps
+    return np.array([s.t for s in out.steps]), positions, navigator.footfalls, out.steps
 
 
 def row(name, truth_footfalls, ours_run, book, truth_positions=None, level=True) -> str:

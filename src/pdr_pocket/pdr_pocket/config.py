@@ -219,17 +219,17 @@ class StepsConfig:
     max_rise_s: float = 1.5
     max_hold_s: float = 1.0
     min_step_period_s: float = 0.6     # a shorter gait cycle is running (compiled_gait)
-    # without a gyroscope the pitch from the gravity direction carries the legs'
-    # accelerations: a maximum is a step only this share of the last cycle after it
-    no_gyroscope_min_period_fraction: float = 0.65
+    # without a gyroscope, footfalls in the specific force's norm (steps.FootfallDetector):
+    footfall_cutoff_hz: float = 3.0     # the norm low-passed here (fourth-order) ...
+    footfall_prominence_mps2: float = 1.5   # ... a footfall stands this far over its troughs
+    footfall_min_interval_s: float = 0.3    # ... and this long after the last one
     max_step_period_s: float = 2.5     # longer gaps start a new walking bout
     nominal_step_period_s: float = 1.1  # the first step's duration (frequency model)
 
     def __post_init__(self) -> None:
-        if not 0 <= self.no_gyroscope_min_period_fraction < 1:
-            raise ValueError("no_gyroscope_min_period_fraction must be within [0, 1), got "
-                             f"{self.no_gyroscope_min_period_fraction}")
         _positive(self, ("drop_min_deg", "rise_min_deg", "min_amplitude_deg",
+                         "footfall_cutoff_hz", "footfall_prominence_mps2",
+                         "footfall_min_interval_s",
                          "max_amplitude_deg", "max_rise_s",
                          "max_hold_s", "min_step_period_s", "max_step_period_s",
                          "nominal_step_period_s"))

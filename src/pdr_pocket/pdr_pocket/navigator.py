@@ -56,7 +56,7 @@ from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
 from pdr_pocket.position import PSI, PositionFilter
 from pdr_pocket.stairs import Staircases, vertical_displacement_m
 from pdr_pocket.step_length import StrideInputs, stride_model
-from pdr_pocket.steps import PitchMaximumDetector
+from pdr_pocket.steps import FootfallDetector, PitchMaximumDetector
 
 THIGH_UP, THIGH_FLEXION = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
 LEVEL_VERTICAL_VAR_M2 = 0.0
@@ -142,7 +142,7 @@ class PocketNavigator:
         self.staircases = Staircases(c.stairs)
         self.position = PositionFilter(c.position)
         self.steps: list[StepRecord] = []
-        self.pending: tuple | None = None       # (t, C, vertical force, yaw variance) held
+        self.pending: tuple | None = None       # (t, C, forces, variances) held
         # per-cycle accumulators since the last confirmed step
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf
@@ -194,14 +194,16 @@ class PocketNavigator:
         self._count_motion(t, rate)
         self.remounts_t.extend(t[np.flatnonzero(np.diff(np.r_[self.changes_seen, changes]))])
         self.changes_seen = changes[-1] if n else self.changes_seen
-        vz = np.einsum("nj,nj->n", attitude.attitude[:, 2, :], np.asarray(accel, float))
+        # the vertical specific force (the stride model's range) and the norm (footfalls)
+        forces = np.column_stack([np.einsum("nj,nj->n", attitude.attitude[:, 2, :], accel),
+                                  np.linalg.norm(accel, axis=1)])
         # per sample: the yaw's variance (the step's heading) and the tilt's (how far the
         # pitch can be trusted)
         variances = np.column_stack([attitude.covariance[:, 2, 2],
                                      np.maximum(attitude.covariance[:, 0, 0],
                                                 attitude.covariance[:, 1, 1])])
-        stream = self._stream(t, attitude.attitude, vz, variances, pitch, heading, known, up,
-                              flex)
+        stream = self._stream(t, attitude.attitude, forces, variances, pitch, heading, known,
+                              up, flex)
         before = (self.last_confirm, self.last_activity)
         steps = self._steps(stream)
         tilt = np.arccos(np.clip(np.einsum("nj,nj->n", attitude.attitude[:, 2, :], up), -1, 1))
@@ -235,11 +237,21 @@ class PocketNavigator:
     def _sensors(self, gyroscope: bool) -> None:
         """Choose the step detector and the activities by the signals there are (the
         first samples tell): without a gyroscope the pitch comes from the gravity
-        direction alone (:meth:`_gravity_tilt`), its maxima are held to the gait's rhythm
-        and every step is level (pdr_pocket.activity.LevelOnlyActivity)."""
+        direction alone (:meth:`_gravity_tilt`), too rough for its maxima: the footfalls
+        count the steps (pdr_pocket.steps.FootfallDetector) and every step is level
+        (pdr_pocket.activity.LevelOnlyActivity)."""
         self.gyroscope = gyroscope
-        self.detector = PitchMaximumDetector(self.config.steps, gyroscope)
+        self.detector = PitchMaximumDetector(self.config.steps) if gyroscope \
+            else FootfallDetector(self.config.steps)
         self.classifier = activity_classifier(self.config.activity, gyroscope)
+
+    @property
+    def footfalls(self) -> int:
+        """Footfalls of both feet so far: those the footfall detector counted, else two
+        per step."""
+        if isinstance(self.detector, FootfallDetector):
+            return self.detector.footfalls
+        return 2 * len(self.steps)
 
     def detection(self) -> dict:
         """What counted the steps and what named their activities, and why (the report
@@ -279,30 +291,31 @@ class PocketNavigator:
         scale = np.radians(m.moving_rate_deg_per_s) / m.accel_motion_mps2
         return attitude, motion * scale
 
-    def _stream(self, t, c, vz, variances, pitch, heading, known, up, flex):
-        """The samples the detector sees, in order: (t, θ, heading, vertical force, yaw
-        and tilt variances (N, 2)), with the pending samples given the axes of the first
-        known sample after them. Runs of known and unknown samples are taken whole."""
+    def _stream(self, t, c, forces, variances, pitch, heading, known, up, flex):
+        """The samples the detector sees, in order: (t, θ, heading, the vertical
+        specific force and its norm (N, 2), yaw and tilt variances (N, 2)), with the
+        pending samples given the axes of the first known sample after them. Runs of
+        known and unknown samples are taken whole."""
         change = np.flatnonzero(np.diff(known.astype(np.int8))) + 1
         segments = []
         for a, b in zip(np.r_[0, change], np.r_[change, len(t)], strict=True):
             if a == b:
                 continue
             if not known[a]:
-                self._hold(t[a:b], c[a:b], vz[a:b], variances[a:b])
+                self._hold(t[a:b], c[a:b], forces[a:b], variances[a:b])
                 continue
             if self.pending is not None:
                 segments.append(self._replay(up[a], flex[a], t, pitch, heading))
-            segments.append((t[a:b], pitch[a:b], heading[a:b], vz[a:b], variances[a:b]))
+            segments.append((t[a:b], pitch[a:b], heading[a:b], forces[a:b], variances[a:b]))
         if not segments:
-            return (*(np.empty(0) for _ in range(4)), np.empty((0, 2)))
+            return (*(np.empty(0) for _ in range(3)), np.empty((0, 2)), np.empty((0, 2)))
         return tuple(np.concatenate(parts) for parts in zip(*segments, strict=True))
 
-    def _hold(self, t, c, vz, variances) -> None:
+    def _hold(self, t, c, forces, variances) -> None:
         """Keep samples while the axes are unknown, the last ``replay_s`` of them."""
-        held = (t, c, vz, variances) if self.pending is None else tuple(
+        held = (t, c, forces, variances) if self.pending is None else tuple(
             np.concatenate([old, new]) for old, new in
-            zip(self.pending, (t, c, vz, variances), strict=True))
+            zip(self.pending, (t, c, forces, variances), strict=True))
         first = np.searchsorted(held[0], held[0][-1] - self.config.mounting.replay_s,
                                 side="left")
         self.pending = tuple(x[first:] for x in held)
@@ -318,8 +331,9 @@ class PocketNavigator:
         return tp, angles[:, 0], angles[:, 1], vp, yp
 
     def _steps(self, stream) -> list[StepRecord]:
-        t, pitch, heading, vz, variances = stream
-        events, restarts = self._events(t, pitch)
+        t, pitch, heading, forces, variances = stream
+        vz = forces[:, 0]
+        events, restarts = self._events(t, pitch, forces[:, 1])
         cuts = np.searchsorted(t, events[:, EV_T_CONFIRM], side="right")
         out = []
         start = 0
@@ -334,18 +348,19 @@ class PocketNavigator:
         self._accumulate(heading[start:], vz[start:], variances[start:, 1])
         return out
 
-    def _events(self, t: np.ndarray, pitch: np.ndarray) -> tuple[np.ndarray, set[int]]:
+    def _events(self, t: np.ndarray, pitch: np.ndarray, force: np.ndarray
+                ) -> tuple[np.ndarray, set[int]]:
         """The detector's confirmed maxima, and the indices of the events before which
         the mounting changed: there the detector starts afresh, and so do the level steps
         of the activities (θ is measured anew; the swings while the phone turned are not
         the gait's)."""
         parts, restarts, start = [], set(), 0
         for cut in np.searchsorted(t, self.remounts_t, side="left"):
-            parts.append(self.detector.push(t[start:cut], pitch[start:cut]))
+            parts.append(self.detector.push(t[start:cut], pitch[start:cut], force[start:cut]))
             self.detector.restart()
             restarts.add(sum(len(p) for p in parts))
             start = cut
-        parts.append(self.detector.push(t[start:], pitch[start:]))
+        parts.append(self.detector.push(t[start:], pitch[start:], force[start:]))
         self.remounts_t = []
         return np.concatenate(parts), restarts
 

@@ -77,10 +77,13 @@ def _step_positions(steps: list[StepRecord]) -> np.ndarray:
     return np.vstack([np.zeros(3), *(s.position for s in steps)])
 
 
-def summary(steps: list[StepRecord], staircases: Staircases) -> dict:
-    """What a walk without truth tells: steps, distance, height, floors, staircases."""
+def summary(steps: list[StepRecord], staircases: Staircases, footfalls: int | None = None
+            ) -> dict:
+    """What a walk without truth tells: steps, footfalls (those counted, or None: two per
+    step), distance, height, floors, staircases."""
     z = np.diff(_step_positions(steps)[:, 2])
-    return {"steps": len(steps), "footfalls": 2 * len(steps),
+    return {"steps": len(steps),
+            "footfalls": 2 * len(steps) if footfalls is None else footfalls,
             "step_distance_m": float(sum(s.length for s in steps)),
             "height_gained_m": float(z[z > 0].sum()), "height_lost_m": float(-z[z < 0].sum()),
             "final_floor": steps[-1].floor if steps else 0,
@@ -130,12 +133,13 @@ def true_staircases(activity: np.ndarray, vertical: np.ndarray, end_s: np.ndarra
 
 def navigation_report(out_steps: list[StepRecord], staircases: Staircases,
                       truth_steps: MessageBatch | None, truth_positions: np.ndarray | None,
-                      t0_ns: int, true_floors: tuple[int, int] | None = None) -> dict:
+                      t0_ns: int, true_floors: tuple[int, int] | None = None,
+                      footfalls: int | None = None) -> dict:
     """The report (module docstring). ``truth_positions``: ground_truth/pose at the start
     and at each step's stamp (N + 1, 3); ``true_floors``: the final and the highest floor
-    of the simulated walk."""
+    of the simulated walk; ``footfalls``: as :func:`summary`."""
     det_t = np.array([s.t for s in out_steps])
-    report = summary(out_steps, staircases) | error_report(
+    report = summary(out_steps, staircases, footfalls) | error_report(
         np.r_[0.0, det_t], _step_positions(out_steps), truth_positions)
     if truth_steps is None or truth_positions is None:
         return report
@@ -275,7 +279,8 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
         truth_positions = truth_at(truth_pose, np.r_[inputs.stamp_ns[0], stamps])
     record = reader.custom_data("pdr.simulation") or {}
     report = navigation_report(steps, navigator.staircases, truth_steps, truth_positions,
-                               int(inputs.stamp_ns[0]), _true_floors(record))
+                               int(inputs.stamp_ns[0]), _true_floors(record),
+                               navigator.footfalls)
     report |= {"samples": len(inputs.t), "dropped": inputs.counts,
                "mounting_changes": int(navigator.mounting.scalars[CHANGES]),
                "detection": navigator.detection(),

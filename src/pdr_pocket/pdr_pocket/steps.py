@@ -8,6 +8,11 @@ the same inputs, t [s] (N,), the thigh pitch θ [rad] (N,) and the specific forc
   (Section 4.1.1; hysteresis and plausibility rules in :mod:`pdr_pocket.compiled_gait`).
   It also runs one sample at a time (:meth:`~PitchMaximumDetector.push`) with the same
   state, which the navigator uses live.
+- :class:`FootfallDetector`, beyond the thesis, for an IMU without gyroscope: footfalls as
+  peaks of ‖α‖ low-passed at ``footfall_cutoff_hz`` (the textbook step counter, Table
+  4.1's "LPF ‖α‖" with a prominence and a minimum interval instead of a fixed threshold;
+  scipy.signal.find_peaks' rules, causally), every second one closing a gait cycle. It
+  needs no pitch, which the gravity direction alone gives only roughly.
 - The baselines of Table 4.1: :class:`AccelerationPeakDetector` (peaks of ‖α‖, and with
   ``lowpass_samples=15`` of ‖α‖ through a 15-sample moving average: footfalls, two per
   cycle) and :class:`PitchZeroCrossingDetector` (θ crossing zero upwards, once per
@@ -18,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.signal import butter, sosfilt, sosfilt_zi
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_pocket.compiled_gait import (
@@ -25,8 +31,11 @@ from pdr_pocket.compiled_gait import (
     EV_MIN,
     EV_T_MAX,
     EV_T_MIN,
+    FF_COUNT,
     N_EVENT_COLUMNS,
     PeakParams,
+    footfall_loop,
+    new_footfall_state,
     new_peak_state,
     peak_loop,
 )
@@ -54,18 +63,12 @@ class DetectedSteps:
     t_min: np.ndarray
 
 
-def peak_params(config: StepsConfig, gyroscope: bool = True) -> PeakParams:
-    """The detector's thresholds in radians; without a gyroscope a maximum must also come
-    ``no_gyroscope_min_period_fraction`` of the last cycle after the last step (the pitch
-    from the gravity direction alone has the legs' accelerations in it, and with them
-    maxima half a cycle apart)."""
-    rhythm = 0.0 if gyroscope else config.no_gyroscope_min_period_fraction
+def peak_params(config: StepsConfig) -> PeakParams:
     return PeakParams(np.radians(config.drop_min_deg), config.drop_fraction,
                       np.radians(config.rise_min_deg), config.rise_fraction,
-                      np.radians(config.min_amplitude_deg), 0.0,
+                      np.radians(config.min_amplitude_deg),
                       np.radians(config.max_amplitude_deg), config.max_rise_s,
-                      config.max_hold_s, config.min_step_period_s, rhythm,
-                      config.max_step_period_s)
+                      config.max_hold_s, config.min_step_period_s, config.max_step_period_s)
 
 
 class PitchMaximumDetector:
@@ -73,18 +76,19 @@ class PitchMaximumDetector:
 
     name = "pitch maximum"
 
-    def __init__(self, config: StepsConfig | None = None, gyroscope: bool = True) -> None:
+    def __init__(self, config: StepsConfig | None = None) -> None:
         self.config = config or StepsConfig()
-        self.gyroscope = gyroscope
-        self.params = peak_params(self.config, gyroscope)
+        self.params = peak_params(self.config)
         self.state = new_peak_state()
 
     def restart(self) -> None:
         """Seek a minimum afresh, with no amplitude or step remembered."""
         self.state = new_peak_state()
 
-    def push(self, t: np.ndarray, pitch: np.ndarray) -> np.ndarray:
-        """Samples in order; the confirmed maxima, rows of compiled_gait.EV_* columns."""
+    def push(self, t: np.ndarray, pitch: np.ndarray, force: np.ndarray | None = None
+             ) -> np.ndarray:
+        """Samples in order; the confirmed maxima, rows of compiled_gait.EV_* columns
+        (``force``, the specific force's norm, is not used)."""
         t = np.ascontiguousarray(t, dtype=float)
         events = np.empty((len(t) // 2 + 1, N_EVENT_COLUMNS))
         count = peak_loop(self.state, self.params, t,
@@ -93,7 +97,64 @@ class PitchMaximumDetector:
 
     def detect(self, t: np.ndarray, pitch: np.ndarray, accel: np.ndarray) -> DetectedSteps:
         """A whole record, from a fresh state (this detector's is left alone)."""
-        rows = PitchMaximumDetector(self.config, self.gyroscope).push(t, pitch)
+        rows = PitchMaximumDetector(self.config).push(t, pitch)
+        return DetectedSteps(rows[:, EV_T_MAX], 1, rows[:, EV_MAX], rows[:, EV_MIN],
+                             rows[:, EV_T_MIN])
+
+
+RATE_SAMPLES = 10       # the sample rate is read off the first intervals
+
+
+class FootfallDetector:
+    """Gait cycles from the footfalls in the specific force's norm (module docstring).
+    The low-pass is a fourth-order Butterworth at the rate of the first
+    :data:`RATE_SAMPLES` intervals (the samples wait for them), carried across calls."""
+
+    name = "footfalls in the specific force's norm"
+
+    def __init__(self, config: StepsConfig | None = None) -> None:
+        self.config = config or StepsConfig()
+        self.state = new_footfall_state()
+        self.sos: np.ndarray | None = None
+        self.zi: np.ndarray | None = None
+        self.waiting: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def footfalls(self) -> int:
+        return int(self.state[FF_COUNT])
+
+    def restart(self) -> None:
+        """Nothing: the footfalls do not depend on how the phone sits."""
+
+    def push(self, t: np.ndarray, pitch: np.ndarray, force: np.ndarray) -> np.ndarray:
+        """Samples in order: times [s], the pitch [rad] (NaN: unknown) and the specific
+        force's norm [m/s²]; the cycles closed, rows of compiled_gait.EV_* columns."""
+        t, pitch, force = (np.ascontiguousarray(x, dtype=float) for x in (t, pitch, force))
+        if self.sos is None:
+            if self.waiting is not None:
+                t, pitch, force = (np.concatenate(pair) for pair in
+                                   zip(self.waiting, (t, pitch, force), strict=True))
+            if len(t) <= RATE_SAMPLES:
+                self.waiting = (t, pitch, force)
+                return np.empty((0, N_EVENT_COLUMNS))
+            self.waiting = None
+            self._design(float(np.median(np.diff(t[:RATE_SAMPLES + 1]))), force[0])
+        low, self.zi = sosfilt(self.sos, force, zi=self.zi)
+        events = np.empty((len(t) // 2 + 1, N_EVENT_COLUMNS))
+        c = self.config
+        count = footfall_loop(self.state, c.footfall_prominence_mps2, c.footfall_min_interval_s,
+                              t, np.ascontiguousarray(low), pitch, events)
+        return events[:count]
+
+    def _design(self, period_s: float, first: float) -> None:
+        nyquist = 0.5 / period_s
+        cutoff = min(self.config.footfall_cutoff_hz, 0.8 * nyquist)
+        self.sos = butter(4, cutoff / nyquist, output="sos")
+        self.zi = sosfilt_zi(self.sos) * first
+
+    def detect(self, t: np.ndarray, pitch: np.ndarray, accel: np.ndarray) -> DetectedSteps:
+        """A whole record, from a fresh state: the cycles."""
+        rows = FootfallDetector(self.config).push(t, pitch, np.linalg.norm(accel, axis=1))
         return DetectedSteps(rows[:, EV_T_MAX], 1, rows[:, EV_MAX], rows[:, EV_MIN],
                              rows[:, EV_T_MIN])
 

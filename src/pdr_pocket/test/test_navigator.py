@@ -428,3 +428,17 @@ def test_live_without_a_gyroscope_equals_the_whole_record():
     assert len(whole) >= 30 and len(steps) == len(whole)
     np.testing.assert_allclose([s.t for s in steps], [s.t for s in whole], atol=1e-6)
     assert live.navigator.detection()["activities"].startswith("level only")
+
+
+@pytest.mark.parametrize(("name", "off"), [("h1_rectangle", 1), ("h2_rectangle_speeds", 1),
+                                           ("h3_museum", 1), ("up_dw", 1), ("sit_stand", 2)])
+def test_footfalls_without_a_gyroscope(name, off):
+    """docs/pocket.md: the footfall detector counts 588/588, 627/628, 372/372, 356/356 and
+    134/132 (the sit/stand walk's standing up and sitting down shake the force too)."""
+    sim = simulated(name)
+    navigator = PocketNavigator(PocketConfig())
+    out = navigator.process(sim.trajectory.t, None, sim.imu["linear_acceleration"])
+    true = 2 * len(sim.model.true_steps.end_s)
+    assert abs(navigator.footfalls - true) <= off
+    assert len(out.steps) == navigator.footfalls // 2
+    assert navigator.detection()["step_detector"] == "footfalls in the specific force's norm"
