@@ -54,6 +54,9 @@ def test_non_finite_samples_are_dropped_and_counted(procs, tmp_path):
 def test_wrong_units_are_refused(procs, tmp_path, units, message):
     imported = procs.run("pdr-sim", "import-csv", str(XIO), "--out", str(tmp_path / "bag"),
                          *XIO_COLUMNS, *units)
+    assert imported.returncode == 2 and "--force" in imported.stderr, "refused at import"
+    imported = procs.run("pdr-sim", "import-csv", str(XIO), "--out", str(tmp_path / "bag"),
+                         *XIO_COLUMNS, *units, "--force")
     assert imported.returncode == 0, imported.stderr
     result = procs.run("pdr-ekf", "run", str(tmp_path / "bag"), "--out", str(tmp_path / "out"))
     assert result.returncode == 2

@@ -48,7 +48,8 @@ def test_attitude_refuses_data_in_g_with_one_line(procs, tmp_path):
                                      np.zeros((300, 3))]), delimiter=",",
                header="t,ax,ay,az,gx,gy,gz", comments="")
     imported = procs.run("pdr-sim", "import-csv", str(csv), "--out", str(tmp_path / "bag"),
-                         "--time-col", "t", "--acc-cols", "ax,ay,az", "--gyro-cols", "gx,gy,gz")
+                         "--time-col", "t", "--acc-cols", "ax,ay,az", "--gyro-cols", "gx,gy,gz",
+                         "--force")      # past the importer's own check of the units
     assert imported.returncode == 0, imported.stderr
     result = procs.run("pdr-pocket", "attitude", str(tmp_path / "bag"), "--out",
                        str(tmp_path / "out"))

@@ -12,14 +12,18 @@ With ``strict=True`` (the CLIs' ``--strict``) such a bag is refused with an
 a hidden temporary directory that is renamed into place only when the bag is complete,
 so a failure never leaves half-written output.
 
+A CSV log passed where a bag is read is refused with the ``pdr-sim import-csv`` command
+that turns it into one (:func:`not_a_bag`).
+
 Public: :class:`RawMessage`, :class:`BagReader`, :class:`BagWriter`,
 :func:`merged_messages`, :func:`write_batches`, :func:`readable_extent`,
-:func:`repair`, :func:`add_strict_option`.
+:func:`repair`, :func:`add_strict_option`, :func:`not_a_bag`.
 """
 from __future__ import annotations
 
 import functools
 import heapq
+import shlex
 import shutil
 import struct
 import tempfile
@@ -129,6 +133,35 @@ def readable_extent(file: Path) -> Extent:
     return Extent(good, file.stat().st_size, topics, messages)
 
 
+# Text logs a user may pass where a bag is read: the refusal points to pdr-sim import-csv
+TEXT_LOG_SUFFIXES = (".csv", ".txt", ".tsv")
+
+
+def not_a_bag(file: Path) -> str:
+    """Why ``file`` (without the MCAP magic bytes) is refused as a bag: for a CSV log (a
+    .csv/.txt/.tsv name, or a first line of comma-separated text), the command that
+    turns it into one, with its own columns where its header names them."""
+    with file.open("rb") as stream:
+        first = stream.readline(4096).decode("utf-8", errors="replace").strip()
+    cells = [cell.strip() for cell in first.split(",")]
+    if file.suffix.lower() not in TEXT_LOG_SUFFIXES and not (len(cells) > 1 and
+                                                             first.isprintable()):
+        return "not an MCAP file (bad magic bytes)"
+    try:
+        [float(cell) for cell in cells]
+        columns = ["--no-header", "--time-col", "0", "--acc-cols", "1,2,3"]
+    except ValueError:
+        acc = [c for c in cells if "acc" in c.lower()]
+        gyro = [c for c in cells if "gyr" in c.lower()]
+        columns = ["--time-col", cells[0], "--acc-cols",
+                   ",".join(acc if len(acc) == 3 else cells[1:4])]
+        columns += ["--gyro-cols", ",".join(gyro)] if len(gyro) == 3 else []
+    command = shlex.join(["pdr-sim", "import-csv", str(file), "--out", f"{file.stem}_bag",
+                          *columns])
+    return (f"a CSV log, not a bag (rosbag2 MCAP): import it first, e.g. `{command}` (units "
+            "with --time-unit, --acc-unit, --gyro-unit; see pdr-sim import-csv --help)")
+
+
 class BagReader:
     """Read-only view of a bag directory or a bare ``.mcap`` file.
 
@@ -146,7 +179,7 @@ class BagReader:
         for file in self.files:
             with file.open("rb") as stream:
                 if stream.read(len(MCAP_MAGIC)) != MCAP_MAGIC:
-                    raise InputError(file, "not an MCAP file (bad magic bytes)")
+                    raise InputError(file, not_a_bag(file))
         listed = bool(self.topics)          # from metadata.yaml
         self.damaged: dict[Path, Extent] = {}
         for file in self.files:
@@ -449,14 +482,15 @@ def _generic_messages(topic: str, msgtype: str, items: list[tuple[int, Any]]
         yield RawMessage(topic, msgtype, t, cdr.encode_generic(msg))
 
 
-def repair(source: str | Path, out: str | Path) -> dict[str, int]:
+def repair(source: str | Path, out: str | Path, *, overwrite: bool = False) -> dict[str, int]:
     """``ros2 bag reindex``'s equivalent: every readable message of ``source`` (a bag cut
     short, without its index or its metadata.yaml) written to a new bag ``out`` with its
     summary, index and metadata.yaml (``source`` is never touched); its custom_data is
-    kept. Returns the message count per topic."""
+    kept. An existing ``out`` is refused unless ``overwrite``. Returns the message count
+    per topic."""
     reader = BagReader(source)
     counts = dict.fromkeys(reader.topics, 0)
-    with BagWriter(out, custom_data=reader.custom_texts) as writer:
+    with BagWriter(out, overwrite=overwrite, custom_data=reader.custom_texts) as writer:
         for topic, msgtype in reader.topics.items():
             writer.add_topic(topic, msgtype)
         for message in reader.raw_messages():

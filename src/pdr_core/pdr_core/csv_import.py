@@ -10,6 +10,12 @@ Rows with NaN/Inf or stamps that do not increase are errors naming the file and 
 unless ``drop_invalid`` is set, in which case they are dropped and counted. Rows that
 repeat the previous row exactly (same time, same values) are refused unless
 ``drop_duplicates`` is set; dropping them loses no information.
+
+Data that no walk or rest gives in the units they were read in (a median |f| far from g,
+a sample rate beyond 5-10000 Hz, a 99th percentile of |ω| above 50 rad/s, a median |B|
+beyond 1-1000 µT: pdr_core.imu_checks) are refused naming the file, the columns, the
+value in the unit read and the unit option that fixes them (:func:`implausible_columns`),
+unless ``accept_implausible`` is set (``--force``): then each is an InputWarning.
 """
 from __future__ import annotations
 
@@ -21,15 +27,28 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core.batch import MessageBatch, stamp_ns_from_seconds
-from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.errors import InputError
+from pdr_core.errors import InputError, InputWarning
+from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
+from pdr_core.imu_checks import (
+    ANGULAR_RATE_RANGE,
+    FIELD_RANGE,
+    SAMPLE_INTERVAL_RANGE,
+    SPECIFIC_FORCE_RANGE,
+    PlausibleRange,
+    angular_rate_p99_radps,
+    median_field_t,
+    median_interval_s,
+    median_specific_force_mps2,
+)
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, POSE_STAMPED
-
-TIME_UNITS_S = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
-ACC_UNITS_MPS2 = {"mps2": 1.0, "m/s2": 1.0, "m/s^2": 1.0, "g": STANDARD_GRAVITY_MPS2}
-GYRO_UNITS_RADPS = {"radps": 1.0, "rad/s": 1.0, "degps": np.pi / 180.0, "deg/s": np.pi / 180.0}
-POS_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
-MAG_UNITS_T = {"t": 1.0, "ut": 1e-6, "nt": 1e-9, "gauss": 1e-4}
+from pdr_core.units import (
+    ACC_UNITS_MPS2,
+    GYRO_UNITS_RADPS,
+    MAG_UNITS_T,
+    POS_UNITS_M,
+    TIME_UNITS_S,
+    UNIT_SYMBOLS,
+)
 
 
 @dataclass(frozen=True)
@@ -54,6 +73,8 @@ class CsvImuFormat:
         time_offset_s: added to every stamp.
         drop_invalid: drop NaN/Inf rows and non-increasing stamps instead of failing.
         drop_duplicates: drop rows that repeat the previous row exactly instead of failing.
+        accept_implausible: import data that fail a plausibility check of their units
+            (``--force``), each with an InputWarning, instead of failing.
     """
 
     time_col: str
@@ -75,8 +96,9 @@ class CsvImuFormat:
     time_offset_s: float = 0.0
     drop_invalid: bool = False
     drop_duplicates: bool = False
-    imu_frame: str = "imu_link"
-    map_frame: str = "map"
+    accept_implausible: bool = False
+    imu_frame: str = SENSOR_FRAME
+    map_frame: str = MAP_FRAME
 
 
 @dataclass
@@ -189,6 +211,76 @@ def _kept_rows(path: Path, t_s: np.ndarray, values: np.ndarray, fmt: CsvImuForma
     return finite & increasing, duplicate
 
 
+@dataclass(frozen=True)
+class Implausible:
+    """Columns whose data no walk or rest gives in the unit they were read in: ``what``
+    names the columns, the value in the unit read (and in SI) and the range expected;
+    ``fix`` the unit option that makes them plausible."""
+
+    what: str
+    fix: str
+
+
+def implausible_columns(fmt: CsvImuFormat, t_s: np.ndarray, acc: np.ndarray,
+                        gyro: np.ndarray | None, mag: np.ndarray | None) -> list[Implausible]:
+    """What no walk or rest gives in the units the columns were read in (the ranges of
+    pdr_core.imu_checks), one per sensor. Arguments in SI, of the rows kept: stamps [s]
+    (N,), specific force [m/s²], angular rate [rad/s] or None, magnetic field [T] or
+    None, each (N, 3)."""
+    problems = []
+    if len(t_s) >= 2:
+        interval = median_interval_s(t_s)
+        problems.append(implausible(fmt.time_col, SAMPLE_INTERVAL_RANGE, interval,
+                                    fmt.time_unit, TIME_UNITS_S, "--time-unit",
+                                    f" ({1.0 / interval:.3g} Hz)" if interval > 0 else ""))
+    if len(acc):
+        problems.append(implausible(",".join(fmt.acc_cols), SPECIFIC_FORCE_RANGE,
+                                    median_specific_force_mps2(acc), fmt.acc_unit,
+                                    ACC_UNITS_MPS2, "--acc-unit"))
+    if gyro is not None and len(gyro):
+        problems.append(implausible(",".join(fmt.gyro_cols), ANGULAR_RATE_RANGE,
+                                    angular_rate_p99_radps(gyro), fmt.gyro_unit,
+                                    GYRO_UNITS_RADPS, "--gyro-unit"))
+    if mag is not None and len(mag):
+        problems.append(implausible(",".join(fmt.mag_cols), FIELD_RANGE, median_field_t(mag),
+                                    fmt.mag_unit, MAG_UNITS_T, "--mag-unit"))
+    return [problem for problem in problems if problem is not None]
+
+
+def implausible(columns: str, plausible_range: PlausibleRange, value_si: float, unit: str,
+                units: dict[str, float], flag: str, note: str = "") -> Implausible | None:
+    """None when the statistic ``value_si`` (SI) of ``columns`` (comma-separated), read in
+    ``unit`` of ``units`` (name -> SI factor; the option ``flag``), lies in
+    ``plausible_range``; else what is wrong (``note`` follows the value) and the fix."""
+    if not plausible_range.excludes(value_si):
+        return None
+    factor = units[unit]
+    value = f"{value_si / factor:.4g} {UNIT_SYMBOLS[unit]}"
+    if UNIT_SYMBOLS[unit] != plausible_range.si_unit:
+        value += f" = {value_si:.4g} {plausible_range.si_unit}"
+    what = "column" if "," not in columns else "columns"
+    problem = (f"{what} {columns}: {plausible_range.statistic} {value}{note}, read in "
+               f"{UNIT_SYMBOLS[unit]} ({flag} {unit}); expected {plausible_range.expected}")
+    fix = plausible_range.unit_fix(value_si, units, read_in=factor)
+    if fix is None:
+        return Implausible(problem, f"no unit of {flag} makes them plausible; check {what} "
+                                    f"{columns} (or pass --force to accept them as read)")
+    return Implausible(problem, f"the data look like {UNIT_SYMBOLS[fix]}: pass {flag} {fix} "
+                                "(or --force to accept them as read)")
+
+
+def refuse_implausible(path: Path, problems: list[Implausible | None], accept: bool) -> None:
+    """Refuse ``path`` for the first of ``problems`` (an InputError naming the fix), or with
+    ``accept`` (``--force``) say what is used as read: an InputWarning each."""
+    for problem in problems:
+        if problem is None:
+            continue
+        if not accept:
+            raise InputError(path, f"{problem.what}: {problem.fix}")
+        warnings.warn(InputWarning(path, f"{problem.what}: accepted as read (--force)"),
+                      stacklevel=3)
+
+
 def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     """Read a CSV IMU log into batches (see :class:`CsvImuFormat`)."""
     path = Path(path)
@@ -219,6 +311,10 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
         if fmt.mag_cols else None
     values = np.hstack([acc, gyro] + [v for v in (pos, mag) if v is not None])
     keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)
+    refuse_implausible(path, implausible_columns(fmt, t_s[keep], acc[keep],
+                                                 gyro[keep] if fmt.gyro_cols else None,
+                                                 None if mag is None else mag[keep]),
+                       accept=fmt.accept_implausible)
 
     stamp_ns = stamp_ns_from_seconds(t_s[keep])
     n = len(stamp_ns)

@@ -4,10 +4,15 @@ Every problem with user input (a file, a topic, a column, a parameter) is raised
 :class:`InputError`, whose message is one line that names the source and the problem.
 CLIs turn it into that line on stderr and exit status 2 (:func:`run_cli`). Input used in
 part is an :class:`InputWarning`, one line on stderr.
+
+Every CLI's parser is a :class:`CliParser` (:func:`cli_parser`): its ``--help`` and each
+subcommand's show every option's default (:class:`DefaultsHelpFormatter`) and no RST
+markup (:func:`plain_text`).
 """
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -61,3 +66,47 @@ def dispatch(prog: str, parser: argparse.ArgumentParser,
         return namespace.func(namespace)
 
     sys.exit(run_cli(prog, main, argv))
+
+
+# RST roles (:class:`x`, :func:`x`) and inline literals (``x``, `x`) of a docstring
+_RST_ROLE = re.compile(r":[a-z]+:`~?([^`]+)`")
+_RST_LITERAL = re.compile(r"``([^`]+)``|`([^`]+)`")
+
+
+def plain_text(text: str) -> str:
+    """``text`` (a docstring line) without RST markup: :func:`x` and ``x`` become x."""
+    text = _RST_ROLE.sub(r"\1", text)
+    return _RST_LITERAL.sub(lambda m: m.group(1) or m.group(2), text)
+
+
+class DefaultsHelpFormatter(argparse.HelpFormatter):
+    """argparse's formatter with each option's default after its help text, as
+    ``(default: VALUE)``: not for flags (options without a value), defaults that mean
+    "not given" (None, an empty sequence), nor where the text already names its default."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        default = action.default
+        if (not action.option_strings or action.nargs == 0 or "default" in text
+                or default is argparse.SUPPRESS or default is None or default == ()
+                or default == []):
+            return text
+        shown = ",".join(map(str, default)) if isinstance(default, (list, tuple)) \
+            else str(default)
+        return f"{text} (default: {shown.replace('%', '%%')})"
+
+
+class CliParser(argparse.ArgumentParser):
+    """An argument parser whose subcommands' parsers are CliParsers too (argparse's
+    ``add_subparsers`` makes them of the parser's class), formatted by
+    :class:`DefaultsHelpFormatter`."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("formatter_class", DefaultsHelpFormatter)
+        super().__init__(*args, **kwargs)
+
+
+def cli_parser(prog: str, doc: str) -> CliParser:
+    """The top-level parser of the CLI ``prog``, described by the first line of its
+    module docstring ``doc`` as plain text."""
+    return CliParser(prog=prog, description=plain_text(doc.strip().split("\n")[0]))

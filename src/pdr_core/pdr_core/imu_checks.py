@@ -1,24 +1,114 @@
-"""Checks every navigator runs on IMU data before using it.
+"""Checks every navigator runs on IMU data before using it, and the importer's checks of
+a CSV log's units.
 
 - :func:`clean_samples`, :func:`usable_samples`: drop (and count) samples with NaN/Inf,
   beyond any IMU's range, or stamps that do not increase.
 - :func:`check_units`: refuse an accelerometer in g or a gyroscope in deg/s.
-- :func:`check_mag_units`: refuse a magnetometer in µT or gauss (ROS wants tesla).
+- :func:`check_mag_units`: refuse a magnetometer not in tesla (µT, gauss, or tesla read
+  as µT).
+- :func:`check_sample_interval`: refuse stamps 1000 times too far apart or too close (a
+  time column in ms imported as s).
 - :func:`plausible`: samples within any IMU's reach (a garbage reading of 1e150 rad/s is
   finite but no measurement).
+- :class:`PlausibleRange` and its instances :data:`SPECIFIC_FORCE_RANGE`,
+  :data:`ANGULAR_RATE_RANGE`, :data:`FIELD_RANGE`, :data:`SAMPLE_INTERVAL_RANGE`: where a
+  statistic of any walk's or rest's data lies, and which unit would bring data there
+  (the fix a refusal names). The statistics: :func:`median_specific_force_mps2`,
+  :func:`angular_rate_p99_radps`, :func:`median_field_t`, :func:`median_interval_s`.
 """
 from __future__ import annotations
+
+import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from pdr_core.batch import MessageBatch
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
+from pdr_core.units import (
+    ACC_UNITS_MPS2,
+    GYRO_UNITS_RADPS,
+    MAG_UNITS_T,
+    TIME_UNITS_S,
+    UNIT_SYMBOLS,
+)
 
-# |B| of the Earth's field is 25-65 µT; a disturbed indoor field rarely exceeds 1 mT
+# |B| of the Earth's field is 25-65 µT; a disturbed indoor field rarely exceeds 1 mT, nor
+# falls below 1 µT
 MAX_FIELD_T = 1e-3
+MIN_FIELD_T = 1e-6
 # Beyond any MEMS or tactical IMU's range (±400 g, ±20,000 °/s): not a measurement
 MAX_PLAUSIBLE_ACCEL_MPS2 = 4000.0
 MAX_PLAUSIBLE_RATE_RADPS = 350.0
+# A foot turns at up to about 35 rad/s (2000 °/s): a 99th percentile of |ω| above this is
+# a gyroscope in deg/s
+MAX_WALK_RATE_RADPS = 50.0
+# The median |f| of data in g (about 1) read as m/s² falls between these [m/s²]
+G_LIKE_MEDIAN_MPS2 = (0.5, 2.0)
+
+
+@dataclass(frozen=True)
+class PlausibleRange:
+    """Where one statistic of a sensor's data lies for any walk or rest, in SI units."""
+
+    statistic: str      # what is measured, e.g. "median |f|"
+    si_unit: str        # the symbol of its SI unit, e.g. "m/s²"
+    low_si: float       # the least plausible value
+    high_si: float      # the largest plausible value
+    typical_si: float   # of the units that make data plausible, the one nearest is proposed
+    expected: str       # the range as a reader reads it, e.g. "1-1000 µT"
+
+    def contains(self, value_si: float) -> bool:
+        return self.low_si <= value_si <= self.high_si
+
+    def excludes(self, value_si: float) -> bool:
+        """Below or above the range; NaN (no data, e.g. an IMU without gyroscope) is not."""
+        return value_si < self.low_si or value_si > self.high_si
+
+    def unit_fix(self, value_si: float, units: dict[str, float],
+                 read_in: float = 1.0) -> str | None:
+        """The name of the unit of ``units`` (name -> SI factor) that makes the data
+        plausible, had they been read with the SI factor ``read_in`` and had the
+        statistic ``value_si``: of those that do, the one whose value is nearest (in
+        ratio) the typical one; None when no unit does."""
+        raw = value_si / read_in
+        fits = [(abs(math.log(raw * factor / self.typical_si)), name)
+                for name, factor in units.items()
+                if raw * factor > 0 and self.contains(raw * factor)]
+        return min(fits, key=lambda fit: fit[0])[1] if fits else None
+
+
+# A walk's or a rest's median |f| is about g; a foot-mounted IMU's in a run reaches 2.2 g
+SPECIFIC_FORCE_RANGE = PlausibleRange("median |f|", "m/s²", 0.5 * STANDARD_GRAVITY_MPS2,
+                                      5.0 * STANDARD_GRAVITY_MPS2, STANDARD_GRAVITY_MPS2,
+                                      "0.5-5 g, 4.9-49 m/s²")
+ANGULAR_RATE_RANGE = PlausibleRange("99th percentile of |ω|", "rad/s", 0.0,
+                                    MAX_WALK_RATE_RADPS, 3.0, "at most 50 rad/s")
+FIELD_RANGE = PlausibleRange("median |B|", "T", MIN_FIELD_T, MAX_FIELD_T, 50e-6, "1-1000 µT")
+# An IMU log is sampled at 5 Hz to 10 kHz
+SAMPLE_INTERVAL_RANGE = PlausibleRange("median sample interval", "s", 1e-4, 0.2, 0.01,
+                                       "0.1 ms-0.2 s, 5-10000 Hz")
+
+
+def median_specific_force_mps2(accel: np.ndarray) -> float:
+    """Median |f| [m/s²] of (N, 3) specific forces [m/s²]: about g for any walk or rest."""
+    return float(np.median(np.linalg.norm(accel, axis=1)))
+
+
+def angular_rate_p99_radps(gyro: np.ndarray) -> float:
+    """99th percentile of |ω| [rad/s] of (N, 3) angular rates [rad/s]."""
+    return float(np.percentile(np.linalg.norm(gyro, axis=1), 99))
+
+
+def median_field_t(mag: np.ndarray) -> float:
+    """Median |B| [T] of (N, 3) magnetic field readings [T]."""
+    return float(np.median(np.linalg.norm(mag, axis=1)))
+
+
+def median_interval_s(t_s: np.ndarray) -> float:
+    """Median interval [s] between the increasing stamps ``t_s`` [s] (N >= 2)."""
+    return float(np.median(np.diff(t_s)))
 
 
 def plausible(accel: np.ndarray, gyro: np.ndarray) -> np.ndarray:
@@ -58,25 +148,57 @@ def usable_samples(stamp_ns: np.ndarray, accel: np.ndarray, gyro: np.ndarray,
                   "stamp_not_increasing": int((sane & ~later).sum())}
 
 
-def check_units(accel: np.ndarray, gyro: np.ndarray) -> None:
-    """Refuse data in the wrong units. The median |f| of any walk or rest is near g; a
-    foot turns at up to about 35 rad/s (2000 °/s): a median |f| near 1 gives away data
-    in g, a 99th percentile of |ω| above 50 data in deg/s."""
-    f = float(np.median(np.linalg.norm(accel, axis=1)))
-    if 0.5 < f < 2.0:
-        raise InputError("imu/data", f"median specific force is {f:.3f}: the accelerometer "
-                                     "looks like it is in g, not m/s²")
-    w = float(np.percentile(np.linalg.norm(gyro, axis=1), 99))
-    if w > 50.0:
-        raise InputError("imu/data", f"99th percentile of the angular rate is {w:.1f}: the "
-                                     "gyroscope looks like it is in deg/s, not rad/s")
+def check_units(accel: np.ndarray, gyro: np.ndarray, topic: str = "imu/data") -> None:
+    """Refuse data in the wrong units, naming ``topic``, the value and the fix. The median
+    |f| of any walk or rest is near g: one between :data:`G_LIKE_MEDIAN_MPS2` gives away
+    data in g; a 99th percentile of |ω| above :data:`MAX_WALK_RATE_RADPS` data in deg/s."""
+    f = median_specific_force_mps2(accel)
+    if G_LIKE_MEDIAN_MPS2[0] < f < G_LIKE_MEDIAN_MPS2[1]:
+        raise InputError(topic, _wrong_unit(SPECIFIC_FORCE_RANGE, f, "the accelerometer", "m/s²",
+                                            ACC_UNITS_MPS2, "--acc-unit"))
+    w = angular_rate_p99_radps(gyro)
+    if ANGULAR_RATE_RANGE.excludes(w):
+        raise InputError(topic, _wrong_unit(ANGULAR_RATE_RANGE, w, "the gyroscope", "rad/s",
+                                            GYRO_UNITS_RADPS, "--gyro-unit"))
 
 
 def check_mag_units(mag: np.ndarray, topic: str = "imu/mag") -> None:
-    """Refuse magnetometer data that is not in tesla: a median |B| above 1 mT is µT
-    (25-65 for the Earth's field) or gauss (0.25-0.65) data."""
-    b = float(np.median(np.linalg.norm(mag, axis=1)))
-    if b > MAX_FIELD_T:
-        unit = "µT" if b > 1.0 else "gauss"
-        raise InputError(topic, f"median field is {b:.4g}: the magnetometer looks like it "
-                                f"is in {unit}, not tesla")
+    """Refuse magnetometer data that is not in tesla, naming ``topic``, the value and the
+    fix: a median |B| above :data:`MAX_FIELD_T` is µT (25-65 for the Earth's field) or
+    gauss (0.25-0.65) data, one below :data:`MIN_FIELD_T` tesla data imported as µT."""
+    b = median_field_t(mag)
+    if FIELD_RANGE.excludes(b):
+        raise InputError(topic, _wrong_unit(FIELD_RANGE, b, "the magnetometer", "tesla",
+                                            MAG_UNITS_T, "--mag-unit", default="ut"))
+
+
+def check_sample_interval(t_s: np.ndarray, topic: str = "imu/data") -> None:
+    """Refuse stamps [s] whose median interval lies beyond :data:`SAMPLE_INTERVAL_RANGE`
+    (5-10000 Hz), naming ``topic``, the interval and the fix; fewer than two pass."""
+    if len(t_s) < 2:
+        return
+    interval = median_interval_s(t_s)
+    if SAMPLE_INTERVAL_RANGE.excludes(interval):
+        raise InputError(topic, _wrong_unit(SAMPLE_INTERVAL_RANGE, interval, "the time column",
+                                            "s", TIME_UNITS_S, "--time-unit"))
+
+
+def _wrong_unit(plausible_range: PlausibleRange, value_si: float, sensor: str,
+                si_name: str, units: dict[str, float], flag: str,
+                default: str | None = None) -> str:
+    """Why a topic's data look like they are in another unit, and the fix: the import
+    unit that makes them plausible, whether the topic holds the file's numbers as they
+    were (imported in SI) or scaled by the importer's ``default`` unit."""
+    problem = (f"{plausible_range.statistic} {value_si:.4g} {plausible_range.si_unit} "
+               f"(expected {plausible_range.expected})")
+    fix = plausible_range.unit_fix(value_si, units)
+    if fix is not None:
+        return (f"{problem}: {sensor} looks like it is in {UNIT_SYMBOLS[fix]}, not "
+                f"{si_name}; re-import with pdr-sim import-csv {flag} {fix}")
+    fix = None if default is None else \
+        plausible_range.unit_fix(value_si, units, read_in=units[default])
+    if fix is not None:
+        return (f"{problem}: {sensor} looks like a column in {UNIT_SYMBOLS[fix]} imported "
+                f"as {UNIT_SYMBOLS[default]}; re-import with pdr-sim import-csv {flag} {fix}")
+    return (f"{problem}: {sensor} is not in {si_name}, nor in any unit of pdr-sim "
+            f"import-csv {flag}; check the columns it was imported from")

@@ -45,16 +45,19 @@ def test_columns_by_index_without_header_and_time_in_ns(tmp_path):
 
 def test_axis_remap_with_signs(tmp_path):
     np.testing.assert_array_equal(axis_matrix(("-y", "x", "z")) @ [1, 2, 3], [-2, 1, 3])
-    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), axes=("z", "-x", "y"))
+    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), acc_unit="g",
+                       axes=("z", "-x", "y"))
     result = import_csv(write_csv(tmp_path / "c.csv", rows()), fmt)
-    np.testing.assert_allclose(result.imu["linear_acceleration"][0], [1.0, -0.0, 0.0])
+    np.testing.assert_allclose(result.imu["linear_acceleration"][0],
+                               [STANDARD_GRAVITY_MPS2, -0.0, 0.0])
 
 
 def test_per_sensor_remap(tmp_path):
-    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), gyro_cols=("gx", "gy", "gz"),
-                       gyro_unit="deg/s", acc_axes=("-x", "-y", "-z"))
+    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), acc_unit="g",
+                       gyro_cols=("gx", "gy", "gz"), gyro_unit="deg/s", acc_axes=("-x", "-y", "-z"))
     result = import_csv(write_csv(tmp_path / "k.csv", rows()), fmt)
-    np.testing.assert_allclose(result.imu["linear_acceleration"][0], [0.0, 0.0, -1.0])
+    np.testing.assert_allclose(result.imu["linear_acceleration"][0],
+                               [0.0, 0.0, -STANDARD_GRAVITY_MPS2])
     np.testing.assert_allclose(result.imu["angular_velocity"][0], [np.pi / 2, 0.0, 0.0])
 
 
@@ -125,7 +128,7 @@ def test_unknown_unit(tmp_path):
 
 
 def test_position_remap(tmp_path):
-    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"),
+    fmt = CsvImuFormat(time_col="time", acc_cols=("ax", "ay", "az"), acc_unit="g",
                        pos_cols=("px", "py", "pz"), pos_axes=("-x", "y", "z"))
     result = import_csv(write_csv(tmp_path / "m.csv", rows()), fmt)
     np.testing.assert_array_equal(result.pose["pose.position"][:, 0], -np.arange(5))

@@ -15,7 +15,7 @@ import json
 from collections.abc import Sequence
 from pathlib import Path
 
-from pdr_core.errors import dispatch
+from pdr_core.errors import cli_parser, dispatch
 from pdr_drift.config import load_drift_config
 from pdr_drift.offline import run
 
@@ -28,12 +28,14 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                     "associates their revisits, takes the walk's drift ε₀ (Eq. (6.5)) and "
                     "integrates the steps again with ε₀·t off their headings (Section 6.2).")
     p.add_argument("bag", type=Path, help="the navigator's output bag")
-    p.add_argument("--out", type=Path, required=True)
+    p.add_argument("--out", type=Path, required=True,
+                   help="output directory: a bag with OUT/report.json")
     p.add_argument("--config", type=Path, help="YAML of the drift estimator "
                                                "(pdr_drift.config); default: built in")
-    p.add_argument("--floor-height-m", type=float, default=3.5)
+    p.add_argument("--floor-height-m", type=float, default=3.5,
+                   help="height of one floor [m]: the floor of a pose is its height over this")
     p.add_argument("--plot", action="store_true", help="also write OUT/drift.png")
-    p.add_argument("--overwrite", action="store_true")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output")
     p.set_defaults(func=_run)
 
 
@@ -45,7 +47,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def parser() -> argparse.ArgumentParser:
-    top = argparse.ArgumentParser(prog="pdr-drift", description=__doc__.split("\n")[0])
+    top = cli_parser("pdr-drift", __doc__)
     sub = top.add_subparsers(dest="command", required=True)
     _add_run(sub)
     return top

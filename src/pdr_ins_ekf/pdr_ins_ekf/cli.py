@@ -4,7 +4,8 @@ Subcommands:
     run BAG --out OUT     the ZUPT EKF on imu/data: output bag, report.json, PNG;
                           --smoother segmented|full adds the RTS-smoothed trajectory.
     evaluate BAG --truth TRUTH_BAG
-                          the report of recorded pdr/foot/pose against ground truth.
+                          the report of recorded poses (pdr/foot/pose, pdr/pocket/pose)
+                          against ground truth.
     montecarlo --source S --estimator E --runs N --out DIR
                           error growth of pure INS or the ZUPT EKF over N noise
                           realisations (000, Eqs. (13)–(14), Tables I–III): fits,
@@ -30,9 +31,9 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, add_strict_option
-from pdr_core.errors import dispatch
+from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.metrics import error_report, truth_at, within_step_rmse
-from pdr_core.msgtypes import PATH
+from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import (
     navigate,
@@ -49,22 +50,25 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
         "run", help="run the foot navigator on a bag",
         description="Run the ZUPT-aided INS on imu/data of a bag. Writes OUT/ as a bag with "
                     "pdr/foot/pose, velocity, stance and path, and OUT/report.json with the "
-                    "metrics of INTERFACES.md (against ground_truth/pose when the bag has it).")
-    p.add_argument("bag", type=Path)
-    p.add_argument("--out", type=Path, required=True)
+                    "metrics of docs/reports.md (against ground_truth/pose when the bag has "
+                    "it).")
+    p.add_argument("bag", type=Path, help="bag with imu/data (and ground_truth/pose)")
+    p.add_argument("--out", type=Path, required=True,
+                   help="output directory: a bag with OUT/report.json")
     p.add_argument("--config", type=Path,
                    help="YAML configuration (see pdr_ins_ekf.config); default: the installed "
                         "config/foot_ekf.yaml")
     p.add_argument("--imu-profile", help="use the shipped config/foot_ekf_<PROFILE>.yaml "
                                          "(xsens_mti, xsens_mtw, vn200, consumer_phone)")
-    p.add_argument("--imu-topic", default=topics.IMU_DATA)
-    p.add_argument("--truth-topic", default=topics.GROUND_TRUTH_POSE)
+    p.add_argument("--imu-topic", default=topics.IMU_DATA, help="IMU topic (sensor_msgs/Imu)")
+    p.add_argument("--truth-topic", default=topics.GROUND_TRUTH_POSE,
+                   help="ground-truth topic (geometry_msgs/PoseStamped), used when present")
     p.add_argument("--smoother", choices=SMOOTHER_MODES,
                    help="RTS smoothing (001_5b5dbf275b14cf0a.txt): adds pdr/foot/smoothed_path "
                         "and report key 'smoothed'; default: the configuration's smoother.mode")
     p.add_argument("--plot", action="store_true",
                    help="also write OUT/path.png (and OUT/smoothing.png when smoothing)")
-    p.add_argument("--overwrite", action="store_true")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output")
     add_strict_option(p)
     p.set_defaults(func=_run_run)
 
@@ -103,7 +107,8 @@ def _run_run(args: argparse.Namespace) -> int:
         if args.plot:
             from pdr_ins_ekf import plots
             plots.path_png(t_s, result.output.position, truth, writer.staging / "path.png",
-                           str(args.bag))
+                           args.bag, steps=int(np.sum(result.stance[:-1] & ~result.stance[1:])),
+                           shows="the foot navigator")
             if result.smoothed is not None:
                 plots.smoothing_png(t_s, result, writer.staging / "smoothing.png")
     print(json.dumps(report, indent=2))
@@ -112,7 +117,7 @@ def _run_run(args: argparse.Namespace) -> int:
 
 def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,
                 stance: np.ndarray) -> dict:
-    """The report of INTERFACES.md, plus ``within_step_rmse_m`` (pdr_core.metrics) over
+    """The report of docs/reports.md, plus ``within_step_rmse_m`` (pdr_core.metrics) over
     the steps between swings when there is a truth and at least one whole step."""
     report = error_report(t_s, position, truth)
     cuts = np.flatnonzero(stance[:-1] & ~stance[1:])
@@ -124,20 +129,52 @@ def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,
 def _add_evaluate(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "evaluate", help="report of recorded estimates against ground truth",
-        description="Compute the report of INTERFACES.md for the poses of a bag (e.g. "
-                    "recorded from zupt_ekf) against ground_truth/pose of another bag.")
+        description="Compute the report of docs/reports.md for the poses of a bag (recorded "
+                    "from zupt_ekf or pocket_pdr, or written by pdr-ekf run or pdr-pocket "
+                    "run) against ground_truth/pose of another bag.")
     p.add_argument("bag", type=Path, help="bag with the estimated poses")
     p.add_argument("--truth", type=Path, required=True, help="bag with ground_truth/pose")
-    p.add_argument("--topic", default="/pdr/foot/pose")
+    p.add_argument("--topic",
+                   help="topic of the estimated poses (geometry_msgs/PoseWithCovarianceStamped);"
+                        " default: the bag's only such topic, e.g. /pdr/foot/pose or "
+                        "/pdr/pocket/pose")
     p.add_argument("--plot", type=Path, help="PNG of the estimate against the truth")
     p.set_defaults(func=_run_evaluate)
 
 
+# The position field of each message type evaluate reads
+POSITION_FIELD = {POSE_WITH_COVARIANCE_STAMPED: "pose.pose.position",
+                  POSE_STAMPED: "pose.position"}
+
+
+def estimate_topic(reader: BagReader) -> str:
+    """The bag's one topic of pose estimates (geometry_msgs/PoseWithCovarianceStamped);
+    InputError naming the candidates and --topic when there is none or more than one."""
+    candidates = sorted(topic for topic, msgtype in reader.topics.items()
+                        if msgtype == POSE_WITH_COVARIANCE_STAMPED)
+    if len(candidates) == 1:
+        return candidates[0]
+    if not candidates:
+        have = ", ".join(f"{t} ({m})" for t, m in sorted(reader.topics.items())) or "none"
+        raise InputError(reader.path, f"no topic of pose estimates ("
+                                      f"{POSE_WITH_COVARIANCE_STAMPED}) to evaluate (the bag "
+                                      f"has: {have}); name one with --topic")
+    raise InputError(reader.path, f"{len(candidates)} topics of pose estimates: "
+                                  f"{', '.join(candidates)}; choose one with --topic")
+
+
 def _run_evaluate(args: argparse.Namespace) -> int:
-    estimate = BagReader(args.bag).read(args.topic)
+    reader = BagReader(args.bag)
+    topic = args.topic or estimate_topic(reader)
+    estimate = reader.read(topic)
+    if estimate.msgtype not in POSITION_FIELD:
+        raise InputError(topic, f"{estimate.msgtype} holds no pose (evaluate reads "
+                                f"{' or '.join(POSITION_FIELD)})")
+    if len(estimate) == 0:
+        raise InputError(topic, "no messages to evaluate")
     truth = truth_at(BagReader(args.truth).read(topics.GROUND_TRUTH_POSE), estimate.stamp_ns)
     t_s = (estimate.stamp_ns - estimate.stamp_ns[0]) * 1e-9
-    position = estimate["pose.pose.position"]
+    position = estimate[POSITION_FIELD[estimate.msgtype]]
     report = error_report(t_s, position, truth)
     print(json.dumps(report, indent=2))
     if args.plot:
@@ -148,7 +185,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
 
 
 def parser() -> argparse.ArgumentParser:
-    top = argparse.ArgumentParser(prog="pdr-ekf", description=__doc__.split("\n")[0])
+    top = cli_parser("pdr-ekf", __doc__)
     sub = top.add_subparsers(dest="command", required=True)
     _add_run(sub)
     _add_evaluate(sub)

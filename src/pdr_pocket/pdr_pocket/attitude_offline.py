@@ -2,9 +2,9 @@
 ``pdr-pocket attitude``.
 
 - :func:`pocket_inputs`: ``imu/data`` cleaned (NaN/Inf, values beyond any IMU's range
-  and stamps that do not increase dropped and counted, units checked) and ``imu/mag``
-  paired with it (the latest reading at most :data:`MAG_MAX_AGE_S` old, else none),
-  calibrated when a calibration is given;
+  and stamps that do not increase dropped and counted, units and rate checked) and ``imu/mag``
+  paired with it (pdr_core.magnetometer_pairing: the latest reading at most
+  :data:`MAG_MAX_AGE_S` old, else none), calibrated when a calibration is given;
 - :func:`read_pocket_bag`: a bag's batches and those inputs, for every offline tool;
 - :func:`attitude_batches`: ``pdr/pocket/attitude`` (sensor_msgs/Imu with orientation and
   its covariance, REP-145) and ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped);
@@ -21,16 +21,23 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_mag_units, check_units, clean_samples
+from pdr_core.frames import SENSOR_FRAME
+from pdr_core.imu_checks import (
+    check_mag_units,
+    check_sample_interval,
+    check_units,
+    clean_samples,
+)
+from pdr_core.magnetometer_pairing import MAG_MAX_AGE_S as MAG_MAX_AGE_S
+from pdr_core.magnetometer_pairing import latest_readings as latest_readings
+from pdr_core.magnetometer_pairing import paired_mag
 from pdr_core.msgtypes import IMU, VECTOR3_STAMPED
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.orientation import AttitudeEstimate
 
-MAG_MAX_AGE_S = 0.05
 ATTITUDE_TOPIC = "/pdr/pocket/attitude"
 GYRO_BIAS_TOPIC = "/pdr/pocket/gyro_bias"
-BODY_FRAME, MAP_FRAME = "imu_link", "map"
 
 
 @dataclass
@@ -52,25 +59,6 @@ class PocketInputs:
         return self.gyro if self.has_gyro else None
 
 
-def paired_mag(imu_stamps: np.ndarray, mag: MessageBatch | None) -> tuple[np.ndarray, int]:
-    """For each IMU stamp the latest finite magnetometer reading at most
-    :data:`MAG_MAX_AGE_S` old (NaN rows otherwise), and the count of non-finite readings."""
-    out = np.full((len(imu_stamps), 3), np.nan)
-    if mag is None or len(mag) == 0:
-        return out, 0
-    values = mag["magnetic_field"]
-    finite = np.isfinite(values).all(axis=1)
-    stamps, values = mag.stamp_ns[finite], values[finite]
-    order = np.argsort(stamps, kind="stable")
-    stamps, values = stamps[order], values[order]
-    latest = np.searchsorted(stamps, imu_stamps, side="right") - 1
-    ok = latest >= 0
-    fresh = np.zeros(len(imu_stamps), dtype=bool)
-    fresh[ok] = imu_stamps[ok] - stamps[latest[ok]] <= MAG_MAX_AGE_S * 1e9
-    out[fresh] = values[latest[fresh]]
-    return out, int((~finite).sum())
-
-
 def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
                   calibration: MagCalibration | None = None) -> PocketInputs:
     """The filter's inputs from the two topics (see the module docstring)."""
@@ -81,6 +69,7 @@ def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
     gyro = imu["angular_velocity"][keep]
     accel = imu["linear_acceleration"][keep]
     has_gyro = not bool(np.all(imu["angular_velocity_covariance"][keep, 0] == -1))
+    check_sample_interval((stamp_ns - stamp_ns[0]) * 1e-9, topics.IMU_DATA)
     check_units(accel, gyro)
     mag_values, counts["mag_non_finite"] = paired_mag(stamp_ns, mag)
     if np.isfinite(mag_values).any():
@@ -113,19 +102,21 @@ def read_pocket_bag(bag, calibration_file=None, require=(), *, strict=False):
 
 
 def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,
-                     gyro_noise_var: float) -> dict[str, MessageBatch]:
-    """``pdr/pocket/attitude`` and ``pdr/pocket/gyro_bias`` at every sample."""
+                     gyro_noise_var: float, frame: str = SENSOR_FRAME
+                     ) -> dict[str, MessageBatch]:
+    """``pdr/pocket/attitude`` and ``pdr/pocket/gyro_bias`` at every sample, stamped in the
+    sensor's ``frame``."""
     n = len(inputs.t)
     cov = estimate.covariance
     rate_cov = cov[:, 3:, 3:] + np.eye(3) * gyro_noise_var
-    attitude = MessageBatch(IMU, inputs.stamp_ns, BODY_FRAME, {
+    attitude = MessageBatch(IMU, inputs.stamp_ns, frame, {
         "orientation": quaternion_from_orthonormal(estimate.attitude),
         "orientation_covariance": cov[:, :3, :3].reshape(n, 9),
         "angular_velocity": inputs.gyro - estimate.bias,
         "angular_velocity_covariance": rate_cov.reshape(n, 9),
         "linear_acceleration": inputs.accel,
         "linear_acceleration_covariance": inputs.accel_covariance})
-    bias = MessageBatch(VECTOR3_STAMPED, inputs.stamp_ns, BODY_FRAME,
+    bias = MessageBatch(VECTOR3_STAMPED, inputs.stamp_ns, frame,
                         {"vector": estimate.bias})
     return {ATTITUDE_TOPIC: attitude, GYRO_BIAS_TOPIC: bias}
 

@@ -39,16 +39,22 @@ def add_analytic(sub: argparse._SubParsersAction) -> None:
         description="Steady σ_v (Eq. (44)), σ_θ (Eq. (50)) and σ_gN (Eq. (48)) of a ZUPT-aided "
                     "foot INS, and σ_∥ (Eq. (56)), σ_⊥ (Eq. (57)) and σ_ψ (Eq. (38)) at "
                     "the given times. Defaults: VN-200 at 800 Hz (004, section IV).")
-    p.add_argument("--arw-deg-per-sqrt-h", type=float, default=0.21)
-    p.add_argument("--vrw-mg-per-sqrt-hz", type=float, default=0.14)
-    p.add_argument("--rrw-deg-per-s-per-sqrt-h", type=float, default=0.048)
+    p.add_argument("--arw-deg-per-sqrt-h", type=float, default=0.21,
+                   help="gyroscope angular random walk [°/√h]")
+    p.add_argument("--vrw-mg-per-sqrt-hz", type=float, default=0.14,
+                   help="accelerometer velocity random walk [mg/√Hz]")
+    p.add_argument("--rrw-deg-per-s-per-sqrt-h", type=float, default=0.048,
+                   help="gyroscope rate random walk [°/s/√h]")
     p.add_argument("--zupt-sigma-mps", type=float, default=0.02,
                    help="velocity uncertainty r of the ZUPT [m/s]")
     p.add_argument("--rate-hz", type=float, default=800.0, help="f_s [Hz]")
-    p.add_argument("--t-stance-s", type=float, default=0.2)
-    p.add_argument("--t-stride-s", type=float, default=0.536)
-    p.add_argument("--cos-pitch-mean", type=float, default=0.84, help="a_c")
-    p.add_argument("--sin-pitch-mean", type=float, default=0.0, help="a_s")
+    p.add_argument("--t-stance-s", type=float, default=0.2,
+                   help="stance duration of a stride [s]")
+    p.add_argument("--t-stride-s", type=float, default=0.536, help="stride duration [s]")
+    p.add_argument("--cos-pitch-mean", type=float, default=0.84,
+                   help="a_c, the gait-cycle mean of cos θ of the foot pitch (dimensionless)")
+    p.add_argument("--sin-pitch-mean", type=float, default=0.0,
+                   help="a_s, the gait-cycle mean of sin θ of the foot pitch (dimensionless)")
     p.add_argument("--stride-m", type=float, default=0.77, help="s_N [m]")
     p.add_argument("--times", type=_floats, default=list(DEFAULT_TIMES_S),
                    help="navigation times [s], comma separated")
@@ -114,7 +120,7 @@ def add_sweep(studies: argparse._SubParsersAction) -> None:
     p.add_argument("--runs", type=int, default=10,
                    help="Monte-Carlo runs per value (0: covariance only)")
     p.add_argument("--steps", type=int, default=100, help="strides of the walk")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0, help="seed of the Monte-Carlo runs")
     p.add_argument("--out", type=Path, help="write DIR/sweep.csv, sweep.md and sweep.png")
     p.set_defaults(func=run_sweep)
 

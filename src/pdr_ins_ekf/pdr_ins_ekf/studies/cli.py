@@ -33,7 +33,9 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
                     "rate and report the final position error.")
     m.add_argument("--rates", type=lambda s: [float(x) for x in s.split(",")],
                    default=list(RATES_HZ), help="sample rates [Hz], comma separated")
-    m.add_argument("--integration", choices=INTEGRATIONS, default="trapezoidal")
+    m.add_argument("--integration", choices=INTEGRATIONS, default="trapezoidal",
+                   help="the angular rate over each sample interval: the mean of its two "
+                        "samples (trapezoidal) or the later (rectangular)")
     m.add_argument("--out", type=Path, help="write DIR/mechanization.csv and .png")
     m.set_defaults(func=_run_mechanization)
     add_sweep(studies)

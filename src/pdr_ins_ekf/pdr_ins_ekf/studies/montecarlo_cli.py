@@ -62,12 +62,12 @@ def add_montecarlo(sub: argparse._SubParsersAction) -> None:
                    help="all: each source in turn; combined: all sources together")
     p.add_argument("--estimator", type=_estimators, default=["ins"],
                    help=f"comma separated, of {', '.join(ESTIMATORS)}")
-    p.add_argument("--runs", type=int, default=200)
+    p.add_argument("--runs", type=int, default=200, help="noise realisations, at least 2")
     p.add_argument("--steps", type=int, default=25, help="strides of the walk (1.2 s each)")
     p.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz]")
     p.add_argument("--rest-s", type=float, default=10.0,
                    help="standing before the walk, for the EKF's alignment [s]")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0, help="seed of the noise realisations")
     p.add_argument("--profile", choices=sorted(PROFILES),
                    help="take every level from this IMU (000, section IV-B: xsens_mti)")
     for source, default in CLI_LEVELS.items():
