@@ -1,0 +1,12 @@
+"""The frame names messages are stamped with by default (REP-105, REP-145), defined once.
+
+- :data:`MAP_FRAME`: the ENU navigation frame of poses, paths, steps, landmarks and drift
+  estimates (REP-105's ``map``). Two people in one graph each get their own
+  (``-p map_frame:=alice_map``).
+- :data:`SENSOR_FRAME`: the IMU's own frame (REP-145), the frame of a sensor_msgs/Imu's
+  rates and specific force, and of the gyro biases.
+"""
+from __future__ import annotations
+
+MAP_FRAME = "map"
+SENSOR_FRAME = "imu_link"
