@@ -38,11 +38,18 @@ Two classifiers of a step's activity, chosen by ``activity.model`` (:data:`MODEL
     (H1: θ_Hmax 26°, Δθ_H 32°) and the walks of docs/pocket.md bracket) weighing
     ``prior_weight_steps`` steps, so a walk that starts on a staircase is judged against
     a level gait, not against its own first steps;
-  - the evidence: the cycle's mid pitch (θ_max + θ_min)/2 above the level one (the
-    thigh stays flexed on stairs, both ways), ln(Δθ/Δθ_H) (up: larger), and θ_min: above
-    the level one up, about ``down_min_deg`` down (Section 4.1.2: θ_Dmin is positive, the
-    thigh no longer swings behind the vertical); Gaussian per state with the means and
-    spreads of ``up_*``, ``down_*`` and ``level_*_sigma``;
+  - the level gait at the step's amplitude: a faster or slower level stride swings the
+    thigh further or less both ways, so the level gait's θ_max and θ_min are scaled by the
+    step's amplitude ratio r = Δθ/Δθ_H before the step is compared with them (without
+    this a walk that speeds up from 2.5 to 4.8 km/h, Δθ doubled, read as 47 steps up on
+    the simulated H2 at two of three seeds). Against it a step on stairs is the same
+    swing shifted forward (the thigh stays flexed, both ways): by 8–10° up, 11–14° down,
+    in simulation and on the real thigh board alike;
+  - the evidence: the cycle's mid pitch (θ_max + θ_min)/2 above the scaled level one,
+    ln r (up: larger), and θ_min: above the scaled level one up, about ``down_min_deg``
+    down (Section 4.1.2: θ_Dmin is positive, the thigh no longer swings behind the
+    vertical); Gaussian per state with the means and spreads of ``up_*``, ``down_*`` and
+    ``level_*_sigma``;
   - the cycle's duration: stairs are walked, not run (a cycle shorter than
     ``stairs_cycle_min_s`` counts against them);
   - a step's pitch is no surer than the attitude's tilt: its σ over the cycle (large
@@ -163,6 +170,13 @@ class LevelPriorActivity:
         w = self.config.prior_weight_steps
         return (w * self.prior + np.sum(self.level, axis=0)) / (w + len(self.level))
 
+    def level_at(self, log_amplitude: float) -> np.ndarray:
+        """The level gait at a step's amplitude (ln Δθ, Δθ in degrees): the
+        :meth:`reference`'s mid pitch and θ_min scaled by r = Δθ/Δθ_H, its ln Δθ_H."""
+        mid, log_level, low = self.reference()
+        ratio = np.exp(log_amplitude - log_level)
+        return np.array([mid * ratio, log_level, low * ratio])
+
     def classify(self, shape: StepShape) -> int:
         """WALKING, UPSTAIRS or DOWNSTAIRS for one step: the state of highest posterior
         probability after the step's evidence."""
@@ -176,7 +190,8 @@ class LevelPriorActivity:
         # the pitch is no surer than the tilt: its σ adds to the mid pitch's and θ_min's
         tilt_deg = np.degrees(shape.tilt_sigma)
         sigmas[:, [0, 2]] = np.hypot(sigmas[:, [0, 2]], tilt_deg)
-        likelihood = self._likelihood(features - self.relative * self.reference(), sigmas)
+        likelihood = self._likelihood(features - self.relative * self.level_at(features[1]),
+                                      sigmas)
         posterior = predicted * likelihood * self._cadence(shape.duration)
         self.posterior = posterior / posterior.sum()
         state = int(np.argmax(self.posterior))

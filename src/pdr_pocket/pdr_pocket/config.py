@@ -40,6 +40,11 @@ class Updates:
     zaru: bool = True                   # Eq. (3.22), zero angular rate
     mean_gravity: bool = True           # beyond the thesis: see compiled_orientation
 
+    @property
+    def magnetic(self) -> bool:
+        """Whether any update reads the magnetometer (beyond the first heading)."""
+        return self.absolute_magnetic or self.differential_magnetic or self.compass
+
     def mask(self) -> np.ndarray:
         """The flags in the order of pdr_pocket.compiled_orientation's update kinds."""
         return np.array([getattr(self, f.name) for f in fields(self)], dtype=bool)
@@ -258,16 +263,17 @@ class ActivityConfig:
     level_max_deg: float = 24.0
     level_min_deg: float = -8.0
     prior_weight_steps: float = 3.0
-    # ... each state's evidence against the level gait: the mid pitch (θ_max + θ_min)/2
-    # above it, ln(Δθ/Δθ_H), θ_min above it, with their spreads ...
+    # ... each state's evidence against the level gait at the step's amplitude: the mid
+    # pitch (θ_max + θ_min)/2 above it, ln(Δθ/Δθ_H), θ_min above it, with their spreads
+    # (up: 7.9 and 8.8 on the simulated UP/DW, 9.4–11.7 on the real thigh board) ...
     level_mid_sigma_deg: float = 4.0
     level_log_amplitude_sigma: float = 0.3
     level_min_sigma_deg: float = 4.0
     level_outlier_probability: float = 0.05  # heavy tails: this much of a wider level
     level_outlier_sigma_factor: float = 4.0  # ... spread
-    up_mid_excess_deg: float = 16.0
+    up_mid_excess_deg: float = 8.0
     up_amplitude_ratio: float = 1.7
-    up_min_excess_deg: float = 5.0
+    up_min_excess_deg: float = 8.0
     down_mid_excess_deg: float = 12.0
     down_amplitude_ratio_mean: float = 0.95
     down_min_deg: float = 5.0                # θ_min of a step down (absolute: θ_Dmin > 0)
