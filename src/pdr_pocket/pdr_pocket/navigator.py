@@ -52,7 +52,7 @@ from pdr_pocket.compiled_gait import (
 )
 from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, N_UPDATES, YAW_CORRECTION
 from pdr_pocket.config import PocketConfig
-from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
+from pdr_pocket.orientation import CORRECTION_NAMES, AttitudeEstimate, OrientationFilter
 from pdr_pocket.position import PSI, PositionFilter
 from pdr_pocket.stairs import Staircases, vertical_displacement_m
 from pdr_pocket.step_length import StrideInputs, stride_model
@@ -65,6 +65,8 @@ MOTION_TIME_CONSTANT_S = 0.5                # of the accelerometer's motion meas
 # a cascade of two first-order low-passes has its −3 dB point at √(√2 − 1)/(2πτ)
 CASCADE_FACTOR = np.sqrt(np.sqrt(2.0) - 1.0)
 NO_GAIT_MIN_MOVING_S = 5.0                  # moving this long without a step: no thigh gait
+# the request's field of each correction (pdr_msgs/srv/ApplyCorrection)
+CORRECTION_FIELDS = {YAW_CORRECTION: "yaw", BIAS_Z_CORRECTION: "gyro_bias_z"}
 
 
 @dataclass(frozen=True)
@@ -430,41 +432,81 @@ class PocketNavigator:
     # --- corrections (Eqs. (6.2)-(6.3)) -----------------------------------------------
     def apply_correction(self, yaw_rad: float, yaw_var: float, bias_z: float, bias_var: float,
                          position=None, position_cov=None) -> tuple[bool, str]:
-        """Add ``yaw_rad`` to the heading and ``bias_z`` to the z gyro bias, as Kalman
-        updates with their variances (Eq. (6.2); a part whose value and variance are both
-        0 is not given), and the position fix (Eq. (6.3)) when ``position`` is given.
-        Every part is checked (values, variances, χ² gates) before any is applied: one
-        refused part refuses the whole correction and changes nothing."""
-        problem = _invalid(yaw_var, bias_var, position, position_cov, yaw_rad, bias_z)
-        f = self.orientation
-        if problem is None and f.state is None:
-            problem = "the navigator has not started (no IMU sample yet)"
-        with_yaw = not (yaw_rad == 0 and yaw_var == 0)
-        with_bias = not (bias_z == 0 and bias_var == 0)
-        if problem is None and with_yaw:
-            problem = f.check_correction(YAW_CORRECTION, f.yaw + yaw_rad, yaw_var, "yaw")
-        if problem is None and with_bias:
-            problem = f.check_correction(BIAS_Z_CORRECTION, f.state.bias[2] + bias_z,
-                                         bias_var, "z gyro bias")
-        if problem is None and position is not None:
-            problem = self.position.check_position(position, position_cov)
+        """Add ``yaw_rad`` [rad] to the heading and ``bias_z`` [rad/s] to the z gyro bias, as
+        Kalman updates with their variances (Eq. (6.2); a part whose value and variance are
+        both 0 is not given), and fix the position [m] with its covariance (3, 3) [m²] (Eq.
+        (6.3)) when ``position`` is given (pdr_msgs/srv/ApplyCorrection's fields).
+
+        All or nothing: every part is checked and gated once, against the covariances
+        before any part is applied; one refused part refuses the whole correction, changes
+        nothing, and the message names each refused part and why. A correction with no
+        part is refused: nothing to apply. Returns (accepted, message)."""
+        parts = [(kind, value, variance) for kind, value, variance in (
+            (YAW_CORRECTION, yaw_rad, yaw_var), (BIAS_Z_CORRECTION, bias_z, bias_var))
+            if not (value == 0 and variance == 0)]
+        if not parts and position is None:
+            self.corrections["refused"] += 1
+            return False, ("nothing to apply: yaw, gyro_bias_z and their variances are 0 and "
+                           "has_position is false")
+        problem = _invalid(yaw_rad, yaw_var, bias_z, bias_var, position, position_cov)
+        nis: list[float] = []
+        if problem is None:
+            problem, nis = self._gate_correction(parts, position, position_cov)
         if problem is not None:
             self.corrections["refused"] += 1
-            return False, problem
-        done = []
-        if with_yaw:
-            before = f.yaw
-            done.append(f.correct_yaw(f.yaw + yaw_rad, yaw_var)[1])
-            self._turn_partial_heading(f.yaw - before)
-            self.position.correct_heading(self.position.x[PSI] + yaw_rad, yaw_var,
-                                          f.yaw_variance)
-        if with_bias:
-            done.append(f.correct_bias_z(f.state.bias[2] + bias_z, bias_var)[1])
-            self.position.limit_drift(bias_var)
-        if position is not None:
-            done.append(self.position.correct_position(position, position_cov)[1])
+            return False, f"nothing applied: {problem}"
         self.corrections["accepted"] += 1
-        return True, "; ".join(done) or "nothing to apply"
+        return True, ", ".join(
+            self._apply_parts(parts, nis, position, position_cov))
+
+    def _gate_correction(self, parts, position, position_cov
+                         ) -> tuple[str | None, list[float]]:
+        """Why the parts (kind, value to add, variance) and the position fix would be
+        refused, every part gated against the covariances as they are now (None: all
+        pass), and the NIS of each."""
+        f = self.orientation
+        zero = "; ".join(
+            f"{CORRECTION_FIELDS[kind]}_variance is 0: a {CORRECTION_FIELDS[kind]} of "
+            f"{value:+.4g} {CORRECTION_NAMES[kind][1]} needs a positive variance"
+            for kind, value, variance in parts if variance == 0)
+        if zero:
+            return zero, []
+        if f.state is None:
+            return "the navigator has not started (no IMU sample yet)", []
+        gated = [f.gate(kind, self._corrected(kind, value), variance)
+                 for kind, value, variance in parts]
+        if position is not None:
+            gated.append(self.position.gate_position(position, position_cov))
+        problems = "; ".join(problem for problem, _ in gated if problem is not None)
+        return problems or None, [nis for _, nis in gated]
+
+    def _corrected(self, kind: int, value: float) -> float:
+        """The yaw [rad] or the z gyro bias [rad/s] with ``value`` added."""
+        f = self.orientation
+        return f.yaw + value if kind == YAW_CORRECTION else float(f.state.bias[2]) + value
+
+    def _apply_parts(self, parts, nis, position, position_cov) -> list[str]:
+        """Apply what :meth:`_gate_correction` passed, in the request's order, each as a
+        measurement of the state before any (not gated again); what was done, in words."""
+        f, done = self.orientation, []
+        targets = [self._corrected(kind, value) for kind, value, _ in parts]
+        for (kind, value, variance), target, part_nis in zip(
+                parts, targets, nis[:len(parts)], strict=True):
+            before = f.yaw
+            f.apply(kind, target, variance)
+            name, unit = CORRECTION_NAMES[kind]
+            degrees = f"{np.degrees(value):+.2f}°, " if kind == YAW_CORRECTION else ""
+            done.append(f"{name} {value:+.4g} {unit} ({degrees}NIS {part_nis:.2f})")
+            if kind == YAW_CORRECTION:
+                self._turn_partial_heading(f.yaw - before)
+                self.position.correct_heading(self.position.x[PSI] + value, variance,
+                                              f.yaw_variance)
+            else:
+                self.position.limit_drift(variance)
+        if position is not None:
+            self.position.apply_position(position, position_cov)
+            done.append(f"position fix (NIS {nis[-1]:.2f})")
+        return done
 
     def _turn_partial_heading(self, turned_rad: float) -> None:
         """The heading summed since the last step, turned as the yaw was: a correction
@@ -476,16 +518,21 @@ class PocketNavigator:
                                       s * self.sum_cos + c * self.sum_sin)
 
 
-def _invalid(yaw_var, bias_var, position, position_cov, *values) -> str | None:
-    numbers = [yaw_var, bias_var, *values]
-    if not np.isfinite(numbers).all():
-        return f"non-finite value or variance in {numbers}"
-    if yaw_var < 0 or bias_var < 0:
-        return f"negative variance (yaw {yaw_var}, bias {bias_var})"
+def _invalid(yaw, yaw_var, bias_z, bias_var, position, position_cov) -> str | None:
+    """Why the request's numbers cannot be used (None: they can), each named by its field
+    of pdr_msgs/srv/ApplyCorrection, in the service's order."""
+    problems = [f"{name} {value!r} is not finite" if not np.isfinite(value) else
+                f"{name} {value!r} is negative" for name, value, variance in (
+                    ("yaw", yaw, False), ("yaw_variance", yaw_var, True),
+                    ("gyro_bias_z", bias_z, False), ("gyro_bias_z_variance", bias_var, True))
+                if not np.isfinite(value) or (variance and value < 0)]
     if position is not None:
-        cov = np.asarray(position_cov, float)
-        if not (np.isfinite(position).all() and np.isfinite(cov).all()):
-            return "non-finite position or covariance"
-        if np.any(np.diag(cov.reshape(3, 3)) < 0):
-            return "negative position variance"
-    return None
+        cov = np.asarray(position_cov, float).reshape(3, 3)
+        if not np.isfinite(position).all():
+            problems.append(f"position {list(map(float, position))} is not finite")
+        if not np.isfinite(cov).all():
+            problems.append("position_covariance is not finite")
+        elif np.any(np.diag(cov) < 0):
+            problems.append(f"position_covariance has a negative variance "
+                            f"(diagonal {np.diag(cov).tolist()} m²)")
+    return "; ".join(problems) or None

@@ -5,7 +5,8 @@ whose docstring gives the equations): :meth:`~OrientationFilter.run` processes w
 arrays, :meth:`~OrientationFilter.push` one sample at a time with the same state and the
 same result (the live node uses it), :meth:`~OrientationFilter.correct_yaw` and
 :meth:`~OrientationFilter.correct_bias_z` apply external corrections (Eq. (6.2)) as
-Kalman updates, refused when they fail a χ² gate.
+Kalman updates, refused when they fail a χ² gate (:meth:`~OrientationFilter.gate` and
+:meth:`~OrientationFilter.apply` do the two apart).
 
 Frames and units: body (sensor) frame as the IMU gives it, ENU navigation frame; SI
 inside (rad, rad/s, m/s², T). The filter starts on its first sample: roll and pitch from
@@ -33,6 +34,8 @@ from pdr_pocket.compiled_orientation import (
 from pdr_pocket.config import OrientationConfig
 
 GATE_PROBABILITY = 0.999            # χ² gate of external corrections (1 dof)
+# the external corrections' names and units, in messages
+CORRECTION_NAMES = {YAW_CORRECTION: ("yaw", "rad"), BIAS_Z_CORRECTION: ("z gyro bias", "rad/s")}
 FLAT_TOP_MIN_RADPS = 2.0            # a repeated reading above this is a saturated flat top
 UPDATE_NAMES = ("absolute_gravity", "differential_gravity", "absolute_magnetic",
                 "differential_magnetic", "compass", "zaru", "mean_gravity")
@@ -168,45 +171,53 @@ class OrientationFilter:
 
     # --- external corrections (Eq. (6.2)) ---------------------------------------------
     def correct_yaw(self, yaw_rad: float, variance_rad2: float) -> tuple[bool, str]:
-        """Update the yaw with ψ_L and its variance; refused (state untouched) when the
-        filter has not started, the variance is not positive and finite, or the innovation
-        fails the χ² gate."""
-        return self._correct(YAW_CORRECTION, yaw_rad, variance_rad2, "yaw")
+        """Update the yaw with ψ_L [rad] and its variance; refused (state untouched) as
+        :meth:`gate` says."""
+        return self._correct(YAW_CORRECTION, yaw_rad, variance_rad2)
 
     def correct_bias_z(self, bias_radps: float, variance: float) -> tuple[bool, str]:
         """Update the z gyro bias with a value and its variance [rad/s, rad²/s²]."""
-        return self._correct(BIAS_Z_CORRECTION, bias_radps, variance, "z gyro bias")
+        return self._correct(BIAS_Z_CORRECTION, bias_radps, variance)
 
-    def check_correction(self, kind: int, value: float, variance: float,
-                         what: str) -> str | None:
-        """Why a correction would be refused (None: it would be applied)."""
+    def gate(self, kind: int, value: float, variance: float) -> tuple[str | None, float]:
+        """Why a correction of the yaw (ψ_L [rad]) or of the z gyro bias [rad/s] with its
+        variance would be refused (None: it passes), and its NIS, against the covariance
+        as it is now: the filter has not started, the variance is not positive and
+        finite, or the innovation fails the χ² gate."""
+        what, unit = CORRECTION_NAMES[kind]
         if self.state is None:
-            return f"{what} correction: the filter has not started"
+            return f"{what}: the filter has not started", np.nan
         if not (np.isfinite(value) and np.isfinite(variance) and variance > 0):
-            return (f"{what} correction: value {value!r} with variance {variance!r} is not "
-                    "usable (finite, variance > 0)")
+            return (f"{what}: value {value!r} with variance {variance!r} is not usable "
+                    "(finite, variance > 0)"), np.nan
         nis, innovation, predicted = self._nis(kind, value, variance)
         limit = chi2.ppf(GATE_PROBABILITY, 1)
         if nis > limit:
-            return (f"{what} correction refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} "
-                    f"(innovation {innovation:.4g}, predicted variance {predicted:.3g} + "
-                    f"{variance:.3g})")
-        return None
+            return (f"{what} refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} (the "
+                    f"change {innovation:+.4g} {unit} against the predicted variance "
+                    f"{predicted:.3g} and the request's {variance:.3g})"), nis
+        return None, nis
+
+    def apply(self, kind: int, value: float, variance: float) -> None:
+        """The Kalman update of a correction that :meth:`gate` passed, not gated again: a
+        correction of several parts is gated, every part, against the covariance before
+        any is applied (PocketNavigator.apply_correction)."""
+        kernel.correct(self.state, self.params, kind, value, variance)
+        self.corrections["accepted"] += 1
 
     def _nis(self, kind: int, value: float, variance: float) -> tuple[float, float, float]:
         predicted = self._predicted_variance(kind)
-        innovation = (value - self._current(kind) + np.pi) % (2 * np.pi) - np.pi \
-            if kind == YAW_CORRECTION else value - self._current(kind)
-        return innovation**2 / (predicted + variance), innovation, predicted
+        change = np.float64(value) - self._current(kind)
+        innovation = (change + np.pi) % (2 * np.pi) - np.pi if kind == YAW_CORRECTION else change
+        with np.errstate(over="ignore"):     # a huge request: an infinite NIS, refused
+            return float(innovation**2 / (predicted + variance)), float(innovation), predicted
 
-    def _correct(self, kind: int, value: float, variance: float, what: str) -> tuple[bool, str]:
-        problem = self.check_correction(kind, value, variance, what)
+    def _correct(self, kind: int, value: float, variance: float) -> tuple[bool, str]:
+        problem, nis = self.gate(kind, value, variance)
         if problem is not None:
             return self._refuse(problem)
-        nis = self._nis(kind, value, variance)[0]
-        kernel.correct(self.state, self.params, kind, value, variance)
-        self.corrections["accepted"] += 1
-        return True, f"{what} correction applied (NIS {nis:.2f})"
+        self.apply(kind, value, variance)
+        return True, f"{CORRECTION_NAMES[kind][0]} applied (NIS {nis:.2f})"
 
     @property
     def yaw(self) -> float:

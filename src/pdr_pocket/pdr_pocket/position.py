@@ -81,47 +81,52 @@ class PositionFilter:
     def covariance(self) -> np.ndarray:
         return self.p[:3, :3].copy()
 
-    def check_position(self, position, covariance) -> str | None:
-        """Why a position fix would be refused (None: it would be applied). An axis that
-        both the filter and the fix know exactly (the height of a level walk) must agree
-        and is left out of the update."""
+    def gate_position(self, position, covariance) -> tuple[str | None, float]:
+        """Why a position fix [m] with its covariance (3, 3) [m²] would be refused (None:
+        it passes), and its NIS, against the covariance as it is now. An axis that both the
+        filter and the fix know exactly (the height of a level walk) must agree and is left
+        out of the update."""
         z = np.asarray(position, float)
         r = np.asarray(covariance, float).reshape(3, 3)
         if not (np.isfinite(z).all() and np.isfinite(r).all()):
-            return "position fix: not finite"
+            return "position fix: not finite", np.nan
         if not np.allclose(r, r.T) or np.linalg.eigvalsh(r).min() < 0:
-            return "position fix: covariance not symmetric positive semi-definite"
+            return "position fix: covariance not symmetric positive semi-definite", np.nan
         innovation = z - self.x[:3]
         keep = self._informative(r)
         if np.any(np.abs(innovation[~keep]) > 1e-6):
-            return ("position fix: differs on an axis both know exactly (innovation "
-                    f"{np.round(innovation, 3).tolist()} m)")
+            return ("position fix: differs on an axis both know exactly (the change "
+                    f"{_xyz(innovation)} m)"), np.nan
         if not keep.any():
-            return "position fix: both covariances zero"
+            return "position fix: both covariances zero", np.nan
         s = (self.p[:3, :3] + r)[np.ix_(keep, keep)]
         nis = float(innovation[keep] @ np.linalg.solve(s, innovation[keep]))
         limit = float(chi2.ppf(self.config.correction_gate_probability, int(keep.sum())))
         if nis > limit:
             return (f"position fix refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} "
-                    f"({int(keep.sum())} dof, innovation {np.round(innovation, 2).tolist()} m)")
-        return None
+                    f"({int(keep.sum())} dof, the change {_xyz(innovation)} m)"), nis
+        return None, nis
 
     def _informative(self, r: np.ndarray) -> np.ndarray:
         return np.diag(self.p[:3, :3] + r) > 1e-12
 
     def correct_position(self, position, covariance) -> tuple[bool, str]:
         """Eq. (6.3): the landmark's first-visit position and its covariance (3, 3) [m,
-        m²], refused (state untouched) as :meth:`check_position` says."""
-        problem = self.check_position(position, covariance)
+        m²], refused (state untouched) as :meth:`gate_position` says."""
+        problem, _ = self.gate_position(position, covariance)
         if problem is not None:
             return False, problem
+        return True, self.apply_position(position, covariance)
+
+    def apply_position(self, position, covariance) -> str:
+        """The Kalman update of a fix that :meth:`gate_position` passed, not gated again
+        (PocketNavigator.apply_correction gates every part before it applies any)."""
         r = np.asarray(covariance, float).reshape(3, 3)
         keep = self._informative(r)
         h = np.zeros((int(keep.sum()), N_POSITION_STATE))
         h[:, :3] = np.eye(3)[keep]
         z = np.asarray(position, float)
-        return True, self._update(h, (z - self.x[:3])[keep], r[np.ix_(keep, keep)],
-                                  "position fix")
+        return self._update(h, (z - self.x[:3])[keep], r[np.ix_(keep, keep)], "position fix")
 
     def correct_heading(self, heading_rad: float, variance: float,
                         yaw_variance_after: float) -> str:
@@ -153,3 +158,9 @@ class PositionFilter:
         self.p = i_kh @ self.p @ i_kh.T + k @ r @ k.T
         self.p = 0.5 * (self.p + self.p.T)
         return f"{what} applied (NIS {nis:.2f})"
+
+
+def _xyz(v: np.ndarray) -> str:
+    """A vector [m] labelled by its axes: "(x +0.10, y −0.02, z +0.00)"."""
+    return "(" + ", ".join(f"{axis} {value:+.2f}" for axis, value
+                           in zip("xyz", v, strict=True)) + ")"

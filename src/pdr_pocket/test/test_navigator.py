@@ -65,15 +65,25 @@ def test_pitch_maximum_finds_every_step_and_nothing_else(name):
     assert len(out.steps) == len(match)
 
 
-@pytest.mark.parametrize(("name", "wrong"), [("up_dw", 1), ("sit_stand", 0)])
+@pytest.mark.parametrize(("name", "wrong"), [("up_dw", 2), ("sit_stand", 0)])
 def test_activities_of_the_steps(name, wrong):
-    """docs/pocket.md: 177 of 178 steps right on UP/DW (the first step of one flight read
-    as level), 66 of 66 on sit/stand."""
+    """docs/pocket.md: 176 of 178 steps right on UP/DW (the first step of two of its 16
+    flights read as level: against the level gait at the step's amplitude one step up is
+    about 2σ of level), 66 of 66 on sit/stand."""
     sim, out = navigated(name)
     match = matched(sim, out)
     truth = sim.model.true_steps.activity
     labels = np.array([s.activity for s in out.steps])[match]
     assert (labels != truth).sum() <= wrong
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_walk_that_speeds_up_stays_level(seed):
+    """H2 walks its long sides at 2.5 km/h and its short ones at 4.8 (Δθ doubles): every
+    step level at every seed (scaled to the step's amplitude, the level gait explains
+    the faster swing; unscaled, 46 and 47 steps read as up at seeds 1 and 2)."""
+    sim, out = navigated("h2_rectangle_speeds", seed=seed)
+    assert [s.activity for s in out.steps] == [WALKING] * len(sim.model.true_steps.end_s)
 
 
 def test_sitting_and_standing_periods_have_no_step_and_are_named():
@@ -261,12 +271,63 @@ def test_corrections_gated_and_refused_when_unusable():
                                atol=1e-9)
     for bad in [(np.nan, 0.1, 0.0, 0.0), (0.1, -1.0, 0.0, 0.0), (0.0, 0.0, 1e-4, -1e-8)]:
         ok, message = nav.apply_correction(*bad)
-        assert not ok and ("non-finite" in message or "negative" in message)
+        assert not ok and ("not finite" in message or "negative" in message)
     state = nav.position.position
     ok, message = nav.apply_correction(0.0, 0.0, 0.0, 0.0, state + 500.0, np.eye(3) * 0.01)
     assert not ok and "χ² gate" in message
     assert np.array_equal(nav.position.position, state)
     assert nav.corrections == {"accepted": 2, "refused": 4}
+
+
+def test_a_correction_is_all_or_nothing_every_part_gated_before_any_is_applied():
+    """docs/nodes.md: every part is gated once against the covariance before any part is
+    applied. Here the yaw's update would shrink b_z's variance (their correlation −0.8,
+    no magnetometer) so that a bias gated after it fails (NIS 10.2 before, 23 after): the
+    request is accepted whole. With one part refused, nothing changes and the message
+    names the part; an empty request is refused as nothing to apply."""
+    import copy
+
+    from scipy.stats import chi2
+
+    from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, YAW_CORRECTION
+    from pdr_pocket.config import default_config_path, load_pocket_config
+
+    sim = simulated("h1_rectangle")
+    nav = PocketNavigator(load_pocket_config(
+        default_config_path().with_name("pocket_pdr_no_mag.yaml")))
+    n = 12000
+    nav.process(sim.trajectory.t[:n], sim.imu["angular_velocity"][:n],
+                sim.imu["linear_acceleration"][:n], None)
+    p = nav.orientation.state.covariance
+    yaw, yaw_var = 0.01, 0.1 * p[2, 2]
+    bias_var = 0.1 * p[5, 5]
+    bias = 0.97 * np.sqrt(chi2.ppf(0.999, 1) * (p[5, 5] + bias_var))
+    after_yaw = copy.deepcopy(nav.orientation)
+    after_yaw.apply(YAW_CORRECTION, after_yaw.yaw + yaw, yaw_var)
+    target = float(nav.orientation.state.bias[2]) + bias
+    assert after_yaw.gate(BIAS_Z_CORRECTION, target, bias_var)[0] is not None  # the trap
+    refused = copy.deepcopy(nav)
+    ok, message = nav.apply_correction(yaw, yaw_var, bias, bias_var)
+    assert ok, message
+    assert message.startswith("yaw +0.01 rad (+0.57°, NIS") and "z gyro bias +" in message
+    assert nav.orientation.state.bias[2] != refused.orientation.state.bias[2]
+
+    state = copy.deepcopy(refused)
+    ok, message = refused.apply_correction(yaw, yaw_var, 100 * bias, bias_var,
+                                           refused.position.position, np.eye(3))
+    assert not ok
+    assert message.startswith("nothing applied: z gyro bias refused by the χ² gate")
+    for before, after in ((state.orientation.state.attitude, refused.orientation.state.attitude),
+                          (state.orientation.state.covariance,
+                           refused.orientation.state.covariance),
+                          (state.orientation.state.bias, refused.orientation.state.bias),
+                          (state.position.x, refused.position.x),
+                          (state.position.p, refused.position.p)):
+        np.testing.assert_array_equal(before, after)
+    assert (refused.sum_cos, refused.sum_sin) == (state.sum_cos, state.sum_sin)
+    ok, message = refused.apply_correction(0.0, 0.0, 0.0, 0.0)
+    assert not ok and message.startswith("nothing to apply")
+    assert refused.corrections == {"accepted": 0, "refused": 2}
 
 
 # --- stride calibration ------------------------------------------------------------------
@@ -348,7 +409,9 @@ def with_gaps(sim, count: int = 40, seed: int = 4):
 def test_packets_dropped_lose_and_invent_no_step(name):
     """40 gaps of 0.11–0.27 s (one every 10 s; the TUG recording has one a second): the
     attitude is propagated over each gap with its uncertainty grown, no step is lost or
-    invented, and the stairs are still found."""
+    invented, and the stairs are still found: UP/DW 13 of 176 steps labelled wrong, the
+    first flight's start after a gap (12 before the level gait was scaled to the step's
+    amplitude), H1 2 of 294."""
     sim = simulated(name)
     keep = with_gaps(sim)
     out = PocketNavigator(PocketConfig()).process(
@@ -359,7 +422,7 @@ def test_packets_dropped_lose_and_invent_no_step(name):
     assert (match < 0).sum() <= 2, "a maximum inside a gap may move to the next cycle"
     truth = sim.model.true_steps.activity[match >= 0]
     labels = np.array([s.activity for s in out.steps])[match[match >= 0]]
-    assert (labels != truth).mean() <= 0.07
+    assert (labels != truth).mean() <= 0.075
 
 
 def test_a_walk_from_a_chair_finds_its_standing_axis():
