@@ -26,7 +26,7 @@ echo "== 2. bag_play -> pocket_pdr -> bag_record over ROS 2 (domain $ROS_DOMAIN_
 steps=$(python -c "import json,sys; print(json.load(open(sys.argv[1]))['steps'])" \
   "$out/report.json")
 live_graph "$out" "$out/simulated" "[/imu/data, /imu/mag]" \
-  "[pdr/pocket/step, pdr/pocket/pose]" "$((2 * steps))" \
+  "[pdr/pocket/step, pdr/pocket/pose]" "$((2 * steps))" 0.0 \
   "pocket_pdr --ros-args -p imu_durability:=transient_local"
 
 echo "== 3. report against the ground truth"

@@ -1,11 +1,12 @@
 # Sourced by the demo scripts: play a bag through nodes into bag_record, over ROS 2.
-#   live_graph OUT_DIR BAG TOPICS_TO_PLAY TOPICS_TO_RECORD MAX_MESSAGES NODE [NODE ...]
+#   live_graph OUT_DIR BAG TOPICS_TO_PLAY TOPICS_TO_RECORD MAX_MESSAGES RATE NODE [NODE ...]
 # Starts bag_record (OUT_DIR/live) and every NODE ("name --ros-args ..."), waits until
-# the recorder listens to every recorded topic, plays BAG as fast as the subscribers keep
-# up, waits for MAX_MESSAGES to be recorded and stops the nodes. Logs go to OUT_DIR.
+# the recorder listens to every recorded topic, plays BAG at RATE times real time (0: as
+# fast as the subscribers keep up), waits for MAX_MESSAGES to be recorded and stops the
+# nodes. Logs go to OUT_DIR.
 live_graph() {
-  local out="$1" bag="$2" play="$3" record="$4" max="$5"
-  shift 5
+  local out="$1" bag="$2" play="$3" record="$4" max="$5" rate="$6"
+  shift 6
   "$root/ws" bag_record --ros-args -p out:="$out/live" -p "topics:=$record" \
     -p max_messages:="$max" > "$out/bag_record.log" 2>&1 &
   local recorder=$! nodes=() spec
@@ -21,7 +22,7 @@ live_graph() {
       sleep 0.1
     done
   done
-  "$root/ws" bag_play --ros-args -p bag:="$bag" -p "topics:=$play" -p rate:=0.0 \
+  "$root/ws" bag_play --ros-args -p bag:="$bag" -p "topics:=$play" -p rate:="$rate" \
     -p wait_for_subscribers:=1
   wait "$recorder"
   local node

@@ -5,15 +5,20 @@ without ROS; only node modules call this.
 """
 from __future__ import annotations
 
+import itertools
 import sys
 from collections.abc import Callable
+from pathlib import Path
+
+import yaml
 
 from pdr_core.errors import InputError
 
 
 def spin_node(name: str, make_node: Callable, args: list[str] | None = None) -> None:
     """rclpy.init, spin the node ``make_node()`` until shutdown, exit: status 2 with one
-    line ``NAME: error: ...`` when its configuration is refused (InputError), 0 on SIGINT,
+    line ``NAME: error: ...`` when its configuration is refused (InputError, and a
+    ``--params-file`` that is no ROS parameter file: :func:`check_params_files`), 0 on SIGINT,
     SIGTERM or an external shutdown. rclpy's signal handler shuts the context down at
     once, so a callback running at that moment may fail to publish on it: an error raised
     once the context is no longer ok is part of the shutdown, not a failure (seen as a
@@ -21,10 +26,11 @@ def spin_node(name: str, make_node: Callable, args: list[str] | None = None) -> 
     import rclpy
     from rclpy.executors import ExternalShutdownException
 
-    rclpy.init(args=args)
     node = None
     status = 0
     try:
+        check_params_files(args)
+        rclpy.init(args=args)
         node = make_node()
         rclpy.spin(node)
     except InputError as exc:
@@ -40,3 +46,31 @@ def spin_node(name: str, make_node: Callable, args: list[str] | None = None) -> 
             node.destroy_node()
         rclpy.try_shutdown()
     sys.exit(status)
+
+
+def check_params_files(args: list[str] | None) -> None:
+    """Refuse, in one line (InputError), a ``--params-file`` of the ROS arguments (``args``,
+    or the command line's) that is no ROS parameter file: a mapping of node names (and
+    namespaces) to ``ros__parameters``. rcl's own refusal of one is a traceback, and the
+    usual cause is a navigator configuration given where a parameter file goes."""
+    argv = sys.argv[1:] if args is None else args
+    for flag, path in itertools.pairwise(argv):
+        if flag != "--params-file":
+            continue
+        try:
+            content = yaml.safe_load(Path(path).read_text())
+        except (OSError, yaml.YAMLError) as exc:
+            raise InputError(f"--params-file {path}", f"cannot be read: {exc}") from None
+        if not _parameter_tree(content):
+            raise InputError(f"--params-file {path}", (
+                "not a ROS parameter file (it needs NODE_NAME: ros__parameters: ..., as "
+                "each package's config/*_params.yaml or zupt_ekf.yaml); a navigator or "
+                f"estimator configuration is passed as -p config:={path}"))
+
+
+def _parameter_tree(node) -> bool:
+    """A mapping whose every branch reaches ``ros__parameters`` (a mapping) through node
+    names and namespaces, as rcl reads a parameter file."""
+    return isinstance(node, dict) and bool(node) and all(
+        isinstance(value, dict) if key == "ros__parameters" else _parameter_tree(value)
+        for key, value in node.items())

@@ -20,6 +20,7 @@ bounds what a crash can lose, whatever the data's own stamps.
 from __future__ import annotations
 
 import os
+import shutil
 import time
 from pathlib import Path
 from typing import Any
@@ -36,12 +37,19 @@ BAG_VERSION = 9
 
 class RecordingBag:
     """Writes messages at ``path`` (a new rosbag2 directory) as they come; module
-    docstring. Raises InputError for an existing ``path``, OSError when the disk fails."""
+    docstring. Raises InputError for an existing ``path`` unless ``overwrite`` (then it is
+    removed first), OSError when the disk fails."""
 
-    def __init__(self, path: str | Path, flush_interval_s: float = 1.0) -> None:
+    def __init__(self, path: str | Path, flush_interval_s: float = 1.0,
+                 overwrite: bool = False) -> None:
         self.path = Path(path)
-        if self.path.exists():
-            raise InputError(self.path, "output exists already")
+        if self.path.exists() and not overwrite:
+            raise InputError(self.path, "output exists already (remove it, or -p "
+                                        "overwrite:=true replaces it)")
+        if self.path.is_dir():
+            shutil.rmtree(self.path)
+        elif self.path.exists():
+            self.path.unlink()
         if not flush_interval_s > 0:
             raise InputError("flush_interval_s", f"must be > 0, got {flush_interval_s}")
         self.flush_interval_s = flush_interval_s

@@ -11,9 +11,12 @@ service is not there the correction waits and is retried every ``retry_period_s`
 ``max_retries`` tries in all, so a restarting ``pocket_pdr`` is caught up with and a refused
 correction blocks nothing. What happens to each correction is logged.
 
-Parameters: ``config`` (YAML of pdr_drift.config; default the installed
+Parameters (docs/nodes.md): ``config`` (YAML of pdr_drift.config; default the installed
 config/landmark_drift.yaml), ``floor_height_m``, ``correction_timeout_s``,
-``retry_period_s``, ``max_retries``, ``frame_id`` ("map").
+``retry_period_s``, ``max_retries``, ``map_frame`` (the frame of the poses it reads and of
+the landmarks and drift estimates it publishes: REP-105's map, pdr_core.frames; steps and
+poses stamped in another frame are dropped and counted, a graph wired to another
+person's navigator). The start-up line names the resolved topics and services.
 """
 from __future__ import annotations
 
@@ -22,8 +25,11 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
+from pdr_core.frames import MAP_FRAME
 from pdr_core.headers import set_header, stamp_ns
 from pdr_core.node_main import spin_node
+from pdr_core.node_params import declare, refuse_removed
+from pdr_core.node_wiring import wiring
 from pdr_drift.config import load_drift_config
 from pdr_drift.landmarks import LANDMARK_NAMES
 from pdr_drift.streaming import StreamingDrift
@@ -45,12 +51,19 @@ class LandmarkDriftNode(Node):
 
     def __init__(self) -> None:
         super().__init__("landmark_drift")
-        path = self.declare_parameter("config", "").value
-        floor_height = float(self.declare_parameter("floor_height_m", 3.5).value)
-        self.timeout_s = float(self.declare_parameter("correction_timeout_s", 5.0).value)
-        retry_period = float(self.declare_parameter("retry_period_s", 1.0).value)
-        self.max_retries = int(self.declare_parameter("max_retries", 10).value)
-        self.frame_id = self.declare_parameter("frame_id", "map").value
+        refuse_removed(self, {"frame_id": "map_frame"})
+        path = declare(self, "config", "", "drift estimator YAML (pdr_drift.config); empty: "
+                       "the installed config/landmark_drift.yaml")
+        floor_height = declare(self, "floor_height_m", 3.5,
+                               "the floor of a pose is its height over this [m]")
+        self.timeout_s = declare(self, "correction_timeout_s", 5.0, "a correction call not "
+                                 "answered within this is sent again [s]")
+        retry_period = declare(self, "retry_period_s", 1.0,
+                               "how often waiting corrections are retried [s]")
+        self.max_retries = declare(self, "max_retries", 10, "a correction waiting longer "
+                                   "for the service is dropped [tries]")
+        self.map_frame = declare(self, "map_frame", MAP_FRAME, "frame of the poses read and "
+                                 "of the landmarks and drift estimates published")
         self.drift = StreamingDrift(load_drift_config(path or default_config_path()),
                                     floor_height)
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
@@ -67,16 +80,34 @@ class LandmarkDriftNode(Node):
         self.in_flight: list[list] = []      # [future, sent at (s), request, tries]
         self.create_timer(retry_period, self.service_corrections)
         self.reported: dict[str, int] = {}
-        self.get_logger().info(f"landmark_drift: configuration {path or 'default'}")
+        self.other_frame = 0
+        self.get_logger().info(f"landmark_drift: configuration {path or 'default'}; map "
+                               f"frame {self.map_frame}; {wiring(self)}")
 
     def on_step(self, msg: Step) -> None:
+        if self.in_other_frame(msg):
+            return
         self.on_result(stamp_ns(msg), self.drift.push_step(stamp_ns(msg), msg.heading,
                                                         msg.activity))
 
     def on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        if self.in_other_frame(msg):
+            return
         p = msg.pose.pose.position
         cov = np.asarray(msg.pose.covariance, float).reshape(6, 6)[:3, :3]
         self.on_result(stamp_ns(msg), self.drift.push_pose(stamp_ns(msg), (p.x, p.y, p.z), cov))
+
+    def in_other_frame(self, msg) -> bool:
+        """A step or pose stamped in another frame than ``map_frame``: dropped, counted
+        and warned of (throttled), as it belongs to another navigator."""
+        if msg.header.frame_id == self.map_frame:
+            return False
+        self.other_frame += 1
+        self.get_logger().warning(
+            f"{self.other_frame} steps and poses dropped so far: stamped in frame "
+            f"{msg.header.frame_id!r}, map_frame is {self.map_frame!r}",
+            throttle_duration_sec=5.0)
+        return True
 
     def on_result(self, stamp: int, result) -> None:
         self.report_problems()
@@ -145,7 +176,7 @@ class LandmarkDriftNode(Node):
 
     def landmark_message(self, stamp: int, landmark) -> Landmark:
         msg = Landmark()
-        set_header(msg.header, stamp, self.frame_id)
+        set_header(msg.header, stamp, self.map_frame)
         msg.id, msg.type, msg.floor = int(landmark.id), int(landmark.type), int(landmark.floor)
         msg.position.x, msg.position.y, msg.position.z = map(float, landmark.position)
         msg.position_covariance = [float(v) for v in np.asarray(landmark.covariance).ravel()]
@@ -154,7 +185,7 @@ class LandmarkDriftNode(Node):
 
     def drift_message(self, stamp: int, estimate) -> DriftEstimate:
         msg = DriftEstimate()
-        set_header(msg.header, stamp, self.frame_id)
+        set_header(msg.header, stamp, self.map_frame)
         msg.landmark_first = estimate.landmark_first
         msg.landmark_revisit = estimate.landmark_revisit
         msg.deviation, msg.elapsed = float(estimate.deviation), float(estimate.elapsed)

@@ -9,10 +9,12 @@ Subscribes ``imu/data`` (sensor_msgs/Imu) and publishes, per sample, ``pdr/foot/
 ends (its lag and its memory are bounded by the segment). Serves ``~/reset``
 (std_srvs/Trigger).
 
-Parameters: ``config`` (navigator YAML, see pdr_ins_ekf.config; default the installed
-config/foot_ekf.yaml) or ``imu_profile`` (the shipped config/foot_ekf_<profile>.yaml),
-``frame_id`` ("map"), ``imu_durability`` (volatile or
-transient_local, to match the publisher), ``smoothed_path`` (false).
+Parameters (docs/nodes.md): ``config`` (navigator YAML, see pdr_ins_ekf.config; default
+the installed config/foot_ekf.yaml) or ``imu_profile`` (the shipped
+config/foot_ekf_<profile>.yaml), ``map_frame`` (the frame of the poses and paths:
+REP-105's map, pdr_core.frames), ``imu_durability`` (volatile or transient_local, to match
+the publisher), ``smoothed_path`` (false). The start-up line names the resolved topics and
+services.
 
 Estimates lag the input by the detector's look-ahead (a few samples) and agree with
 ``pdr-ekf run`` on the same data. The node keeps up with input far faster than real
@@ -38,11 +40,12 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
-from pdr_core import cdr
-from pdr_core.backlog import waiting_messages
-from pdr_core.batch import MessageBatch
+from pdr_core.backlog import decode_block, publish_acked, waiting_messages
+from pdr_core.frames import MAP_FRAME
 from pdr_core.msgtypes import IMU
 from pdr_core.node_main import spin_node
+from pdr_core.node_params import declare, refuse_removed
+from pdr_core.node_wiring import wiring
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import FootRun, output_batches, pose_path
 from pdr_ins_ekf.streaming import StreamingNavigator
@@ -67,12 +70,20 @@ class ZuptEkfNode(Node):
 
     def __init__(self) -> None:
         super().__init__("zupt_ekf")
-        path = self.declare_parameter("config", "").value
-        profile = self.declare_parameter("imu_profile", "").value
-        self.frame_id = self.declare_parameter("frame_id", "map").value
-        durability = self.declare_parameter("imu_durability", "volatile").value
+        refuse_removed(self, {"frame_id": "map_frame"})
+        path = declare(self, "config", "", "navigator YAML (pdr_ins_ekf.config); empty: the "
+                       "installed config/foot_ekf.yaml")
+        profile = declare(self, "imu_profile", "", "use the shipped "
+                          "config/foot_ekf_<profile>.yaml (xsens_mti, xsens_mtw, vn200, "
+                          "consumer_phone)")
+        self.map_frame = declare(self, "map_frame", MAP_FRAME,
+                                 "frame of the poses, velocities and paths (ENU, REP-105)")
+        durability = declare(self, "imu_durability", "volatile",
+                             "durability of the IMU subscription, to match the publisher",
+                             ("volatile", "transient_local"))
         config = load_run_config(path, profile)
-        smoothing = self.declare_parameter("smoothed_path", False).value
+        smoothing = declare(self, "smoothed_path", False,
+                            "also publish pdr/foot/smoothed_path (segmented RTS smoother)")
         config = dataclasses.replace(config, smoother=dataclasses.replace(
             config.smoother, mode="segmented" if smoothing else "none"))
         self.navigator = StreamingNavigator(config)
@@ -98,7 +109,8 @@ class ZuptEkfNode(Node):
         self.steps = _Steps()
         self.undecodable = 0
         self.reported: dict[str, int] = {}
-        self.get_logger().info(f"zupt_ekf: configuration {path or profile or 'default'}")
+        self.get_logger().info(f"zupt_ekf: configuration {path or profile or 'default'}; "
+                               f"map frame {self.map_frame}; {wiring(self)}")
 
     def on_imu(self, raw: bytes) -> None:
         """One message from the executor, and the ones waiting behind it, as one block."""
@@ -106,27 +118,14 @@ class ZuptEkfNode(Node):
 
     def on_imu_block(self, raws: list[bytes]) -> None:
         """Serialized Imu messages (CDR) in arrival order: navigate, publish, report."""
-        imu = self._decode(raws)
+        imu, malformed = decode_block(IMU, raws)
+        self.undecodable += malformed
         run = self.navigator.push_many(imu.stamp_ns, imu["linear_acceleration"],
                                        imu["angular_velocity"])
         self.publish(run)
         for segment in self.navigator.take_smoothed():
             self.publish_smoothed(segment)
         self.report_problems()
-
-    def _decode(self, raws: list[bytes]) -> MessageBatch:
-        """The block decoded; if a message is malformed, the others one by one, and the
-        malformed ones counted."""
-        try:
-            return cdr.decode(IMU, raws)
-        except ValueError:
-            good = []
-            for raw in raws:
-                try:
-                    good.append(cdr.decode(IMU, [raw]))
-                except ValueError:
-                    self.undecodable += 1
-            return MessageBatch.concatenate(good) if good else cdr.decode(IMU, [])
 
     def report_problems(self) -> None:
         counts = {**self.navigator.counts, "malformed_cdr": self.undecodable}
@@ -142,26 +141,19 @@ class ZuptEkfNode(Node):
     def publish(self, run: FootRun) -> None:
         """Pose, velocity and stance of every sample of the block (raw CDR; a large block
         in acknowledged slices, see HISTORY), and the step path if a step began in it."""
-        n = len(run.stamp_ns)
-        if not n:
+        if not len(run.stamp_ns):
             return
-        batches = output_batches(run, self.frame_id)
-        for start in range(0, n, HISTORY // 2):
-            for publisher in self.estimate_pubs.values():
-                publisher.wait_for_all_acked(ACK_TIMEOUT)
-            part = slice(start, start + HISTORY // 2)
-            for topic, batch in batches.items():
-                publisher = self.estimate_pubs[topic]
-                for data in cdr.encode(batch.take(part)):
-                    publisher.publish(data)
+        batches = output_batches(run, self.map_frame)
+        publish_acked([(self.estimate_pubs[topic], batch) for topic, batch in batches.items()],
+                      HISTORY // 2, ACK_TIMEOUT)
         if self.steps.add(run):
-            self.path_pub.publish(self.steps.path(self.frame_id))
+            self.path_pub.publish(self.steps.path(self.map_frame))
 
     def publish_smoothed(self, segment: SmoothedSegment) -> None:
         """One Path with every sample's smoothed pose, stamped at the segment's end."""
         self.smoothed_pub.publish(pose_path(segment.stamp_ns, segment.position,
                                             segment.attitude, int(segment.stamp_ns[-1]),
-                                            self.frame_id))
+                                            self.map_frame))
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()

@@ -25,6 +25,7 @@ from rclpy.parameter import Parameter
 from pdr_core import topics as bag_topics
 from pdr_core.bag import BagReader
 from pdr_core.errors import InputError, InputWarning
+from pdr_core.node_params import declare
 from pdr_sim.nodes.playback import Playback, run_player
 
 
@@ -33,10 +34,11 @@ class BagPlayer(Node):
 
     def __init__(self) -> None:
         super().__init__("bag_play")
-        self.bag_path = self.declare_parameter("bag", "").value
+        self.bag_path = declare(self, "bag", "", "bag directory or .mcap file (required)")
         self.topic_filter = (self.declare_parameter("topics", Parameter.Type.STRING_ARRAY).value
                              or [])
-        self.strict = bool(self.declare_parameter("strict", False).value)
+        self.strict = declare(self, "strict", False, "refuse a bag cut short instead of "
+                              "playing its readable part")
         self.playback = Playback(self)
 
     def run(self) -> int:

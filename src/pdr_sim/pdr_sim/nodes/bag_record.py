@@ -38,6 +38,8 @@ from pdr_core import topics as bag_topics
 from pdr_core.backlog import waiting_messages
 from pdr_core.errors import InputError
 from pdr_core.msgtypes import typestore
+from pdr_core.node_main import check_params_files
+from pdr_core.node_params import declare
 from pdr_core.recording import RecordingBag
 from pdr_sim.nodes.ros_types import message_class
 
@@ -84,20 +86,26 @@ class BagRecorder(Node):
 
     def __init__(self) -> None:
         super().__init__("bag_record")
-        out = self.declare_parameter("out", "").value
+        out = declare(self, "out", "", "output bag directory (required)")
         self.wanted = list(self.declare_parameter("topics", Parameter.Type.STRING_ARRAY).value
                            or [])
-        self.max_messages = int(self.declare_parameter("max_messages", 0).value)
-        flush_interval_s = float(self.declare_parameter("flush_interval_s", 1.0).value)
+        self.max_messages = declare(self, "max_messages", 0, "stop after this many messages "
+                                    "in all; 0: until stopped")
+        flush_interval_s = declare(self, "flush_interval_s", 1.0,
+                                   "write and sync the open chunk at least this often [s]")
+        overwrite = declare(self, "overwrite", False, "replace an existing output")
         if not out:
             raise InputError("out", "parameter is required (-p out:=DIR)")
         if not self.wanted:
             raise InputError("topics", "parameter is required (-p topics:=[imu/data])")
-        self.writer = RecordingBag(out, flush_interval_s)
+        self.writer = RecordingBag(out, flush_interval_s, overwrite)
         self.count = 0
         self.failure: OSError | None = None
         self.subscribed: dict = {}      # graph topic -> its subscription
         self.discovery = self.create_timer(0.05, self._discover)
+        limit = f"; stops after {self.max_messages} messages" if self.max_messages else ""
+        self.get_logger().info(f"will record {', '.join(map(self.resolve_topic_name, self.wanted))}"
+                               f" into {out}, each once a publisher appears{limit}")
         self.flusher = self.create_timer(flush_interval_s / 4, self._flush)
 
     def _discover(self) -> None:
@@ -167,6 +175,11 @@ class BagRecorder(Node):
 
 
 def main(args: list[str] | None = None) -> None:
+    try:
+        check_params_files(args)
+    except InputError as exc:
+        print(f"bag_record: error: {exc}", file=sys.stderr)
+        sys.exit(2)
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     stop = [False]
 

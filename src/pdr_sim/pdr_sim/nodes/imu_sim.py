@@ -23,8 +23,10 @@ from rclpy.node import Node
 from pdr_core.bag import merged_messages
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
+from pdr_core.imu_profiles import PROFILES
+from pdr_core.node_params import declare
 from pdr_sim.nodes.playback import Playback, run_player
-from pdr_sim.simulation import SimulationConfig, load_placement_scenario, simulate
+from pdr_sim.simulation import PLACEMENTS, SimulationConfig, load_placement_scenario, simulate
 
 
 class ImuSim(Node):
@@ -32,12 +34,14 @@ class ImuSim(Node):
 
     def __init__(self) -> None:
         super().__init__("imu_sim")
-        self.scenario = self.declare_parameter("scenario", "").value
-        self.imu = self.declare_parameter("imu", "xsens_mtw").value
-        self.rate_hz = float(self.declare_parameter("rate_hz", 100.0).value)
-        self.seed = int(self.declare_parameter("seed", 0).value)
-        self.placement = self.declare_parameter("placement", "foot").value
-        self.gravity = float(self.declare_parameter("gravity_mps2", STANDARD_GRAVITY_MPS2).value)
+        self.scenario = declare(self, "scenario", "", "built-in scenario name or a scenario "
+                                "YAML file; empty: straight (foot), h1_rectangle (pocket)")
+        self.imu = declare(self, "imu", "xsens_mtw", "IMU error profile", tuple(PROFILES))
+        self.rate_hz = declare(self, "rate_hz", 100.0, "sample rate [Hz], 50-1000")
+        self.seed = declare(self, "seed", 0, "seed of every random draw")
+        self.placement = declare(self, "placement", "foot", "where the IMU sits", PLACEMENTS)
+        self.gravity = declare(self, "gravity_mps2", STANDARD_GRAVITY_MPS2,
+                               "magnitude of gravity [m/s²]")
         self.playback = Playback(self)
 
     def run(self) -> int:

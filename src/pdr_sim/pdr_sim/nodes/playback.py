@@ -32,6 +32,9 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 
 from pdr_core import topics as bag_topics
 from pdr_core.bag import RawMessage
+from pdr_core.errors import InputError
+from pdr_core.node_main import check_params_files
+from pdr_core.node_params import declare
 from pdr_sim.nodes.ros_types import message_class
 
 RELIABLE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
@@ -51,13 +54,14 @@ def run_player(name: str, make_node: Callable[[], Node], args: list[str] | None)
     """``main`` of a player node: fast heartbeats, init, ``node.run()`` as exit status
     (2 for bad parameters, 130 on interrupt), clean shutdown."""
     use_fast_heartbeats()
-    rclpy.init(args=args)
     status = 1
     node = None
     try:
+        check_params_files(args)
+        rclpy.init(args=args)
         node = make_node()
         status = node.run()
-    except ValueError as exc:
+    except (ValueError, InputError) as exc:
         print(f"{name}: error: {exc}", file=sys.stderr)
         status = 2
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -74,11 +78,15 @@ class Playback:
 
     def __init__(self, node: Node) -> None:
         self.node = node
-        self.rate = float(node.declare_parameter("rate", 1.0).value)
-        self.clock = bool(node.declare_parameter("clock", False).value)
-        self.wait_for_subscribers = int(node.declare_parameter("wait_for_subscribers", 0).value)
-        self.wait_timeout_s = float(node.declare_parameter("wait_timeout_s", 30.0).value)
-        self.ack_every = max(1, int(node.declare_parameter("ack_every", 100).value))
+        self.rate = declare(node, "rate", 1.0, "playback speed [x real time]; 0: as fast as "
+                            "the subscribers keep up")
+        self.clock = declare(node, "clock", False, "also publish /clock")
+        self.wait_for_subscribers = declare(node, "wait_for_subscribers", 0, "wait until every "
+                                            "publisher has this many subscribers")
+        self.wait_timeout_s = declare(node, "wait_timeout_s", 30.0,
+                                      "give up waiting after this long [s]")
+        self.ack_every = max(1, declare(node, "ack_every", 100, "with rate 0, messages "
+                                        "between acknowledgement waits"))
         self.published = 0
         self.publishers: dict = {}
         self.clock_pub = None
