@@ -14,8 +14,9 @@ result whatever the chunks, pdr_pocket.navigator):
   topics travel separately, so a reading may arrive after IMU samples stamped later than
   it: a sample is held until a reading stamped at or after it arrives (at once when the
   magnetometer keeps pace) or until ``mag_wait_s`` of IMU data has come after it. A
-  magnetometer quiet for longer than that holds nothing (no latency without one) and only
-  pauses the magnetic updates (:attr:`mag_stale`);
+  magnetometer quiet for longer than that holds nothing (no latency without one,
+  :attr:`mag_stale`) and only pauses the magnetic updates: samples processed without a
+  reading for ``mag_wait_s`` of IMU data (:attr:`mag_paused`, what the node reports);
 - the units are checked on the first :data:`UNIT_CHECK_SAMPLES` samples: data in g or
   deg/s is refused (nothing is navigated until :meth:`reset`), a magnetometer in µT or
   gauss is switched off (:attr:`mag_error`);
@@ -32,20 +33,19 @@ result whatever the chunks, pdr_pocket.navigator):
 """
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units, plausible
-from pdr_pocket.attitude_offline import MAG_MAX_AGE_S
+from pdr_pocket.attitude_offline import latest_readings
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator
 
 UNIT_CHECK_SAMPLES = 50
-MAG_HISTORY = 256
+MAG_BEFORE_IMU_NS = 60_000_000_000   # readings kept before the first IMU sample [ns]
 MAG_WAIT_S = 1.0
 """Default wait for a late magnetometer reading [s of IMU data]: playback at full speed
 acknowledges every 100 messages, so the topics drift at most that far apart."""
@@ -88,33 +88,63 @@ class StreamingPocket:
         self.at_step_t = 0.0                             # ... at this navigator time [s]
         self.since_step: list[tuple] = []                # the inputs processed since
         self.last_stamp_ns: int | None = None
-        self.mags: deque = deque(maxlen=MAG_HISTORY)
+        # the readings a sample not yet processed may pair with: from the last one at or
+        # before the last processed sample on (stamps [ns] ascending, values [T])
+        self.mag_stamps = np.empty(0, np.int64)
+        self.mag_values = np.empty((0, 3))
         self.held: list[tuple[int, np.ndarray, np.ndarray]] = []
         self.checked = self.mag_checked = False
         self.failed: str | None = None
         self.mag_error: str | None = None
         self.t0_ns: int | None = None
+        self.processed_ns: int | None = None    # the last sample processed ...
+        self.paired_ns: int | None = None       # ... and the last with a reading
         self.counts = {"non_finite": 0, "implausible": 0, "stamp_not_increasing": 0,
                        "mag_non_finite": 0,
                        "mag_missing": 0}
 
     @property
     def mag_stale(self) -> bool:
-        """No reading within ``mag_wait_s`` of the last IMU sample."""
-        return not self.mags or (self.last_stamp_ns is not None and
-                                 self.last_stamp_ns - self.mags[-1][0] > self.mag_wait_s * 1e9)
+        """The magnetometer quiet for more than ``mag_wait_s`` of IMU data: since its last
+        reading, or since the first IMU sample when none has come."""
+        if self.last_stamp_ns is None:
+            return False
+        quiet_since = self.mag_stamps[-1] if len(self.mag_stamps) else self.t0_ns
+        return self.last_stamp_ns - quiet_since > self.mag_wait_s * 1e9
+
+    @property
+    def mag_paused(self) -> bool:
+        """The samples processed for the last ``mag_wait_s`` of IMU data had no
+        magnetometer reading (since the last that had one, or since the first sample)."""
+        if self.processed_ns is None:
+            return False
+        since = self.paired_ns if self.paired_ns is not None else self.t0_ns
+        return self.processed_ns - since > self.mag_wait_s * 1e9
 
     def push_mag(self, stamp_ns: int, field_t) -> list[Processed]:
         """A magnetometer reading [T] (body frame)."""
-        value = np.asarray(field_t, float)
-        if not np.isfinite(value).all():
-            self.counts["mag_non_finite"] += 1
+        return self.push_mags(np.array([stamp_ns], np.int64),
+                              np.asarray(field_t, float).reshape(1, 3))
+
+    def push_mags(self, stamp_ns: np.ndarray, field_t: np.ndarray) -> list[Processed]:
+        """Magnetometer readings [T] (N, 3) in arrival order, as one block: a reading with
+        NaN/Inf is counted and dropped, one stamped before the last kept one dropped."""
+        values = np.asarray(field_t, float).reshape(-1, 3)
+        finite = np.isfinite(values).all(axis=1)
+        self.counts["mag_non_finite"] += int((~finite).sum())
+        if self.mag_error is not None:
             return []
-        if self.calibration is not None:
-            value = self.calibration.apply(value.reshape(1, 3))[0]
-        if self.mags and stamp_ns < self.mags[-1][0]:
-            return []
-        self.mags.append((int(stamp_ns), value))
+        if self.calibration is not None and finite.any():
+            values[finite] = self.calibration.apply(values[finite])
+        stamps = np.asarray(stamp_ns, np.int64)
+        start = self.mag_stamps[-1] if len(self.mag_stamps) else np.iinfo(np.int64).min
+        before = np.maximum.accumulate(np.r_[start, np.where(finite, stamps, start)])[:-1]
+        kept = finite & (stamps >= before)
+        self.mag_stamps = np.r_[self.mag_stamps, stamps[kept]]
+        self.mag_values = np.vstack([self.mag_values, values[kept]])
+        if self.last_stamp_ns is None and len(self.mag_stamps):   # no IMU yet: the last minute
+            first = np.searchsorted(self.mag_stamps, self.mag_stamps[-1] - MAG_BEFORE_IMU_NS)
+            self.mag_stamps, self.mag_values = self.mag_stamps[first:], self.mag_values[first:]
         if not self.checked:
             return []
         self._check_mag_units()
@@ -124,28 +154,35 @@ class StreamingPocket:
         """An IMU sample [m/s², rad/s]; ``gyro`` None when the IMU has no gyroscope
         (REP-145: angular_velocity_covariance[0] = −1), for which the navigator takes the
         pitch from the gravity direction alone."""
-        a = np.asarray(accel, float)
-        w = np.full(3, np.nan) if gyro is None else np.asarray(gyro, float)
-        checked = np.zeros(3) if gyro is None else w
-        if not (np.isfinite(a).all() and np.isfinite(checked).all()):
-            self.counts["non_finite"] += 1
-            return []
-        if not plausible(a, checked):
-            self.counts["implausible"] += 1
-            return []
-        return self._accept(stamp_ns, a, w)
+        return self.push_imus(np.array([stamp_ns], np.int64),
+                              np.asarray(accel, float).reshape(1, 3),
+                              None if gyro is None else np.asarray(gyro, float).reshape(1, 3))
 
-    def _accept(self, stamp_ns: int, a: np.ndarray, w: np.ndarray) -> list[Processed]:
-        """A sample of finite, plausible values: kept unless its stamp goes back."""
-        if self.last_stamp_ns is not None and stamp_ns <= self.last_stamp_ns:
-            self.counts["stamp_not_increasing"] += 1
+    def push_imus(self, stamp_ns: np.ndarray, accel: np.ndarray, gyro: np.ndarray | None
+                  ) -> list[Processed]:
+        """IMU samples (N,) [ns], (N, 3) [m/s², rad/s; gyro None: no gyroscope] in arrival
+        order, as one block: the same samples kept, counted and processed as one at a
+        time would be (the module docstring), one chunk for the whole block."""
+        stamps = np.asarray(stamp_ns, np.int64)
+        a = np.asarray(accel, float).reshape(-1, 3)
+        w = np.full_like(a, np.nan) if gyro is None else np.asarray(gyro, float).reshape(-1, 3)
+        checked = np.zeros_like(a) if gyro is None else w
+        finite = np.isfinite(a).all(axis=1) & np.isfinite(checked).all(axis=1)
+        valid = finite & plausible(a, checked)
+        self.counts["non_finite"] += int((~finite).sum())
+        self.counts["implausible"] += int((finite & ~valid).sum())
+        start = np.iinfo(np.int64).min if self.last_stamp_ns is None else self.last_stamp_ns
+        before = np.maximum.accumulate(np.r_[start, np.where(valid, stamps, start)])[:-1]
+        kept = valid & (stamps > before)
+        self.counts["stamp_not_increasing"] += int((valid & ~kept).sum())
+        if not kept.any():
             return []
-        self.last_stamp_ns = int(stamp_ns)
+        self.last_stamp_ns = int(stamps[kept][-1])
         if self.t0_ns is None:
-            self.t0_ns = self.last_stamp_ns
+            self.t0_ns = int(stamps[kept][0])
         if self.failed is not None:
             return []
-        self.held.append((int(stamp_ns), a, w))
+        self.held.extend(zip(stamps[kept].tolist(), a[kept], w[kept], strict=True))
         if not self.checked:
             if len(self.held) < UNIT_CHECK_SAMPLES:
                 return []
@@ -173,11 +210,11 @@ class StreamingPocket:
     def _check_mag_units(self) -> None:
         """On the readings there are when the IMU check is made, or on the first one
         after it."""
-        if not self.mags or self.mag_checked:
+        if not len(self.mag_stamps) or self.mag_checked:
             return
         self.mag_checked = True
         try:
-            check_mag_units(np.array([m[1] for m in self.mags]))
+            check_mag_units(self.mag_values)
         except InputError as exc:
             self.mag_error = str(exc)
 
@@ -185,21 +222,12 @@ class StreamingPocket:
         """How many held samples can be processed: those a reading stamped at or after
         them has come for, or ``mag_wait_s`` of IMU data has passed since, or all when
         the magnetometer is off or has been quiet that long."""
-        wait_ns = self.mag_wait_s * 1e9
-        last = self.last_stamp_ns
-        quiet_since = self.mags[-1][0] if self.mags else self.t0_ns
-        if self.mag_error is not None or last - quiet_since > wait_ns:
+        if self.mag_error is not None or self.mag_stale:
             return len(self.held)
-        covered = self.mags[-1][0] if self.mags else -1
-        return sum(1 for stamp, _, _ in self.held if stamp <= covered or last - stamp >= wait_ns)
-
-    def _mag_for(self, stamp_ns: int) -> np.ndarray | None:
-        if self.mag_error is not None:
-            return None
-        for m_stamp, value in reversed(self.mags):
-            if m_stamp <= stamp_ns:
-                return value if stamp_ns - m_stamp <= MAG_MAX_AGE_S * 1e9 else None
-        return None
+        covered = self.mag_stamps[-1] if len(self.mag_stamps) else -1
+        waited = self.last_stamp_ns - self.mag_wait_s * 1e9
+        return int(np.searchsorted([h[0] for h in self.held], max(covered, waited),
+                                   side="right"))
 
     def _process(self, count: int) -> list[Processed]:
         """The first ``count`` held samples as one chunk."""
@@ -208,12 +236,15 @@ class StreamingPocket:
         held, self.held = self.held[:count], self.held[count:]
         stamps = np.array([h[0] for h in held], dtype=np.int64)
         mag = np.full((count, 3), np.nan)
-        for i, stamp in enumerate(stamps.tolist()):
-            value = self._mag_for(stamp)
-            if value is None:
-                self.counts["mag_missing"] += 1
-            else:
-                mag[i] = value
+        if self.mag_error is None:
+            mag = latest_readings(stamps, self.mag_stamps, self.mag_values)
+            first = max(int(np.searchsorted(self.mag_stamps, stamps[-1], side="right")) - 1, 0)
+            self.mag_stamps, self.mag_values = self.mag_stamps[first:], self.mag_values[first:]
+        missing = np.isnan(mag).any(axis=1)
+        self.counts["mag_missing"] += int(missing.sum())
+        self.processed_ns = int(stamps[-1])
+        if not missing.all():
+            self.paired_ns = int(stamps[~missing][-1])
         gyro = np.array([h[2] for h in held])
         inputs = ((stamps - self.t0_ns) * 1e-9, None if np.isnan(gyro).all() else gyro,
                   np.array([h[1] for h in held]), mag)

@@ -8,45 +8,71 @@ Subscribes ``imu/data`` (sensor_msgs/Imu, REP-145) and ``imu/mag``
 ``pdr/pocket/path`` (nav_msgs/Path, every step so far), stamped with the IMU sample that
 confirmed the step. Serves ``~/reset`` (std_srvs/Trigger) and
 ``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection: yaw and z gyro bias added
-as Kalman updates, Eq. (6.2), and the position fix, Eq. (6.3); refused with
-``accepted=false`` and the reason when a variance is negative or not finite or a χ² gate
-fails; a part whose value and variance are both 0 is not applied).
+as Kalman updates, Eq. (6.2), and the position fix, Eq. (6.3); all or nothing, every part
+gated against the covariance before any is applied, a refusal naming each failing part:
+pdr_pocket.navigator.PocketNavigator.apply_correction).
 
-Parameters: ``config`` (the navigator YAML, pdr_pocket.config; default the installed
-config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket calibrate-mag; overrides
-the configuration's), ``frame_id`` ("imu_link"), ``imu_durability`` (volatile or
-transient_local, to match the publisher), ``mag_wait_s`` (1.0: how long a sample waits for
-a late magnetometer reading, in seconds of IMU data).
+Parameters (docs/nodes.md): ``config`` (the navigator YAML, pdr_pocket.config; default
+the installed config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket
+calibrate-mag; overrides the configuration's), ``map_frame`` (the frame of the steps,
+poses and path: REP-105's map, pdr_core.frames), ``sensor_frame`` (the frame of the
+attitude's rates and of the gyro bias: the IMU's), ``imu_durability`` (volatile or
+transient_local, to match the publisher), ``mag_wait_s`` (1.0: how long a sample waits
+for a late magnetometer reading, in seconds of IMU data). The start-up line names the
+resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
-topics keep pace), so the estimates equal ``pdr-pocket attitude``'s on the same bag. Bad samples are
-dropped and counted with a throttled warning (pdr_pocket.streaming); data in g or deg/s is
-refused with an error until ``~/reset``; a magnetometer that stops publishing pauses the
-magnetic updates with a warning.
+topics keep pace), so the estimates equal ``pdr-pocket run``'s on the same bag, byte for
+byte for the attitude. Each callback takes its subscription's waiting messages as one
+block (up to :data:`MAX_BLOCK`, pdr_core.backlog), decoded and encoded as raw CDR, so a
+backlog (a bag played as fast as it is acknowledged) is worked off far faster than real
+time. Bad samples and malformed messages are dropped and counted with a throttled
+warning (pdr_pocket.streaming); data in g or deg/s is
+refused with an error until ``~/reset``; when the configuration has magnetic updates, a
+magnetometer quiet for ``mag_wait_s`` of IMU data pauses them with a warning naming its
+topic, and its next reading resumes them (logged too).
 """
 from __future__ import annotations
-
-from collections import deque
 
 import numpy as np
 from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, Vector3Stamped
 from nav_msgs.msg import Path
+from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu, MagneticField
 from std_srvs.srv import Trigger
 
-from pdr_core.headers import set_header, stamp_ns
+from pdr_core.backlog import decode_block, publish_acked, waiting_messages
+from pdr_core.batch import MessageBatch
+from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
+from pdr_core.headers import set_header
+from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
 from pdr_core.node_main import spin_node
-from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_core.node_params import declare, refuse_removed
+from pdr_core.node_wiring import wiring
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
+from pdr_pocket.attitude_offline import (
+    ATTITUDE_TOPIC,
+    GYRO_BIAS_TOPIC,
+    PocketInputs,
+    attitude_batches,
+)
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.pocket_offline import MAP_FRAME, pose_fields, step_fields
+from pdr_pocket.pocket_offline import pose_fields, step_fields
 from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
+DURABILITIES = ("volatile", "transient_local")
+# messages taken from a subscription's queue per callback (pdr_core.backlog): 4 s at
+# 100 Hz, so a backlog is worked off in large blocks while the services get their turn
+MAX_BLOCK = 400
+# history of the publishers (messages); the attitude goes out in acknowledged slices of
+# half of it (pdr_core.backlog.publish_acked), as zupt_ekf's estimates do
+HISTORY = 1000
+ACK_TIMEOUT = Duration(seconds=1.0)
 
 
 class PocketPdrNode(Node):
@@ -54,12 +80,23 @@ class PocketPdrNode(Node):
 
     def __init__(self) -> None:
         super().__init__("pocket_pdr")
-        path = self.declare_parameter("config", "").value
-        calibration_path = self.declare_parameter("mag_calibration", "").value
-        self.frame_id = self.declare_parameter("frame_id", "imu_link").value
-        durability = self.declare_parameter("imu_durability", "volatile").value
-        mag_wait_s = float(self.declare_parameter("mag_wait_s", MAG_WAIT_S).value)
+        refuse_removed(self, {"frame_id": "map_frame (steps, poses, path) or sensor_frame "
+                                          "(attitude, gyro bias)"})
+        path = declare(self, "config", "", "navigator YAML (pdr_pocket.config); empty: the "
+                       "installed config/pocket_pdr.yaml")
+        calibration_path = declare(self, "mag_calibration", "", "YAML of pdr-pocket "
+                                   "calibrate-mag; overrides the configuration's")
+        self.map_frame = declare(self, "map_frame", MAP_FRAME,
+                                 "frame of the steps, poses and path (ENU, REP-105)")
+        self.sensor_frame = declare(self, "sensor_frame", SENSOR_FRAME,
+                                    "frame of the attitude's rates and the gyro bias (the IMU)")
+        durability = declare(self, "imu_durability", "volatile",
+                             "durability of the IMU subscriptions, to match the publisher",
+                             DURABILITIES)
+        mag_wait_s = declare(self, "mag_wait_s", MAG_WAIT_S, "how long a sample waits for a "
+                             "late magnetometer reading [s of IMU data]")
         config = load_pocket_config(path or None)
+        self.mag_updates = config.orientation.updates.magnetic
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
         self.navigator = StreamingPocket(config, calibration, mag_wait_s)
@@ -67,9 +104,11 @@ class PocketPdrNode(Node):
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
-        self.create_subscription(Imu, "imu/data", self.on_imu, qos)
-        self.create_subscription(MagneticField, "imu/mag", self.on_mag, qos)
-        out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+        self.imu_sub = self.create_subscription(Imu, "imu/data", self.on_imu, qos, raw=True)
+        self.mag_sub = self.create_subscription(MagneticField, "imu/mag", self.on_mag, qos,
+                                                raw=True)
+        self.mag_topic = self.mag_sub.topic_name
+        out = QoSProfile(depth=HISTORY, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.attitude_pub = self.create_publisher(Imu, "pdr/pocket/attitude", out)
         self.bias_pub = self.create_publisher(Vector3Stamped, "pdr/pocket/gyro_bias", out)
@@ -77,76 +116,79 @@ class PocketPdrNode(Node):
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pdr/pocket/pose", out)
         self.path_pub = self.create_publisher(Path, "pdr/pocket/path", out)
         self.path = Path()
-        self.path.header.frame_id = MAP_FRAME
+        self.path.header.frame_id = self.map_frame
         self.create_service(Trigger, "~/reset", self.on_reset)
         self.create_service(ApplyCorrection, "pdr/pocket/apply_correction", self.on_correction)
-        self.inputs: deque[tuple[int, Imu]] = deque()
+        self.sources = _Sources()
+        self.undecodable = 0
         self.reported: dict[str, int] = {}
-        self.mag_was_stale = False
+        self.mag_was_paused = False
         self.detection_told = self.no_gait_told = False
-        self.get_logger().info(f"pocket_pdr: configuration {path or 'default'}")
+        magnetometer = "magnetic updates" if self.mag_updates else \
+            "the first reading's heading only (no magnetic update configured)"
+        self.get_logger().info(
+            f"pocket_pdr: configuration {path or 'default'}; map frame {self.map_frame}, "
+            f"sensor frame {self.sensor_frame}; {self.mag_topic}: {magnetometer}; "
+            f"{wiring(self)}")
 
-    def on_imu(self, msg: Imu) -> None:
-        stamp = stamp_ns(msg)
-        a, w = msg.linear_acceleration, msg.angular_velocity
-        gyro = None if msg.angular_velocity_covariance[0] == -1 else (w.x, w.y, w.z)
-        self.inputs.append((stamp, msg))
-        self.publish(self.navigator.push_imu(stamp, (a.x, a.y, a.z), gyro))
+    def on_imu(self, raw: bytes) -> None:
+        """One message from the executor, and the ones waiting behind it, as one block,
+        given to the navigator in parts of at most half ``mag_wait_s`` each after the
+        magnetometer readings that have come: a sample waits for its reading ``mag_wait_s``
+        of IMU data, and a whole block at once would let that time pass unseen."""
+        imu, malformed = decode_block(IMU, [raw, *waiting_messages(self.imu_sub,
+                                                                   MAX_BLOCK - 1)])
+        self.undecodable += malformed
+        self.sources.add(imu)
+        no_gyro = len(imu) and bool(np.all(imu["angular_velocity_covariance"][:, 0] == -1))
+        span_ns = self.navigator.mag_wait_s * 0.5e9
+        start = 0
+        while start < len(imu):
+            end = int(np.searchsorted(imu.stamp_ns, imu.stamp_ns[start] + span_ns,
+                                      side="right"))
+            self.on_mag_block([])
+            part = imu.take(slice(start, end))
+            self.publish(self.navigator.push_imus(
+                part.stamp_ns, part["linear_acceleration"],
+                None if no_gyro else part["angular_velocity"]))
+            start = end
         if self.navigator.failed is not None:
-            self.inputs.clear()
+            self.sources = _Sources()
         self.report_problems()
 
-    def on_mag(self, msg: MagneticField) -> None:
-        m = msg.magnetic_field
-        self.publish(self.navigator.push_mag(stamp_ns(msg), (m.x, m.y, m.z)))
+    def on_mag(self, raw: bytes) -> None:
+        self.on_mag_block([raw])
+
+    def on_mag_block(self, raws: list[bytes]) -> None:
+        """These magnetometer messages and the ones waiting behind them, as one block."""
+        mag, malformed = decode_block(MAGNETIC_FIELD, [*raws, *waiting_messages(
+            self.mag_sub, MAX_BLOCK - len(raws))])
+        self.undecodable += malformed
+        if len(mag):
+            self.publish(self.navigator.push_mags(mag.stamp_ns, mag["magnetic_field"]))
 
     def publish(self, chunks) -> None:
+        """Attitude and gyro bias of every sample the navigator took (raw CDR, as
+        ``pdr-pocket run`` writes them, in acknowledged slices), then each step."""
         for chunk in chunks:
             out = chunk.output
-            for i, stamp in enumerate(chunk.stamp_ns.tolist()):
-                self.publish_one(stamp, self.source_of(stamp), out.attitude, i)
+            inputs = self.sources.take(chunk.stamp_ns)
+            batches = attitude_batches(inputs, out.attitude, self.gyro_noise_var,
+                                       self.sensor_frame)
+            publish_acked([(self.attitude_pub, batches[ATTITUDE_TOPIC]),
+                           (self.bias_pub, batches[GYRO_BIAS_TOPIC])], HISTORY // 2,
+                          ACK_TIMEOUT)
             for step in out.steps:
                 self.publish_step(chunk.stamp_of(step.t_confirm), step,
                                   out.attitude.attitude[
                                       min(np.searchsorted(out.attitude.t, step.t_confirm),
                                           len(out.attitude.t) - 1)])
 
-    def source_of(self, stamp: int) -> Imu:
-        """The message of an estimate; the ones before it are samples the navigator
-        dropped."""
-        while True:
-            source_stamp, source = self.inputs.popleft()
-            if source_stamp == stamp:
-                return source
-
-    def publish_one(self, stamp: int, source: Imu, e, i: int) -> None:
-        att = Imu()
-        set_header(att.header, stamp, self.frame_id)
-        q = quaternion_from_orthonormal(e.attitude[i])
-        o = att.orientation
-        o.x, o.y, o.z, o.w = map(float, q)
-        cov = e.covariance[i]
-        att.orientation_covariance = [float(v) for v in cov[:3, :3].ravel()]
-        bias = e.bias[i]
-        w = source.angular_velocity
-        att.angular_velocity.x = w.x - float(bias[0])
-        att.angular_velocity.y = w.y - float(bias[1])
-        att.angular_velocity.z = w.z - float(bias[2])
-        att.angular_velocity_covariance = [
-            float(v) for v in (cov[3:, 3:] + np.eye(3) * self.gyro_noise_var).ravel()]
-        att.linear_acceleration = source.linear_acceleration
-        att.linear_acceleration_covariance = source.linear_acceleration_covariance
-        self.attitude_pub.publish(att)
-        out = Vector3Stamped()
-        out.header = att.header
-        out.vector.x, out.vector.y, out.vector.z = map(float, bias)
-        self.bias_pub.publish(out)
-
     def publish_step(self, stamp: int, step, attitude: np.ndarray) -> None:
         """Step, pose and path of one step (fields packed as pdr-pocket run packs them)."""
         fields = {k: v[0] for k, v in step_fields([step]).items()}
         msg = Step()
-        set_header(msg.header, stamp, MAP_FRAME)
+        set_header(msg.header, stamp, self.map_frame)
         msg.index = int(fields.pop("index"))
         msg.activity = int(fields.pop("activity"))
         for key, value in fields.items():
@@ -154,7 +196,7 @@ class PocketPdrNode(Node):
         self.step_pub.publish(msg)
         pose_values = {k: v[0] for k, v in pose_fields([step], attitude[None]).items()}
         pose = PoseWithCovarianceStamped()
-        set_header(pose.header, stamp, MAP_FRAME)
+        set_header(pose.header, stamp, self.map_frame)
         p = pose.pose.pose.position
         p.x, p.y, p.z = map(float, pose_values["pose.pose.position"])
         q = pose.pose.pose.orientation
@@ -193,7 +235,7 @@ class PocketPdrNode(Node):
 
     def report_problems(self) -> None:
         nav = self.navigator
-        for key, count in nav.counts.items():
+        for key, count in {**nav.counts, "malformed_cdr": self.undecodable}.items():
             if key != "mag_missing" and count > self.reported.get(key, 0):
                 self.get_logger().warning(f"{count} samples with {key} so far",
                                           throttle_duration_sec=5.0)
@@ -213,19 +255,53 @@ class PocketPdrNode(Node):
                 navigator.no_step_reason() is not None:
             self.get_logger().warning(navigator.no_step_reason())
             self.no_gait_told = True
-        stale = nav.mag_stale
-        if stale and not self.mag_was_stale and nav.last_stamp_ns is not None:
-            self.get_logger().warning("imu/mag: no recent reading, magnetic updates paused",
-                                      throttle_duration_sec=10.0)
-        self.mag_was_stale = stale
+        self.report_magnetometer()
+
+    def report_magnetometer(self) -> None:
+        """With magnetic updates configured: the magnetometer going quiet (paused) and
+        coming back (resumed), once each time."""
+        paused = self.navigator.mag_paused
+        if self.mag_updates and paused != self.mag_was_paused:
+            wait = self.navigator.mag_wait_s
+            if paused:
+                self.get_logger().warning(f"{self.mag_topic}: no reading for {wait:g} s of "
+                                          "IMU data, magnetic updates paused")
+            else:
+                self.get_logger().info(f"{self.mag_topic}: readings again, magnetic updates "
+                                       "resumed")
+        self.mag_was_paused = paused
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
-        self.detection_told = self.no_gait_told = False
-        self.inputs.clear()
+        self.detection_told = self.no_gait_told = self.mag_was_paused = False
+        self.sources = _Sources()
         self.path.poses = []
         response.success, response.message = True, "navigator reset"
         return response
+
+
+class _Sources:
+    """The IMU samples received and not yet estimated: the fields the attitude messages
+    carry over from them (the measured rates and specific force, with its covariance)."""
+
+    def __init__(self) -> None:
+        self.batch: MessageBatch | None = None
+
+    def add(self, imu: MessageBatch) -> None:
+        self.batch = imu if self.batch is None else MessageBatch.concatenate([self.batch, imu])
+
+    def take(self, stamp_ns: np.ndarray) -> PocketInputs:
+        """The samples of these stamps (ascending, each received) as the navigator's
+        inputs; they and every sample before them are forgotten (the navigator dropped
+        those)."""
+        b = self.batch
+        index = np.searchsorted(b.stamp_ns, stamp_ns)
+        rows = b.take(index)
+        self.batch = b.take(slice(int(index[-1]) + 1, None))
+        return PocketInputs(rows.stamp_ns, (rows.stamp_ns - rows.stamp_ns[0]) * 1e-9,
+                            rows["angular_velocity"], rows["linear_acceleration"],
+                            np.full((len(rows), 3), np.nan),
+                            rows["linear_acceleration_covariance"])
 
 
 def main(args: list[str] | None = None) -> None:
