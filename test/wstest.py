@@ -5,6 +5,8 @@ import os
 import signal
 import subprocess
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -101,6 +103,22 @@ def wait_for_log(proc: subprocess.Popen, *texts: str, timeout: float = 60.0) -> 
         if proc.poll() is not None or time.monotonic() > deadline:
             raise AssertionError(f"{proc.args[1]} never logged {texts}:\n{log_text(proc)}")
         time.sleep(0.05)
+
+
+@contextmanager
+def kept_figures() -> Iterator[list]:
+    """The Matplotlib figures the plotting functions draw, kept open (they close them)
+    so that a test can read their titles, axes and limits; closed at the end."""
+    import matplotlib.pyplot as plt
+
+    kept, close = [], plt.close
+    plt.close = kept.append
+    try:
+        yield kept
+    finally:
+        plt.close = close
+        for fig in kept:
+            close(fig)
 
 
 def log_text(proc: subprocess.Popen) -> str:

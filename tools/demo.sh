@@ -31,7 +31,7 @@ print(2 * (len(BagReader(sys.argv[1]).read("/imu/data")) - lag))
 PY
 )
 live_graph "$out" "$out/simulated" "[/imu/data]" "[pdr/foot/pose, pdr/foot/stance]" \
-  "$expected" "zupt_ekf --ros-args -p config:=$config -p imu_durability:=transient_local"
+  "$expected" 0.0 "zupt_ekf --ros-args -p config:=$config -p imu_durability:=transient_local"
 
 echo "== 3. report against the ground truth"
 "$root/ws" pdr-ekf evaluate "$out/live" --truth "$out/simulated" --plot "$out/estimate.png"
@@ -50,7 +50,7 @@ no_mag="$root/src/pdr_pocket/config/pocket_pdr_no_mag.yaml"
 expected=$(python -c "import json,sys; r=json.load(open(sys.argv[1])); d=r['drift']
 print(r['steps'] + d['landmarks'] + d['associations'])" "$pocket/report.json")
 live_graph "$pocket" "$pocket/simulated" "[/imu/data, /imu/mag]" \
-  "[pdr/pocket/pose, pdr/landmarks, pdr/drift]" "$expected" \
+  "[pdr/pocket/pose, pdr/landmarks, pdr/drift]" "$expected" 10.0 \
   "pocket_pdr --ros-args -p imu_durability:=transient_local -p config:=$no_mag" \
   "landmark_drift"
 grep -h "correction accepted\|correction refused" "$pocket/landmark_drift.log" | tail -n 3
@@ -71,10 +71,13 @@ corrected = live.read("/pdr/pocket/pose")["pose.pose.position"][:, :2]
 marks = live.read("/pdr/landmarks")["position"][:, :2]
 drift = live.read("/pdr/drift")
 start = np.zeros((1, 2))
-paths_png([(np.r_[start, truth], "truth", "k"), (np.r_[start, alone], "pocket_pdr alone",
-            "tab:red"), (np.r_[start, corrected], "with landmark_drift's corrections",
-            "tab:blue")], marks, folder / "corrections.png",
-          "a phone in the pocket, two laps of a block")
+poses = live.read("/pdr/pocket/pose").stamp_ns
+applied = corrected[np.searchsorted(poses, drift.stamp_ns)]
+paths_png(np.r_[start, corrected], np.r_[start, alone], marks, folder / "corrections.png",
+          "block_two_laps", truth=np.r_[start, truth],
+          corrected_label="with landmark_drift's corrections",
+          uncorrected_label="pocket_pdr alone", corrections=applied,
+          shows="a phone in the pocket, two laps of a block, the live graph")
 end = lambda p: np.linalg.norm(p[-1] - truth[-1])
 print(f"{len(marks)} landmarks, {len(drift)} revisit(s): drift "
       + ", ".join(f"{np.degrees(d):+.4f}" for d in drift["drift"]) + " deg/s; final error "

@@ -1,4 +1,4 @@
-"""Trajectory error metrics of ../shared/INTERFACES.md (the ``report.json`` fields).
+"""Trajectory error metrics: the ``report.json`` fields of docs/reports.md.
 
 The estimate and the truth, both (N, 3) ENU [m] at the same stamps, are compared after
 removing the start offset and rotating the estimate about the vertical so that its
@@ -9,7 +9,12 @@ horizontal displacement matches the truth's at the first sample where the estima
 - ``armse_3d_m`` / ``armse_2d_m``: the pyshoe papers' metric: per sample the RMS over the
   axes (Euclidean error / √3, or the horizontal error / √2), then the mean over samples;
 - ``final_error_m`` and ``final_error_pct`` (of the true path length ``distance_m``);
-- ``within_step_rmse_m`` (``pdr-ekf run``, beyond INTERFACES.md): :func:`within_step_rmse`.
+- ``within_step_rmse_m`` (``pdr-ekf run``): :func:`within_step_rmse`.
+
+:func:`walk_figures`: a walk's ``duration_s``, ``distance_m`` and ``loop_gap_m``, one
+definition for every CLI that reports them (``pdr-ekf``, ``pdr-pocket run``, ``pdr-drift
+run``), measured from the walk's start: the first IMU sample and the position the
+navigator starts from.
 
 :func:`truth_at` and :func:`truth_orientation_at` sample a ground-truth PoseStamped batch at
 the estimate's stamps.
@@ -50,14 +55,30 @@ def path_length(position: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(position, axis=0), axis=1).sum())
 
 
+def walk_figures(t_s: np.ndarray, position: np.ndarray) -> dict:
+    """A walk's figures, whichever tool reports them. ``t_s`` (N,) [s] and ``position``
+    (N, 3) ENU [m] begin at the walk's start: the first IMU sample and the position the
+    navigator starts from (its origin); then one row per estimate (every sample of the
+    foot navigator, each step's confirmation of a pocket navigator).
+
+    - ``duration_s``: from the start to the last row [s];
+    - ``distance_m``: the length of the path from the start through every position [m]
+      (3D, so stairs count);
+    - ``loop_gap_m``: the straight (3D) distance from the start to the last position [m].
+    """
+    return {"duration_s": float(t_s[-1] - t_s[0]), "distance_m": path_length(position),
+            "loop_gap_m": float(np.linalg.norm(position[-1] - position[0]))}
+
+
 def error_report(t_s: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None) -> dict:
-    """The report fields of INTERFACES.md; without truth: duration, estimated distance and
-    the start-end gap."""
-    report = {"duration_s": float(t_s[-1] - t_s[0])}
+    """The trajectory figures of docs/reports.md, ``t_s`` and ``estimate`` from the walk's start
+    as :func:`walk_figures` takes them. Without truth: :func:`walk_figures`. With truth:
+    its ``duration_s``; ``distance_m`` is then the true path's length, and the errors
+    (module docstring) replace the loop gap."""
+    figures = walk_figures(t_s, estimate)
     if truth is None:
-        report["distance_m"] = path_length(estimate)
-        report["loop_gap_m"] = float(np.linalg.norm(estimate[-1] - estimate[0]))
-        return report
+        return figures
+    report = {"duration_s": figures["duration_s"]}
     est = aligned(estimate, truth)
     ref = truth - truth[0]
     error = est - ref

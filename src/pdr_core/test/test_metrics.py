@@ -1,10 +1,10 @@
-"""Report metrics of INTERFACES.md."""
+"""Report metrics of docs/reports.md (the trajectory figures)."""
 import itertools
 
 import numpy as np
 import pytest
 
-from pdr_core.metrics import aligned, error_report, within_step_rmse
+from pdr_core.metrics import aligned, error_report, walk_figures, within_step_rmse
 
 
 def test_rotated_and_shifted_estimate_has_no_error():
@@ -38,6 +38,19 @@ def test_without_truth_the_loop_gap_is_reported():
     report = error_report(np.arange(4.0), estimate, None)
     assert report == {"duration_s": 3.0, "distance_m": pytest.approx(3 + 4 + np.hypot(2.9, 4)),
                       "loop_gap_m": pytest.approx(0.1)}
+
+
+def test_the_walks_figures_count_from_its_start():
+    """Issue 29: one definition for pdr-pocket run and pdr-drift run, from the first IMU
+    sample and the origin, not from the first step: a walk that stands 10 s at the
+    origin, then steps 1 m east at 11 s and 1 m north at 12 s."""
+    t = np.array([0.0, 11.0, 12.0])
+    position = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0]], float)
+    figures = walk_figures(t, position)
+    assert figures == {"duration_s": 12.0, "distance_m": pytest.approx(2.0),
+                       "loop_gap_m": pytest.approx(np.sqrt(2))}
+    assert error_report(t, position, None) == figures
+    assert error_report(t, position, position)["duration_s"] == 12.0
 
 
 def test_within_step_error_ignores_each_steps_heading():

@@ -19,6 +19,7 @@ import numpy as np
 
 from pdr_core.batch import LazyBatch, MessageBatch
 from pdr_core.errors import InputError
+from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.imu_checks import check_units, clean_samples
 from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANCE_STAMPED
 from pdr_core.nav_path import encode_path
@@ -27,7 +28,6 @@ from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
 STANCE = "pdr_msgs/msg/Stance"
-MAP_FRAME = "map"
 UNKNOWN_VARIANCE = 1e6
 
 
@@ -115,7 +115,7 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch
         "/pdr/foot/pose": LazyBatch(POSE_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, pose),
         "/pdr/foot/velocity": LazyBatch(TWIST_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame,
                                         velocity),
-        "/pdr/foot/stance": LazyBatch(STANCE, run_.stamp_ns, "imu_link", lambda index: {
+        "/pdr/foot/stance": LazyBatch(STANCE, run_.stamp_ns, SENSOR_FRAME, lambda index: {
             "stationary": run_.stance[index], "statistic": run_.statistic[index],
             "detector": detector[index]}),
     }

@@ -11,27 +11,39 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from pdr_core.metrics import aligned
+from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
 
 
 def path_png(t: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None, path: Path,
-             title: str) -> None:
+             source: str | Path, *, steps: int | None = None,
+             shows: str = "the estimated path") -> None:
     """Top view and height of the estimate (aligned as the report) against the truth, and
-    the error over time."""
+    the error over time. The top view is to scale unless it is a strip and the height
+    spans a floor at least (pdr_core.plot_layout); the title gives ``source``'s name,
+    what it ``shows``, the ``steps`` and the report's final error, or without truth the
+    loop gap."""
     fig, ax = plt.subplots(1, 3 if truth is not None else 2, figsize=(16, 5))
     est = aligned(estimate, truth) if truth is not None else estimate - estimate[0]
     ax[0].plot(est[:, 0], est[:, 1], label="estimate")
     ax[1].plot(t, est[:, 2], label="estimate")
+    heights = est[:, 2]
+    final_error = None
     if truth is not None:
         ref = truth - truth[0]
         ax[0].plot(ref[:, 0], ref[:, 1], "k--", label="truth")
         ax[1].plot(t, ref[:, 2], "k--", label="truth")
-        ax[2].plot(t, np.linalg.norm(est - ref, axis=1))
+        error = np.linalg.norm(est - ref, axis=1)
+        ax[2].plot(t, error)
         ax[2].set(xlabel="t [s]", ylabel="3D error [m]", title="error")
-    ax[0].set(xlabel="x [m]", ylabel="y [m]", title="top view", aspect="equal")
+        heights, final_error = np.r_[heights, ref[:, 2]], float(error[-1])
+    ax[0].set_title("top view")
+    top_view(ax[0], "x [m]", "y [m]")
     ax[1].set(xlabel="t [s]", ylabel="z [m]", title="height")
+    height_axis(ax[1], heights, "y")
     for a in ax[:2]:
         a.legend()
-    fig.suptitle(title)
+    fig.suptitle(figure_title(source, shows, walk_summary(
+        steps, final_error, float(np.linalg.norm(est[-1] - est[0])))))
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)

@@ -11,15 +11,18 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
+
 AXES = ("x", "y", "z")
 COLOURS = ("tab:blue", "tab:red", "tab:green")
 
 
 def attitude_png(t_s: np.ndarray, errors_deg: np.ndarray | None, sigma_deg: np.ndarray,
                  bias_deg_per_s: np.ndarray, bias_sigma: np.ndarray,
-                 true_bias: np.ndarray | None, path: Path, title: str) -> None:
+                 true_bias: np.ndarray | None, path: Path, source: str | Path) -> None:
     """Top: roll, pitch, yaw errors [°] with ±σ (or ±σ alone without a truth); bottom:
-    the three gyro biases [°/s] with ±σ and the true values, against minutes."""
+    the three gyro biases [°/s] with ±σ and the true values, against minutes. The
+    title: ``source``'s name and the final attitude errors (or "no truth")."""
     step = max(1, len(t_s) // 20000)
     t = t_s[::step] / 60.0
     fig, ax = plt.subplots(2, 1, figsize=(12, 9), sharex=True)
@@ -43,15 +46,19 @@ def attitude_png(t_s: np.ndarray, errors_deg: np.ndarray | None, sigma_deg: np.n
     ax[1].set(xlabel="t [min]", ylabel="[deg/s]", title="gyroscope biases (dotted: ±σ, "
               "dashed: truth)")
     ax[1].legend(loc="upper left")
-    fig.suptitle(title)
+    final = "no truth" if errors_deg is None else "final error " + ", ".join(
+        f"{name} {errors_deg[-1, i]:+.2f}°" for i, name in enumerate(("roll", "pitch", "yaw")))
+    fig.suptitle(figure_title(source, "the orientation filter's attitude and gyro biases",
+                              f"{t_s[-1] - t_s[0]:.0f} s, {final}"))
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
 def magnetometer_png(raw_ut: np.ndarray, calibrated_ut: np.ndarray, path: Path,
-                     title: str) -> None:
-    """The raw readings and the calibrated ones, which the fit brings to a sphere."""
+                     source: str | Path) -> None:
+    """The raw readings and the calibrated ones, which the fit brings to a sphere; the
+    title: ``source``'s name and the number of readings."""
     step = max(1, len(raw_ut) // 5000)
     fig = plt.figure(figsize=(12, 6))
     for k, (points, name) in enumerate(((raw_ut, "raw"), (calibrated_ut, "calibrated"))):
@@ -63,7 +70,8 @@ def magnetometer_png(raw_ut: np.ndarray, calibrated_ut: np.ndarray, path: Path,
             ax.plot_wireframe(radius * np.cos(u) * np.sin(v), radius * np.sin(u) * np.sin(v),
                               radius * np.cos(v), color="grey", lw=0.3)
         ax.set(xlabel="x [µT]", ylabel="y [µT]", zlabel="z [µT]", title=name)
-    fig.suptitle(title)
+    fig.suptitle(figure_title(source, "magnetometer calibration, the raw cloud and the "
+                                      "fitted sphere", f"{len(raw_ut)} readings"))
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
@@ -71,25 +79,36 @@ def magnetometer_png(raw_ut: np.ndarray, calibrated_ut: np.ndarray, path: Path,
 
 ACTIVITY_COLOURS = ("tab:gray", "tab:blue", "tab:green", "tab:orange", "tab:purple")
 ELLIPSE_EVERY_STEPS = 20
+ZOOM_ABOVE_S = 60.0     # a longer pitch trace gets a zoom on a few gait cycles
+ZOOM_CYCLES = 4         # gait cycles (the sensor leg's steps) in the zoom
 
 
 def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.ndarray,
                    truth: np.ndarray | None, t_s: np.ndarray, pitch_deg: np.ndarray,
                    step_t: np.ndarray, true_step_t: np.ndarray | None, path: Path,
-                   title: str, landmarks: np.ndarray | None = None,
-                   associations: list[tuple[np.ndarray, np.ndarray]] = ()) -> None:
-    """Three panels: the 3D path (one point per step, coloured by activity: level
-    blue, up green, down orange), the top view with the 1σ position ellipse every
-    :data:`ELLIPSE_EVERY_STEPS` steps, and the thigh pitch with the detected steps (and
-    the true ones). Decimated to at most 20,000 points per line, so an hour plots in
-    seconds. With the drift estimator's ``landmarks`` (N, 3) and ``associations`` (pairs
-    of positions), the top view marks them, as Muñoz Díaz 2016, Figs. 6.8-6.9."""
+                   source: str | Path, landmarks: np.ndarray | None = None,
+                   associations: list[tuple[np.ndarray, np.ndarray]] = (), *,
+                   final_error_m: float | None = None, loop_gap_m: float | None = None
+                   ) -> None:
+    """The 3D path (``positions`` (N + 1, 3) [m] from the start, one point per step,
+    coloured by activity: level blue, up green, down orange; the height axis a floor at
+    least, pdr_core.plot_layout), the top view with the 1σ position ellipse every
+    :data:`ELLIPSE_EVERY_STEPS` steps (to scale unless it is a strip, then stretched and
+    labelled so), and the thigh pitch [deg] against ``t_s`` [s] with the detected steps
+    (``step_t``) and the true ones, and beyond :data:`ZOOM_ABOVE_S` a zoom on
+    :data:`ZOOM_CYCLES` gait cycles in the middle. Decimated to at most 20,000 points per
+    line, so an hour plots in seconds. With the drift estimator's ``landmarks`` (N, 3)
+    and ``associations`` (pairs of positions), the top view marks them, as Muñoz Díaz
+    2016, Figs. 6.8-6.9. The title: ``source``'s name, the steps and ``final_error_m``
+    (against a truth) or ``loop_gap_m`` (the report's)."""
     from pdr_pocket.activity import ACTIVITY_NAMES
 
     fig = plt.figure(figsize=(15, 10))
-    ax3 = fig.add_subplot(2, 2, 1, projection="3d")
-    top = fig.add_subplot(2, 2, 2)
-    pitch_ax = fig.add_subplot(2, 1, 2)
+    grid = fig.add_gridspec(2, 4)
+    ax3 = fig.add_subplot(grid[0, :2], projection="3d")
+    top = fig.add_subplot(grid[0, 2:])
+    zoom = len(step_t) > ZOOM_CYCLES and t_s[-1] - t_s[0] > ZOOM_ABOVE_S
+    pitch_ax = fig.add_subplot(grid[1, :3] if zoom else grid[1, :])
     for a, name in enumerate(ACTIVITY_NAMES):
         mask = activity == a
         if mask.any():
@@ -98,6 +117,7 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
         ax3.plot(*truth.T, color="k", lw=0.6, label="truth")
         top.plot(truth[:, 0], truth[:, 1], color="k", lw=0.6, label="truth")
     ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="3D path")
+    height_axis(ax3, positions[:, 2] if truth is None else np.r_[positions[:, 2], truth[:, 2]])
     ax3.legend(loc="upper left", fontsize=8)
     top.plot(positions[:, 0], positions[:, 1], color="tab:blue", lw=1, label="estimate")
     angles = np.linspace(0, 2 * np.pi, 60)
@@ -112,20 +132,51 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     for k, (first, revisit) in enumerate(associations):
         top.plot([first[0], revisit[0]], [first[1], revisit[1]], "-", color="tab:green", lw=2,
                  label="associations" if k == 0 else None)
-    top.set(xlabel="east [m]", ylabel="north [m]", aspect="equal",
-            title=f"top view, 1σ ellipses every {ELLIPSE_EVERY_STEPS} steps")
+    top.set_title(f"top view, 1σ ellipses every {ELLIPSE_EVERY_STEPS} steps")
+    top_view(top)
     top.legend(loc="best", fontsize=8)
     step = max(1, len(t_s) // 20000)
     pitch_ax.plot(t_s[::step], pitch_deg[::step], color="tab:blue", lw=0.6, label="thigh pitch")
-    pitch_ax.plot(step_t, np.interp(step_t, t_s, pitch_deg), "v", color="tab:red", ms=4,
-                  label="detected steps")
-    if true_step_t is not None:
-        pitch_ax.plot(true_step_t, np.full(len(true_step_t), np.nanmin(pitch_deg)), "|",
-                      color="k", ms=8, label="true steps (cycle ends)")
+    _steps_on_pitch(pitch_ax, t_s, pitch_deg, step_t, true_step_t)
     pitch_ax.set(xlabel="time [s]", ylabel="pitch [deg]", title="thigh pitch and steps")
     pitch_ax.legend(loc="upper right", fontsize=8)
-    fig.suptitle(title)
+    if zoom:
+        _pitch_zoom(fig.add_subplot(grid[1, 3]), pitch_ax, t_s, pitch_deg, step_t, true_step_t)
+    steps = len(positions) - 1
+    fig.suptitle(figure_title(source, "the pocket navigator" + (
+        ", landmarks and associations" if landmarks is not None else ""),
+        walk_summary(steps, final_error_m, loop_gap_m)))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
+
+def _steps_on_pitch(ax, t_s: np.ndarray, pitch_deg: np.ndarray, step_t: np.ndarray,
+                    true_step_t: np.ndarray | None) -> None:
+    """The detected steps on the pitch (▼) and the true ones below it (|)."""
+    ax.plot(step_t, np.interp(step_t, t_s, pitch_deg), "v", color="tab:red", ms=4,
+            label="detected steps")
+    if true_step_t is not None:
+        ax.plot(true_step_t, np.full(len(true_step_t), np.nanmin(pitch_deg)), "|",
+                color="k", ms=8, label="true steps (cycle ends)")
+
+
+def _pitch_zoom(ax, whole, t_s: np.ndarray, pitch_deg: np.ndarray, step_t: np.ndarray,
+                true_step_t: np.ndarray | None) -> None:
+    """:data:`ZOOM_CYCLES` gait cycles around the middle detected step at full rate, the
+    steps marked, and a box on the whole trace (``whole``) where they are."""
+    k = min(max(len(step_t) // 2 - ZOOM_CYCLES // 2, 0), len(step_t) - 1 - ZOOM_CYCLES)
+    first, last = step_t[k], step_t[k + ZOOM_CYCLES]
+    pad = 0.5 * (last - first) / ZOOM_CYCLES
+    low, high = first - pad, last + pad
+    inside = (t_s >= low) & (t_s <= high)
+    ax.plot(t_s[inside], pitch_deg[inside], color="tab:blue", lw=0.8)
+    marks = step_t[(step_t >= low) & (step_t <= high)]
+    truth = None if true_step_t is None else \
+        true_step_t[(true_step_t >= low) & (true_step_t <= high)]
+    _steps_on_pitch(ax, t_s, pitch_deg, marks, truth)
+    ax.set(xlim=(low, high), xlabel="time [s]",
+           title=f"zoom: {ZOOM_CYCLES} gait cycles, {low:.0f}-{high:.0f} s")
+    bottom, top = ax.get_ylim()
+    whole.indicate_inset([low, bottom, high - low, top - bottom], inset_ax=ax,
+                         edgecolor="k")

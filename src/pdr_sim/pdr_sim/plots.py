@@ -11,25 +11,49 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
 from pdr_sim.trajectory import Trajectory
 
 
-def trajectory_png(traj: Trajectory, path: Path, title: str) -> None:
-    """Top view, height, and position/attitude against time."""
+def step_count(model) -> int:
+    """The steps of a simulated walk: the swings of a foot's
+    :class:`pdr_sim.foot_trajectory.FootTrajectory`, the true steps of a thigh's
+    :class:`pdr_sim.thigh_trajectory.ThighTrajectory`."""
+    from pdr_sim.foot_trajectory import REST
+
+    steps = getattr(model, "true_steps", None)
+    return len(steps.length) if steps is not None else int(np.sum(model.phases.kind != REST))
+
+
+def _route_title(title: str, shows: str, traj: Trajectory, steps: int | None) -> str:
+    """The figure's title: the run's ``title``, what it shows, the steps and where the
+    route ends (the simulation is the truth)."""
+    gap = float(np.linalg.norm(traj.position[-1] - traj.position[0]))
+    return figure_title(title, shows, walk_summary(steps, loop_gap_m=gap, of_truth=True))
+
+
+def trajectory_png(traj: Trajectory, path: Path, title: str, *, steps: int | None = None,
+                   foot: bool = True) -> None:
+    """Top view (to scale unless it is a strip, pdr_core.plot_layout), position and
+    attitude against time, speed. ``foot``: a foot's trajectory, whose position and
+    attitude panels are Zampella et al. 2011's Figs. 1a and 1b (a thigh's are not)."""
+    paper = (" (Fig. 1a)", " (Fig. 1b)") if foot else ("", "")
     fig, ax = plt.subplots(2, 2, figsize=(12, 8))
     ax[0, 0].plot(traj.position[:, 0], traj.position[:, 1])
-    ax[0, 0].set(xlabel="east [m]", ylabel="north [m]", title="top view", aspect="equal")
+    ax[0, 0].set_title("top view")
+    top_view(ax[0, 0])
     for i, name in enumerate("ENU"):
         ax[0, 1].plot(traj.t, traj.position[:, i], label=name)
-    ax[0, 1].set(xlabel="t [s]", ylabel="position [m]", title="position (Fig. 1a)")
+    ax[0, 1].set(xlabel="t [s]", ylabel="position [m]", title="position" + paper[0])
     ax[0, 1].legend()
     for i, name in enumerate(("roll", "pitch", "yaw")):
         ax[1, 0].plot(traj.t, np.degrees(traj.euler[:, i]), label=name)
-    ax[1, 0].set(xlabel="t [s]", ylabel="[deg]", title="attitude (Fig. 1b)")
+    ax[1, 0].set(xlabel="t [s]", ylabel="[deg]", title="attitude" + paper[1])
     ax[1, 0].legend()
     ax[1, 1].plot(traj.t, np.linalg.norm(traj.velocity, axis=1))
     ax[1, 1].set(xlabel="t [s]", ylabel="|v| [m/s]", title="speed")
-    fig.suptitle(title)
+    fig.suptitle(_route_title(title, f"the simulated {'foot' if foot else 'sensor'}'s "
+                                     "trajectory", traj, steps))
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
@@ -58,13 +82,14 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
                     label=ACTIVITY_LABELS[int(activity)])
     ax3.plot(*traj.position[::10].T, color="grey", lw=0.4)
     ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="route (3D)")
+    height_axis(ax3, np.r_[points[:, 2], traj.position[:, 2]])
     ax3.legend(fontsize=8)
     top = fig.add_subplot(3, 2, 2)
     top.plot(traj.position[:, 0], traj.position[:, 1], color="grey", lw=0.6)
     for mark in model.landmarks:
         top.plot(*mark.position[:2], "k^" if mark.type == 0 else "gs", ms=6)
-    top.set(xlabel="east [m]", ylabel="north [m]", title="top view, landmarks (▲ corner, "
-            "■ stairs)", aspect="equal")
+    top.set_title("top view, landmarks (▲ corner, ■ stairs)")
+    top_view(top)
     whole = fig.add_subplot(3, 1, 2)
     _pitch_panel(whole, model, traj.t)
     twin = whole.twinx()
@@ -84,7 +109,7 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
             window = traj.t[(traj.t >= start) & (traj.t <= steps.end_s[middle] + 2.0)]
             _pitch_panel(ax, model, window)
         ax.set_title("level steps" if column == 1 else "stairs steps")
-    fig.suptitle(title)
+    fig.suptitle(_route_title(title, "the simulated pocket walk", traj, len(steps.length)))
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)

@@ -26,6 +26,7 @@ from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
+from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.imu_errors import ImuErrors, corrupt, turn_on_bias
 from pdr_core.imu_profiles import PROFILES, profile
 from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, MagneticField, homogeneous
@@ -41,7 +42,6 @@ from pdr_sim.trajectory import Trajectory, TrajectoryModel
 
 START_TIME_NS = 1_700_000_000 * 1_000_000_000   # stamps start here (2023-11-14T22:13:20Z)
 MIN_RATE_HZ, MAX_RATE_HZ = 50.0, 1000.0
-IMU_FRAME, MAP_FRAME = "imu_link", "map"
 PLACEMENTS = ("foot", "pocket")
 WORKERS = max(1, min(4, os.cpu_count() or 1))
 
@@ -196,7 +196,7 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
     stamps = _stamps(traj.t)
     no_orientation = np.zeros(9)
     no_orientation[0] = -1.0
-    imu = MessageBatch(IMU, stamps, IMU_FRAME, {
+    imu = MessageBatch(IMU, stamps, SENSOR_FRAME, {
         "orientation": np.broadcast_to([0.0, 0.0, 0.0, 1.0], (n, 4)),
         "orientation_covariance": np.broadcast_to(no_orientation, (n, 9)),
         "angular_velocity": gyro,
@@ -204,7 +204,7 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
         "linear_acceleration": accel,
         "linear_acceleration_covariance": _covariance(errors.accel.white_density,
                                                       config.rate_hz, n)})
-    mag_batch = MessageBatch(MAGNETIC_FIELD, stamps, IMU_FRAME, {
+    mag_batch = MessageBatch(MAGNETIC_FIELD, stamps, SENSOR_FRAME, {
         "magnetic_field": mag,
         "magnetic_field_covariance": _covariance(errors.mag.white_density, config.rate_hz, n)})
     pose = MessageBatch(POSE_STAMPED, stamps, MAP_FRAME, {

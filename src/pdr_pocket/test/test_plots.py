@@ -1,0 +1,101 @@
+"""pdr-pocket's figures answer their question (issue 29): a short title with the steps
+and the final error, a strip's top view stretched and labelled so, a level walk's height
+axis a floor high, and a zoom on a few gait cycles of a long pitch trace with the
+detected steps. Checked on the figure itself, not on pixels."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from matplotlib.inset import InsetIndicator
+
+from pdr_core.plot_layout import MIN_HEIGHT_SPAN_M
+from pdr_pocket import plots
+from wstest import kept_figures
+
+CYCLE_S = 1.1
+
+
+@pytest.fixture
+def figures():
+    with kept_figures() as kept:
+        yield kept
+
+
+def strip_walk(minutes: float, with_truth: bool = True):
+    """A level walk out and back along a strip 80 m × 1.75 m, one step per gait cycle,
+    and its thigh pitch at 100 Hz."""
+    t = np.arange(0, 60 * minutes, 0.01)
+    steps_t = np.arange(5.0, t[-1] - 1.0, CYCLE_S)
+    n = len(steps_t)
+    east = 80 * (1 - np.abs(np.linspace(-1, 1, n + 1)))
+    north = np.where(np.arange(n + 1) > n // 2, 1.75, 0.0)
+    positions = np.c_[east, north, 0.002 * np.sin(np.arange(n + 1))]
+    covariances = np.tile(np.eye(3) * 0.01, (n + 1, 1, 1))
+    pitch = 15 * np.sin(2 * np.pi * t / CYCLE_S) + 10
+    truth = positions + [0.1, 0.0, 0.0] if with_truth else None
+    return dict(positions=positions, covariances=covariances,
+                activity=np.ones(n + 1, int), truth=truth, t_s=t, pitch_deg=pitch,
+                step_t=steps_t, true_step_t=steps_t + 0.05)
+
+
+def draw(figures, tmp_path, walk, **kwargs):
+    plots.navigation_png(**walk, path=tmp_path / "path.png",
+                         source=tmp_path / "work" / "up_dw", **kwargs)
+    assert (tmp_path / "path.png").stat().st_size > 10_000
+    [fig] = figures
+    return fig, {ax.get_title(): ax for ax in fig.axes}
+
+
+def test_the_title_is_the_walks_name_its_steps_and_final_error(figures, tmp_path):
+    walk = strip_walk(2)
+    fig, _ = draw(figures, tmp_path, walk, final_error_m=1.234)
+    title = fig._suptitle.get_text()
+    assert str(tmp_path) not in title
+    assert title.startswith("up_dw: the pocket navigator")
+    assert f"{len(walk['step_t'])} steps, final error 1.23 m" in title
+
+
+def test_without_truth_the_title_gives_the_loop_gap(figures, tmp_path):
+    fig, _ = draw(figures, tmp_path, strip_walk(2, with_truth=False), loop_gap_m=1.75)
+    assert "no truth, final loop gap 1.75 m" in fig._suptitle.get_text()
+
+
+def test_a_strip_is_stretched_and_a_level_walk_drawn_a_floor_high(figures, tmp_path):
+    _, axes = draw(figures, tmp_path, strip_walk(2))
+    top = axes["top view, 1σ ellipses every 20 steps"]
+    assert top.get_aspect() > 5 and "stretched" in top.get_ylabel()
+    low, high = axes["3D path"].get_zlim()
+    assert high - low >= MIN_HEIGHT_SPAN_M - 1e-9
+
+
+def test_a_seven_minute_pitch_trace_has_a_zoom_on_a_few_gait_cycles(figures, tmp_path):
+    walk = strip_walk(7)
+    _, axes = draw(figures, tmp_path, walk)
+    [title] = [t for t in axes if t.startswith("zoom")]
+    zoom = axes[title]
+    low, high = zoom.get_xlim()
+    assert plots.ZOOM_CYCLES * CYCLE_S <= high - low <= (plots.ZOOM_CYCLES + 1.5) * CYCLE_S
+    shown = walk["step_t"][(walk["step_t"] >= low) & (walk["step_t"] <= high)]
+    [marks] = [line for line in zoom.get_lines() if line.get_marker() == "v"]
+    np.testing.assert_array_equal(marks.get_xdata(), shown)
+    assert len(shown) == plots.ZOOM_CYCLES + 1
+    # the whole trace shows where the zoom is
+    [box] = [a for a in axes["thigh pitch and steps"].artists if isinstance(a, InsetIndicator)]
+    assert box.rectangle.get_x() == pytest.approx(low)
+    assert box.rectangle.get_width() == pytest.approx(high - low)
+
+
+def test_a_short_pitch_trace_has_no_zoom(figures, tmp_path):
+    _, axes = draw(figures, tmp_path, strip_walk(0.5))
+    assert not [t for t in axes if t.startswith("zoom")]
+
+
+def test_the_attitude_figure_is_titled_by_name_and_final_error(figures, tmp_path):
+    t = np.linspace(0, 60, 601)
+    errors = np.tile([0.1, -0.2, 1.5], (len(t), 1))
+    sigma = np.ones((len(t), 3))
+    plots.attitude_png(t, errors, sigma, np.zeros((len(t), 3)), sigma, None,
+                       tmp_path / "a.png", tmp_path / "walk")
+    title = figures[0]._suptitle.get_text()
+    assert title.startswith("walk: ") and str(tmp_path) not in title
+    assert "final error roll +0.10°, pitch -0.20°, yaw +1.50°" in title
