@@ -118,7 +118,8 @@ def test_pocket_help_no_longer_fails_on_percent_signs():
 # that fail a plausibility check
 WRITES_A_BAG = {("pdr-sim", "generate"), ("pdr-sim", "import-csv"), ("pdr-sim", "repair"),
                 ("pdr-pocket", "run"), ("pdr-pocket", "attitude"), ("pdr-ekf", "run"),
-                ("pdr-drift", "run")}
+                ("pdr-drift", "run"),
+                ("pdr-sim", "export-csv"), ("pdr-pocket", "evaluate")}   # a CSV, a JSON
 CHECKS_PLAUSIBILITY = {("pdr-sim", "import-csv"), ("pdr-sim", "allan"),
                        ("pdr-pocket", "calibrate-mag")}
 OTHER_SPELLINGS = re.compile(r"^(-f|-y|--yes|--replace|--clobber|--force-\w+|--accept\w*|"

@@ -2,7 +2,7 @@
 
 On the ROS graph the same names are used relative to the node's namespace (``imu/data``),
 so a namespace can prefix them; ``bag_play`` and ``bag_record`` map between the two.
-See ../shared/INTERFACES.md.
+See docs/nodes.md for the topics of each node.
 """
 IMU_DATA = "/imu/data"
 IMU_MAG = "/imu/mag"

@@ -4,6 +4,10 @@ Subcommands:
     run BAG --out OUT           the whole navigator (Muñoz Díaz 2016, chapters 3, 4 and 6):
                                 OUT/ as a bag with pdr/pocket/attitude, gyro_bias, step,
                                 pose and path, OUT/report.json, with --plot OUT/path.png.
+    evaluate RUN_OUT            the report of a run's output against a truth given
+                                afterwards: --truth BAG (ground_truth/step and pose),
+                                --truth-steps CSV (true footfall or gait cycle times),
+                                --distance-m D (a known walked distance).
     attitude BAG --out OUT      the orientation filter (Muñoz Díaz 2016, chapter 3) on
                                 imu/data and imu/mag: OUT/ as a bag with
                                 pdr/pocket/attitude and pdr/pocket/gyro_bias at every
@@ -33,8 +37,9 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, add_strict_option
-from pdr_core.csv_import import MAG_UNITS_T, read_columns
-from pdr_core.errors import dispatch
+from pdr_core.csv_import import MAG_UNITS_T, implausible, read_columns, refuse_implausible
+from pdr_core.errors import InputError, cli_parser, dispatch
+from pdr_core.imu_checks import FIELD_RANGE, median_field_t
 from pdr_core.magnetic_field import homogeneous
 from pdr_core.metrics import truth_orientation_at
 from pdr_pocket.attitude_offline import (
@@ -44,13 +49,19 @@ from pdr_pocket.attitude_offline import (
     read_pocket_bag,
 )
 from pdr_pocket.config import load_pocket_config, orientation_from_allan
+from pdr_pocket.evaluation import STEPS_PER
 from pdr_pocket.magnetometer import MIN_COVERAGE, calibrate
 from pdr_pocket.orientation import OrientationFilter
 
 
 def _add_navigator_options(p: argparse.ArgumentParser) -> None:
-    """--out, --config, --mag-calibration and --strict of run and attitude."""
-    p.add_argument("--out", type=Path, required=True)
+    """The bag, --out, --config, --mag-calibration, --overwrite and --strict of run and
+    attitude."""
+    p.add_argument("bag", type=Path, help="bag with imu/data (and imu/mag, and the truth "
+                                          "topics of a simulated walk)")
+    p.add_argument("--out", type=Path, required=True,
+                   help="output directory: a bag with OUT/report.json")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output")
     p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
                                                "default: the installed config/pocket_pdr.yaml")
     p.add_argument("--mag-calibration", type=Path,
@@ -67,12 +78,10 @@ def _add_attitude(sub: argparse._SubParsersAction) -> None:
                     "OUT/report.json (roll/pitch/yaw RMSE against ground_truth/pose and the "
                     "final bias errors when the bag has the truth, the share of samples "
                     "each update ran).")
-    p.add_argument("bag", type=Path)
     _add_navigator_options(p)
     p.add_argument("--allan", type=Path, help="take the gyroscope noise from this allan.csv "
                                               "of pdr-sim allan")
     p.add_argument("--plot", action="store_true", help="also write OUT/attitude.png")
-    p.add_argument("--overwrite", action="store_true")
     p.set_defaults(func=_run_attitude)
 
 
@@ -113,8 +122,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                     "and pose at every step and pdr/pocket/path at the end, and "
                     "OUT/report.json: steps, distance, height and floors, and with the "
                     "simulator's truth the steps missed and false, the activity confusion, "
-                    "the distance and riser errors and the INTERFACES.md metrics.")
-    p.add_argument("bag", type=Path)
+                    "the distance and riser errors and the trajectory metrics of "
+                    "docs/reports.md.")
     _add_navigator_options(p)
     p.add_argument("--drift", choices=("none", "online", "offline"), default="none",
                    help="landmark drift corrections (Sections 6.1-6.2): online, applied at "
@@ -123,7 +132,6 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--drift-config", type=Path,
                    help="YAML of the drift estimator (pdr_drift.config); default: built in")
     p.add_argument("--plot", action="store_true", help="also write OUT/path.png")
-    p.add_argument("--overwrite", action="store_true")
     p.set_defaults(func=_run_navigator)
 
 
@@ -141,6 +149,58 @@ def _run_navigator(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_evaluate(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "evaluate", help="the report of a run's output against a truth",
+        description="The report of a pdr-pocket run output against a truth given "
+                    "afterwards (the fields of docs/reports.md): with --truth, a bag's "
+                    "ground_truth/step (steps matched, missed and false, activities, "
+                    "distance and riser errors: the figures pdr-pocket run gives when its "
+                    "input holds that truth) and ground_truth/pose (the trajectory errors), "
+                    "timed from each bag's first imu/data message; with --truth-steps, a "
+                    "CSV of true times [s] in its first column (header optional), one row "
+                    "per footfall of either foot (or per gait cycle of the sensor leg with "
+                    "--truth-steps-per cycle), compared by count with the run's footfalls "
+                    "(or steps); with --distance-m, the distance walked against a known "
+                    "one. Prints the report; --out writes it too.")
+    p.add_argument("run_out", type=Path, metavar="RUN_OUT",
+                   help="the output directory of pdr-pocket run")
+    p.add_argument("--truth", type=Path, metavar="BAG",
+                   help="bag with ground_truth/step and/or ground_truth/pose (a simulated "
+                        "walk, or a CSV log imported with --pos-cols)")
+    p.add_argument("--truth-steps", type=Path, metavar="CSV",
+                   help="CSV of the true step times [s] on the log's time axis, first "
+                        "column, header optional")
+    p.add_argument("--truth-steps-per", choices=STEPS_PER, default="footfall",
+                   help="what one row of --truth-steps is: a footfall of either foot (a "
+                        "foot switch, the shared thigh recordings' step_times.csv) or a "
+                        "gait cycle of the sensor leg (pdr-sim export-csv --steps-out)")
+    p.add_argument("--distance-m", type=float,
+                   help="the walked distance, known [m]: the error of the sum of the strides")
+    p.add_argument("--out", type=Path, metavar="REPORT_JSON",
+                   help="also write the report to this file")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+    add_strict_option(p)
+    p.set_defaults(func=_run_evaluate)
+
+
+def _run_evaluate(args: argparse.Namespace) -> int:
+    from pdr_pocket.evaluation import evaluate
+
+    if args.out is not None and args.out.exists() and not args.overwrite:
+        raise InputError(args.out, "output exists already (remove it or pass --overwrite)")
+    report = evaluate(args.run_out, args.truth, args.truth_steps, args.truth_steps_per,
+                      args.distance_m, strict=args.strict)
+    text = json.dumps(report, indent=2)
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(text + "\n")
+    print(text)
+    for warning in report["warnings"]:
+        print(f"pdr-pocket: warning: {warning}", file=sys.stderr)
+    return 0
+
+
 def _add_calibrate_step(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "calibrate-step", help="fit the person's stride line from walks of known length",
@@ -149,7 +209,8 @@ def _add_calibrate_step(sub: argparse._SubParsersAction) -> None:
                     "comfortable speed, or with --fit-slope both from two or more walks at "
                     "different speeds. Writes the person's YAML (its step_length section), "
                     "to pass as --config. Refuses walks too short or too uniform, saying why.")
-    p.add_argument("bags", type=Path, nargs="+", metavar="BAG")
+    p.add_argument("bags", type=Path, nargs="+", metavar="BAG",
+                   help="bags of walks of known length (imu/data, imu/mag)")
     p.add_argument("--distance-m", required=True,
                    help="the length of each walk [m], comma-separated in the bags' order")
     p.add_argument("--fit-slope", action="store_true", help="fit a_H too")
@@ -162,7 +223,6 @@ def _add_calibrate_step(sub: argparse._SubParsersAction) -> None:
 def _run_calibrate_step(args: argparse.Namespace) -> int:
     import yaml
 
-    from pdr_core.errors import InputError
     from pdr_pocket.step_length import fit_line, fit_offset
     from pdr_pocket.tables import level_amplitudes
 
@@ -196,13 +256,16 @@ def _run_calibrate_step(args: argparse.Namespace) -> int:
 
 
 def _add_tables(sub: argparse._SubParsersAction) -> None:
-    for name, what in (("table-steps", "Table 4.1: step detectors, undetected and false %"),
-                       ("table-stride", "Table 4.4: stride models, distance error %")):
+    for name, what in (("table-steps", "Table 4.1: step detectors, undetected and false "
+                                       "steps in percent"),
+                       ("table-stride", "Table 4.4: stride models, distance error in percent")):
         p = sub.add_parser(name, help=what, description=f"Muñoz Díaz 2016, {what}, on "
                                                         "simulated bags (they need "
                                                         "ground_truth/step).")
-        p.add_argument("bags", type=Path, nargs="+", metavar="BAG")
-        p.add_argument("--config", type=Path, help="YAML configuration")
+        p.add_argument("bags", type=Path, nargs="+", metavar="BAG",
+                       help="simulated bags (pdr-sim generate --placement pocket)")
+        p.add_argument("--config", type=Path, help="YAML configuration (pdr_pocket.config); "
+                                                   "default: the installed one")
         p.add_argument("--json", action="store_true", help="print the rows as JSON")
         p.set_defaults(func=_run_table, table=name)
 
@@ -243,10 +306,17 @@ def _add_calibrate_mag(sub: argparse._SubParsersAction) -> None:
                    help="strength of the local field [µT] (default: a simulated bag's "
                         "field, else the readings' median norm)")
     p.add_argument("--min-coverage", type=float, default=MIN_COVERAGE,
-                   help="least share of the sphere of directions to accept (0-1)")
-    p.add_argument("--mag-cols", default="mag_x,mag_y,mag_z", help="CSV columns")
-    p.add_argument("--mag-unit", choices=sorted(MAG_UNITS_T), default="ut", help="CSV unit")
-    p.add_argument("--topic", default=topics.IMU_MAG)
+                   help="least share of the sphere of directions to accept (0-1, "
+                        "dimensionless)")
+    p.add_argument("--mag-cols", default="mag_x,mag_y,mag_z",
+                   help="magnetometer x,y,z columns of a CSV source")
+    p.add_argument("--mag-unit", choices=sorted(MAG_UNITS_T), default="ut",
+                   help="unit of a CSV source's columns: ut (µT), nt (nT), t (T) or gauss (G)")
+    p.add_argument("--force", action="store_true",
+                   help="use CSV readings whose median |B| is beyond 1-1000 µT in --mag-unit "
+                        "(with a warning) instead of refusing them")
+    p.add_argument("--topic", default=topics.IMU_MAG,
+                   help="magnetometer topic of a bag source (sensor_msgs/MagneticField)")
     p.add_argument("--plot", type=Path, metavar="PNG", help="raw cloud and fitted sphere")
     p.set_defaults(func=_run_calibrate_mag)
 
@@ -266,6 +336,11 @@ def _run_calibrate_mag(args: argparse.Namespace) -> int:
     if args.source.suffix.lower() == ".csv":
         columns = tuple(c.strip() for c in args.mag_cols.split(","))
         raw = read_columns(args.source, columns) * MAG_UNITS_T[args.mag_unit]
+        finite = raw[np.isfinite(raw).all(axis=1)]
+        if len(finite):
+            refuse_implausible(args.source, [implausible(
+                args.mag_cols, FIELD_RANGE, median_field_t(finite), args.mag_unit, MAG_UNITS_T,
+                "--mag-unit")], accept=args.force)
     else:
         reader = BagReader(args.source)
         raw = reader.read(args.topic)["magnetic_field"]
@@ -289,9 +364,10 @@ def _run_calibrate_mag(args: argparse.Namespace) -> int:
 
 
 def parser() -> argparse.ArgumentParser:
-    top = argparse.ArgumentParser(prog="pdr-pocket", description=__doc__.split("\n")[0])
+    top = cli_parser("pdr-pocket", __doc__)
     sub = top.add_subparsers(dest="command", required=True)
     _add_run(sub)
+    _add_evaluate(sub)
     _add_attitude(sub)
     _add_calibrate_step(sub)
     _add_tables(sub)

@@ -5,14 +5,19 @@
   its covariance) at each step's confirmation, stamped with the IMU sample that
   confirmed it, as the live node publishes them;
 - :func:`navigation_report`: without truth, steps, footfalls, the distance walked (sum of
-  the strides, ``step_distance_m``), height gained and lost, floors and the loop gap
-  (``distance_m`` is INTERFACES.md's: the estimated path's length, or with truth the true
-  path's); with the simulator's truth (``ground_truth/pose`` and
-  ``ground_truth/step``) also the INTERFACES.md metrics on the per-step positions, steps
-  matched, missed and false (a true step is found when one detection falls within its
-  cycle), the activity confusion matrix, the distance error % (Muñoz Díaz 2016, Table
-  4.4: total estimated over total true), the riser height error % per staircase (Table
-  4.5) and the floor error.
+  the strides, ``step_distance_m``), height gained and lost, floors, and the walk's
+  ``duration_s``, ``distance_m`` and ``loop_gap_m`` of :func:`pdr_core.metrics.walk_figures`
+  (from the first IMU sample and the origin to the last step's confirmation, the stamp
+  of its messages: ``pdr-drift run`` gives the same figures for the same walk); with
+  ``ground_truth/pose`` ``distance_m`` is the true path's and the error metrics of
+  pdr_core.metrics on the per-step positions replace the loop gap; with
+  ``ground_truth/step`` (the simulator's) steps matched, missed and false (a true step is
+  found when one detection falls within its cycle), the activity confusion matrix, the
+  distance error % (Muñoz Díaz 2016, Table 4.4: total estimated over total true), the
+  riser height error % per staircase (Table 4.5) and the floor error. Every field, its
+  unit and when it is there: docs/reports.md;
+- :func:`run_record`: what ``pdr-pocket evaluate`` (pdr_pocket.evaluation) needs beyond
+  the messages, kept in the output's metadata.yaml.
 """
 from __future__ import annotations
 
@@ -22,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core.batch import MessageBatch
+from pdr_core.frames import MAP_FRAME
 from pdr_core.metrics import error_report
 from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, STEP
 from pdr_core.rotations import quaternion_from_orthonormal
@@ -32,7 +38,6 @@ from pdr_pocket.stairs import Staircases
 from pdr_pocket.step_length import height_scale
 
 STEP_TOPIC, POSE_TOPIC, PATH_TOPIC = "/pdr/pocket/step", "/pdr/pocket/pose", "/pdr/pocket/path"
-MAP_FRAME = "map"
 
 
 def step_stamps(steps: list[StepRecord], stamp_ns: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -85,7 +90,7 @@ def summary(steps: list[StepRecord], staircases: Staircases, footfalls: int | No
     return {"steps": len(steps),
             "footfalls": 2 * len(steps) if footfalls is None else footfalls,
             "step_distance_m": float(sum(s.length for s in steps)),
-            "height_gained_m": float(z[z > 0].sum()), "height_lost_m": float(-z[z < 0].sum()),
+            "height_gained_m": float(z[z > 0].sum()), "height_lost_m": float(0.0 - z[z < 0].sum()),
             "final_floor": steps[-1].floor if steps else 0,
             "highest_floor": max((s.floor for s in steps), default=0),
             "activities": {name: int(sum(s.activity == i for s in steps))
@@ -135,13 +140,16 @@ def navigation_report(out_steps: list[StepRecord], staircases: Staircases,
                       truth_steps: MessageBatch | None, truth_positions: np.ndarray | None,
                       t0_ns: int, true_floors: tuple[int, int] | None = None,
                       footfalls: int | None = None) -> dict:
-    """The report (module docstring). ``truth_positions``: ground_truth/pose at the start
-    and at each step's stamp (N + 1, 3); ``true_floors``: the final and the highest floor
-    of the simulated walk; ``footfalls``: as :func:`summary`."""
+    """The report (module docstring; every field: docs/reports.md). ``truth_steps``:
+    ground_truth/step, each true step's end stamped on the clock of ``t0_ns`` (the first
+    IMU sample); ``truth_positions``: ground_truth/pose at the start and at each step's
+    stamp (N + 1, 3); ``true_floors``: the final and the highest floor of the simulated
+    walk; ``footfalls``: as :func:`summary`."""
     det_t = np.array([s.t for s in out_steps])
+    confirmed = np.array([s.t_confirm for s in out_steps])
     report = summary(out_steps, staircases, footfalls) | error_report(
-        np.r_[0.0, det_t], _step_positions(out_steps), truth_positions)
-    if truth_steps is None or truth_positions is None:
+        np.r_[0.0, confirmed], _step_positions(out_steps), truth_positions)
+    if truth_steps is None:
         return report
     end = (truth_steps.stamp_ns - t0_ns) * 1e-9
     match = match_steps(det_t, end, truth_steps["duration"])
@@ -202,7 +210,9 @@ def path_batch(steps: list[StepRecord], stamps: np.ndarray) -> MessageBatch:
         "pose.orientation": quat})
 
 
-def _true_floors(record: dict) -> tuple[int, int] | None:
+def true_floors(record: dict) -> tuple[int, int] | None:
+    """The final and the highest floor of a simulated walk (its ``pdr.simulation``
+    record), None when the record does not tell."""
     marks = record.get("landmarks")
     if not marks:
         return (0, 0) if record.get("placement") == "pocket" else None
@@ -243,6 +253,29 @@ def _drift_against_truth(log, reader, truth, inputs, corrected, truth_positions,
     return out
 
 
+RUN_RECORD = "pdr.pocket_run"
+
+
+def run_record(steps: list[StepRecord], imu_stamp_ns: np.ndarray, start_ns: int,
+               footfalls: int, floor_height_m: float) -> dict:
+    """What a run knows that its messages do not carry, for ``pdr-pocket evaluate``: kept
+    in the output bag's metadata.yaml (custom_data :data:`RUN_RECORD`).
+
+    - ``start_ns``: the walk's start, the first IMU sample used [ns];
+    - ``end_ns``: the last IMU message's stamp [ns];
+    - ``input_first_ns``: the input's first ``imu/data`` message's stamp [ns], where a
+      CSV log exported from a bag (``pdr-sim export-csv``) has t = 0;
+    - ``footfalls``: as :func:`summary`;
+    - ``floor_height_m``: the configuration's, for each step's floor [m];
+    - ``step_t_s``: each step's pitch maximum from ``start_ns`` [s] (its messages are
+      stamped at its confirmation, later).
+    """
+    return {"start_ns": int(start_ns), "end_ns": int(imu_stamp_ns[-1]),
+            "input_first_ns": int(imu_stamp_ns[0]), "footfalls": int(footfalls),
+            "floor_height_m": float(floor_height_m),
+            "step_t_s": [float(s.t) for s in steps]}
+
+
 def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *,
             plot: bool = False, overwrite: bool = False, drift: str = "none",
             drift_config=None, strict: bool = False) -> dict:
@@ -279,7 +312,7 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
         truth_positions = truth_at(truth_pose, np.r_[inputs.stamp_ns[0], stamps])
     record = reader.custom_data("pdr.simulation") or {}
     report = navigation_report(steps, navigator.staircases, truth_steps, truth_positions,
-                               int(inputs.stamp_ns[0]), _true_floors(record),
+                               int(inputs.stamp_ns[0]), true_floors(record),
                                navigator.footfalls)
     report |= {"samples": len(inputs.t), "dropped": inputs.counts,
                "mounting_changes": int(navigator.mounting.scalars[CHANGES]),
@@ -296,7 +329,12 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                 drift_log, reader, batches, inputs, result, truth_positions,
                 PocketNavigator(config).process(inputs.t, inputs.gyro_or_none, inputs.accel,
                                                 inputs.mag))
-    with BagWriter(out, overwrite=overwrite) as writer:
+    import yaml
+
+    record_text = yaml.safe_dump(run_record(
+        steps, batches[topics.IMU_DATA].stamp_ns, int(inputs.stamp_ns[0]), navigator.footfalls,
+        config.stairs.floor_height_m), default_flow_style=None, sort_keys=False)
+    with BagWriter(out, overwrite=overwrite, custom_data={RUN_RECORD: record_text}) as writer:
         writer.write_merged(attitude_batches(inputs, result.attitude,
                                              navigator.orientation.params.gyro_noise_var)
                             | step_batches(result, inputs.stamp_ns))
@@ -317,5 +355,7 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                                  else truth_positions - truth_positions[0],
                                  inputs.t, np.degrees(result.pitch),
                                  np.array([s.t for s in steps]), true_t,
-                                 writer.staging / "path.png", str(bag), *_drift_marks(drift_log))
+                                 writer.staging / "path.png", bag, *_drift_marks(drift_log),
+                                 final_error_m=report.get("final_error_m"),
+                                 loop_gap_m=report.get("loop_gap_m"))
     return report

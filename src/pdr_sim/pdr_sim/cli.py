@@ -5,6 +5,8 @@ Subcommands:
     allan        Allan deviation and noise parameters of static data (bag or CSV).
     fit-steps    fit the raised-cosine step pattern (Eqs. 3-5) to recorded foot positions.
     import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose).
+    export-csv   a bag's imu/data (with imu/mag and ground_truth/pose) -> a phone-style
+                 CSV log that import-csv reads back; the true step times with --steps-out.
     info         topics, types, message counts and time span of a bag.
     repair       a bag cut short -> a new bag with its index and metadata rebuilt.
 
@@ -13,6 +15,7 @@ Errors in the input exit with status 2 and one line naming the file and the prob
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -21,8 +24,9 @@ import numpy as np
 import yaml
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, repair, write_batches
+from pdr_core.bag import BagReader, add_strict_option, repair, write_batches
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from pdr_core.csv_export import export_bag, import_arguments
 from pdr_core.csv_import import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
@@ -32,7 +36,7 @@ from pdr_core.csv_import import (
     CsvImuFormat,
     import_csv,
 )
-from pdr_core.errors import InputError, dispatch
+from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
 from pdr_sim import plots
 from pdr_sim.allan_report import allan_report
@@ -115,7 +119,8 @@ def _run_generate(args: argparse.Namespace) -> int:
     if args.plot:
         args.plot.mkdir(parents=True, exist_ok=True)
         title = f"{scenario.name}, {args.imu}, {args.rate:g} Hz"
-        plots.trajectory_png(sim.trajectory, args.plot / "trajectory.png", title)
+        plots.trajectory_png(sim.trajectory, args.plot / "trajectory.png", title,
+                             steps=plots.step_count(sim.model), foot=family == "foot")
         plots.signals_png(sim.trajectory.t, sim.imu["angular_velocity"],
                           sim.imu["linear_acceleration"], sim.mag["magnetic_field"],
                           args.plot / "signals.png", title)
@@ -149,7 +154,7 @@ def _add_allan(sub: argparse._SubParsersAction) -> None:
                     "the AR(1) parameters of thesis Eqs. (3.10)-(3.11); writes a table and a "
                     "log-log PNG.")
     p.add_argument("source", type=Path, help="bag directory or CSV file")
-    p.add_argument("--topic", default=topics.IMU_DATA)
+    p.add_argument("--topic", default=topics.IMU_DATA, help="IMU topic of a bag source")
     p.add_argument("--out", type=Path, help="write DIR/allan.csv and DIR/allan.png")
     _add_csv_format(p, required=False)
     p.set_defaults(func=_run_allan)
@@ -183,7 +188,8 @@ def _add_fit_steps(sub: argparse._SubParsersAction) -> None:
                     "Marquardt (Eq. 5). The pattern file is used by scenarios with "
                     "'pattern: fitted'.")
     p.add_argument("bag", type=Path, help="bag with foot positions")
-    p.add_argument("--topic", default=topics.GROUND_TRUTH_POSE)
+    p.add_argument("--topic", default=topics.GROUND_TRUTH_POSE,
+                   help="topic of the foot positions (geometry_msgs/PoseStamped)")
     p.add_argument("--out", type=Path, required=True, help="pattern YAML to write")
     p.add_argument("--plot", type=Path, help="PNG of the steps and the fit (Fig. 2)")
     p.set_defaults(func=_run_fit_steps)
@@ -217,13 +223,18 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
     p.add_argument("--no-header", dest="header", action="store_false",
                    help="the first row is data, not column names")
     p.add_argument("--time-col", default="0", help="time column (default: first column)")
-    p.add_argument("--time-unit", default="s", choices=sorted(TIME_UNITS_S))
-    p.add_argument("--time-offset-s", type=float, default=0.0, help="added to every stamp")
+    p.add_argument("--time-unit", default="s", choices=sorted(TIME_UNITS_S),
+                   help="unit of the time column: s, ms, us (µs) or ns")
+    p.add_argument("--time-offset-s", type=float, default=0.0,
+                   help="added to every stamp [s]")
     p.add_argument("--acc-cols", type=_columns, required=required, help="accelerometer x,y,z")
-    p.add_argument("--acc-unit", default="mps2", choices=sorted(ACC_UNITS_MPS2))
+    p.add_argument("--acc-unit", default="mps2", choices=sorted(ACC_UNITS_MPS2),
+                   help="unit of the accelerometer columns: mps2, m/s2 or m/s^2 (m/s²), or "
+                        f"g ({STANDARD_GRAVITY_MPS2} m/s²)")
     p.add_argument("--gyro-cols", type=_columns, default=(),
                    help="gyroscope x,y,z (omit when the log has none)")
-    p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS))
+    p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS),
+                   help="unit of the gyroscope columns: radps or rad/s, degps or deg/s")
     p.add_argument("--axes", type=_columns, default=("x", "y", "z"),
                    help="sensor axis remap, e.g. --axes=-y,x,z means out_x=-in_y, out_y=in_x")
     p.add_argument("--acc-axes", type=_columns, default=None,
@@ -234,6 +245,11 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
                    help="drop NaN/Inf rows and non-increasing stamps instead of failing")
     p.add_argument("--drop-duplicates", action="store_true",
                    help="drop rows that repeat the previous row exactly (time and values)")
+    p.add_argument("--force", action="store_true",
+                   help="import data that fail a plausibility check of their units (a "
+                        "median |f| beyond 0.5-5 g, a rate beyond 5-10000 Hz, a 99th "
+                        "percentile of |ω| above 50 rad/s, a median |B| beyond 1-1000 µT), "
+                        "each with a warning, instead of refusing them")
 
 
 def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
@@ -250,7 +266,8 @@ def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
         mag_axes=getattr(args, "mag_axes", None),
         axes=args.axes, acc_axes=args.acc_axes, gyro_axes=args.gyro_axes,
         header=args.header, time_offset_s=args.time_offset_s,
-        drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates)
+        drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates,
+        accept_implausible=args.force)
 
 
 def _add_import_csv(sub: argparse._SubParsersAction) -> None:
@@ -259,19 +276,25 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
         description="Turn a CSV IMU log (one row per sample) into a rosbag2 MCAP bag with "
                     "imu/data (sensor_msgs/Imu, SI units) and, when their columns are given, "
                     "imu/mag (sensor_msgs/MagneticField, tesla) and ground_truth/pose. "
-                    "Columns are header names or 0-based indices.")
+                    "Columns are header names or 0-based indices. Data implausible in the "
+                    "units given (a median |f| far from g, a time column in ms read as s, "
+                    "a magnetometer in T read as µT) are refused, naming the unit option "
+                    "that fixes them; --force imports them as read.")
     p.add_argument("csv", type=Path, help="input CSV file")
     _add_bag_output(p)
     _add_csv_format(p)
     p.add_argument("--pos-cols", type=_columns, default=(),
                    help="ground-truth position x,y,z (map frame, z up)")
-    p.add_argument("--pos-unit", default="m", choices=sorted(POS_UNITS_M))
+    p.add_argument("--pos-unit", default="m", choices=sorted(POS_UNITS_M),
+                   help="unit of the position columns: m, cm or mm")
     p.add_argument("--pos-axes", type=_columns, default=("x", "y", "z"),
                    help="remap of the positions into a right-handed z-up frame, "
                         "e.g. --pos-axes=-x,y,z")
     p.add_argument("--mag-cols", type=_columns, default=(),
                    help="magnetometer x,y,z (written to imu/mag)")
-    p.add_argument("--mag-unit", default="ut", choices=sorted(MAG_UNITS_T))
+    p.add_argument("--mag-unit", default="ut", choices=sorted(MAG_UNITS_T),
+                   help="unit of the magnetometer columns: ut (µT), nt (nT), t (T) or "
+                        "gauss (G)")
     p.add_argument("--mag-axes", type=_columns, default=None,
                    help="remap of the magnetometer only (default: the accelerometer's)")
     p.set_defaults(func=_run_import_csv)
@@ -300,10 +323,44 @@ def _run_import_csv(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_export_csv(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "export-csv", help="write a bag's IMU data as a CSV log",
+        description="Write the imu/data of a bag (simulated or not) as a phone-style CSV "
+                    "log, one row per message, the unit in each column's name: t_s (from "
+                    "the first message), acc_x_mps2.., gyr_x_radps.. (left out without a "
+                    "gyroscope), with imu/mag mag_x_ut.. (the latest reading at most "
+                    "0.05 s old, empty cells when none) and with ground_truth/pose "
+                    "gt_x_m.. (interpolated at the rows' stamps). Prints the import-csv "
+                    "options that read it back.")
+    p.add_argument("bag", type=Path, help="bag with imu/data")
+    p.add_argument("--out", type=Path, required=True, help="the CSV log to write")
+    p.add_argument("--steps-out", type=Path, metavar="CSV",
+                   help="also write the true step times of ground_truth/step (one column "
+                        "t_s [s], each step's end on the log's time axis: one row per gait "
+                        "cycle of the sensor leg)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing outputs")
+    add_strict_option(p)
+    p.set_defaults(func=_run_export_csv)
+
+
+def _run_export_csv(args: argparse.Namespace) -> int:
+    exported = export_bag(args.bag, args.out, args.steps_out, overwrite=args.overwrite,
+                          strict=args.strict)
+    table = exported.table
+    print(f"{args.out}: {len(table.values)} rows of {args.bag}'s {topics.IMU_DATA}, columns "
+          f"{', '.join(table.columns)}")
+    if exported.steps is not None:
+        print(f"{args.steps_out}: {exported.steps} true steps ({topics.GROUND_TRUTH_STEP})")
+    print("read it back with: pdr-sim import-csv " + shlex.join(
+        [str(args.out), "--out", "BAG", *import_arguments(table)]))
+    return 0
+
+
 def _add_info(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("info", help="summarise a bag",
                        description="Topics, types, message counts and time span of a bag "
-                                   "(what `ros2 bag info` shows).")
+                                   "(what ros2 bag info shows).")
     p.add_argument("bag", type=Path, help="bag directory or .mcap file")
     p.set_defaults(func=_run_info)
 
@@ -326,18 +383,19 @@ def _run_info(args: argparse.Namespace) -> int:
 def _add_repair(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "repair", help="rebuild the index and metadata of a bag cut short",
-        description="What `ros2 bag reindex` does: every message of a bag cut short (a "
+        description="What ros2 bag reindex does: every message of a bag cut short (a "
                     "recorder killed, a copy interrupted) up to its last complete chunk, "
                     "written to a new bag with its summary, index and metadata.yaml. The "
                     "original is never touched.")
     p.add_argument("bag", type=Path, help="bag directory or .mcap file")
     p.add_argument("--out", type=Path, help="the repaired bag (default: BAG.repaired)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output")
     p.set_defaults(func=_run_repair)
 
 
 def _run_repair(args: argparse.Namespace) -> int:
     out = args.out or args.bag.with_name(args.bag.name + ".repaired")
-    counts = repair(args.bag, out)
+    counts = repair(args.bag, out, overwrite=args.overwrite)
     print(f"repaired {args.bag} -> {out}: {sum(counts.values())} messages on "
           f"{len(counts)} topics")
     for topic in sorted(counts):
@@ -347,12 +405,13 @@ def _run_repair(args: argparse.Namespace) -> int:
 
 def parser() -> argparse.ArgumentParser:
     """The ``pdr-sim`` argument parser."""
-    top = argparse.ArgumentParser(prog="pdr-sim", description=__doc__.split("\n")[0])
+    top = cli_parser("pdr-sim", __doc__)
     sub = top.add_subparsers(dest="command", required=True)
     _add_generate(sub)
     _add_allan(sub)
     _add_fit_steps(sub)
     _add_import_csv(sub)
+    _add_export_csv(sub)
     _add_info(sub)
     _add_repair(sub)
     return top

@@ -1,0 +1,222 @@
+"""``pdr-pocket evaluate``: the report of a ``pdr-pocket run`` output against a truth given
+afterwards: a bag's ``ground_truth/step`` and ``ground_truth/pose``, a CSV of true
+footfall (or gait cycle) times, a known walked distance.
+
+The figures against a bag are :func:`pdr_pocket.pocket_offline.navigation_report`'s, on
+the steps as the run made them: the same numbers ``pdr-pocket run`` reports when its input
+holds that truth. Every field: docs/reports.md.
+
+- :func:`read_run`: a run output's steps (:class:`~pdr_pocket.navigator.StepRecord`),
+  staircases and footfalls, from ``pdr/pocket/step``, ``pdr/pocket/pose`` and the run
+  record of its metadata.yaml (pdr_pocket.pocket_offline.run_record);
+- :func:`read_truth_bag`: a bag's truth topics on the run's clock. Times count from
+  each bag's first ``imu/data`` message, so the truth of a simulated bag applies to a run
+  on its ``pdr-sim export-csv`` log imported again; a truth bag without ``imu/data`` is
+  taken to share the run's clock;
+- :func:`step_count_report`: true footfall or gait cycle times against the run's count;
+- :func:`known_distance_report`: the distance walked against a known one;
+- :func:`evaluate`: the report.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from pdr_core import topics
+from pdr_core.batch import MessageBatch
+from pdr_core.errors import InputError
+from pdr_pocket.config import StairsConfig
+from pdr_pocket.navigator import StepRecord
+from pdr_pocket.pocket_offline import (
+    POSE_TOPIC,
+    RUN_RECORD,
+    STEP_TOPIC,
+    navigation_report,
+    true_floors,
+)
+from pdr_pocket.stairs import Staircases
+
+# --truth-steps: what one row of the CSV is
+STEPS_PER = ("footfall", "cycle")
+# How far [s] true step times may lie outside the run's samples before a warning
+TIME_SPAN_MARGIN_S = 1.0
+
+
+@dataclass
+class RunOutput:
+    """A ``pdr-pocket run`` output as :func:`navigation_report` takes it."""
+
+    steps: list[StepRecord]
+    stamps: np.ndarray          # (N,) the steps' stamps [ns] (their confirmation)
+    staircases: Staircases
+    footfalls: int
+    start_ns: int               # the first IMU sample used (t = 0)
+    end_ns: int                 # the last IMU message
+    input_first_ns: int         # the input's first imu/data message
+
+
+def _not_a_run(path: Path, why: str) -> InputError:
+    return InputError(path, f"not a pdr-pocket run output: {why}; evaluate the output "
+                            "directory of pdr-pocket run BAG --out OUT")
+
+
+def read_run(path: Path, *, strict: bool = False) -> RunOutput:
+    """The run output at ``path`` (module docstring); InputError when it is none."""
+    from pdr_core.bag import BagReader
+
+    reader = BagReader(path, strict=strict)
+    missing = [t for t in (STEP_TOPIC, POSE_TOPIC) if t not in reader.topics]
+    if missing:
+        have = ", ".join(sorted(reader.topics)) or "none"
+        raise _not_a_run(path, f"no topic {', '.join(missing)} (the bag has: {have})")
+    record = reader.custom_data(RUN_RECORD)
+    if not isinstance(record, dict) or "step_t_s" not in record:
+        raise _not_a_run(path, f"its metadata.yaml has no {RUN_RECORD} record (a recording "
+                               "of pocket_pdr, or a run older than pdr-pocket evaluate)")
+    data = reader.read_batches([STEP_TOPIC, POSE_TOPIC])
+    steps, poses = data[STEP_TOPIC], data[POSE_TOPIC]
+    if len(record["step_t_s"]) != len(steps):
+        raise _not_a_run(path, f"its {RUN_RECORD} record has {len(record['step_t_s'])} step "
+                               f"times for {len(steps)} {STEP_TOPIC} messages")
+    pose_of = {int(s): i for i, s in enumerate(poses.stamp_ns)}
+    unpaired = [int(s) for s in steps.stamp_ns if int(s) not in pose_of]
+    if unpaired:
+        raise _not_a_run(path, f"{len(unpaired)} steps without their {POSE_TOPIC} (the "
+                               f"first stamped {unpaired[0]} ns)")
+    staircases = Staircases(dataclasses.replace(StairsConfig(),
+                                                floor_height_m=record["floor_height_m"]))
+    start_ns = int(record["start_ns"])
+    records = []
+    for k, stamp in enumerate(steps.stamp_ns):
+        i = pose_of[int(stamp)]
+        position = poses["pose.pose.position"][i]
+        t = float(record["step_t_s"][k])
+        staircases.add(int(steps["index"][k]), t, int(steps["activity"][k]),
+                       float(steps["vertical_displacement"][k]))
+        records.append(StepRecord(
+            int(steps["index"][k]), t, (int(stamp) - start_ns) * 1e-9,
+            float(steps["length"][k]), float(steps["vertical_displacement"][k]),
+            float(steps["heading"][k]), float(steps["pitch_max"][k]),
+            float(steps["pitch_min"][k]), float(steps["duration"][k]),
+            int(steps["activity"][k]), position,
+            poses["pose.covariance"][i].reshape(6, 6)[:3, :3], staircases.floor(position[2]),
+            float("nan")))
+    return RunOutput(records, steps.stamp_ns, staircases, int(record["footfalls"]), start_ns,
+                     int(record["end_ns"]), int(record["input_first_ns"]))
+
+
+@dataclass
+class TruthBag:
+    """A bag's truth on the run's clock: ground_truth/step and ground_truth/pose (each
+    None when the bag has none), the simulated floors, and the shift applied [ns]."""
+
+    steps: MessageBatch | None
+    pose: MessageBatch | None
+    floors: tuple[int, int] | None
+    offset_ns: int
+
+
+def read_truth_bag(path: Path, run: RunOutput, *, strict: bool = False) -> TruthBag:
+    """``path``'s truth topics, their stamps moved onto the run's clock (module
+    docstring); InputError when it has neither."""
+    from pdr_core.bag import BagReader
+
+    reader = BagReader(path, strict=strict)
+    wanted = [t for t in (topics.GROUND_TRUTH_STEP, topics.GROUND_TRUTH_POSE)
+              if t in reader.topics]
+    if not wanted:
+        have = ", ".join(sorted(reader.topics)) or "none"
+        raise InputError(path, f"no topic {topics.GROUND_TRUTH_STEP} or "
+                               f"{topics.GROUND_TRUTH_POSE} to evaluate against (the bag "
+                               f"has: {have})")
+    offset = 0
+    if topics.IMU_DATA in reader.topics:
+        imu = reader.read(topics.IMU_DATA)
+        if len(imu):
+            offset = int(imu.stamp_ns[0]) - run.input_first_ns
+    batches = {t: dataclasses.replace(b, stamp_ns=b.stamp_ns - offset)
+               for t, b in reader.read_batches(wanted).items()}
+    for topic, batch in batches.items():
+        if len(batch) == 0:
+            raise InputError(path, f"{topic} has no messages")
+    return TruthBag(batches.get(topics.GROUND_TRUTH_STEP), batches.get(topics.GROUND_TRUTH_POSE),
+                    true_floors(reader.custom_data("pdr.simulation") or {}), offset)
+
+
+def read_step_times(path: Path) -> np.ndarray:
+    """The first column of a CSV of times [s], with or without a header row, (N,)."""
+    from pdr_core.csv_import import read_columns
+
+    try:
+        times = read_columns(path, ("0",), header=False)[:, 0]
+    except InputError:
+        times = read_columns(path, ("0",), header=True)[:, 0]
+    if not np.isfinite(times).all():
+        row = int(np.flatnonzero(~np.isfinite(times))[0])
+        raise InputError(path, f"step time {times[row]} is not a number of seconds")
+    return times
+
+
+def step_count_report(path: Path, times: np.ndarray, per: str, run: RunOutput) -> dict:
+    """The rows of ``path`` (one per footfall of either foot, or per gait cycle of the
+    sensor leg) against what the run counted: its footfalls, or its steps."""
+    counted = run.footfalls if per == "footfall" else len(run.steps)
+    return {"file": str(path), "per": per, "rows": len(times), "counted": counted,
+            "error": counted - len(times),
+            "error_pct": 100.0 * (counted - len(times)) / len(times)}
+
+
+def step_times_warning(path: Path, times: np.ndarray, run: RunOutput) -> str | None:
+    """A warning when the true times lie outside the run's samples (another unit or
+    another time axis), None otherwise."""
+    span = (run.end_ns - run.input_first_ns) * 1e-9
+    if times.min() >= -TIME_SPAN_MARGIN_S and times.max() <= span + TIME_SPAN_MARGIN_S:
+        return None
+    return (f"{path}: the step times span {times.min():.3f}-{times.max():.3f} s, the "
+            f"recording 0-{span:.3f} s: in another unit, or on another time axis? (only "
+            "their count is compared)")
+
+
+def known_distance_report(step_distance_m: float, distance_m: float) -> dict:
+    """The distance walked (the sum of the strides) against a known one [m]."""
+    return {"known_distance_m": distance_m,
+            "known_distance_error_m": step_distance_m - distance_m,
+            "known_distance_error_pct": 100.0 * (step_distance_m - distance_m) / distance_m}
+
+
+def evaluate(run_out: Path, truth: Path | None = None, truth_steps: Path | None = None,
+             steps_per: str = "footfall", distance_m: float | None = None, *,
+             strict: bool = False) -> dict:
+    """The report of ``run_out`` against what is given (module docstring)."""
+    from pdr_core.metrics import truth_at
+
+    if truth is None and truth_steps is None and distance_m is None:
+        raise InputError(run_out, "nothing to evaluate against: give --truth BAG, "
+                                  "--truth-steps CSV or --distance-m D")
+    if distance_m is not None and not (np.isfinite(distance_m) and distance_m > 0):
+        raise InputError("--distance-m", f"a walked distance in metres, > 0, got {distance_m}")
+    if steps_per not in STEPS_PER:
+        raise InputError("--truth-steps-per", f"one of {', '.join(STEPS_PER)}, got "
+                                              f"{steps_per!r}")
+    run = read_run(run_out, strict=strict)
+    times = None if truth_steps is None else read_step_times(truth_steps)
+    bag = None if truth is None else read_truth_bag(truth, run, strict=strict)
+    truth_positions = None
+    if bag is not None and bag.pose is not None:
+        truth_positions = truth_at(bag.pose, np.r_[run.start_ns, run.stamps])
+    report = {"run": str(run_out)} | navigation_report(
+        run.steps, run.staircases, None if bag is None else bag.steps, truth_positions,
+        run.start_ns, None if bag is None else bag.floors, run.footfalls)
+    warnings = []
+    if bag is not None:
+        report |= {"truth_bag": str(truth), "truth_time_offset_s": bag.offset_ns * 1e-9}
+    if times is not None:
+        report["truth_steps"] = step_count_report(truth_steps, times, steps_per, run)
+        warnings.append(step_times_warning(truth_steps, times, run))
+    if distance_m is not None:
+        report |= known_distance_report(report["step_distance_m"], distance_m)
+    report["warnings"] = [w for w in warnings if w is not None]
+    return report
