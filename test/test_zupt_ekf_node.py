@@ -20,7 +20,7 @@ def test_live_node_equals_offline_run(procs, tmp_path):
     offline = procs.run("pdr-ekf", "run", str(bag), "--out", str(tmp_path / "offline"),
                         "--config", str(CONFIG), "--smoother", "segmented")
     assert offline.returncode == 0, offline.stderr
-    lag = load_run_config(CONFIG).detector.context[1]  # the live node holds back its look-ahead
+    lag = load_run_config(CONFIG).detector.context(100.0)[1]  # the live node's look-ahead
     expected = 6095 - lag
     ref = BagReader(tmp_path / "offline").read("/pdr/foot/pose")
     ref_smoothed = [path for stamp, path in

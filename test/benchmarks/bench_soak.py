@@ -71,7 +71,7 @@ def soak(folder: Path, minutes: float) -> None:
         bag = folder / "hour"
         print(f"simulating {minutes:g} min of 200 Hz foot walking ...", file=sys.stderr)
         samples = hour_of_walking(bag, minutes)
-        lag = load_run_config().detector.context[1]
+        lag = load_run_config().detector.context(200.0)[1]
         recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={folder / 'rec'}",
                                "-p", "topics:=[pdr/foot/pose]", name="record")
         node = procs.start("zupt_ekf", "--ros-args", "-p", "imu_durability:=transient_local",

@@ -1,8 +1,10 @@
 """The foot navigator as samples arrive, one at a time or in blocks, for the live node,
 with the same numbers as the offline :func:`pdr_ins_ekf.offline.navigate`.
 
-Each stance decision needs ``detector.context`` samples before and after the sample, so
-decisions, and the filter behind them, run that many samples behind the input. The
+Each stance decision needs ``detector.context(rate)`` samples before and after the
+sample, so decisions, and the filter behind them, run that many samples behind the
+input. The rate is the offline run's (:func:`pdr_ins_ekf.zero_velocity.sample_rate_hz`,
+from the record's first intervals): nothing is decided before those samples are in. The
 detector runs once per block, over the newly decidable samples and their context
 (starting at the first sample near the start of the record, as offline); the filter is
 aligned on the same first stationary period, and its block steps are the offline loop's
@@ -27,6 +29,7 @@ from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_units, usable_samples
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.offline import FootRun, check_rest
+from pdr_ins_ekf.zero_velocity import RATE_PROBE_INTERVALS, sample_rate_hz
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SegmentSmoother, SmoothedSegment, ZuptEkf
 
 
@@ -109,6 +112,7 @@ class StreamingNavigator:
         self.next_filtered = 0
         self.failed: UnitsError | None = None
         self.detector_id = 0
+        self.rate_hz: float | None = None
         self.units_checked = False
         for key in self.counts:
             self.counts[key] = 0
@@ -141,11 +145,19 @@ class StreamingNavigator:
             self.stamps.extend(stamp_ns.tolist())
             self.accel.extend(accel[keep])
             self.gyro.extend(gyro[keep])
-        _, right = self.config.detector.context
+        if self.rate_hz is None and self.received > RATE_PROBE_INTERVALS:
+            self.rate_hz = sample_rate_hz(np.array(self.stamps, np.int64))
+        if self.rate_hz is None:
+            return self._none_filtered()
+        _, right = self.config.detector.context(self.rate_hz)
         return self._advance(self.received - 1 - right, final=False)
 
     def flush(self) -> FootRun:
         """At the end of the input: decide and filter the remaining samples."""
+        if self.rate_hz is None:
+            if self.received < 2:
+                return self._none_filtered()
+            self.rate_hz = sample_rate_hz(np.array(self.stamps, np.int64))
         out = self._advance(self.received - 1, final=True)
         if self.smoother is not None:
             last = self.smoother.finish()
@@ -173,11 +185,11 @@ class StreamingNavigator:
     def _decide(self, first: int, last: int) -> None:
         """The stance decisions of record samples first..last, each from its context (one
         detector call over the block's samples and their context)."""
-        left, right = self.config.detector.context
+        left, right = self.config.detector.context(self.rate_hz)
         start, stop = max(0, first - left), min(last + right, self.received - 1)
         a = self.accel[start - self.offset:stop + 1 - self.offset]
         w = self.gyro[start - self.offset:stop + 1 - self.offset]
-        result = self.config.detector.detect(a, w, 0.0)
+        result = self.config.detector.detect(a, w, self.rate_hz)
         decided = slice(first - start, last + 1 - start)
         self.stance.extend(result.mask[decided].tolist())
         self.statistic.extend(result.statistic[decided].tolist())
@@ -256,7 +268,7 @@ class StreamingNavigator:
 
     def _trim(self) -> None:
         """Drop the samples no decision or filter step will need again."""
-        left, _ = self.config.detector.context
+        left, _ = self.config.detector.context(self.rate_hz)
         keep_from = min(self.offset + len(self.stance) - left, self.next_filtered - 1)
         drop = max(0, keep_from - self.offset)
         if drop:

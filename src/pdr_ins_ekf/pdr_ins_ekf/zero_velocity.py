@@ -3,7 +3,11 @@
 Every detector is a frozen dataclass with its parameters and a method
 ``detect(accel, gyro, rate_hz) -> Stance`` taking specific force (N, 3) [m/s²] and angular
 rate (N, 3) [rad/s] in the body frame, and returning a boolean stance mask and the test
-statistic per sample. Windows are in samples. Time is axis 0 and components the last
+statistic per sample. The detectors of the papers count their windows in samples, as
+the papers do; the adaptive ones in seconds (``window_s``, ``span_s``), so that one
+configuration serves 100 Hz to 1 kHz: ``rate_hz`` turns them into samples
+(:func:`samples_of`), and :func:`sample_rate_hz` gives the rate one way, offline and live.
+Time is axis 0 and components the last
 axis: ``accel`` and ``gyro`` of shape (N, R, 3) (R Monte-Carlo runs) give masks (N, R),
 each column exactly the decision on that run alone.
 
@@ -49,14 +53,36 @@ class Stance:
     detector: int
 
 
+# the sample intervals the rate is taken from: the first ones of a record, so that the
+# live node knows it as soon as the offline run does
+RATE_PROBE_INTERVALS = 200
+
+
+def sample_rate_hz(stamp_ns: np.ndarray) -> float:
+    """The IMU's rate [Hz]: one over the median interval of a record's first
+    RATE_PROBE_INTERVALS intervals (``stamp_ns`` increasing, at least two). The same for
+    the offline run and the live node, which waits for those samples before it decides
+    any (or takes what there is at the end of a shorter record)."""
+    first = np.asarray(stamp_ns[:RATE_PROBE_INTERVALS + 1], np.int64)
+    return 1e9 / float(np.median(np.diff(first)))
+
+
+def samples_of(seconds: float, rate_hz: float) -> int:
+    """A centred window of at least ``seconds`` at ``rate_hz``, in samples: the smallest
+    odd count (an even one is not centred: it shifts the decisions by half a sample, which
+    costs a simulated walk at 100 Hz 40 % of its ARMSE)."""
+    at_least = int(np.ceil(seconds * rate_hz - 1e-9))
+    return at_least + 1 - at_least % 2
+
+
 class StanceDetector(Protocol):
     """What the filter needs of a detector: the vectorised decision, and how many samples
-    before and after a sample its decision depends on (for causal, buffered use)."""
+    before and after a sample its decision depends on at ``rate_hz`` (for causal, buffered
+    use)."""
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance: ...
 
-    @property
-    def context(self) -> tuple[int, int]: ...
+    def context(self, rate_hz: float) -> tuple[int, int]: ...
 
 
 class _CentredWindow:
@@ -64,8 +90,7 @@ class _CentredWindow:
 
     window: int
 
-    @property
-    def context(self) -> tuple[int, int]:
+    def context(self, rate_hz: float) -> tuple[int, int]:
         return self.window // 2, (self.window - 1) // 2
 
 
@@ -110,8 +135,7 @@ class Paper000Detector:
         _check_window("w1", self.w1)
         _check_window("w2", self.w2)
 
-    @property
-    def context(self) -> tuple[int, int]:
+    def context(self, rate_hz: float) -> tuple[int, int]:
         if self.variant == "retarded":
             window = max(self.w1, self.w2) + 1
             return 2 * (window // 2), 2 * ((window - 1) // 2)
@@ -175,41 +199,44 @@ class ShoeDetector(_CentredWindow):
 class AdaptiveShoeDetector:
     """SHOE (004, section II) against a threshold that adapts to the gait.
 
-    γ_k = clip(threshold_factor · min T_j over the ``span`` samples centred on k,
-    threshold_min, threshold_max): stance is where the statistic is within a factor of
-    its lowest value over about one stride. ``span`` should cover a stride and a half
-    (240 samples = 1.2 s at 200 Hz); the live node then lags the input by span/2. The
-    defaults are the single setting used on all seven pyshoe VICON trials (README,
-    "Real data"), which mix slow walking, fast walking and running at 200 Hz.
+    γ_k = clip(threshold_factor · min T_j over the ``span_s`` centred on k, threshold_min,
+    threshold_max): stance is where the statistic is within a factor of its lowest value
+    over about one stride. ``span_s`` should cover a stride and a half; the live node then
+    lags the input by half of it. The SHOE sum runs over ``window_s``. The defaults are the
+    single setting used on all seven pyshoe VICON trials (docs/foot_ins.md), which mix
+    slow walking, fast walking and running at 200 Hz (7 and 241 samples there; 5 and 121
+    at 100 Hz).
     """
 
     sigma_acc_mps2: float = 0.01
     sigma_rate_radps: float = 0.1 * np.pi / 180
-    window: int = 5
-    span: int = 240
+    window_s: float = 0.035
+    span_s: float = 1.2
     threshold_factor: float = 1.5
     threshold_min: float = 3.0e3
     threshold_max: float = 1.0e8
     gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def __post_init__(self) -> None:
-        _check_window("window", self.window)
-        _check_window("span", self.span)
+        if not (self.window_s > 0 and self.span_s > 0):
+            raise ValueError(f"window_s and span_s must be > 0 s, got {self.window_s} and "
+                             f"{self.span_s}")
         if self.threshold_factor < 1:
             raise ValueError(f"threshold_factor must be >= 1, got {self.threshold_factor}")
         if not 0 < self.threshold_min <= self.threshold_max:
             raise ValueError("need 0 < threshold_min <= threshold_max, got "
                              f"{self.threshold_min} and {self.threshold_max}")
 
-    @property
-    def context(self) -> tuple[int, int]:
-        return (self.span // 2 + self.window // 2, (self.span - 1) // 2 + (self.window - 1) // 2)
+    def context(self, rate_hz: float) -> tuple[int, int]:
+        window, span = samples_of(self.window_s, rate_hz), samples_of(self.span_s, rate_hz)
+        return span // 2 + window // 2, (span - 1) // 2 + (window - 1) // 2
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
-        shoe = ShoeDetector(self.sigma_acc_mps2, self.sigma_rate_radps, self.window, 1.0,
-                            self.gravity_mps2)
+        shoe = ShoeDetector(self.sigma_acc_mps2, self.sigma_rate_radps,
+                            samples_of(self.window_s, rate_hz), 1.0, self.gravity_mps2)
         statistic = shoe.detect(accel, gyro, rate_hz).statistic
-        floor = minimum_filter1d(statistic, self.span, axis=0, mode="nearest")
+        floor = minimum_filter1d(statistic, samples_of(self.span_s, rate_hz), axis=0,
+                                 mode="nearest")
         threshold = np.clip(self.threshold_factor * floor, self.threshold_min,
                             self.threshold_max)
         return Stance(statistic < threshold, statistic, DETECTOR_IDS["adaptive_shoe"])

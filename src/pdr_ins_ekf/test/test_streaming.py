@@ -84,7 +84,7 @@ def test_data_in_g_is_refused_at_alignment(imu):
 def test_memory_stays_bounded(imu):
     navigator = StreamingNavigator(RunConfig())
     stream(navigator, imu)
-    left, right = RunConfig().detector.context
+    left, right = RunConfig().detector.context(navigator.rate_hz)
     assert len(navigator.stamps) <= left + right + 2
 
 
