@@ -97,6 +97,9 @@ class Runs:
         self.folder = folder
         self.procs = Processes(0, folder)
         self.done = {}
+        made = self.procs.run("pdr-sim", "generate", "--scenario", "stepping_in_place",
+                              "--rate", "100", "--seed", "1", "--out", str(folder / "gait"))
+        assert made.returncode == 0, made.stderr      # a foot bag with ground_truth/stance
         stripped = folder / "imu_only"        # the pocket walk without any truth
         write_batches(stripped, BagReader(POCKET_WALK).read_batches(["/imu/data", "/imu/mag"]))
         ends = BagReader(POCKET_WALK).read("/ground_truth/step").stamp_ns
@@ -123,10 +126,14 @@ CASES = {
     "ekf_truth_smoothed": ("pdr-ekf run", ["pdr-ekf", "run", FOOT_WALK, "--out",
                                            f"{OUT}/ekf_truth_smoothed", "--smoother",
                                            "segmented"],
-                           {"pose", "smoother", "2 swings"}, True, ()),
+                           {"pose", "smoother", "stance truth", "2 swings"}, True, ()),
     "ekf_no_truth": ("pdr-ekf run", ["pdr-ekf", "run", FOOT_WALK, "--out", f"{OUT}/ekf_no_truth",
-                                     "--truth-topic", "/none"], {"no pose", "2 swings"}, True,
+                                     "--truth-topic", "/none"],
+                     {"no pose", "stance truth", "2 swings"}, True,
                      ()),
+    "ekf_stance_truth": ("pdr-ekf run", ["pdr-ekf", "run", f"{OUT}/gait", "--out",
+                                         f"{OUT}/ekf_stance_truth"],
+                         {"pose", "stance truth", "2 swings"}, True, ()),
     "ekf_evaluate": ("pdr-ekf evaluate", ["pdr-ekf", "evaluate", f"{OUT}/ekf_truth_smoothed",
                                           "--truth", FOOT_WALK], {"pose"}, False,
                      ("ekf_truth_smoothed",)),

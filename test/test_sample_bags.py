@@ -16,7 +16,7 @@ def readme_command(bag: str) -> list[str]:
     return shlex.split(block.replace("\\\n", " "))
 
 
-@pytest.mark.parametrize(("bag", "messages"), [("foot_walk", 3 * 6095),
+@pytest.mark.parametrize(("bag", "messages"), [("foot_walk", 4 * 6095),
                                                ("pocket_walk", 3 * 11538 + 122 + 9),
                                                ("vicon_walk", 2 * 3890)])
 def test_sample_bag_is_reproduced(procs, tmp_path, bag, messages):

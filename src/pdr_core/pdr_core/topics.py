@@ -9,6 +9,7 @@ IMU_MAG = "/imu/mag"
 GROUND_TRUTH_POSE = "/ground_truth/pose"
 GROUND_TRUTH_STEP = "/ground_truth/step"            # pocket placement: one per true step
 GROUND_TRUTH_LANDMARKS = "/ground_truth/landmarks"  # pocket placement: corners, flights
+GROUND_TRUTH_STANCE = "/ground_truth/stance"        # foot placement: true zero velocity
 CLOCK = "/clock"
 
 

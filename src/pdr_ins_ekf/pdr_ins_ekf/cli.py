@@ -39,6 +39,7 @@ from pdr_ins_ekf.offline import (
     navigate,
     output_batches,
     smoothed_paths,
+    stance_scores,
     step_path,
 )
 from pdr_ins_ekf.studies.cli import add_study_commands
@@ -51,7 +52,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
         description="Run the ZUPT-aided INS on imu/data of a bag. Writes OUT/ as a bag with "
                     "pdr/foot/pose, velocity, stance and path, and OUT/report.json with the "
                     "metrics of docs/reports.md (against ground_truth/pose when the bag has "
-                    "it).")
+                    "it, and the stance's precision and recall against ground_truth/stance "
+                    "when it has that).")
     p.add_argument("bag", type=Path, help="bag with imu/data (and ground_truth/pose)")
     p.add_argument("--out", type=Path, required=True,
                    help="output directory: a bag with OUT/report.json")
@@ -63,6 +65,9 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--imu-topic", default=topics.IMU_DATA, help="IMU topic (sensor_msgs/Imu)")
     p.add_argument("--truth-topic", default=topics.GROUND_TRUTH_POSE,
                    help="ground-truth topic (geometry_msgs/PoseStamped), used when present")
+    p.add_argument("--stance-truth-topic", default=topics.GROUND_TRUTH_STANCE,
+                   help="true stance per sample (pdr_msgs/Stance, e.g. pdr-sim generate's), "
+                        "used when present: report key 'stance'")
     p.add_argument("--smoother", choices=SMOOTHER_MODES,
                    help="RTS smoothing (001_5b5dbf275b14cf0a.txt): adds pdr/foot/smoothed_path "
                         "and report key 'smoothed'; default: the configuration's smoother.mode")
@@ -80,7 +85,9 @@ def _run_run(args: argparse.Namespace) -> int:
             config, smoother=dataclasses.replace(config.smoother, mode=args.smoother))
     reader = BagReader(args.bag, strict=args.strict)
     has_truth = args.truth_topic in reader.topics
-    wanted = [args.imu_topic] + ([args.truth_topic] if has_truth else [])
+    has_stance = args.stance_truth_topic in reader.topics
+    wanted = ([args.imu_topic] + ([args.truth_topic] if has_truth else [])
+              + ([args.stance_truth_topic] if has_stance else []))
     batches = reader.read_batches(wanted)
     result = navigate(batches[args.imu_topic], config)
     truth = None
@@ -90,6 +97,8 @@ def _run_run(args: argparse.Namespace) -> int:
     report = step_report(t_s, result.output.position, truth, result.stance)
     report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
                "dropped": result.counts}
+    if has_stance:
+        report["stance"] = stance_scores(result, batches[args.stance_truth_topic])
     smoothed = []
     if result.smoothed is not None:
         smoothed = smoothed_paths(result)

@@ -25,6 +25,7 @@ from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANC
 from pdr_core.nav_path import encode_path
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import RunConfig
+from pdr_ins_ekf.zero_velocity import sample_rate_hz
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
 STANCE = "pdr_msgs/msg/Stance"
@@ -69,11 +70,10 @@ def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
     stamp_ns = imu.stamp_ns[keep]
     t = (stamp_ns - stamp_ns[0]) * 1e-9
     accel, gyro = imu["linear_acceleration"][keep], imu["angular_velocity"][keep]
-    rate = (len(t) - 1) / t[-1] if len(t) > 1 else 0.0
-    if len(t) < 10 or rate <= 0:
+    if len(t) < 10 or t[-1] <= 0:
         raise InputError("imu/data", f"{len(t)} usable samples are too few")
     check_units(accel, gyro)
-    result = config.detector.detect(accel, gyro, rate)
+    result = config.detector.detect(accel, gyro, sample_rate_hz(stamp_ns))
     window = alignment_window(result.mask, t, config.alignment_min_s)
     check_rest(accel[window], gyro[window])
     start = window.start
@@ -87,6 +87,28 @@ def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
                 else smooth(*args, config.smoother, aligned, yaw))
     return FootRun(stamp_ns[start:], result.mask[start:], result.statistic[start:],
                    result.detector, output, counts, smoothed)
+
+
+def stance_scores(run_: FootRun, truth: MessageBatch) -> dict[str, float | int | None]:
+    """The detected stance against a stance truth (``ground_truth/stance``,
+    pdr_msgs/Stance, e.g. the simulator's: true where the sensor's true velocity is
+    zero), sample by sample over the navigated samples that have a truth at their stamp.
+
+    ``precision``: share of the detected stance that is truly stationary (a ZUPT on a
+    moving foot is the error that bends a path); ``recall``: share of the true stance
+    detected; each None when its denominator is 0. ``true_fraction`` and
+    ``detected_fraction``: shares of the compared samples; ``samples``: how many."""
+    k = np.clip(np.searchsorted(truth.stamp_ns, run_.stamp_ns), 0, len(truth) - 1)
+    matched = truth.stamp_ns[k] == run_.stamp_ns
+    true = truth["stationary"][k[matched]].astype(bool)
+    detected = run_.stance[matched].astype(bool)
+    both = int(np.sum(true & detected))
+    n = int(matched.sum())
+    return {"samples": n,
+            "precision": both / int(detected.sum()) if detected.any() else None,
+            "recall": both / int(true.sum()) if true.any() else None,
+            "true_fraction": float(true.mean()) if n else None,
+            "detected_fraction": float(detected.mean()) if n else None}
 
 
 def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch]:

@@ -40,6 +40,7 @@ from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
 from pdr_sim import plots
 from pdr_sim.allan_report import allan_report
+from pdr_sim.foot_trajectory import level_walk_like
 from pdr_sim.overrides import with_overrides
 from pdr_sim.pocket_scenario import POCKET_BUILTIN
 from pdr_sim.scenario import BUILTIN
@@ -83,6 +84,10 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
                         "segments[1].steps=20 (YAML value; repeatable)")
     p.add_argument("--imu-set", action="append", default=[], metavar="SENSOR.KEY=VALUE",
                    help="override a profile value, e.g. gyro.arw_deg_per_sqrt_h=1.0")
+    p.add_argument("--level-walk", action="store_true",
+                   help="foot: instead of the scenario, a level walk of the same duration, "
+                        "seed, standing at start and end, and environment (walk strides out "
+                        "and back), to compare a gait against")
     _add_bag_output(p)
     p.add_argument("--plot", type=Path, metavar="DIR",
                    help="also write DIR/trajectory.png and DIR/signals.png (pocket: and "
@@ -106,6 +111,11 @@ def _run_generate(args: argparse.Namespace) -> int:
         data = with_overrides(data, args.set, "--set")
         scenario = scenario_of(data, f"{name} ({'with --set' if args.set else args.placement})",
                                family)
+    if args.level_walk:
+        if family != "foot":
+            raise InputError("--level-walk", "is for the foot placement")
+        data = level_walk_like(scenario, data)
+        scenario = scenario_of(data, data["name"], family)
     overrides = with_overrides({}, args.imu_set, "--imu-set")
     config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
                               args.gravity, family)

@@ -13,6 +13,10 @@ evaluated with per-sample parameters.
   with it, ψ = ψ₀ ± s/r. Velocity r·α̇·(−sin α, cos α), acceleration
   r·α̈·(−sin α, cos α) − r·α̇²·(cos α, sin α).
 - Turn in place: ψ = ψ₀ + Δψ·(1 − cos(πτ/T))/2, position fixed.
+- Gaits beyond level walking (running, stairs, stepping in place, side and back steps,
+  crawling, and a walk with a realistic stance): phases of kind ``PIECE``, the rolls and
+  swings of :mod:`pdr_sim.foot_gaits` evaluated by :mod:`pdr_sim.foot_pieces`, with the
+  landing impacts added on top.
 
 Per-stride parameters are drawn once from the scenario's variation (normal, clipped to
 at least 20 % of the mean so that no stride is impossible) with its seed.
@@ -24,11 +28,14 @@ from functools import cached_property
 
 import numpy as np
 
-from pdr_sim.scenario import Scenario, StepSpec
+from pdr_core.errors import InputError
+from pdr_sim.foot_gaits import GAIT_TYPES, GAITS, gait_segment, stride_vector
+from pdr_sim.foot_pieces import SWING, Impacts, Pieces, evaluate
+from pdr_sim.scenario import Scenario, StepSpec, scenario_from_dict
 from pdr_sim.step_pattern import FittedPattern, basic_swing, swing_phase
 from pdr_sim.trajectory import Trajectory
 
-REST, STRAIGHT, CURVE, TURN = 0, 1, 2, 3
+REST, STRAIGHT, CURVE, TURN, PIECE = 0, 1, 2, 3, 4
 _STEP_KEYS = ("length_m", "height_m", "swing_s", "stance_s", "pitch_max_rad")
 
 
@@ -36,7 +43,8 @@ _STEP_KEYS = ("length_m", "height_m", "swing_s", "stance_s", "pitch_max_rad")
 class Phases:
     """Phase table, arrays of length P: start time [s], duration [s], kind, start position
     (P, 3), start yaw [rad], and per-phase parameters (stride length, height, pitch max,
-    signed curvature 1/r [1/m] (+ left), turn angle [rad])."""
+    signed curvature 1/r [1/m] (+ left), turn angle [rad]); the pieces of the gait
+    phases (rows of the other phases unused) and the landing impacts."""
 
     start: np.ndarray
     duration: np.ndarray
@@ -51,10 +59,13 @@ class Phases:
     end_time: float
     end_position: np.ndarray
     end_yaw: float
+    pieces: Pieces
+    impacts: Impacts
 
     @property
     def path_length_m(self) -> float:
-        """Horizontal distance travelled by the foot [m]."""
+        """Horizontal distance travelled by the foot [m] (a gait's swings count their
+        stride, not the rolls about the contacts)."""
         return float(self.length[self.kind != REST].sum())
 
     @property
@@ -81,11 +92,13 @@ def draw_strides(scenario: Scenario) -> list[StepSpec]:
 def build_phases(scenario: Scenario) -> Phases:
     """The phase table of a scenario (a short Python loop over strides, not samples)."""
     rows: list[tuple] = []
+    piece_rows: dict[int, object] = {}
+    impacts: list[tuple] = []
     t = 0.0
     position = np.asarray(scenario.initial.position_m, float)
     yaw = np.radians(scenario.initial.yaw_deg)
     strides = iter(draw_strides(scenario))
-    for segment in scenario.segments:
+    for number, segment in enumerate(scenario.segments):
         if segment.type == "standing":
             rows.append((t, segment.duration_s, REST, position, yaw, 0, 0, 0, 0, 0))
             t += segment.duration_s
@@ -94,6 +107,20 @@ def build_phases(scenario: Scenario) -> Phases:
             rows.append((t, segment.duration_s, TURN, position, yaw, 0, 0, 0, 0, turn))
             t += segment.duration_s
             yaw += turn
+        elif segment.type in GAIT_TYPES:
+            built = gait_segment(segment.type, segment.direction, segment.steps, segment.gait,
+                                 t, position, yaw, np.radians(scenario.initial.roll_deg),
+                                 np.radians(scenario.initial.pitch_deg),
+                                 np.random.default_rng([scenario.seed, number]))
+            stride = stride_vector(segment.type, segment.direction, segment.gait, yaw)
+            for piece in built.pieces:
+                piece_rows[len(rows)] = piece
+                start = piece.state(0.0).position.f[0]
+                length = float(np.hypot(*stride[:2])) if piece.kind == SWING else 0.0
+                rows.append((piece.start, piece.duration, PIECE, start, yaw, length, 0, 0, 0,
+                             0))
+            impacts += built.impacts
+            t, position = built.end_time, built.end_position
         else:
             curvature = 0.0
             if segment.type == "curve":
@@ -108,9 +135,14 @@ def build_phases(scenario: Scenario) -> Phases:
                 t += stride.swing_s
                 position, yaw = _swing_end(position, yaw, stride.length_m, curvature)
     cols = list(zip(*rows, strict=True))
+    pieces = Pieces.empty(len(rows))
+    for row, piece in piece_rows.items():
+        pieces.kind[row], pieces.euler[row] = piece.kind, piece.euler
+        pieces.position[row], pieces.lever[row] = piece.position, piece.lever
     return Phases(*(np.asarray(c, float) for c in cols[:2]), np.asarray(cols[2], int),
                   np.stack(cols[3]), *(np.asarray(c, float) for c in cols[4:]),
-                  end_time=t, end_position=position, end_yaw=float(yaw))
+                  end_time=t, end_position=position, end_yaw=float(yaw), pieces=pieces,
+                  impacts=Impacts.from_rows(impacts))
 
 
 def _swing_end(position: np.ndarray, yaw: float, length: float, curvature: float):
@@ -172,7 +204,27 @@ class FootTrajectory:
         x = np.pi * np.minimum(t[turning] - phases.start[phase_of], duration) / duration
         euler[turning, 2] += angle * (1 - np.cos(x)) / 2
         rate[turning, 2] = angle * np.pi / (2 * duration) * np.sin(x)
+        gait = np.flatnonzero(kind == PIECE)
+        if gait.size:
+            self._add_pieces(t, gait, idx[gait], pos, vel, acc, euler, rate)
         return Trajectory.from_euler(t, pos, vel, acc, euler, rate)
+
+    def _add_pieces(self, t, rows, phase_of, pos, vel, acc, euler, rate) -> None:
+        """Set the samples ``rows`` of gait phases from their pieces, and add the landing
+        impacts (in place)."""
+        phases = self.phases
+        duration = phases.duration[phase_of]
+        tau = np.minimum(t[rows] - phases.start[phase_of], duration)
+        state = evaluate(phases.pieces, phase_of, tau, duration)
+        pos[rows], vel[rows], acc[rows] = state.position.f, state.position.d1, state.position.d2
+        euler[rows], rate[rows] = state.euler.f, state.euler.d1
+        hit, shift, turn = phases.impacts.at(t[rows])
+        hit = rows[hit]
+        pos[hit] += shift.f
+        vel[hit] += shift.d1
+        acc[hit] += shift.d2
+        euler[hit] += turn.f
+        rate[hit] += turn.d1
 
     def _add_swing(self, t, rows, phase_of, kind, pos, vel, acc, euler, rate) -> None:
         """Add the swing pattern to the samples ``rows`` (in place)."""
@@ -215,3 +267,29 @@ class FootTrajectory:
         acc[r_cu, :2] = radius * (alpha_dd[:, None] * tangent - alpha_d[:, None] ** 2 * radial)
         euler[r_cu, 2] += swing.s.f[curve] * k
         rate[r_cu, 2] = alpha_d
+
+
+def level_walk_like(scenario: Scenario, data: dict) -> dict:
+    """The scenario mapping of a level walk as long as ``scenario``, to compare a gait
+    against: its first and last standing (5 s if it starts or ends otherwise), and between
+    them ``walk`` strides (pdr_sim.foot_gaits) out, a 180° turn in place of 2 s, and back,
+    the last standing stretched to the same duration. Seed, initial pose and environment
+    are the scenario's."""
+    segments = scenario.segments
+    first = segments[0].duration_s if segments[0].type == "standing" else 5.0
+    last = segments[-1].duration_s if segments[-1].type == "standing" else 5.0
+    duration = FootTrajectory(scenario).duration_s
+    strides = int((duration - first - last - 2.0) // GAITS["walk"].cycle_s)
+    if strides < 2:
+        raise InputError("--level-walk", f"scenario '{scenario.name}' is too short "
+                                         f"({duration:.1f} s) for a level walk")
+    walk = {key: value for key, value in data.items() if key != "segments"}
+    walk["name"] = f"level walk like {scenario.name}"
+    walk["segments"] = [{"type": "standing", "duration_s": first},
+                        {"type": "walk", "steps": strides // 2},
+                        {"type": "turn", "angle_deg": 180, "duration_s": 2.0},
+                        {"type": "walk", "steps": strides - strides // 2},
+                        {"type": "standing", "duration_s": last}]
+    short = FootTrajectory(scenario_from_dict(walk, walk["name"])).duration_s
+    walk["segments"][-1]["duration_s"] = round(float(last + duration - short), 6)
+    return walk

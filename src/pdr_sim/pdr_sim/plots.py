@@ -19,10 +19,15 @@ def step_count(model) -> int:
     """The steps of a simulated walk: the swings of a foot's
     :class:`pdr_sim.foot_trajectory.FootTrajectory`, the true steps of a thigh's
     :class:`pdr_sim.thigh_trajectory.ThighTrajectory`."""
-    from pdr_sim.foot_trajectory import REST
+    from pdr_sim.foot_pieces import SWING
+    from pdr_sim.foot_trajectory import PIECE, REST
 
     steps = getattr(model, "true_steps", None)
-    return len(steps.length) if steps is not None else int(np.sum(model.phases.kind != REST))
+    if steps is not None:
+        return len(steps.length)
+    kind = model.phases.kind
+    return int(np.sum((kind != REST) & (kind != PIECE))
+               + np.sum((kind == PIECE) & (model.phases.pieces.kind == SWING)))
 
 
 def _route_title(title: str, shows: str, traj: Trajectory, steps: int | None) -> str:

@@ -27,6 +27,14 @@ A scenario is a YAML mapping (see ``pdr_sim/scenarios/*.yaml`` for the built-in 
       - {type: straight, steps: 5}
       - {type: curve, steps: 4, radius_m: 3, direction: left}
       - {type: turn, angle_deg: 90, duration_s: 1.5}     # in place; positive = left
+      - {type: stairs, direction: up, steps: 8, gait: {riser_m: 0.18}}
+      - {type: run, steps: 20}
+
+Gait segments (:mod:`pdr_sim.foot_gaits`, a stance that is not a still foot): ``walk``,
+``run``, ``stairs`` (direction up or down), ``in_place``, ``side_steps`` (direction left
+or right), ``back_steps`` and ``crawl``, each with ``steps`` (strides) and an optional
+``gait:`` mapping over the gait's defaults (the keys of ``GaitSpec``); they take no
+``step:`` and no per-stride ``variation`` beyond their own stride-time scatter.
 
 A segment may carry its own ``step:`` mapping, overriding the defaults. Every key is
 checked: unknown keys, negative durations and impossible steps are refused with the key
@@ -44,10 +52,15 @@ import yaml
 from pdr_core.config_files import check_keys
 from pdr_core.errors import InputError
 from pdr_core.magnetic_field import Cylinder
+from pdr_sim.foot_gaits import GAIT_TYPES, GaitSpec, gait_defaults, gait_keys, with_overrides
 from pdr_sim.step_pattern import TIMINGS
 
-BUILTIN = ("straight", "square_loop", "figure_eight", "long_mixed_walk")
-SEGMENT_TYPES = ("standing", "straight", "curve", "turn")
+GAIT_SCENARIOS = ("stairs_up_down", "running", "stepping_in_place", "side_and_back_steps",
+                  "crawling", "level_walk_matched")
+BUILTIN = ("straight", "square_loop", "figure_eight", "long_mixed_walk", *GAIT_SCENARIOS)
+SEGMENT_TYPES = ("standing", "straight", "curve", "turn", *GAIT_TYPES)
+DIRECTIONS = {"curve": ("left", "right"), "side_steps": ("left", "right"),
+              "stairs": ("up", "down")}
 
 
 @dataclass(frozen=True)
@@ -92,6 +105,7 @@ class Segment:
     direction: str = "left"
     angle_deg: float = 0.0
     step: StepSpec | None = None
+    gait: GaitSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -132,15 +146,52 @@ def _step(data: Any, where: str, base: StepSpec, variation: bool = False) -> Ste
     return replace(base, **out)
 
 
+def _gait(data: Any, where: str, kind: str, direction: str) -> GaitSpec:
+    """A gait segment's stride: its defaults (pdr_sim.foot_gaits.GAITS) with the keys of
+    its ``gait:`` mapping, each checked."""
+    allowed = gait_keys(kind)
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        raise InputError(where, f"expected a mapping, got {data!r}")
+    values = {}
+    for key, value in data.items():
+        if key not in allowed:
+            raise InputError(f"{where}.{key}", f"not a key of a '{kind}' gait "
+                                               f"(keys: {', '.join(allowed)})")
+        signed = key.endswith("_deg")
+        strict = key in ("cycle_s", "stance_fraction", "loading_s", "impact_hz", "impact_s",
+                         "tread_m")
+        values[key] = number(value, f"{where}.{key}", None if signed else 0.0, strict=strict)
+    spec = with_overrides(gait_defaults(kind, direction), values)
+    stance = spec.stance_fraction * spec.cycle_s
+    checks = (("stance_fraction", spec.stance_fraction < 1, "must be < 1"),
+              ("loading_s", spec.loading_s + spec.flat_s < stance,
+               f"with flat_s must be shorter than the stance ({stance:g} s)"),
+              ("impact_s", spec.impact_s < stance, f"must be shorter than the stance "
+                                                   f"({stance:g} s)"),
+              ("settle_s", spec.settle_s > 0 or spec.stance_pitch_deg == 0,
+               "must be > 0 with a stance_pitch_deg other than 0"),
+              ("cycle_variation", spec.cycle_variation < 0.2 * (1 - spec.stance_fraction),
+               "must be < 0.2 of the swing's share of the cycle"))
+    for key, ok, message in checks:
+        if not ok:
+            raise InputError(f"{where}.{key}", message)
+    return spec
+
+
 def _segment(data: Any, where: str, step: StepSpec) -> Segment:
     values = check_keys(data, Segment, where, required=("type",))
     kind = values["type"]
     needs = {"standing": ("duration_s",), "straight": ("steps",),
-             "curve": ("steps", "radius_m", "direction"), "turn": ("angle_deg", "duration_s")}
+             "curve": ("steps", "radius_m", "direction"), "turn": ("angle_deg", "duration_s"),
+             **{gait: ("steps",) for gait in GAIT_TYPES},
+             "stairs": ("steps", "direction"), "side_steps": ("steps", "direction")}
     if kind not in needs:
         raise InputError(f"{where}.type", f"unknown segment type '{kind}' "
                                           f"(known: {', '.join(SEGMENT_TYPES)})")
-    allowed = {"type", "step", *needs[kind]}
+    optional = ("gait",) if kind in GAIT_TYPES else ("step",)
+    allowed = {"type", *optional, *needs[kind]}
     for key in values:
         if key not in allowed:
             raise InputError(f"{where}.{key}", f"not a key of a '{kind}' segment "
@@ -159,14 +210,17 @@ def _segment(data: Any, where: str, step: StepSpec) -> Segment:
     if "radius_m" in values:
         out["radius_m"] = number(values["radius_m"], f"{where}.radius_m", 0.0, strict=True)
     if "direction" in values:
-        if values["direction"] not in ("left", "right"):
-            raise InputError(f"{where}.direction", f"must be left or right, got "
-                                                   f"{values['direction']!r}")
+        if values["direction"] not in DIRECTIONS[kind]:
+            raise InputError(f"{where}.direction", f"must be {' or '.join(DIRECTIONS[kind])}, "
+                                                   f"got {values['direction']!r}")
         out["direction"] = values["direction"]
     if "angle_deg" in values:
         out["angle_deg"] = number(values["angle_deg"], f"{where}.angle_deg")
     if "step" in values:
         out["step"] = _step(values["step"], f"{where}.step", step)
+    if kind in GAIT_TYPES:
+        out["gait"] = _gait(values.get("gait"), f"{where}.gait", kind,
+                            out.get("direction", ""))
     return Segment(**out)
 
 

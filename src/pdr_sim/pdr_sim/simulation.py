@@ -6,9 +6,11 @@
 corrupts them with the profile's errors (:mod:`pdr_core.imu_errors`), all vectorised. The
 result holds ``imu/data`` (sensor_msgs/Imu, REP-145, covariances from the white-noise
 level), ``imu/mag`` (sensor_msgs/MagneticField) and ``ground_truth/pose``
-(geometry_msgs/PoseStamped, every sample) as batches; the pocket placement adds
-``ground_truth/step`` (pdr_msgs/Step, one per true step, at its end) and
-``ground_truth/landmarks`` (pdr_msgs/Landmark, every corner and flight of stairs).
+(geometry_msgs/PoseStamped, every sample) as batches; the foot placement adds
+``ground_truth/stance`` (pdr_msgs/Stance, every sample: where the sensor's true velocity
+and turn rate are zero, :func:`foot_truth`), the pocket placement ``ground_truth/step``
+(pdr_msgs/Step, one per true step, at its end) and ``ground_truth/landmarks``
+(pdr_msgs/Landmark, every corner and flight of stairs).
 :func:`simulation_record` holds the complete configuration and the truth that has no
 topic (the sensor's constant biases, revisits, activity periods), so that any run can be
 reproduced and evaluated from its bag.
@@ -41,6 +43,10 @@ from pdr_sim.thigh_trajectory import ThighTrajectory
 from pdr_sim.trajectory import Trajectory, TrajectoryModel
 
 START_TIME_NS = 1_700_000_000 * 1_000_000_000   # stamps start here (2023-11-14T22:13:20Z)
+STANCE = "pdr_msgs/msg/Stance"
+STATIONARY_SPEED_MPS = 1e-9      # ground_truth/stance: the sensor's true speed below this
+STATIONARY_RATE_RADPS = 1e-9     # ... and its true turn rate below this
+TRUTH_DETECTOR = 255             # pdr_msgs/Stance.DETECTOR_TRUTH
 MIN_RATE_HZ, MAX_RATE_HZ = 50.0, 1000.0
 PLACEMENTS = ("foot", "pocket")
 WORKERS = max(1, min(4, os.cpu_count() or 1))
@@ -209,13 +215,31 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
         "magnetic_field_covariance": _covariance(errors.mag.white_density, config.rate_hz, n)})
     pose = MessageBatch(POSE_STAMPED, stamps, MAP_FRAME, {
         "pose.position": traj.position, "pose.orientation": quaternion_xyzw(traj.attitude)})
-    truth = pocket_truth(model) if isinstance(model, ThighTrajectory) else {}
+    truth = pocket_truth(model) if isinstance(model, ThighTrajectory) else \
+        foot_truth(traj, stamps)
     return Simulation(config, traj, true_gyro, true_accel, true_mag, imu, mag_batch, pose,
                       truth, biases[0][0, 0], model)
 
 
 def _stamps(t_s: np.ndarray) -> np.ndarray:
     return START_TIME_NS + np.round(np.asarray(t_s) * 1e9).astype(np.int64)
+
+
+def foot_truth(traj: Trajectory, stamps: np.ndarray) -> dict[str, MessageBatch]:
+    """``ground_truth/stance`` of a foot walk, one per IMU sample: ``stationary`` where
+    the foot is at rest, its sensor's true speed below :data:`STATIONARY_SPEED_MPS`
+    (1e-9 m/s) and its true turn rate below :data:`STATIONARY_RATE_RADPS` (1e-9 rad/s),
+    i.e. zero but for rounding, where both a ZUPT and a ZARU hold: standing and a still
+    foot flat. A turn in place (v = 0, ω ≠ 0) is not stationary, nor is a foot rolling
+    about its heel, ball or toes (the sensor on the instep moves with ω × r, however
+    slowly), nor a landing impact. ``statistic`` is the true speed [m/s] (the truth's own
+    test quantity), ``detector`` :data:`TRUTH_DETECTOR`."""
+    speed = np.linalg.norm(traj.velocity, axis=1)
+    rate = np.linalg.norm(traj.body_rate, axis=1)
+    n = len(speed)
+    return {topics.GROUND_TRUTH_STANCE: MessageBatch(STANCE, stamps, SENSOR_FRAME, {
+        "stationary": (speed < STATIONARY_SPEED_MPS) & (rate < STATIONARY_RATE_RADPS),
+        "statistic": speed, "detector": np.full(n, TRUTH_DETECTOR, np.uint8)})}
 
 
 def pocket_truth(model: ThighTrajectory) -> dict[str, MessageBatch]:

@@ -10,10 +10,11 @@ Parameters (``--ros-args -p name:=value`` or ``--params-file``):
         instead of playing its readable part with a warning.
 
 Bag topics are absolute (``/imu/data``) and are published relative to the node's
-namespace (``imu/data``). A bag cut short (pdr_core.bag) is played up to its last
-complete chunk, with a warning saying how much; damage inside an intact bag stops the
-playback there, reported, with exit status 1. Bad parameters or an unreadable bag exit
-with status 2.
+namespace (``imu/data``); the truth topics of a simulated bag (``ground_truth/pose``,
+``stance``, ``step``, ``landmarks``) are played like any other. A bag cut short
+(pdr_core.bag) is played up to its last complete chunk, with a warning saying how much;
+damage inside an intact bag stops the playback there, reported, with exit status 1. Bad
+parameters or an unreadable bag exit with status 2.
 """
 from __future__ import annotations
 

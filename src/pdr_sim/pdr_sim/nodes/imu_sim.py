@@ -11,8 +11,9 @@ Parameters (``--params-file config/imu_sim.yaml`` or ``-p name:=value``):
     rate, clock, wait_for_subscribers, wait_timeout_s, ack_every: see
         :mod:`pdr_sim.nodes.playback` (rate 1.0 = real time).
 
-Publishes ``imu/data``, ``imu/mag`` and ``ground_truth/pose`` (the pocket placement also
-``ground_truth/step`` and ``ground_truth/landmarks``) with the stamps of the simulation
+Publishes ``imu/data``, ``imu/mag`` and ``ground_truth/pose``, and the foot placement
+``ground_truth/stance`` (the pocket placement ``ground_truth/step`` and
+``ground_truth/landmarks``) with the stamps of the simulation
 (data time, not the wall clock), then exits. The messages are identical to those of
 ``pdr-sim generate`` with the same configuration.
 """
