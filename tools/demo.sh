@@ -26,8 +26,10 @@ expected=$(python - "$out/simulated" "$config" <<'PY'
 import sys
 from pdr_core.bag import BagReader
 from pdr_ins_ekf.config import load_run_config
-lag = load_run_config(sys.argv[2]).detector.context[1]
-print(2 * (len(BagReader(sys.argv[1]).read("/imu/data")) - lag))
+from pdr_ins_ekf.zero_velocity import sample_rate_hz
+imu = BagReader(sys.argv[1]).read("/imu/data")
+lag = load_run_config(sys.argv[2]).detector.context(sample_rate_hz(imu.stamp_ns))[1]
+print(2 * (len(imu) - lag))
 PY
 )
 live_graph "$out" "$out/simulated" "[/imu/data]" "[pdr/foot/pose, pdr/foot/stance]" \
