@@ -143,10 +143,16 @@ def _run_navigator(args: argparse.Namespace) -> int:
                      args.mag_calibration, plot=args.plot, overwrite=args.overwrite,
                      drift=args.drift, drift_config=load_drift_config(args.drift_config),
                      strict=args.strict)
+    _print_report(report, f"{args.bag}: ")
+    return 0
+
+
+def _print_report(report: dict, source: str = "") -> None:
+    """The report as JSON on stdout, and each of its warnings as one stderr line, after
+    ``source`` (the file it is about, when the warnings do not name it)."""
     print(json.dumps(report, indent=2))
     for warning in report["warnings"]:
-        print(f"pdr-pocket: warning: {args.bag}: {warning}", file=sys.stderr)
-    return 0
+        print(f"pdr-pocket: warning: {source}{warning}", file=sys.stderr)
 
 
 def _add_evaluate(sub: argparse._SubParsersAction) -> None:
@@ -191,13 +197,10 @@ def _run_evaluate(args: argparse.Namespace) -> int:
         raise InputError(args.out, "output exists already (remove it or pass --overwrite)")
     report = evaluate(args.run_out, args.truth, args.truth_steps, args.truth_steps_per,
                       args.distance_m, strict=args.strict)
-    text = json.dumps(report, indent=2)
     if args.out is not None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(text + "\n")
-    print(text)
-    for warning in report["warnings"]:
-        print(f"pdr-pocket: warning: {warning}", file=sys.stderr)
+        args.out.write_text(json.dumps(report, indent=2) + "\n")
+    _print_report(report)
     return 0
 
 
