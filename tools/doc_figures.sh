@@ -30,7 +30,7 @@ cp "$work/attitude/attitude.png" "$work/attitude.png"
 echo "== smoothing (smoothing.md) and a VICON trial (foot_ins.md)"
 "$root/ws" pdr-ekf run "$demo/simulated" --out "$work/smoothed" --smoother segmented --plot > /dev/null
 cp "$work/smoothed/smoothing.png" "$work/smoothing.png"
-"$root/ws" pdr-sim import-csv "$root/../shared/data/foot/pyshoe_vicon/2017-11-22-11-22-03.csv" \
+"$root/ws" pdr-sim import-csv "${PDR_SHARED_DATA:-$root/../shared/data}/foot/pyshoe_vicon/2017-11-22-11-22-03.csv" \
   --out "$work/vicon" --time-col t_s --acc-cols acc_x_mps2,acc_y_mps2,acc_z_mps2 \
   --gyro-cols gyr_x_radps,gyr_y_radps,gyr_z_radps --pos-cols gt_x_m,gt_y_m,gt_z_m \
   --pos-axes=-x,y,z > /dev/null
