@@ -6,7 +6,8 @@ b (6,) [accelerometer, gyroscope], covariance P (n, n), and ``prev`` (3, 3), who
 are the previous bias-corrected specific force, rate and navigation-frame specific force
 (the trapezoidal mechanization needs them). ``params`` holds, in order: accelerometer
 and gyro noise densities, accelerometer and gyro bias noise densities, the Gauss–Markov
-correlation time [s], the bias model code (:data:`BIAS_MODEL_CODES`) and gravity [m/s²].
+correlation time [s], the bias model code (:data:`BIAS_MODEL_CODES`), gravity [m/s²] and
+the ZARU's gate on its normalised innovation squared (:data:`PARAM_ZARU_GATE`).
 The first call compiles (seconds) and caches the machine code beside this module.
 """
 from __future__ import annotations
@@ -20,6 +21,7 @@ from pdr_core.small_matrix import product3, rodrigues
 kernel_cache.forget_if_changed(__file__, small_matrix.__file__)
 
 BIAS_MODEL_CODES = {"none": 0, "random_walk": 1, "gauss_markov": 2}
+PARAM_ZARU_GATE = 7   # params[7]: the ZARU is applied where νᵀS⁻¹ν is below it
 
 
 @njit(cache=True)
@@ -305,6 +307,19 @@ def update(p, v, C, b, P, prev, z, rows, sigma):
 
 
 @njit(cache=True)
+def within_gate(P, innovation, rows, sigma, gate):
+    """True when the normalised innovation squared νᵀ·S⁻¹·ν of a direct measurement of
+    the three states from ``rows`` (S = H·P·Hᵀ + σ²I) is below ``gate``, a χ² bound with
+    3 degrees of freedom (16.27 at 0.999; Bar-Shalom et al. 2001, section 5.4)."""
+    S_inv = _inverse3(P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2)
+    nis = 0.0
+    for a in range(3):
+        for c in range(3):
+            nis += innovation[a] * S_inv[a, c] * innovation[c]
+    return nis < gate
+
+
+@njit(cache=True)
 def feed_back(p, v, C, b, dx, prev):
     """:func:`compensate`, then the navigation-frame specific force of ``prev`` rotated
     by the corrected attitude (the next trapezoidal step averages it)."""
@@ -332,7 +347,9 @@ def filter_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, za
 def filter_block(p, v, C, b, P, prev, accel, gyro, dt, stance, zaru, params, zupt_sigma,
                  zaru_sigma):
     """Consecutive samples from the state (p, v, C, b, P, prev), changed in place: each
-    propagated over dt[k] [s], then ZUPT (and ZARU) where ``stance``. Returns position,
+    propagated over dt[k] [s], then ZUPT where ``stance`` (and ZARU there, where the
+    angular rate passes :func:`within_gate`: a foot that turns is not at rest, however
+    still its velocity). Returns position,
     velocity (N, 3), attitude (N, 3, 3), bias (N, 6), covariance diagonal (N, n) and
     position and velocity covariance (N, 3, 3) after each sample."""
     N = accel.shape[0]
@@ -344,7 +361,8 @@ def filter_block(p, v, C, b, P, prev, accel, gyro, dt, stance, zaru, params, zup
         predict(p, v, C, b, P, prev, accel[k], gyro[k], dt[k], params)
         if stance[k]:
             update(p, v, C, b, P, prev, -v, 3, zupt_sigma)
-            if zaru:
+            if zaru and within_gate(P, gyro[k] - b[3:], 12, zaru_sigma,
+                                    params[PARAM_ZARU_GATE]):
                 update(p, v, C, b, P, prev, gyro[k] - b[3:], 12, zaru_sigma)
         pos[k], vel[k], att[k], bias[k] = p, v, C, b
         for i in range(n):

@@ -39,6 +39,7 @@ from pdr_core import kernel_cache, small_matrix
 from pdr_core.small_matrix import cholesky, product3, rodrigues
 from pdr_ins_ekf import compiled_filter
 from pdr_ins_ekf.compiled_filter import (
+    PARAM_ZARU_GATE,
     apply_transition,
     correct,
     feed_back,
@@ -49,6 +50,7 @@ from pdr_ins_ekf.compiled_filter import (
     start,
     transition_in_place,
     transposed_transition_in_place,
+    within_gate,
 )
 
 kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__)
@@ -172,7 +174,8 @@ def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, para
     if stance:
         seg[GAIN][j, 0], seg[WEIGHTED][j, 0] = correct(dx, P, -v - dx[3:6], 3, zupt_sigma)
         step[STEP_UPDATES] = 1.0
-        if zaru:
+        if zaru and within_gate(P, w - b[3:] - dx[12:15], 12, zaru_sigma,
+                                params[PARAM_ZARU_GATE]):
             seg[GAIN][j, 1], seg[WEIGHTED][j, 1] = correct(
                 dx, P, w - b[3:] - dx[12:15], 12, zaru_sigma)
             step[STEP_UPDATES] = 2.0

@@ -42,6 +42,7 @@ class FilterConfig:
     zupt_sigma_mps: float = 0.01      # [m/s]
     zaru_sigma_radps: float = 0.01    # [rad/s]
     zaru: bool = False
+    zaru_gate_nis: float = 16.27      # ZARU where νᵀS⁻¹ν < this (χ², 3 dof, 0.999)
     bias_model: str = "none"
     acc_bias_noise: float = 1e-4      # [m/s²/√s]
     gyro_bias_noise: float = 1e-5     # [rad/s/√s]
@@ -61,7 +62,8 @@ class FilterConfig:
         if self.zaru and self.bias_model == "none":
             raise ValueError("ZARU needs the gyro bias states (bias_model random_walk or "
                              "gauss_markov)")
-        for name in ("acc_noise", "gyro_noise", "zupt_sigma_mps", "zaru_sigma_radps"):
+        for name in ("acc_noise", "gyro_noise", "zupt_sigma_mps", "zaru_sigma_radps",
+                     "zaru_gate_nis"):
             if getattr(self, name) <= 0:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
 
@@ -278,7 +280,8 @@ def kernel_params(config: FilterConfig) -> np.ndarray:
     """The ``params`` array of :mod:`pdr_ins_ekf.compiled_filter`."""
     return np.array([config.acc_noise, config.gyro_noise, config.acc_bias_noise,
                      config.gyro_bias_noise, config.bias_tau_s,
-                     kernels.BIAS_MODEL_CODES[config.bias_model], config.gravity_mps2])
+                     kernels.BIAS_MODEL_CODES[config.bias_model], config.gravity_mps2,
+                     config.zaru_gate_nis])
 
 
 def initial_attitude(accel: np.ndarray, yaw_rad: float) -> np.ndarray:

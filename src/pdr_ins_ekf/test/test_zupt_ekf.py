@@ -64,3 +64,41 @@ def test_fifteen_states_estimate_a_gyro_bias_with_zaru():
         ekf.zaru(bias)
     np.testing.assert_allclose(ekf.b[3:], bias, atol=1e-4)
     assert np.allclose(ekf.P, ekf.P.T) and np.linalg.eigvalsh(ekf.P).min() >= 0
+
+
+def _turning_in_place(config, seconds=5.0, rate_hz=100.0, turn_radps=0.2):
+    """A foot at rest but for a constant yaw rate, every sample taken for stance: the
+    gyro bias estimate after ``seconds``."""
+    n = int(seconds * rate_hz)
+    ekf = ZuptEkf(config, np.eye(3))
+    f = np.tile([0.0, 0.0, 9.80665], (n, 1))
+    w = np.tile([0.0, 0.0, turn_radps], (n, 1))
+    dt = np.full(n, 1.0 / rate_hz)
+    dt[0] = 0.0
+    ekf.run_block(f, w, dt, np.ones(n, bool))
+    return ekf.b[3:]
+
+
+def test_zaru_gate_keeps_a_turn_in_place_out_of_the_gyro_bias():
+    """A turn on the spot has v = 0 but ω ≠ 0: its rate is not a bias. With the gate
+    (zaru_gate_nis, χ² at 0.999) the ZARU is refused and the bias stays at its start;
+    without it the ZARU takes the turn for a bias."""
+    gated = FilterConfig(bias_model="random_walk", zaru=True)
+    ungated = FilterConfig(bias_model="random_walk", zaru=True, zaru_gate_nis=1e300)
+    assert np.abs(_turning_in_place(gated)).max() < 1e-9
+    assert _turning_in_place(ungated)[2] > 0.15
+
+
+def test_zaru_gate_passes_a_bias_within_its_uncertainty():
+    """A still foot with a gyro bias of 2σ of the initial bias uncertainty: the ZARU
+    runs, and the bias is found (the gate refuses only what the covariance calls
+    implausible)."""
+    config = FilterConfig(bias_model="random_walk", zaru=True)
+    bias = 2 * config.init_gyro_bias_sigma
+    assert _turning_in_place(config, turn_radps=bias)[2] == pytest.approx(bias, rel=0.05)
+
+
+@pytest.mark.parametrize("gate", [0.0, -1.0])
+def test_zaru_gate_must_be_positive(gate):
+    with pytest.raises(ValueError, match="zaru_gate_nis"):
+        FilterConfig(bias_model="random_walk", zaru=True, zaru_gate_nis=gate)

@@ -53,14 +53,16 @@ def filter_for(noise: NoiseLevels, zupt_sigma_mps: float = 0.01, states: int = 1
     """The ZUPT filter matched to an IMU's noise: 15 states with ZUPT and ZARU (000,
     section IV; 004, Eq. (2)), white noise densities as process noise, the bias σ as
     initial bias uncertainty, the RRW as the gyro bias random walk (a floor keeps every
-    density > 0); or 9 states, ZUPT only, biases not estimated."""
+    density > 0); or 9 states, ZUPT only, biases not estimated. As in the paper, the ZARU
+    runs in every detected stance (no innovation gate: ``zaru_gate_nis`` infinite), so
+    the detectors' windows are compared on the paper's filter."""
     if states not in (9, 15):
         raise ValueError(f"states must be 9 or 15, got {states}")
     floor = 1e-9
     return FilterConfig(
         acc_noise=max(noise.acc_noise_mps2_per_sqrt_hz, 1e-5),
         gyro_noise=max(noise.gyro_noise_radps_per_sqrt_hz, 1e-7),
-        zupt_sigma_mps=zupt_sigma_mps, zaru=states == 15,
+        zupt_sigma_mps=zupt_sigma_mps, zaru=states == 15, zaru_gate_nis=np.inf,
         bias_model="random_walk" if states == 15 else "none",
         acc_bias_noise=floor, gyro_bias_noise=max(noise.gyro_rrw_radps_per_sqrt_s, floor),
         init_acc_bias_sigma=max(noise.acc_bias_mps2, 1e-4),
