@@ -109,6 +109,9 @@ FILTERS = {
     "9 states": {},
     "15 RW": {"bias_model": "random_walk"},
     "15 RW + ZARU": {"bias_model": "random_walk", "zaru": True},
+    # ZARU in every detected stance, as before its innovation gate (zaru_gate_nis)
+    "15 RW + ZARU ungated": {"bias_model": "random_walk", "zaru": True,
+                             "zaru_gate_nis": 1e300},
     "15 GM + ZARU": {"bias_model": "gauss_markov", "zaru": True},
     # the 15 states that keep the VICON trials (docs/foot_ins.md, "Heading on long walks")
     "15 RW + ZARU 0.05": {"bias_model": "random_walk", "zaru": True, "zaru_sigma_radps": 0.05,
