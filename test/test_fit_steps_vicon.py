@@ -1,5 +1,5 @@
 """``pdr-sim fit-steps`` on the VICON foot positions of ../shared/data (issue 3: the
-fitting tool of 000_fbd401126d10f515.txt, Eq. (5), shown on a real motion capture)."""
+fitting tool of Zampella et al. 2011, Eq. (5), shown on a real motion capture)."""
 from __future__ import annotations
 
 import re

@@ -80,9 +80,9 @@ def test_xio_loop_gap(procs, tmp_path):
 
 @needs_shared(PYSHOE[0])
 def test_zeroed_heading_position_covariance_smooths_real_walks(procs, tmp_path):
-    """smoother.zero_heading_position (001, section IV) on a VICON trial where the zeroed
-    covariance turns indefinite: Eq. (9) with the covariance solves it by LU and stays
-    finite (it gave NaN before; the states alone need no inverse)."""
+    """smoother.zero_heading_position (Simón Colomar et al. 2012, section IV) on a VICON
+    trial where the zeroed covariance turns indefinite: Eq. (9) with the covariance solves it
+    by LU and stays finite (it gave NaN before; the states alone need no inverse)."""
     config = tmp_path / "zeroed.yaml"
     config.write_text(f"base: {ROOT / 'src/pdr_ins_ekf/config/foot_ekf.yaml'}\n"
                       "smoother:\n  zero_heading_position: true\n  covariance: true\n")

@@ -30,7 +30,7 @@ SCENARIO = {
     "variation": {"length_m": 0.05, "swing_s": 0.02, "stance_s": 0.02},
     "environment": {"latitude_deg": 48.15, "magnetic_field": {
         "preset": "munich", "distortion": "table_3_3",
-        # the template of 003_05973562addf7331.txt, Fig. 3.12: four streetlights, one car
+        # the template of Muñoz Díaz 2016, Fig. 3.12: four streetlights, one car
         "cylinders": [{"east_m": 10.0 * i, "north_m": 3.0, "radius_m": 0.3} for i in range(4)]
         + [{"east_m": 15.0, "north_m": -6.0, "radius_m": 2.0}]}},
     "segments": [{"type": "standing", "duration_s": 10.0}]

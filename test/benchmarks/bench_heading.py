@@ -46,9 +46,15 @@ from pdr_core.csv_import import CsvImuFormat, import_csv
 from pdr_core.imu_errors import ImuErrors, TriadErrors, corrupt
 from pdr_core.metrics import error_report, truth_at
 from pdr_ins_ekf.config import RunConfig, load_run_config
+from pdr_ins_ekf.kernel_data import GYRO
 from pdr_ins_ekf.offline import alignment_window, navigate
 from pdr_ins_ekf.studies.ekf_montecarlo import detect_runs, ekf_batch
-from pdr_ins_ekf.zupt_ekf import initial_attitude, initial_covariance, kernel_params
+from pdr_ins_ekf.zupt_ekf import (
+    initial_attitude,
+    initial_covariance,
+    kernel_params,
+    record_samples,
+)
 from pdr_sim.foot_trajectory import sample_times
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.signals import angular_rate
@@ -217,13 +223,11 @@ def filter_runs(config: RunConfig, t: np.ndarray, accel: np.ndarray, gyro: np.nd
     attitude = np.stack([initial_attitude(a[w.start:w.stop], yaw)
                          for a, w in zip(accel, windows, strict=True)])
     bias = np.zeros((len(accel), 6))
-    bias[:, 3:] = [g[w.start:w.stop].mean(axis=0) for g, w in zip(gyro, windows, strict=True)]
+    bias[:, GYRO] = [g[w.start:w.stop].mean(axis=0) for g, w in zip(gyro, windows, strict=True)]
     keep = np.unique(np.r_[np.arange(0, len(t) - start, KEEP_EVERY), len(t) - start - 1])
     position, yaw_out, _, _ = ekf_batch(
-        np.ascontiguousarray(t[start:]), np.ascontiguousarray(accel[:, start:]),
-        np.ascontiguousarray(gyro[:, start:]), np.ascontiguousarray(stance[:, start:]),
-        c.zaru, attitude, bias, initial_covariance(c), kernel_params(c), c.zupt_sigma_mps,
-        c.zaru_sigma_radps, keep)
+        record_samples(t[start:], accel[:, start:], gyro[:, start:], stance[:, start:]),
+        attitude, bias, initial_covariance(c), kernel_params(c), keep)
     return keep + start, position, yaw_out
 
 

@@ -3,10 +3,10 @@
 Run on purpose (``make bench``), not in CI.
 
 1. Pure INS: 1,000 runs of a 100 s walk at 100 Hz, all four error sources of
-   000_fbd401126d10f515.txt, Table I, one at a time (target: each under 60 s).
-2. ZUPT EKF: paper 000's section IV-B study, 100 runs × 1,000 strides at 100 Hz after
-   10 s standing (about 12 M samples), XSens MTi noise, limited window (target: under
-   3 minutes).
+   Zampella et al. 2011, Table I, one at a time (target: each under 60 s).
+2. ZUPT EKF: the study of Zampella et al. 2011, section IV-B, 100 runs × 1,000 strides at
+   100 Hz after 10 s standing (about 12 M samples), XSens MTi noise, limited window
+   (target: under 3 minutes).
 """
 from __future__ import annotations
 

@@ -1,20 +1,51 @@
-"""Shared pure-Python core of the PDR stack (no rclpy import).
+"""Shared core of the PDR stack: bags, messages, configuration, constants and the pieces
+both navigators use. No module imports rclpy at import time (the node helpers import it
+inside their functions or are duck-typed on it), so pdr_core is testable without ROS.
 
 Modules:
+  Errors, configuration, names and units
     errors                    InputError and the CLI error convention (one line naming
                               file and problem).
-    msgtypes                  The rosbags typestore: ROS 2 Jazzy types plus pdr_msgs.
+    config_files              Typed dataclasses from YAML mappings (units in key names).
+    constants                 Physical constants, in one place (SI).
+    units                     Conversions at the edges (°/√h, µg/√Hz, mg, ...).
+    frames                    Default frame names of the messages (REP-105, REP-145).
     topics                    Topic names in bags and on the graph.
+  Messages and bags
+    msgtypes                  The rosbags typestore: ROS 2 Jazzy types plus pdr_msgs.
     batch                     MessageBatch: a topic's messages as NumPy arrays.
     cdr                       Vectorised CDR encoding and decoding of fixed-layout messages.
+    mcap_bulk                 Vectorised MCAP writes and indexed reads of fixed-size messages.
     bag                       Reading and writing rosbag2 bags in MCAP storage.
+    recording                 A bag written as it is recorded: a crash loses at most the
+                              last second.
+    headers                   std_msgs/Header stamps to and from nanoseconds.
     nav_path                  nav_msgs/Path to and from pose batches.
-    csv_import                Turning a CSV IMU log into Imu and PoseStamped batches.
-    units                     Conversions at the edges (°/√h, µg/√Hz, mg, ...).
-    rotations                 Attitude conventions (ENU/FLU, ZYX Euler) and conversions.
+    csv_import                A CSV IMU log as Imu and PoseStamped batches.
+    csv_export                A bag's imu/data as a phone-style CSV log.
+  Nodes (duck-typed on rclpy, or importing it inside a function)
+    node_main                 The main() every node shares: init, spin, clean shutdown.
+    node_params               Node parameters declared one way, with descriptors.
+    node_wiring               The start-up log line: a node's resolved topic and service names.
+    backlog                   A subscription's backlog taken in one callback, and blocks
+                              published as the reliable subscribers acknowledge them.
+  IMU and magnetometer data
+    imu_checks                The checks every navigator runs on IMU data, and the CSV
+                              importer's unit checks.
     imu_errors                Sensor error models applied to whole signals and runs.
     imu_profiles              Named IMU profiles and their configuration keys.
     allan                     Overlapping Allan deviation and the noise parameters on it.
     magnetic_field            Homogeneous and cylinder-perturbed fields, iron distortion.
     magnetometer_calibration  Hard/soft-iron calibration by ellipsoid fitting.
+    magnetometer_pairing      Each IMU sample paired with its latest magnetometer reading.
+  Attitude and compiled kernels
+    rotations                 Attitude conventions (ENU/FLU, ZYX Euler) and conversions.
+    small_matrix              Compiled (numba) kernels for 3 × 3 rotations and small
+                              symmetric positive-definite matrices.
+    kernel_cache              Keeps numba's on-disk cache valid when a kernel's callee in
+                              another module changes.
+  Evaluation and figures
+    metrics                   Trajectory error metrics: the report.json fields
+                              (docs/reports.md).
+    plot_layout               Titles, top views and height axes shared by every PNG.
 """

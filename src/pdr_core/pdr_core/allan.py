@@ -8,12 +8,12 @@ reads the classic parameters off the curve:
 
 - white noise density N (ARW / VRW) = σ_A(τ = 1 s);
 - bias instability β = the minimum of σ_A, at τ = t_β
-  (003_05973562addf7331.txt, section 3.1: "the bias stability, β, is located at the
+  (Muñoz Díaz 2016, section 3.1: "the bias stability, β, is located at the
   minimum of each curve"). The first minimum is taken: a Gauss–Markov bias makes the
   curve dip where the white noise gives way to the bias, rise to a bump near 2 T_c and
   fall again beyond the record's reach;
 - random walk K from the +1/2 slope region after the minimum, σ_A(τ) = K·√(τ/3);
-- the AR(1) parameters of 003_05973562addf7331.txt, Eqs. (3.10)–(3.11):
+- the AR(1) parameters of Muñoz Díaz 2016, Eqs. (3.10)–(3.11):
   τ = t_β·f_s (in samples) and σ_bias = β/√τ.
 
 :func:`allan_deviation_model` is the analytic curve of white noise, a first-order
@@ -56,8 +56,8 @@ class NoiseParameters:
     bias_instability: float       # min σ_A [unit]
     bias_instability_tau_s: float  # t_β [s]
     random_walk_density: float    # K [unit/s/√Hz], NaN if the +1/2 slope is not reached
-    ar1_tau_samples: float        # 003, Eq. (3.10)
-    ar1_sigma_bias: float         # 003, Eq. (3.11)
+    ar1_tau_samples: float        # Muñoz Díaz 2016, Eq. (3.10)
+    ar1_sigma_bias: float         # Muñoz Díaz 2016, Eq. (3.11)
 
 
 def noise_parameters(taus: np.ndarray, adev: np.ndarray, rate_hz: float) -> NoiseParameters:

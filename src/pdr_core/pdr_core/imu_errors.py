@@ -12,7 +12,7 @@ Monte-Carlo runs (no Python loop over either):
 - b_c: constant bias, ``bias`` plus a per-run draw with std ``bias_sigma`` (turn-on bias);
 - b_gm: first-order Gauss–Markov (AR(1)) bias of std ``gm_sigma`` and correlation time
   ``gm_tau_s``: b_k = c·b_{k−1} + n_k, c = exp(−Δt/τ), σ_n² = σ²(1 − c²)
-  (003_05973562addf7331.txt, Eqs. (3.8)–(3.9), with τ in seconds instead of samples);
+  (Muñoz Díaz 2016, Eqs. (3.8)–(3.9), with τ in seconds instead of samples);
 - b_rw: random walk of density ``random_walk_density`` [unit/s/√Hz] (rate random walk,
   acceleration random walk);
 - S, M: scale-factor errors (diagonal) and misalignment (off-diagonal, small angles);
@@ -79,7 +79,7 @@ def gauss_markov(rng: np.random.Generator, shape: tuple[int, int, int], sigma: n
                  tau_s: np.ndarray, dt: float) -> np.ndarray:
     """Stationary first-order Gauss–Markov sequences, (runs, N, 3), per-axis σ and τ [s].
 
-    003_05973562addf7331.txt, Eqs. (3.8)–(3.9): b_k = c·b_{k−1} + n_k with c = e^{−Δt/τ}
+    Muñoz Díaz 2016, Eqs. (3.8)–(3.9): b_k = c·b_{k−1} + n_k with c = e^{−Δt/τ}
     and σ_n² = σ²·(1 − c²); the first value is drawn from the stationary distribution.
     """
     from scipy.signal import lfilter  # 0.3 s to import; only noise with τ needs it

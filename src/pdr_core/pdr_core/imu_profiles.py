@@ -16,7 +16,7 @@ accel: vrw_ug_per_sqrt_hz | vrw_mps_per_sqrt_h, bias_mg, bias_sigma_mg,
 mag:   noise_ut_per_sqrt_hz, bias_ut, bias_sigma_ut, scale_factor_ppm, misalignment_mrad,
        range_ut, resolution_ut
 
-The Gauss–Markov (AR(1)) bias of 003_05973562addf7331.txt, Eqs. (3.8)–(3.9) is given
+The Gauss–Markov (AR(1)) bias of Muñoz Díaz 2016, Eqs. (3.8)–(3.9) is given
 either directly, by its σ (``gauss_markov_sigma_*``) and correlation time τ, or by a bias
 instability β: then σ is chosen so that the first minimum of the modelled Allan deviation
 equals β
@@ -39,13 +39,13 @@ from pdr_core.imu_errors import ImuErrors, TriadErrors
 # Sources are cited per profile; "assumed" marks values the cited source does not give.
 PROFILES: dict[str, dict[str, dict[str, Any]]] = {
     "ideal": {},
-    # Xsens MTi, 000_fbd401126d10f515.txt section IV-B: 3 °/√h ARW, 122 µg/√Hz VRW,
+    # Xsens MTi, Zampella et al. 2011, section IV-B: 3 °/√h ARW, 122 µg/√Hz VRW,
     # constant biases drawn per axis with σ 1.23 mg (accelerometer) and 0.5 °/s (gyro).
     "xsens_mti": {
         "gyro": {"arw_deg_per_sqrt_h": 3.0, "bias_sigma_deg_per_s": 0.5},
         "accel": {"vrw_ug_per_sqrt_hz": 122.0, "bias_sigma_mg": 1.23},
     },
-    # Xsens MTw, 003_05973562addf7331.txt Table 3.2: gyro white noise 0.1 °/s per sample
+    # Xsens MTw, Muñoz Díaz 2016, Table 3.2: gyro white noise 0.1 °/s per sample
     # at 100 Hz (= 0.01 °/s/√Hz = 0.6 °/√h), biases (−0.1, 0.1, −0.1) °/s, magnetometer
     # noise 0.015 µT per sample at 100 Hz; Table 6.1 uses the same noise. Assumed (not in
     # the thesis, MTw datasheet order): gyro bias instability 10 °/h, accelerometer
@@ -70,7 +70,7 @@ PROFILES: dict[str, dict[str, dict[str, Any]]] = {
         "gyro": {"arw_deg_per_sqrt_h": 0.6, "bias_deg_per_s": [-0.1, 0.1, 0.05]},
         "mag": {"noise_ut_per_sqrt_hz": 0.0015},
     },
-    # VectorNav VN-200, 004_1269ce0256f0c590.txt section IV: ARW 0.21 °/√h,
+    # VectorNav VN-200, Wang et al. 2020, section IV: ARW 0.21 °/√h,
     # VRW 0.14 mg/√Hz, RRW 0.048 °/s/√h (from its Allan deviation, Fig. 7).
     "vn200": {
         "gyro": {"arw_deg_per_sqrt_h": 0.21, "rrw_deg_per_s_per_sqrt_h": 0.048},

@@ -1,8 +1,8 @@
 """Magnetic field models in the navigation frame (ENU, tesla) and magnetometer distortion.
 
-- Homogeneous fields H∞: presets of 003_05973562addf7331.txt, Table 3.1 (North Pole,
+- Homogeneous fields H∞: presets of Muñoz Díaz 2016, Table 3.1 (North Pole,
   Equator, Munich), or any vector.
-- Fields perturbed by infinite vertical iron cylinders, 003_05973562addf7331.txt,
+- Fields perturbed by infinite vertical iron cylinders, Muñoz Díaz 2016,
   Eq. (3.29): around one cylinder of radius r_c and relative permeability μ_r, at
   horizontal offset (x, y) from its axis, r = √(x²+y²) and ρ = arctan(x/y):
       H = |H∞|·k·(r_c/r)·sin(2ρ)·u_E + |H∞|·(1 + k·(r_c/r)·cos(2ρ))·u_N,  k = (μ_r−1)/(μ_r+1)
@@ -23,12 +23,12 @@ import numpy as np
 
 UT = 1e-6
 _COS64, _SIN64 = np.cos(np.radians(64.0)), np.sin(np.radians(64.0))
-PRESETS_T = {  # 003_05973562addf7331.txt, Table 3.1, ENU
+PRESETS_T = {  # Muñoz Díaz 2016, Table 3.1, ENU
     "north_pole": 65.0 * UT * np.array([0.0, 0.0, -1.0]),
     "equator": 25.0 * UT * np.array([0.0, 1.0, 0.0]),
     "munich": 48.0 * UT * np.array([0.0, _COS64, -_SIN64]),
 }
-TABLE_3_3 = {  # 003_05973562addf7331.txt, Table 3.3 (M made symmetric: M32 = M23)
+TABLE_3_3 = {  # Muñoz Díaz 2016, Table 3.3 (M made symmetric: M32 = M23)
     "xi": 0.9472,
     "offset": (-0.0860, -0.0871, -0.1537),
     "M": ((0.9958, 0.0017, -0.0006), (0.0017, 0.9992, -0.0007), (-0.0006, -0.0007, 1.0050)),

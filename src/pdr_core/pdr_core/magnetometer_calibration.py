@@ -1,7 +1,7 @@
 """Magnetometer hard/soft-iron calibration by least-squares ellipsoid fitting.
 
 Raw readings of a distorted magnetometer turned through many orientations in a
-homogeneous field lie on an ellipsoid (003_05973562addf7331.txt, section 3.4.4:
+homogeneous field lie on an ellipsoid (Muñoz Díaz 2016, section 3.4.4:
 "a least-squares algorithm is used to find the rotation (M), translation (l) and scaling
 factor (ξ) to bring the ellipsoid to a sphere with radius equal to 1 centered in the
 origin"). :func:`fit_ellipsoid` solves the algebraic quadric fit

@@ -30,7 +30,7 @@ def rotation_from_euler(roll: np.ndarray, pitch: np.ndarray, yaw: np.ndarray) ->
 def body_rate_from_euler(roll, pitch, yaw, roll_rate, pitch_rate, yaw_rate) -> np.ndarray:
     """ω_nb^b [rad/s], (N, 3), from Euler angles and their time derivatives.
 
-    The analytic route to the turn rate; 000_fbd401126d10f515.txt, Eq. (10) is the
+    The analytic route to the turn rate; Zampella et al. 2011, Eq. (10) is the
     numerical one (see :func:`body_rate_from_matrix_log`). For C_b^n = Rz(ψ)Ry(θ)Rx(φ):
     ω = [φ̇ − ψ̇ sinθ, θ̇ cosφ + ψ̇ sinφ cosθ, −θ̇ sinφ + ψ̇ cosφ cosθ].
     """
@@ -44,7 +44,7 @@ def body_rate_from_euler(roll, pitch, yaw, roll_rate, pitch_rate, yaw_rate) -> n
 def body_rate_from_matrix_log(attitude: Rotation, dt: float) -> np.ndarray:
     """ω_nb^b [rad/s], (N−1, 3), over each sample interval by the matrix logarithm.
 
-    000_fbd401126d10f515.txt, Eq. (10): Ω = ln(C_b^n(t)ᵀ·C_b^n(t+ΔT)) / ΔT; the log of a
+    Zampella et al. 2011, Eq. (10): Ω = ln(C_b^n(t)ᵀ·C_b^n(t+ΔT)) / ΔT; the log of a
     rotation matrix is the skew matrix of its rotation vector.
     """
     return (attitude[:-1].inv() * attitude[1:]).as_rotvec() / dt

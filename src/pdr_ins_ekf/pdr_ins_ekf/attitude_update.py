@@ -1,5 +1,5 @@
 """Attitude increments of a strapdown INS: the methods compared in
-000_fbd401126d10f515.txt, section III-A.
+Zampella et al. 2011, section III-A.
 
 Over one sample interval ΔT with body rate ω (constant), the attitude C_b^n is updated by
 C(t + ΔT) = C(t)·exp(Ω·ΔT), Ω = [ω×] (Eq. (9)). The exponential is computed by
@@ -8,7 +8,7 @@ C(t + ΔT) = C(t)·exp(Ω·ΔT), Ω = [ω×] (Eq. (9)). The exponential is compu
   A = Ω·ΔT (Eq. (11) is [1, 1]: (2I + A)(2I − A)⁻¹);
 - ``closed_form``: Eq. (12), I + sin(‖ωΔT‖)/‖ω‖·Ω + (1 − cos(‖ωΔT‖))/‖ω‖²·Ω²;
 - ``expm``: ``scipy.linalg.expm`` (scaling and squaring with a [13/13] Padé);
-- ``quaternion``: 001_5b5dbf275b14cf0a.txt, Eqs. (1)–(2), applied to the quaternion
+- ``quaternion``: Simón Colomar et al. 2012, Eqs. (1)–(2), applied to the quaternion
   (x, y, z, w) and converted to C at the end.
 
 All functions are vectorised over samples: ω is (N, 3) [rad/s], increments (N, 3, 3).
@@ -48,7 +48,7 @@ def pade_increments(omega: np.ndarray, dt: float, order: int) -> np.ndarray:
 
 
 def closed_form_increments(omega: np.ndarray, dt: float) -> np.ndarray:
-    """exp(Ω·ΔT) by 000, Eq. (12) (Rodrigues), (N, 3, 3)."""
+    """exp(Ω·ΔT) by Zampella et al. 2011, Eq. (12) (Rodrigues), (N, 3, 3)."""
     norm = np.linalg.norm(omega, axis=1)
     angle = norm * dt
     safe = np.where(norm > 0, norm, 1.0)
@@ -66,8 +66,9 @@ def expm_increments(omega: np.ndarray, dt: float) -> np.ndarray:
 
 
 def quaternion_increments(omega: np.ndarray, dt: float) -> np.ndarray:
-    """The 4x4 update matrices of 001, Eq. (1): cos(‖ω‖T/2)·I₄ + 2/(‖ω‖T)·sin(‖ω‖T/2)·Ω_n,
-    with Ω_n of Eq. (2), for quaternions (x, y, z, w). (N, 4, 4)."""
+    """The 4x4 update matrices of Simón Colomar et al. 2012, Eq. (1):
+    cos(‖ω‖T/2)·I₄ + 2/(‖ω‖T)·sin(‖ω‖T/2)·Ω_n, with Ω_n of Eq. (2), for quaternions
+    (x, y, z, w). (N, 4, 4)."""
     x, y, z = (omega * dt / 2).T
     zero = np.zeros_like(x)
     big = np.stack([np.stack([zero, z, -y, x], -1), np.stack([-z, zero, x, y], -1),

@@ -8,13 +8,13 @@ Subcommands:
                           against ground truth.
     montecarlo --source S --estimator E --runs N --out DIR
                           error growth of pure INS or the ZUPT EKF over N noise
-                          realisations (000, Eqs. (13)–(14), Tables I–III): fits,
-                          σ(t) and consistency CSV, PNG.
-    analytic              closed-form ZUPT error levels (004, Eqs. (38)-(57)).
+                          realisations (Zampella et al. 2011, Eqs. (13)–(14), Tables
+                          I–III): fits, σ(t) and consistency CSV, PNG.
+    analytic              closed-form ZUPT error levels (Wang et al. 2020, Eqs. (38)-(57)).
     study mechanization   pure-INS position error per attitude method and rate
-                          (000_fbd401126d10f515.txt, Fig. 6): table, CSV and PNG.
+                          (Zampella et al. 2011, Fig. 6): table, CSV and PNG.
     study sweep           analytic against EKF error levels over ARW, VRW, RRW
-                          (004_1269ce0256f0c590.txt, Figs. 3–6): table, CSV, PNG.
+                          (Wang et al. 2020, Figs. 3–6): table, CSV, PNG.
 
 Errors in the input exit with status 2 and one line naming the problem. Plotting modules
 are imported only when a figure is asked for (Matplotlib alone costs 0.4 s of start-up).
@@ -69,7 +69,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                    help="true stance per sample (pdr_msgs/Stance, e.g. pdr-sim generate's), "
                         "used when present: report key 'stance'")
     p.add_argument("--smoother", choices=SMOOTHER_MODES,
-                   help="RTS smoothing (001_5b5dbf275b14cf0a.txt): adds pdr/foot/smoothed_path "
+                   help="RTS smoothing (Simón Colomar et al. 2012): adds pdr/foot/smoothed_path "
                         "and report key 'smoothed'; default: the configuration's smoother.mode")
     p.add_argument("--plot", action="store_true",
                    help="also write OUT/path.png (and OUT/smoothing.png when smoothing)")

@@ -1,14 +1,13 @@
 """The ZUPT EKF's equations as compiled kernels (numba), shared by the offline loop and
 the block steps of :class:`pdr_ins_ekf.zupt_ekf.ZuptEkf` (the live node).
 
-State arrays are changed in place: position p, velocity v (3,), attitude C (3, 3), biases
-b (6,) [accelerometer, gyroscope], covariance P (n, n), and ``prev`` (3, 3), whose rows
-are the previous bias-corrected specific force, rate and navigation-frame specific force
-(the trapezoidal mechanization needs them). ``params`` holds, in order: accelerometer
-and gyro noise densities, accelerometer and gyro bias noise densities, the Gauss–Markov
-correlation time [s], the bias model code (:data:`BIAS_MODEL_CODES`), gravity [m/s²] and
-the ZARU's gate on its normalised innovation squared (:data:`PARAM_ZARU_GATE`).
-The first call compiles (seconds) and caches the machine code beside this module.
+The kernels take the named data of :mod:`pdr_ins_ekf.kernel_data`: the state
+(:class:`~pdr_ins_ekf.kernel_data.NavState`: p, v, C, b, P, prev, dx), whose arrays they
+change in place; the settings (:class:`~pdr_ins_ekf.kernel_data.FilterParams`); the
+samples of a record (:class:`~pdr_ins_ekf.kernel_data.Samples`); and the rows of the
+error state by name (:data:`~pdr_ins_ekf.kernel_data.VELOCITY`, …). ENU navigation frame,
+FLU body frame, SI units. The first call compiles (seconds) and caches the machine code
+beside this module.
 """
 from __future__ import annotations
 
@@ -17,33 +16,62 @@ from numba import njit
 
 from pdr_core import kernel_cache, small_matrix
 from pdr_core.small_matrix import product3, rodrigues
+from pdr_ins_ekf import kernel_data
+from pdr_ins_ekf.kernel_data import (
+    ACC,
+    ACC_BIAS,
+    ATTITUDE,
+    AXES,
+    GAUSS_MARKOV,
+    GYRO,
+    GYRO_BIAS,
+    NAV_AND_BIAS_STATES,
+    POSITION,
+    PREV_FORCE,
+    PREV_NAV_FORCE,
+    PREV_RATE,
+    VELOCITY,
+    NavState,
+)
 
-kernel_cache.forget_if_changed(__file__, small_matrix.__file__)
-
-BIAS_MODEL_CODES = {"none": 0, "random_walk": 1, "gauss_markov": 2}
-PARAM_ZARU_GATE = 7   # params[7]: the ZARU is applied where νᵀS⁻¹ν is below it
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__, kernel_data.__file__)
 
 
 @njit(cache=True)
-def start(C, b, prev, f, w):
-    """Set ``prev`` from the first sample."""
-    prev[0] = f - b[:3]
-    prev[1] = w - b[3:]
-    _matvec3(C, prev[0], prev[2])
+def new_state(C0, b0, P0):
+    """A :class:`~pdr_ins_ekf.kernel_data.NavState` at the origin at rest, with copies of
+    the attitude C0 (3, 3), biases b0 (6,) and covariance P0 (n, n), δx̂ = 0; ``prev`` is
+    set by :func:`start`."""
+    return NavState(np.zeros(3), np.zeros(3), C0.copy(), b0.copy(), P0.copy(),
+                    np.empty((3, 3)), np.zeros(P0.shape[0]))
 
 
 @njit(cache=True)
-def mechanize(p, v, C, b, prev, f, w, dt, gravity):
-    """Trapezoidal strapdown step of the nominal state over dt (001_5b5dbf275b14cf0a.txt,
-    Eqs. (1)–(5)); returns the navigation-frame specific force. Loops over the three
-    axes: cheaper than NumPy's temporaries at this size."""
+def start(state, f, w):
+    """Set ``state.prev`` from the first sample: specific force f [m/s²] and rate w
+    [rad/s] (3,), body frame."""
+    prev = state.prev
+    prev[PREV_FORCE] = f - state.b[ACC]
+    prev[PREV_RATE] = w - state.b[GYRO]
+    _matvec3(state.C, prev[PREV_FORCE], prev[PREV_NAV_FORCE])
+
+
+@njit(cache=True)
+def mechanize(state, f, w, dt, gravity):
+    """Trapezoidal strapdown step of the nominal state (p, v, C, prev) over dt [s] from
+    the specific force f [m/s²] and rate w [rad/s] (3,), body frame, gravity [m/s²] along
+    the navigation frame's −z (Simón Colomar et al. 2012, Eqs. (1)–(5)); returns the
+    navigation-frame specific force [m/s²]. Loops over the three axes: cheaper than
+    NumPy's temporaries at this size."""
+    p, v, C, prev = state.p, state.v, state.C, state.prev
+    b_a, b_g = state.b[ACC], state.b[GYRO]
     f_c = np.empty(3)
     w_mid = np.empty(3)
     for i in range(3):
-        f_c[i] = f[i] - b[i]
-        w_c = w[i] - b[3 + i]
-        w_mid[i] = (prev[1, i] + w_c) / 2
-        prev[1, i] = w_c
+        f_c[i] = f[i] - b_a[i]
+        w_c = w[i] - b_g[i]
+        w_mid[i] = (prev[PREV_RATE, i] + w_c) / 2
+        prev[PREV_RATE, i] = w_c
     R = np.empty((3, 3))
     rodrigues(w_mid[0] * dt, w_mid[1] * dt, w_mid[2] * dt, R)
     for i in range(3):
@@ -53,12 +81,12 @@ def mechanize(p, v, C, b, prev, f, w, dt, gravity):
     a_now = np.empty(3)
     _matvec3(C, f_c, a_now)
     for i in range(3):
-        accel = (prev[2, i] + a_now[i]) / 2 - (gravity if i == 2 else 0.0)
+        accel = (prev[PREV_NAV_FORCE, i] + a_now[i]) / 2 - (gravity if i == 2 else 0.0)
         v_new = v[i] + accel * dt
         p[i] += (v[i] + v_new) / 2 * dt
         v[i] = v_new
-        prev[0, i] = f_c[i]
-        prev[2, i] = a_now[i]
+        prev[PREV_FORCE, i] = f_c[i]
+        prev[PREV_NAV_FORCE, i] = a_now[i]
     return a_now
 
 
@@ -72,31 +100,42 @@ def apply_transition(M, C, a_now, dt, params):
 
 
 @njit(cache=True)
+def bias_decay(params, n, dt):
+    """dt/τ, the Gauss–Markov biases' decay over dt [s] in F's bias diagonal (1 − dt/τ);
+    0 for random-walk biases and for the 9 states."""
+    if n == NAV_AND_BIAS_STATES and params.bias_model == GAUSS_MARKOV:
+        return dt / params.bias_tau_s
+    return 0.0
+
+
+@njit(cache=True)
 def transition_in_place(M, C, a_now, dt, params):
-    """M ← F·M for the error-state transition F = I + A·dt over dt (module docstring of
-    :mod:`pdr_ins_ekf.zupt_ekf`), M (n, k), without forming F: F is the identity plus
-    four 3×3 blocks (δp/δv, δv/δθ = [fⁿ×], and with 15 states δv/δb_a = −Ĉ,
-    δθ/δb_g = Ĉ) and, for Gauss–Markov biases, −dt/τ on the bias diagonal. Each block
-    row reads only rows below it, so updating rows top-down, column by column, needs no
-    copy; a 3×3 block times a 3-vector is cheaper written out than as a BLAS call."""
+    """M ← F·M for the error-state transition F = I + A·dt over dt [s] (module docstring
+    of :mod:`pdr_ins_ekf.zupt_ekf`; Wang et al. 2020, Eq. (2)), M (n, k), without
+    forming F: F is the identity plus four 3×3 blocks (δp/δv, δv/δθ = [fⁿ×] with the
+    navigation-frame specific force fⁿ = ``a_now`` [m/s²], and with 15 states
+    δv/δb_a = −Ĉ, δθ/δb_g = Ĉ) and, for Gauss–Markov biases, −dt/τ on the bias
+    diagonal. Each block row reads only rows below it, so updating rows top-down, column
+    by column, needs no copy; a 3×3 block times a 3-vector is cheaper written out than as
+    a BLAS call."""
     n, k = M.shape
     a0, a1, a2 = a_now[0], a_now[1], a_now[2]
-    decay = dt / params[4] if n == 15 and params[5] == 2 else 0.0
+    decay = bias_decay(params, n, dt)
     for j in range(k):
-        M[0, j] += dt * M[3, j]
-        M[1, j] += dt * M[4, j]
-        M[2, j] += dt * M[5, j]
-        t0, t1, t2 = M[6, j], M[7, j], M[8, j]
-        M[3, j] += dt * (a1 * t2 - a2 * t1)
-        M[4, j] += dt * (a2 * t0 - a0 * t2)
-        M[5, j] += dt * (a0 * t1 - a1 * t0)
-        if n == 15:
-            b0, b1, b2 = M[9, j], M[10, j], M[11, j]
-            g0, g1, g2 = M[12, j], M[13, j], M[14, j]
+        M[POSITION, j] += dt * M[VELOCITY, j]
+        M[POSITION + 1, j] += dt * M[VELOCITY + 1, j]
+        M[POSITION + 2, j] += dt * M[VELOCITY + 2, j]
+        t0, t1, t2 = M[ATTITUDE, j], M[ATTITUDE + 1, j], M[ATTITUDE + 2, j]
+        M[VELOCITY, j] += dt * (a1 * t2 - a2 * t1)
+        M[VELOCITY + 1, j] += dt * (a2 * t0 - a0 * t2)
+        M[VELOCITY + 2, j] += dt * (a0 * t1 - a1 * t0)
+        if n == NAV_AND_BIAS_STATES:
+            b0, b1, b2 = M[ACC_BIAS, j], M[ACC_BIAS + 1, j], M[ACC_BIAS + 2, j]
+            g0, g1, g2 = M[GYRO_BIAS, j], M[GYRO_BIAS + 1, j], M[GYRO_BIAS + 2, j]
             for i in range(3):
-                M[3 + i, j] -= dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
-                M[6 + i, j] += dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
-            for i in range(9, 15):
+                M[VELOCITY + i, j] -= dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
+                M[ATTITUDE + i, j] += dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
+            for i in range(ACC_BIAS, NAV_AND_BIAS_STATES):
                 M[i, j] -= decay * M[i, j]
 
 
@@ -108,19 +147,20 @@ def transposed_transition_in_place(y, C, a_now, dt, params):
     only rows above it, so updating rows bottom-up needs no copy."""
     n = y.shape[0]
     a0, a1, a2 = a_now[0], a_now[1], a_now[2]
-    u0, u1, u2 = y[3], y[4], y[5]
-    if n == 15:
-        decay = dt / params[4] if params[5] == 2 else 0.0
-        for i in range(9, 15):
+    u0, u1, u2 = y[VELOCITY], y[VELOCITY + 1], y[VELOCITY + 2]
+    if n == NAV_AND_BIAS_STATES:
+        decay = bias_decay(params, n, dt)
+        for i in range(ACC_BIAS, NAV_AND_BIAS_STATES):
             y[i] -= decay * y[i]
+        t0, t1, t2 = y[ATTITUDE], y[ATTITUDE + 1], y[ATTITUDE + 2]
         for j in range(3):
-            y[9 + j] -= dt * (C[0, j] * u0 + C[1, j] * u1 + C[2, j] * u2)
-            y[12 + j] += dt * (C[0, j] * y[6] + C[1, j] * y[7] + C[2, j] * y[8])
-    y[6] += dt * (a2 * u1 - a1 * u2)
-    y[7] += dt * (a0 * u2 - a2 * u0)
-    y[8] += dt * (a1 * u0 - a0 * u1)
+            y[ACC_BIAS + j] -= dt * (C[0, j] * u0 + C[1, j] * u1 + C[2, j] * u2)
+            y[GYRO_BIAS + j] += dt * (C[0, j] * t0 + C[1, j] * t1 + C[2, j] * t2)
+    y[ATTITUDE] += dt * (a2 * u1 - a1 * u2)
+    y[ATTITUDE + 1] += dt * (a0 * u2 - a2 * u0)
+    y[ATTITUDE + 2] += dt * (a1 * u0 - a0 * u1)
     for i in range(3):
-        y[3 + i] += dt * y[i]
+        y[VELOCITY + i] += dt * y[POSITION + i]
 
 
 @njit(cache=True)
@@ -130,30 +170,40 @@ def inverse_transition_in_place(x, C, a_now, dt, params):
     F's block rows reads only the rows below it. F is unipotent (A·dt nilpotent) except
     for the Gauss–Markov decay, which is divided out."""
     n = x.shape[0]
-    if n == 15:
-        decay = dt / params[4] if params[5] == 2 else 0.0
-        for i in range(9, 15):
+    if n == NAV_AND_BIAS_STATES:
+        decay = bias_decay(params, n, dt)
+        for i in range(ACC_BIAS, NAV_AND_BIAS_STATES):
             x[i] /= 1.0 - decay
-        b0, b1, b2 = x[9], x[10], x[11]
-        g0, g1, g2 = x[12], x[13], x[14]
+        b0, b1, b2 = x[ACC_BIAS], x[ACC_BIAS + 1], x[ACC_BIAS + 2]
+        g0, g1, g2 = x[GYRO_BIAS], x[GYRO_BIAS + 1], x[GYRO_BIAS + 2]
         for i in range(3):
-            x[6 + i] -= dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
-            x[3 + i] += dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
+            x[ATTITUDE + i] -= dt * (C[i, 0] * g0 + C[i, 1] * g1 + C[i, 2] * g2)
+            x[VELOCITY + i] += dt * (C[i, 0] * b0 + C[i, 1] * b1 + C[i, 2] * b2)
     a0, a1, a2 = a_now[0], a_now[1], a_now[2]
-    t0, t1, t2 = x[6], x[7], x[8]
-    x[3] -= dt * (a1 * t2 - a2 * t1)
-    x[4] -= dt * (a2 * t0 - a0 * t2)
-    x[5] -= dt * (a0 * t1 - a1 * t0)
+    t0, t1, t2 = x[ATTITUDE], x[ATTITUDE + 1], x[ATTITUDE + 2]
+    x[VELOCITY] -= dt * (a1 * t2 - a2 * t1)
+    x[VELOCITY + 1] -= dt * (a2 * t0 - a0 * t2)
+    x[VELOCITY + 2] -= dt * (a0 * t1 - a1 * t0)
     for i in range(3):
-        x[i] -= dt * x[3 + i]
+        x[POSITION + i] -= dt * x[VELOCITY + i]
 
 
 @njit(cache=True)
 def process_noise(params, i, dt):
-    """Qᵢᵢ, the variance :func:`propagate` adds to state i over dt: none on position, then
-    per block of three the accelerometer, gyro, accelerometer-bias and gyro-bias noise
-    densities (``params[0:4]``) squared, times dt."""
-    return params[i // 3 - 1] ** 2 * dt if i >= 3 else 0.0
+    """Qᵢᵢ, the variance :func:`propagate` adds to error-state row i over dt [s]: none on
+    position, then per block the accelerometer, gyro, accelerometer-bias and gyro-bias
+    noise densities squared, times dt."""
+    if i >= GYRO_BIAS:
+        density = params.gyro_bias_noise
+    elif i >= ACC_BIAS:
+        density = params.acc_bias_noise
+    elif i >= ATTITUDE:
+        density = params.gyro_noise
+    elif i >= VELOCITY:
+        density = params.acc_noise
+    else:
+        return 0.0
+    return density ** 2 * dt
 
 
 @njit(cache=True)
@@ -184,16 +234,17 @@ def propagate(P, C, a_now, dt, params):
     transition_in_place(P, C, a_now, dt, params)
     _transpose(P)
     transition_in_place(P, C, a_now, dt, params)
-    for i in range(3, P.shape[0]):
+    for i in range(VELOCITY, P.shape[0]):
         P[i, i] += process_noise(params, i, dt)
     symmetrize(P)
 
 
 @njit(cache=True)
-def predict(p, v, C, b, P, prev, f, w, dt, params):
-    """Trapezoidal mechanization over dt, then the covariance (:func:`propagate`)."""
-    a_now = mechanize(p, v, C, b, prev, f, w, dt, params[6])
-    propagate(P, C, a_now, dt, params)
+def predict(state, f, w, dt, params):
+    """Trapezoidal mechanization over dt [s] from f [m/s²] and w [rad/s] (3,), body
+    frame (:func:`mechanize`), then the covariance (:func:`propagate`)."""
+    a_now = mechanize(state, f, w, dt, params.gravity_mps2)
+    propagate(state.P, state.C, a_now, dt, params)
 
 
 @njit(cache=True)
@@ -217,7 +268,8 @@ def _inverse3(S):
 @njit(cache=True)
 def correct(dx, P, innovation, rows, sigma):
     """Kalman update of the error state dx and, in Joseph form, of P with a direct
-    measurement of the three states from ``rows`` (noise σ per axis).
+    measurement of the three error states from row ``rows`` (:data:`VELOCITY` for the
+    ZUPT, :data:`GYRO_BIAS` for the ZARU; noise σ per axis, in their units).
 
     H only selects states, so H·P, P·Hᵀ and H·P·Hᵀ are slices of P and the Joseph form
     (I − KH)·P·(I − KH)ᵀ + K·R·Kᵀ costs O(n²) instead of O(n³); written as loops, with
@@ -226,7 +278,7 @@ def correct(dx, P, innovation, rows, sigma):
     S⁻¹·ν (3,) for the innovation ν, which the smoother's backward pass needs
     (:func:`pdr_ins_ekf.compiled_smoother.adjoint_before_update`)."""
     n = P.shape[0]
-    S_inv = _inverse3(P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2)
+    S_inv = _inverse3(P[rows:rows + AXES, rows:rows + AXES] + np.eye(3) * sigma**2)
     K_T = np.zeros((3, n))  # Kᵀ = S⁻¹·H·P
     for a in range(3):
         for b in range(3):
@@ -273,21 +325,23 @@ def orthonormalize(C):
 
 
 @njit(cache=True)
-def compensate(p, v, C, b, dx):
-    """Feed the error state back into the nominal state (001, Eq. (8)):
-    p += δp, v += δv, C ← (I − [δθ×])·C (then re-orthonormalised), b += δb."""
+def compensate(state):
+    """Feed the error state δx̂ = ``state.dx`` back into the nominal state (Simón Colomar
+    et al. 2012, Eq. (8)): p += δp, v += δv, C ← (I − [δθ×])·C (then
+    re-orthonormalised), b += δb."""
+    p, v, C, b, dx = state.p, state.v, state.C, state.b, state.dx
     for i in range(3):
-        p[i] += dx[i]
-        v[i] += dx[3 + i]
-    t0, t1, t2 = dx[6], dx[7], dx[8]
+        p[i] += dx[POSITION + i]
+        v[i] += dx[VELOCITY + i]
+    t0, t1, t2 = dx[ATTITUDE], dx[ATTITUDE + 1], dx[ATTITUDE + 2]
     correction = np.array([[1.0, t2, -t1], [-t2, 1.0, t0], [t1, -t0, 1.0]])
     corrected = np.empty((3, 3))
     product3(correction, C, corrected)
     C[:, :] = corrected
     orthonormalize(C)
-    if dx.shape[0] == 15:
+    if dx.shape[0] == NAV_AND_BIAS_STATES:
         for i in range(6):
-            b[i] += dx[9 + i]
+            b[i] += dx[ACC_BIAS + i]
 
 
 @njit(cache=True)
@@ -298,12 +352,12 @@ def _matvec3(C, x, out):
 
 
 @njit(cache=True)
-def update(p, v, C, b, P, prev, z, rows, sigma):
-    """Joseph-form update with H selecting the three error states from ``rows``, then
-    the closed-loop compensation of 001_5b5dbf275b14cf0a.txt, Eq. (8)."""
-    dx = np.zeros(P.shape[0])
-    correct(dx, P, z, rows, sigma)
-    feed_back(p, v, C, b, dx, prev)
+def update(state, z, rows, sigma):
+    """Joseph-form update (:func:`correct`) with H selecting the three error states from
+    row ``rows``, measurement z (3,) and noise σ per axis, then the closed-loop
+    compensation of Simón Colomar et al. 2012, Eq. (8) (:func:`feed_back`)."""
+    correct(state.dx, state.P, z, rows, sigma)
+    feed_back(state)
 
 
 @njit(cache=True)
@@ -311,7 +365,7 @@ def within_gate(P, innovation, rows, sigma, gate):
     """True when the normalised innovation squared νᵀ·S⁻¹·ν of a direct measurement of
     the three states from ``rows`` (S = H·P·Hᵀ + σ²I) is below ``gate``, a χ² bound with
     3 degrees of freedom (16.27 at 0.999; Bar-Shalom et al. 2001, section 5.4)."""
-    S_inv = _inverse3(P[rows:rows + 3, rows:rows + 3] + np.eye(3) * sigma**2)
+    S_inv = _inverse3(P[rows:rows + AXES, rows:rows + AXES] + np.eye(3) * sigma**2)
     nis = 0.0
     for a in range(3):
         for c in range(3):
@@ -320,53 +374,49 @@ def within_gate(P, innovation, rows, sigma, gate):
 
 
 @njit(cache=True)
-def feed_back(p, v, C, b, dx, prev):
-    """:func:`compensate`, then the navigation-frame specific force of ``prev`` rotated
-    by the corrected attitude (the next trapezoidal step averages it)."""
-    compensate(p, v, C, b, dx)
-    _matvec3(C, prev[0], prev[2])
+def feed_back(state):
+    """:func:`compensate`, δx̂ ← 0, then the navigation-frame specific force of
+    ``prev`` rotated by the corrected attitude (the next trapezoidal step averages it)."""
+    compensate(state)
+    state.dx[:] = 0.0
+    _matvec3(state.C, state.prev[PREV_FORCE], state.prev[PREV_NAV_FORCE])
 
 
 @njit(cache=True)
-def filter_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, zaru_sigma):
-    """All samples of a record from the aligned state (C0, b0, P0) at the origin at rest:
-    :func:`filter_block` over stamps t [s]."""
-    N = t.shape[0]
-    p, v = np.zeros(3), np.zeros(3)
-    C, b, P = C0.copy(), b0.copy(), P0.copy()
-    prev = np.empty((3, 3))
-    start(C, b, prev, accel[0], gyro[0])
-    dt = np.zeros(N)
-    for k in range(1, N):
-        dt[k] = t[k] - t[k - 1]
-    return filter_block(p, v, C, b, P, prev, accel, gyro, dt, stance, zaru, params,
-                        zupt_sigma, zaru_sigma)
+def filter_loop(samples, C0, b0, P0, params):
+    """All samples of a record (:class:`~pdr_ins_ekf.kernel_data.Samples`) from the
+    aligned state (attitude C0 (3, 3), biases b0 (6,), covariance P0 (n, n)) at the
+    origin at rest: :func:`filter_block`."""
+    state = new_state(C0, b0, P0)
+    start(state, samples.accel[0], samples.gyro[0])
+    return filter_block(state, samples, params)
 
 
 @njit(cache=True)
-def filter_block(p, v, C, b, P, prev, accel, gyro, dt, stance, zaru, params, zupt_sigma,
-                 zaru_sigma):
-    """Consecutive samples from the state (p, v, C, b, P, prev), changed in place: each
-    propagated over dt[k] [s], then ZUPT where ``stance`` (and ZARU there, where the
-    angular rate passes :func:`within_gate`: a foot that turns is not at rest, however
-    still its velocity). Returns position,
-    velocity (N, 3), attitude (N, 3, 3), bias (N, 6), covariance diagonal (N, n) and
-    position and velocity covariance (N, 3, 3) after each sample."""
-    N = accel.shape[0]
+def filter_block(state, samples, params):
+    """Consecutive samples from ``state``, changed in place: each propagated over its
+    ``dt`` [s], then ZUPT where ``stance`` (and ZARU there, where the angular rate
+    passes :func:`within_gate`: a foot that turns is not at rest, however still its
+    velocity). Returns position, velocity (N, 3), attitude (N, 3, 3), bias (N, 6),
+    covariance diagonal (N, n) and position and velocity covariance (N, 3, 3) after each
+    sample."""
+    p, v, C, b, P = state.p, state.v, state.C, state.b, state.P
+    N = samples.accel.shape[0]
     n = P.shape[0]
     pos, vel, bias = np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 6))
     att, pcov, vcov = np.empty((N, 3, 3)), np.empty((N, 3, 3)), np.empty((N, 3, 3))
     var = np.empty((N, n))
     for k in range(N):
-        predict(p, v, C, b, P, prev, accel[k], gyro[k], dt[k], params)
-        if stance[k]:
-            update(p, v, C, b, P, prev, -v, 3, zupt_sigma)
-            if zaru and within_gate(P, gyro[k] - b[3:], 12, zaru_sigma,
-                                    params[PARAM_ZARU_GATE]):
-                update(p, v, C, b, P, prev, gyro[k] - b[3:], 12, zaru_sigma)
+        w = samples.gyro[k]
+        predict(state, samples.accel[k], w, samples.dt[k], params)
+        if samples.stance[k]:
+            update(state, -v, VELOCITY, params.zupt_sigma_mps)
+            if params.zaru and within_gate(P, w - b[GYRO], GYRO_BIAS,
+                                           params.zaru_sigma_radps, params.zaru_gate_nis):
+                update(state, w - b[GYRO], GYRO_BIAS, params.zaru_sigma_radps)
         pos[k], vel[k], att[k], bias[k] = p, v, C, b
         for i in range(n):
             var[k, i] = P[i, i]
-        pcov[k] = P[0:3, 0:3]
-        vcov[k] = P[3:6, 3:6]
+        pcov[k] = P[POSITION:POSITION + AXES, POSITION:POSITION + AXES]
+        vcov[k] = P[VELOCITY:VELOCITY + AXES, VELOCITY:VELOCITY + AXES]
     return pos, vel, att, bias, var, pcov, vcov

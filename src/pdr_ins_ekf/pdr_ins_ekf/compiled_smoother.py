@@ -1,5 +1,5 @@
 """Rauch–Tung–Striebel smoothing of the ZUPT-aided INS as compiled kernels (numba): the
-3-pass algorithm of 001_5b5dbf275b14cf0a.txt, section III and Alg. 1.
+3-pass algorithm of Simón Colomar et al. 2012, section III and Alg. 1.
 
 1. Forward, open loop (:func:`open_loop_step`): the nominal state is mechanized without
    feedback and the deviation state is propagated, δx̂ₙ|ₙ₋₁ = Fₙ·δx̂ₙ₋₁|ₙ₋₁, and updated
@@ -26,25 +26,30 @@
 
 Full-data-set smoothing (τs = ∞ for the smoothing lag) runs one backward pass over the
 record; see :func:`smoother_loop` for why its forward pass still closes the loop.
-``seg`` is the segment store: its arrays are indexed by the sample's position in the
-current segment and grow (doubling) when a segment is longer than they are, so memory is
-bounded by the longest segment, not by the record (except in the full mode).
+The open-loop deviation δx̂ is the ``dx`` of the filter's
+:class:`~pdr_ins_ekf.kernel_data.NavState`. The :class:`SegmentStore` holds the current
+segment: its arrays are indexed by the sample's position in the segment and grow
+(doubling) when a segment is longer than they are, so memory is bounded by the longest
+segment, not by the record (except in the full mode). ENU navigation frame, FLU body
+frame, SI units.
 """
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from pdr_core import kernel_cache, small_matrix
 from pdr_core.small_matrix import cholesky, product3, rodrigues
-from pdr_ins_ekf import compiled_filter
+from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import (
-    PARAM_ZARU_GATE,
     apply_transition,
     correct,
     feed_back,
     inverse_transition_in_place,
     mechanize,
+    new_state,
     process_noise,
     propagate,
     start,
@@ -52,78 +57,121 @@ from pdr_ins_ekf.compiled_filter import (
     transposed_transition_in_place,
     within_gate,
 )
+from pdr_ins_ekf.kernel_data import (
+    ATTITUDE,
+    AXES,
+    GYRO,
+    GYRO_BIAS,
+    HEADING,
+    NAV_STATES,
+    POSITION,
+    VELOCITY,
+)
 
-kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__,
+                               kernel_data.__file__)
 
-# the segment store (new_segment_store), by sample: nominal position, velocity, attitude;
-# predicted and filtered deviation; their covariances; Fₙ's inputs, the update count and
-# the row of the stored filtered deviation; per update, Kᵀ and S⁻¹·ν; then the layout
-POS, VEL, ATT, DX_PRED, DX_FILT, COV_PRED, COV_FILT, STEP, GAIN, WEIGHTED, LAYOUT = range(11)
-# seg[STEP] columns: Fₙ's navigation-frame specific force (3), dt, updates, row
-STEP_UPDATES, STEP_ROW = 4, 5
-# seg[LAYOUT]: rows of DX_FILT / COV_FILT in use, whether every sample has one (1) or
-# only the anchors (0), and whether the covariance is smoothed too (see new_segment_store)
-LAYOUT_ROWS, LAYOUT_DENSE, LAYOUT_COVARIANCE = range(3)
-# rule: [γs, τs, Σ diag(P_v) of the previous sample, c] (c: time since the crossing [s])
-RULE_GAMMA, RULE_TAU, RULE_PREVIOUS, RULE_CLOCK = range(4)
+# the measurement updates of a sample, in the order they are made (SegmentStore.gain)
+ZUPT, ZARU = 0, 1
+# SegmentStore.rule: the segmentation rule's memory
+RULE_PREVIOUS = 0   # Σ diag(P_v) of the previous sample [m²/s²]
+RULE_CLOCK = 1      # time since Σ diag(P_v) crossed γs [s]; 0 before the crossing
+
+
+class SmootherParams(NamedTuple):
+    """The smoother's settings (:class:`pdr_ins_ekf.zupt_ekf.SmootherConfig`)."""
+
+    gamma_s_m2ps2: float         # γs: the segment rule's threshold on Σ diag(P_v)
+    tau_s: float                 # τs: a segment ends this long after the crossing [s]
+    zero_heading_position: bool  # zero the heading–position cross-covariance
+    full: bool                   # one backward pass over the whole record
+    covariance: bool             # smooth the covariance too (Eq. (9) as written)
+
+
+class SegmentStore(NamedTuple):
+    """What the backward pass needs of the current segment (:func:`new_segment_store`),
+    indexed by the sample's position j in the segment (cap samples; n error states)."""
+
+    position: np.ndarray     # (cap, 3) nominal p̂ [m]
+    velocity: np.ndarray     # (cap, 3) nominal v̂ [m/s]
+    attitude: np.ndarray     # (cap, 3, 3) nominal Ĉ
+    dx_pred: np.ndarray      # (cap, n) predicted deviation δx̂ₙ|ₙ₋₁ (covariance layout)
+    dx_filt: np.ndarray      # (rows, n) filtered deviation δx̂ₙ|ₙ, at row ``row[j]``
+    cov_pred: np.ndarray     # (cap, n, n) Pₙ|ₙ₋₁ where updated (covariance layout)
+    cov_filt: np.ndarray     # (rows, n or 9, n) Pₙ|ₙ, at row ``row[j]``
+    nav_force: np.ndarray    # (cap, 3) Fₙ's navigation-frame specific force [m/s²]
+    dt: np.ndarray           # (cap,) Fₙ's interval [s]
+    updates: np.ndarray      # (cap,) int: the sample's measurement updates (ZUPT, ZARU)
+    row: np.ndarray          # (cap,) int: the row of its dx_filt, cov_filt; −1 none
+    gain: np.ndarray         # (cap, updates, 3, n) Kᵀ per update
+    weighted: np.ndarray     # (cap, updates, 3) S⁻¹·ν per update
+    anchors: np.ndarray      # (1,) int: the rows of dx_filt, cov_filt in use
+    rule: np.ndarray         # (2,) the segmentation rule's memory (RULE_PREVIOUS, …)
+    dense: bool              # a filtered deviation for every sample (else the anchors)
+    covariance: bool         # the covariance is smoothed too
 
 
 @njit(cache=True)
 def new_segment_store(capacity, n, covariance, dense, updates):
-    """Arrays for ``capacity`` samples of a segment (indexed by :data:`POS` …
-    :data:`LAYOUT`): nominal p, v (cap, 3), C (cap, 3, 3); per sample what the
-    transition Fₙ is rebuilt from in the backward pass (the navigation-frame specific
-    force and dt), how many measurement updates it had and the row of its stored
-    filtered deviation (cap, 6); per update (ZUPT, and ZARU when ``updates`` is 2) the
-    gain Kᵀ (cap, updates, 3, n) and S⁻¹·ν (cap, updates, 3).
+    """A :class:`SegmentStore` for ``capacity`` samples of a segment with n error
+    states: nominal p, v, C; per sample what the transition Fₙ is rebuilt from in the
+    backward pass (the navigation-frame specific force and dt), how many measurement
+    updates it had and the row of its stored filtered deviation; per update (ZUPT, and
+    ZARU when ``updates`` is 2) the gain Kᵀ and S⁻¹·ν.
 
     The filtered deviations and covariances: with ``covariance`` (Eq. (9) as written)
     every sample's, with the predicted ones where a measurement changed them (see
     :func:`predicted_covariance`); ``dense`` without it, every sample's deviation and
-    the first 9 rows of its covariance (the adjoint form with a P that is not the
-    filter's own, :func:`smooth_states_dense`); otherwise only the anchors': the samples
-    where the forward pass closed the loop (:func:`anchor`), all the recursion of
+    the first 9 rows (δp, δv, δθ) of its covariance (the adjoint form with a P that is
+    not the filter's own, :func:`smooth_states_dense`); otherwise only the anchors': the
+    samples where the forward pass closed the loop (:func:`anchor`), all the recursion of
     :func:`smooth_states` needs. Unused arrays are (1, …) placeholders."""
     per_sample = covariance or dense
     rows = capacity if per_sample else 4
-    return (np.empty((capacity, 3)), np.empty((capacity, 3)), np.empty((capacity, 3, 3)),
-            np.empty((capacity if covariance else 1, n)), np.empty((rows, n)),
-            np.empty((capacity if covariance else 1, n, n)),
-            np.empty((rows, 9 if dense and not covariance else n, n)),
-            np.empty((capacity, 6)), np.empty((capacity, updates, 3, n)),
-            np.empty((capacity, updates, 3)),
-            np.array([0, 1 if per_sample else 0, 1 if covariance else 0], np.int64))
+    return SegmentStore(
+        np.empty((capacity, 3)), np.empty((capacity, 3)), np.empty((capacity, 3, 3)),
+        np.empty((capacity if covariance else 1, n)), np.empty((rows, n)),
+        np.empty((capacity if covariance else 1, n, n)),
+        np.empty((rows, NAV_STATES if dense and not covariance else n, n)),
+        np.empty((capacity, 3)), np.empty(capacity), np.empty(capacity, np.int64),
+        np.empty(capacity, np.int64), np.empty((capacity, updates, 3, n)),
+        np.empty((capacity, updates, 3)), np.zeros(1, np.int64), np.zeros(2),
+        per_sample, covariance)
 
 
 @njit(cache=True)
 def grown(seg, needed):
     """``seg`` with room for ``needed`` samples (contents kept; the anchors of the sparse
     layout grow on their own, in :func:`anchor`)."""
-    capacity = seg[POS].shape[0]
+    capacity = seg.position.shape[0]
     if needed <= capacity:
         return seg
-    n = seg[DX_FILT].shape[1]
-    covariance = seg[LAYOUT][LAYOUT_COVARIANCE] == 1
-    dense = seg[LAYOUT][LAYOUT_DENSE] == 1
-    bigger = new_segment_store(max(needed, 2 * capacity), n, covariance, dense,
-                               seg[GAIN].shape[1])
-    bigger[POS][:capacity] = seg[POS]
-    bigger[VEL][:capacity] = seg[VEL]
-    bigger[ATT][:capacity] = seg[ATT]
-    bigger[STEP][:capacity] = seg[STEP]
-    bigger[GAIN][:capacity] = seg[GAIN]
-    bigger[WEIGHTED][:capacity] = seg[WEIGHTED]
-    if covariance:
-        bigger[DX_PRED][:capacity] = seg[DX_PRED]
-        bigger[COV_PRED][:capacity] = seg[COV_PRED]
-    if not dense:
-        return (bigger[POS], bigger[VEL], bigger[ATT], bigger[DX_PRED], seg[DX_FILT],
-                bigger[COV_PRED], seg[COV_FILT], bigger[STEP], bigger[GAIN],
-                bigger[WEIGHTED], seg[LAYOUT])
-    bigger[DX_FILT][:capacity] = seg[DX_FILT]
-    bigger[COV_FILT][:capacity] = seg[COV_FILT]
-    bigger[LAYOUT][:] = seg[LAYOUT]
-    return bigger
+    bigger = new_segment_store(max(needed, 2 * capacity), seg.dx_filt.shape[1],
+                               seg.covariance, seg.dense, seg.gain.shape[1])
+    bigger.position[:capacity] = seg.position
+    bigger.velocity[:capacity] = seg.velocity
+    bigger.attitude[:capacity] = seg.attitude
+    bigger.nav_force[:capacity] = seg.nav_force
+    bigger.dt[:capacity] = seg.dt
+    bigger.updates[:capacity] = seg.updates
+    bigger.row[:capacity] = seg.row
+    bigger.gain[:capacity] = seg.gain
+    bigger.weighted[:capacity] = seg.weighted
+    if seg.covariance:
+        bigger.dx_pred[:capacity] = seg.dx_pred
+        bigger.cov_pred[:capacity] = seg.cov_pred
+    if not seg.dense:
+        return SegmentStore(bigger.position, bigger.velocity, bigger.attitude,
+                            bigger.dx_pred, seg.dx_filt, bigger.cov_pred, seg.cov_filt,
+                            bigger.nav_force, bigger.dt, bigger.updates, bigger.row,
+                            bigger.gain, bigger.weighted, seg.anchors, seg.rule, seg.dense,
+                            seg.covariance)
+    bigger.dx_filt[:capacity] = seg.dx_filt
+    bigger.cov_filt[:capacity] = seg.cov_filt
+    return SegmentStore(bigger.position, bigger.velocity, bigger.attitude, bigger.dx_pred,
+                        bigger.dx_filt, bigger.cov_pred, bigger.cov_filt, bigger.nav_force,
+                        bigger.dt, bigger.updates, bigger.row, bigger.gain, bigger.weighted,
+                        seg.anchors, seg.rule, seg.dense, seg.covariance)
 
 
 @njit(cache=True)
@@ -132,73 +180,81 @@ def anchor(seg, j, dx, P):
     layout (a no-op in the dense one, which stores every sample's), where the forward
     pass closes the loop (:func:`close_segment`). Returns ``seg``, with more anchor rows
     if it needed them."""
-    layout = seg[LAYOUT]
-    if layout[LAYOUT_DENSE]:
+    if seg.dense:
         return seg
-    row = layout[LAYOUT_ROWS]
-    if row == seg[DX_FILT].shape[0]:
+    row = seg.anchors[0]
+    if row == seg.dx_filt.shape[0]:
         dx_rows = np.empty((2 * row, dx.shape[0]))
         cov_rows = np.empty((2 * row, dx.shape[0], dx.shape[0]))
-        dx_rows[:row] = seg[DX_FILT]
-        cov_rows[:row] = seg[COV_FILT]
-        seg = (seg[POS], seg[VEL], seg[ATT], seg[DX_PRED], dx_rows, seg[COV_PRED], cov_rows,
-               seg[STEP], seg[GAIN], seg[WEIGHTED], layout)
-    seg[DX_FILT][row] = dx
-    seg[COV_FILT][row] = P
-    seg[STEP][j, STEP_ROW] = row
-    layout[LAYOUT_ROWS] = row + 1
+        dx_rows[:row] = seg.dx_filt
+        cov_rows[:row] = seg.cov_filt
+        seg = SegmentStore(seg.position, seg.velocity, seg.attitude, seg.dx_pred, dx_rows,
+                           seg.cov_pred, cov_rows, seg.nav_force, seg.dt, seg.updates,
+                           seg.row, seg.gain, seg.weighted, seg.anchors, seg.rule,
+                           seg.dense, seg.covariance)
+    seg.dx_filt[row] = dx
+    seg.cov_filt[row] = P
+    seg.row[j] = row
+    seg.anchors[0] = row + 1
     return seg
 
 
 @njit(cache=True)
-def open_loop_step(seg, j, p, v, C, b, dx, P, prev, f, w, dt, stance, zaru, params,
-                   zupt_sigma, zaru_sigma, zero_heading_position, rule):
-    """Pass 1 for one sample, stored at segment position j; returns True when the
-    segmentation rule ends the segment at this sample."""
-    covariance = seg[LAYOUT][LAYOUT_COVARIANCE] == 1
-    a_now = mechanize(p, v, C, b, prev, f, w, dt, params[6])
-    transition_in_place(dx.reshape(-1, 1), C, a_now, dt, params)
-    propagate(P, C, a_now, dt, params)
-    if zero_heading_position:
-        P[0:3, 8] = 0.0
-        P[8, 0:3] = 0.0
-    step = seg[STEP][j]
-    step[0:3] = a_now
-    step[3] = dt
-    step[STEP_UPDATES] = 0.0
-    step[STEP_ROW] = -1.0
-    if covariance:
-        seg[DX_PRED][j] = dx
-    if stance and covariance:
-        seg[COV_PRED][j] = P
+def open_loop_step(seg, j, state, samples, k, params, smoother):
+    """Pass 1 for sample k of ``samples`` (:class:`~pdr_ins_ekf.kernel_data.Samples`),
+    stored at segment position j, from ``state`` (changed in place; its ``dx`` is the
+    open-loop deviation); returns True when the segmentation rule ends the segment at
+    this sample."""
+    P, dx, b, v = state.P, state.dx, state.b, state.v
+    w, dt, stance = samples.gyro[k], samples.dt[k], samples.stance[k]
+    a_now = mechanize(state, samples.accel[k], w, dt, params.gravity_mps2)
+    transition_in_place(dx.reshape(-1, 1), state.C, a_now, dt, params)
+    propagate(P, state.C, a_now, dt, params)
+    if smoother.zero_heading_position:
+        P[POSITION:POSITION + AXES, HEADING] = 0.0
+        P[HEADING, POSITION:POSITION + AXES] = 0.0
+    seg.nav_force[j] = a_now
+    seg.dt[j] = dt
+    seg.updates[j] = 0
+    seg.row[j] = -1
+    if seg.covariance:
+        seg.dx_pred[j] = dx
+    if stance and seg.covariance:
+        seg.cov_pred[j] = P
     if stance:
-        seg[GAIN][j, 0], seg[WEIGHTED][j, 0] = correct(dx, P, -v - dx[3:6], 3, zupt_sigma)
-        step[STEP_UPDATES] = 1.0
-        if zaru and within_gate(P, w - b[3:] - dx[12:15], 12, zaru_sigma,
-                                params[PARAM_ZARU_GATE]):
-            seg[GAIN][j, 1], seg[WEIGHTED][j, 1] = correct(
-                dx, P, w - b[3:] - dx[12:15], 12, zaru_sigma)
-            step[STEP_UPDATES] = 2.0
-    if seg[LAYOUT][LAYOUT_DENSE]:
-        seg[COV_FILT][j] = P[0:seg[COV_FILT].shape[1]]
-        seg[DX_FILT][j] = dx
-        step[STEP_ROW] = j
-    seg[POS][j] = p
-    seg[VEL][j] = v
-    seg[ATT][j] = C
-    variance = P[3, 3] + P[4, 4] + P[5, 5]
+        seg.gain[j, ZUPT], seg.weighted[j, ZUPT] = correct(
+            dx, P, -v - dx[VELOCITY:VELOCITY + AXES], VELOCITY, params.zupt_sigma_mps)
+        seg.updates[j] = 1
+        if params.zaru and within_gate(P, w - b[GYRO] - dx[GYRO_BIAS:GYRO_BIAS + AXES],
+                                       GYRO_BIAS, params.zaru_sigma_radps,
+                                       params.zaru_gate_nis):
+            seg.gain[j, ZARU], seg.weighted[j, ZARU] = correct(
+                dx, P, w - b[GYRO] - dx[GYRO_BIAS:GYRO_BIAS + AXES], GYRO_BIAS,
+                params.zaru_sigma_radps)
+            seg.updates[j] = 2
+    if seg.dense:
+        seg.cov_filt[j] = P[0:seg.cov_filt.shape[1]]
+        seg.dx_filt[j] = dx
+        seg.row[j] = j
+    seg.position[j] = state.p
+    seg.velocity[j] = v
+    seg.attitude[j] = state.C
+    variance = (P[VELOCITY, VELOCITY] + P[VELOCITY + 1, VELOCITY + 1]
+                + P[VELOCITY + 2, VELOCITY + 2])
+    rule = seg.rule
     if rule[RULE_CLOCK] > 0:
         rule[RULE_CLOCK] += dt
-    if stance and rule[RULE_PREVIOUS] > rule[RULE_GAMMA] >= variance and rule[RULE_CLOCK] == 0:
+    if (stance and rule[RULE_PREVIOUS] > smoother.gamma_s_m2ps2 >= variance
+            and rule[RULE_CLOCK] == 0):
         rule[RULE_CLOCK] = dt
     rule[RULE_PREVIOUS] = variance
-    return rule[RULE_CLOCK] > rule[RULE_TAU]
+    return rule[RULE_CLOCK] > smoother.tau_s
 
 
 @njit(cache=True)
 def predicted_covariance(seg, j):
     """Pₙ|ₙ₋₁ at segment position j: the filtered one where no measurement came."""
-    return seg[COV_PRED][j] if seg[STEP][j, STEP_UPDATES] else seg[COV_FILT][j]
+    return seg.cov_pred[j] if seg.updates[j] else seg.cov_filt[j]
 
 
 @njit(cache=True)
@@ -207,17 +263,17 @@ def adjoint_before_update(seg, j, lam):
     λ ← Hᵀ·S⁻¹·ν + (I − K·H)ᵀ·λ = λ + Hᵀ·(S⁻¹·ν − Kᵀ·λ), H selecting the rows of
     the velocity (ZUPT) or the gyro bias (ZARU)."""
     n = lam.shape[0]
-    for u in range(int(seg[STEP][j, STEP_UPDATES]) - 1, -1, -1):
-        rows = 3 if u == 0 else 12
-        K_T = seg[GAIN][j, u]
+    for u in range(seg.updates[j] - 1, -1, -1):
+        rows = VELOCITY if u == ZUPT else GYRO_BIAS
+        K_T = seg.gain[j, u]
         k0 = k1 = k2 = 0.0
         for i in range(n):
             k0 += K_T[0, i] * lam[i]
             k1 += K_T[1, i] * lam[i]
             k2 += K_T[2, i] * lam[i]
-        lam[rows] += seg[WEIGHTED][j, u, 0] - k0
-        lam[rows + 1] += seg[WEIGHTED][j, u, 1] - k1
-        lam[rows + 2] += seg[WEIGHTED][j, u, 2] - k2
+        lam[rows] += seg.weighted[j, u, 0] - k0
+        lam[rows + 1] += seg.weighted[j, u, 1] - k1
+        lam[rows + 2] += seg.weighted[j, u, 2] - k2
 
 
 @njit(cache=True)
@@ -225,7 +281,8 @@ def spd_solve(S, B):
     """X = S⁻¹·B for a symmetric positive-definite S (n, n) and B (n, k): Cholesky
     S = L·Lᵀ, then L·Y = B and Lᵀ·X = Y, in loops that run along B's rows. An S that is
     not positive definite (zeroing the heading–position cross-covariance can make it
-    indefinite, 001 section IV) is solved by LU (LAPACK) instead."""
+    indefinite, Simón Colomar et al. 2012, section IV) is solved by LU (LAPACK)
+    instead."""
     n, k = B.shape
     L = np.empty((n, n))
     if not cholesky(S, L):
@@ -250,9 +307,10 @@ def spd_solve(S, B):
 
 @njit(cache=True)
 def rts_step(dx_f, P_f, dx_p_next, P_p_next, FP, dxs, Ps):
-    """Eq. (9) of 001 for one sample, in place on the next sample's smoothed dxs and Ps:
-    Aₙ = Pₙ|ₙ·Fₙ₊₁ᵀ·Pₙ₊₁|ₙ⁻¹ = Xᵀ with X = Pₙ₊₁|ₙ⁻¹·(Fₙ₊₁·Pₙ|ₙ) (``FP``),
-    δx̂ₙ|ₑ = δx̂ₙ|ₙ + Aₙ(δx̂ₙ₊₁|ₑ − δx̂ₙ₊₁|ₙ), Pₙ|ₑ = Pₙ|ₙ + Aₙ(Pₙ₊₁|ₑ − Pₙ₊₁|ₙ)Aₙᵀ."""
+    """Simón Colomar et al. 2012, Eq. (9) for one sample, in place on the next sample's
+    smoothed dxs and Ps: Aₙ = Pₙ|ₙ·Fₙ₊₁ᵀ·Pₙ₊₁|ₙ⁻¹ = Xᵀ with
+    X = Pₙ₊₁|ₙ⁻¹·(Fₙ₊₁·Pₙ|ₙ) (``FP``), δx̂ₙ|ₑ = δx̂ₙ|ₙ + Aₙ(δx̂ₙ₊₁|ₑ − δx̂ₙ₊₁|ₙ),
+    Pₙ|ₑ = Pₙ|ₙ + Aₙ(Pₙ₊₁|ₑ − Pₙ₊₁|ₙ)Aₙᵀ."""
     n = P_f.shape[0]
     X = spd_solve(P_p_next, FP)
     diff = dxs - dx_p_next
@@ -279,21 +337,20 @@ def rts_step(dx_f, P_f, dx_p_next, P_p_next, FP, dxs, Ps):
 
 @njit(cache=True)
 def smooth_segment(seg, m, params, pos, vel, att, vel_var):
-    """Passes 2 and 3 over the segment's m samples: smoothed, compensated position,
-    velocity, attitude (m, …) and, in a store that smooths the covariance too (Eq. (9)
-    as written, through
-    :func:`rts_step`), the smoothed velocity variances (m, 3); without it the states
-    alone in the adjoint form (module docstring) and NaN variances. Empties the store's
-    anchors."""
-    if seg[LAYOUT][LAYOUT_COVARIANCE]:
+    """Passes 2 and 3 over the segment's m samples: smoothed, compensated position [m],
+    velocity [m/s] (m, 3), attitude C_b^n (m, 3, 3) and, in a store that smooths the
+    covariance too (Eq. (9) as written, through :func:`rts_step`), the smoothed velocity
+    variances [m²/s²] (m, 3); without it the states alone in the adjoint form (module
+    docstring) and NaN variances. Empties the store's anchors."""
+    if seg.covariance:
         _smooth_with_covariance(seg, m, params, pos, vel, att, vel_var)
     else:
         vel_var[:] = np.nan
-        if seg[LAYOUT][LAYOUT_DENSE]:
+        if seg.dense:
             smooth_states_dense(seg, m, params, pos, vel, att)
         else:
             smooth_states(seg, m, params, pos, vel, att)
-    seg[LAYOUT][LAYOUT_ROWS] = 0
+    seg.anchors[0] = 0
 
 
 @njit(cache=True)
@@ -302,27 +359,27 @@ def _compensate_sample(seg, j, dxs, pos, vel, att):
     attitude by the rotation exp(−[δθ×]), exact to first order like (I − [δθ×]) and
     orthonormal without a re-orthonormalisation."""
     for i in range(3):
-        pos[j, i] = seg[POS][j, i] + dxs[i]
-        vel[j, i] = seg[VEL][j, i] + dxs[3 + i]
+        pos[j, i] = seg.position[j, i] + dxs[POSITION + i]
+        vel[j, i] = seg.velocity[j, i] + dxs[VELOCITY + i]
     rotation = np.empty((3, 3))
-    rodrigues(-dxs[6], -dxs[7], -dxs[8], rotation)
-    product3(rotation, seg[ATT][j], att[j])
+    rodrigues(-dxs[ATTITUDE], -dxs[ATTITUDE + 1], -dxs[ATTITUDE + 2], rotation)
+    product3(rotation, seg.attitude[j], att[j])
 
 
 @njit(cache=True)
 def _smooth_with_covariance(seg, m, params, pos, vel, att, vel_var):
     """Eq. (9) as written (:func:`rts_step`), states and covariance."""
-    dxs = seg[DX_FILT][m - 1].copy()
-    Ps = seg[COV_FILT][m - 1].copy()
+    dxs = seg.dx_filt[m - 1].copy()
+    Ps = seg.cov_filt[m - 1].copy()
     for j in range(m - 1, -1, -1):
         if j < m - 1:
-            C_next, a_next, dt_next = seg[ATT][j + 1], seg[STEP][j + 1, 0:3], seg[STEP][j + 1, 3]
-            FP = apply_transition(seg[COV_FILT][j], C_next, a_next, dt_next, params)
-            rts_step(seg[DX_FILT][j], seg[COV_FILT][j], seg[DX_PRED][j + 1],
+            FP = apply_transition(seg.cov_filt[j], seg.attitude[j + 1], seg.nav_force[j + 1],
+                                  seg.dt[j + 1], params)
+            rts_step(seg.dx_filt[j], seg.cov_filt[j], seg.dx_pred[j + 1],
                      predicted_covariance(seg, j + 1), FP, dxs, Ps)
         _compensate_sample(seg, j, dxs, pos, vel, att)
         for i in range(3):
-            vel_var[j, i] = Ps[3 + i, 3 + i]
+            vel_var[j, i] = Ps[VELOCITY + i, VELOCITY + i]
 
 
 @njit(cache=True)
@@ -340,16 +397,16 @@ def smooth_states_dense(seg, m, params, pos, vel, att):
     """The states alone, δx̂ₙ|ₑ = δx̂ₙ|ₙ + Pₙ|ₙ·λₙ at every sample: for a covariance that
     is not the filter's own propagation (zero_heading_position), where the recursion of
     :func:`smooth_states` does not hold."""
-    n = seg[DX_FILT].shape[1]
-    dxs = seg[DX_FILT][m - 1].copy()
+    n = seg.dx_filt.shape[1]
+    dxs = seg.dx_filt[m - 1].copy()
     lam = np.zeros(n)  # λ at the segment's last sample: smoothed = filtered there
     for j in range(m - 1, -1, -1):
         if j < m - 1:
-            C_next, a_next, dt_next = seg[ATT][j + 1], seg[STEP][j + 1, 0:3], seg[STEP][j + 1, 3]
             adjoint_before_update(seg, j + 1, lam)
-            transposed_transition_in_place(lam, C_next, a_next, dt_next, params)
-            # position, velocity, attitude: all the output needs
-            adjoint_smoothed(seg[DX_FILT][j], seg[COV_FILT][j], lam, dxs, 9)
+            transposed_transition_in_place(lam, seg.attitude[j + 1], seg.nav_force[j + 1],
+                                           seg.dt[j + 1], params)
+            # δp, δv, δθ: all the output needs
+            adjoint_smoothed(seg.dx_filt[j], seg.cov_filt[j], lam, dxs, NAV_STATES)
         _compensate_sample(seg, j, dxs, pos, vel, att)
 
 
@@ -364,92 +421,85 @@ def smooth_states(seg, m, params, pos, vel, att):
     the loop (the anchors: δx̂ was fed back and restarted from 0), δx̂ₙ|ₑ is taken as
     δx̂ₙ|ₙ + Pₙ|ₙ·λₙ from the stored ones, which also bounds the rounding carried
     backward to one segment."""
-    n = seg[DX_FILT].shape[1]
-    dxs = seg[DX_FILT][int(seg[STEP][m - 1, STEP_ROW])].copy()
+    n = seg.dx_filt.shape[1]
+    dxs = seg.dx_filt[seg.row[m - 1]].copy()
     lam = np.zeros(n)  # λ at the segment's last sample: smoothed = filtered there
     _compensate_sample(seg, m - 1, dxs, pos, vel, att)
     for j in range(m - 2, -1, -1):
-        C_next, a_next, dt_next = seg[ATT][j + 1], seg[STEP][j + 1, 0:3], seg[STEP][j + 1, 3]
+        C_next, a_next, dt_next = seg.attitude[j + 1], seg.nav_force[j + 1], seg.dt[j + 1]
         adjoint_before_update(seg, j + 1, lam)
-        row = int(seg[STEP][j, STEP_ROW])
+        row = seg.row[j]
         if row < 0:
-            for i in range(3, n):
+            for i in range(VELOCITY, n):
                 dxs[i] -= process_noise(params, i, dt_next) * lam[i]
             inverse_transition_in_place(dxs, C_next, a_next, dt_next, params)
         transposed_transition_in_place(lam, C_next, a_next, dt_next, params)
         if row >= 0:
-            adjoint_smoothed(seg[DX_FILT][row], seg[COV_FILT][row], lam, dxs, n)
+            adjoint_smoothed(seg.dx_filt[row], seg.cov_filt[row], lam, dxs, n)
         _compensate_sample(seg, j, dxs, pos, vel, att)
 
 
 @njit(cache=True)
-def close_segment(seg, j, p, v, C, b, dx, P, prev, rule):
+def close_segment(seg, j, state):
     """Pass 3 at the segment's last sample j: keep its filtered deviation as an anchor
-    (:func:`anchor`), feed the deviation back, restart it from zero and rearm the
-    segmentation rule. Returns ``seg`` (see :func:`anchor`); the segment can be smoothed
-    after this, from the store."""
-    seg = anchor(seg, j, dx, P)
-    feed_back(p, v, C, b, dx, prev)
-    dx[:] = 0.0
-    rule[RULE_CLOCK] = 0.0
+    (:func:`anchor`), feed the deviation back (:func:`feed_back`, which restarts it from
+    zero) and rearm the segmentation rule. Returns ``seg`` (see :func:`anchor`); the
+    segment can be smoothed after this, from the store."""
+    seg = anchor(seg, j, state.dx, state.P)
+    feed_back(state)
+    seg.rule[RULE_CLOCK] = 0.0
     return seg
 
 
 @njit(cache=True)
-def forward_run(seg, first, k, t, accel, gyro, stance, zaru, params, zupt_sigma, zaru_sigma,
-                zero_heading_position, rule, p, v, C, b, dx, P, prev):
+def forward_run(seg, first, k, state, samples, params, smoother):
     """Pass 1 from sample k on (segment position k − first), until the segmentation rule
     cuts, the store is full or the input ends; returns the last sample done and whether
     the rule cut there. A loop of its own because ``seg`` is re-bound (grown, anchored)
     only outside it: a store that may be re-bound inside the loop costs numba a
     reference count of each of its arrays at every sample (a third of the forward
     pass)."""
-    capacity = seg[POS].shape[0]
-    N = t.shape[0]
+    capacity = seg.position.shape[0]
+    N = samples.dt.shape[0]
     while True:
-        cut = open_loop_step(seg, k - first, p, v, C, b, dx, P, prev, accel[k], gyro[k],
-                             t[k] - t[k - 1] if k else 0.0, stance[k], zaru, params,
-                             zupt_sigma, zaru_sigma, zero_heading_position, rule)
+        cut = open_loop_step(seg, k - first, state, samples, k, params, smoother)
         if cut or k == N - 1 or k - first + 1 == capacity:
             return k, cut
         k += 1
 
 
 @njit(cache=True)
-def smoother_loop(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, zaru_sigma,
-                  zero_heading_position, gamma_s, tau_s, full, covariance):
-    """All samples: smoothed position, velocity (N, 3), attitude (N, 3, 3), velocity
-    variances (N, 3; NaN without ``covariance``) and the index of each smoothed segment's
-    last sample.
+def smoother_loop(samples, C0, b0, P0, params, smoother):
+    """All samples of a record (:class:`~pdr_ins_ekf.kernel_data.Samples`) from the
+    aligned state (attitude C0 (3, 3), biases b0 (6,), covariance P0 (n, n)) at the
+    origin at rest: smoothed position [m], velocity [m/s] (N, 3), attitude C_b^n
+    (N, 3, 3), velocity variances [m²/s²] (N, 3; NaN without ``smoother.covariance``)
+    and the index of each smoothed segment's last sample.
 
-    ``full``: one backward pass over the whole record. The forward pass still closes the
-    loop at every segment end, so the nominal state never drifts far from the truth and
-    the linearisation stays as good as in the segmented mode; across a loop closure
-    δx̂ₑ₊₁|ₑ = Fₑ₊₁·0 = 0 about the corrected state, and the same recursion carries on."""
-    N = t.shape[0]
+    ``smoother.full``: one backward pass over the whole record. The forward pass still
+    closes the loop at every segment end, so the nominal state never drifts far from the
+    truth and the linearisation stays as good as in the segmented mode; across a loop
+    closure δx̂ₑ₊₁|ₑ = Fₑ₊₁·0 = 0 about the corrected state, and the same recursion
+    carries on."""
+    N = samples.dt.shape[0]
     n = P0.shape[0]
-    p, v, dx = np.zeros(3), np.zeros(3), np.zeros(n)
-    C, b, P = C0.copy(), b0.copy(), P0.copy()
-    prev = np.empty((3, 3))
-    start(C, b, prev, accel[0], gyro[0])
+    state = new_state(C0, b0, P0)
+    start(state, samples.accel[0], samples.gyro[0])
     pos, vel = np.empty((N, 3)), np.empty((N, 3))
     att, vel_var = np.empty((N, 3, 3)), np.empty((N, 3))
     ends = np.empty(N, np.int64)
     segments = 0
-    seg = new_segment_store(N if full else min(N, 1024), n, covariance,
-                            zero_heading_position, 2 if zaru else 1)
-    rule = np.array([gamma_s, tau_s, 0.0, 0.0])
+    seg = new_segment_store(N if smoother.full else min(N, 1024), n, smoother.covariance,
+                            smoother.zero_heading_position, 2 if params.zaru else 1)
     first = k = 0
     while k < N:
-        k, cut = forward_run(seg, first, k, t, accel, gyro, stance, zaru, params, zupt_sigma,
-                             zaru_sigma, zero_heading_position, rule, p, v, C, b, dx, P,
-                             prev)
+        k, cut = forward_run(seg, first, k, state, samples, params, smoother)
         j = k - first
         if not (cut or k == N - 1):
             seg = grown(seg, j + 2)
         else:
-            seg = close_segment(seg, j, p, v, C, b, dx, P, prev, rule)
-            if not full or k == N - 1:
+            seg = close_segment(seg, j, state)
+            if not smoother.full or k == N - 1:
                 smooth_segment(seg, j + 1, params, pos[first:k + 1], vel[first:k + 1],
                                att[first:k + 1], vel_var[first:k + 1])
                 ends[segments] = k

@@ -33,16 +33,16 @@ from pdr_core.errors import InputError
 from pdr_ins_ekf.zero_velocity import (
     AdaptiveShoeDetector,
     AngularRateEnergyDetector,
+    ConditionVoteDetector,
     MagnitudeDetector,
     MovingVarianceDetector,
-    Paper000Detector,
     ShoeDetector,
     StanceDetector,
 )
 from pdr_ins_ekf.zupt_ekf import FilterConfig, SmootherConfig
 
-DETECTORS = {"original": Paper000Detector, "limited": Paper000Detector,
-             "retarded": Paper000Detector, "shoe": ShoeDetector,
+DETECTORS = {"original": ConditionVoteDetector, "limited": ConditionVoteDetector,
+             "retarded": ConditionVoteDetector, "shoe": ShoeDetector,
              "adaptive_shoe": AdaptiveShoeDetector,
              "moving_variance": MovingVarianceDetector, "magnitude": MagnitudeDetector,
              "angular_rate_energy": AngularRateEnergyDetector}
@@ -50,7 +50,8 @@ DETECTORS = {"original": Paper000Detector, "limited": Paper000Detector,
 
 @dataclass(frozen=True)
 class RunConfig:
-    detector: StanceDetector = field(default_factory=lambda: Paper000Detector(variant="retarded"))
+    detector: StanceDetector = field(
+        default_factory=lambda: ConditionVoteDetector(variant="retarded"))
     filter: FilterConfig = field(default_factory=FilterConfig)
     smoother: SmootherConfig = field(default_factory=SmootherConfig)
     alignment_min_s: float = 0.5
@@ -69,7 +70,7 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
         if kind not in DETECTORS:
             raise InputError(f"{where}.detector.type", f"unknown detector '{kind}' "
                                                        f"(known: {', '.join(DETECTORS)})")
-        if DETECTORS[kind] is Paper000Detector:
+        if DETECTORS[kind] is ConditionVoteDetector:
             detector["variant"] = kind
         out["detector"] = dataclass_from_mapping(DETECTORS[kind], detector, f"{where}.detector")
     if "filter" in data:

@@ -25,11 +25,14 @@ from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANC
 from pdr_core.nav_path import encode_path
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import RunConfig
+from pdr_ins_ekf.kernel_data import ATTITUDE, AXES
 from pdr_ins_ekf.zero_velocity import sample_rate_hz
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
 STANCE = "pdr_msgs/msg/Stance"
 UNKNOWN_VARIANCE = 1e6
+# the blocks of a geometry_msgs 6×6 covariance: x, y, z, then about the x, y, z axes
+LINEAR, ANGULAR = slice(0, 3), slice(3, 6)
 
 
 @dataclass
@@ -118,16 +121,17 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch
 
     def pose(index: slice) -> dict[str, np.ndarray]:
         cov = np.zeros((len(out.position[index]), 6, 6))
-        cov[:, :3, :3] = out.position_cov[index]
-        cov[:, 3:, 3:] = out.variance[index, 6:9, None] * np.eye(3)
+        cov[:, LINEAR, LINEAR] = out.position_cov[index]
+        cov[:, ANGULAR, ANGULAR] = (out.variance[index, ATTITUDE:ATTITUDE + AXES, None]
+                                    * np.eye(3))
         return {"pose.pose.position": out.position[index],
                 "pose.pose.orientation": quaternion_from_orthonormal(out.attitude[index]),
                 "pose.covariance": cov.reshape(-1, 36)}
 
     def velocity(index: slice) -> dict[str, np.ndarray]:
         cov = np.zeros((len(out.velocity[index]), 6, 6))
-        cov[:, :3, :3] = out.velocity_cov[index]
-        cov[:, 3:, 3:] = np.eye(3) * UNKNOWN_VARIANCE  # angular rate is not estimated
+        cov[:, LINEAR, LINEAR] = out.velocity_cov[index]
+        cov[:, ANGULAR, ANGULAR] = np.eye(3) * UNKNOWN_VARIANCE  # rate not estimated
         return {"twist.twist.linear": out.velocity[index],
                 "twist.twist.angular": np.zeros((len(cov), 3)),
                 "twist.covariance": cov.reshape(-1, 36)}

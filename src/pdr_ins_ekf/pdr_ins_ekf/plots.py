@@ -51,7 +51,7 @@ def path_png(t: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None, path
 
 def smoothing_png(t: np.ndarray, run_, path: Path, steps: int = 6) -> None:
     """Filtered against smoothed trajectory over a few steps in the middle of the walk,
-    top view and height (001_5b5dbf275b14cf0a.txt, Figs. 3–4): the filter jumps at every
+    top view and height (Simón Colomar et al. 2012, Figs. 3–4): the filter jumps at every
     ZUPT onset, the smoother does not."""
     onsets = np.flatnonzero(run_.stance[1:] & ~run_.stance[:-1]) + 1
     middle = len(onsets) // 2

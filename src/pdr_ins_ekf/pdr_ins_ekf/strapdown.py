@@ -1,10 +1,10 @@
 """Strapdown mechanization (pure INS): attitude, velocity and position from IMU samples.
 
 Attitude: C_n = C_{n−1}·exp(Ω·T_s) by one of :data:`~pdr_ins_ekf.attitude_update.METHODS`
-(000_fbd401126d10f515.txt, Eqs. (9), (11), (12); 001_5b5dbf275b14cf0a.txt, Eqs. (1)–(2)).
+(Zampella et al. 2011, Eqs. (9), (11), (12); Simón Colomar et al. 2012, Eqs. (1)–(2)).
 Velocity and position in ENU, with g = [0, 0, g] and local gravity g a parameter:
 
-- ``integration="rectangular"``: 001_5b5dbf275b14cf0a.txt, Eqs. (3)–(5) as written:
+- ``integration="rectangular"``: Simón Colomar et al. 2012, Eqs. (3)–(5) as written:
   Ω from ω_n, a_n = C_n·f_n − g, p_n = p_{n−1} + v_{n−1}·T_s + a_n·T_s²/2,
   v_n = v_{n−1} + a_n·T_s. Each sample is held over the interval before it, so with
   instantaneous samples the error is first order in T_s: the attitude lags by ω·T_s/2

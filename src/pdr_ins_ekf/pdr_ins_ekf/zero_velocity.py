@@ -11,19 +11,20 @@ Time is axis 0 and components the last
 axis: ``accel`` and ``gyro`` of shape (N, R, 3) (R Monte-Carlo runs) give masks (N, R),
 each column exactly the decision on that run alone.
 
-- :class:`Paper000Detector`: 000_fbd401126d10f515.txt, Eqs. (15)–(19): acceleration
+- :class:`ConditionVoteDetector`: Zampella et al. 2011, Eqs. (15)–(19): acceleration
   magnitude band (C1), angular-rate threshold (C2), standard deviation of |a| over the
   last W1+1 samples (C3), their product filtered by a median over the last W2+1 samples.
   ``variant="limited"`` multiplies the median by the current conditions (the limited
   window); ``variant="retarded"`` uses W1 = W2 = W centred on the sample (the retarded
   window, a delay of W/2 samples for a causal implementation).
 - :class:`ShoeDetector`: the stance hypothesis optimal detector (GLRT) of
-  004_1269ce0256f0c590.txt, section II (Skog et al. 2010):
+  Wang et al. 2020, section II (Skog et al. 2010):
   T = 1/W·Σ (‖y_a − g·ȳ_a/‖ȳ_a‖‖²/σ_a² + ‖y_ω‖²/σ_ω²) < γ.
 - :class:`AdaptiveShoeDetector`: SHOE with a threshold that follows the gait, beyond the
   papers: γ_k = clip(κ·min_{|j−k|≤L/2} T_j, γ_min, γ_max). The floor of the statistic
   over about one stride rises from walking to running (the foot never rests as well), so
-  one setting serves both; one fixed γ does not (004, section IV; the pyshoe anchor).
+  one setting serves both; one fixed γ does not (Wang et al. 2020, section IV; the pyshoe
+  anchor).
 - :class:`MovingVarianceDetector` (1/(σ_a²W)·Σ‖y_a − ȳ_a‖²), :class:`MagnitudeDetector`
   (1/(σ_a²W)·Σ(‖y_a‖ − g)²) and :class:`AngularRateEnergyDetector` (1/(σ_ω²W)·Σ‖y_ω‖²),
   Skog et al. 2010, for comparison; all over centred windows of W samples.
@@ -111,13 +112,15 @@ def _check_window(name: str, value: int) -> None:
 
 
 @dataclass(frozen=True)
-class Paper000Detector:
-    """000, Eqs. (15)–(19) and its limited / retarded windows (see the module docstring).
+class ConditionVoteDetector:
+    """Three threshold conditions and a majority vote over a window: Zampella et al. 2011,
+    Eqs. (15)–(19), and its limited / retarded windows (see the module docstring).
 
     Thresholds: |a| in (acc_low_mps2, acc_high_mps2), |ω| < rate_max_radps, std of |a|
     over W1+1 samples < acc_std_max_mps2; median over W2+1 samples. The paper gives no
     values; the defaults suit 100 Hz walking data: with them the limited and the retarded
-    windows end a noiseless 100-step walk within 1 cm along track (section IV-A).
+    windows end a noiseless 100-step walk within 1 cm along track (Zampella et al. 2011,
+    section IV-A).
     """
 
     acc_low_mps2: float = 9.0
@@ -165,7 +168,7 @@ class Paper000Detector:
 
 @dataclass(frozen=True)
 class ShoeDetector(_CentredWindow):
-    """SHOE / GLRT (004, section II): σ_a [m/s²], σ_ω [rad/s], window W, threshold γ.
+    """SHOE / GLRT (Wang et al. 2020, section II): σ_a [m/s²], σ_ω [rad/s], window W, threshold γ.
 
     With the default σ, γ = 1e5 admits |ω| up to 0.55 rad/s or an acceleration residual of
     3 m/s² over the window; γ scales with 1/σ², so change σ and γ together.
@@ -197,7 +200,7 @@ class ShoeDetector(_CentredWindow):
 
 @dataclass(frozen=True)
 class AdaptiveShoeDetector:
-    """SHOE (004, section II) against a threshold that adapts to the gait.
+    """SHOE (Wang et al. 2020, section II) against a threshold that adapts to the gait.
 
     γ_k = clip(threshold_factor · min T_j over the ``span_s`` centred on k, threshold_min,
     threshold_max): stance is where the statistic is within a factor of its lowest value

@@ -1,6 +1,6 @@
 """Error-state EKF of a foot-mounted INS aided by zero-velocity (ZUPT) and zero-angular-rate
-(ZARU) pseudo-measurements: 001_5b5dbf275b14cf0a.txt, Eq. (8) (closed loop, 9 states) and
-004_1269ce0256f0c590.txt, Eq. (2) (15 states with accelerometer and gyro biases).
+(ZARU) pseudo-measurements: Simón Colomar et al. 2012, Eq. (8) (closed loop, 9 states) and
+Wang et al. 2020, Eq. (2) (15 states with accelerometer and gyro biases).
 
 Error state δx = [δp, δv, δθ (, δb_a, δb_g)] with δp = p − p̂, δv = v − v̂, δb = b − b̂ and
 the attitude error defined by C = (I − [δθ×])·Ĉ, so that Eq. (8)'s compensation is
@@ -16,6 +16,8 @@ propagated by :mod:`pdr_ins_ekf.strapdown`'s trapezoidal mechanization, one samp
 time. Updates use the Joseph form, and the covariance is symmetrised after every step.
 
 ZUPT: z = −v̂ = δv + noise (H picks δv). ZARU (15 states only): z = ω − b̂_g = δb_g + noise.
+The error state's rows are named in :mod:`pdr_ins_ekf.kernel_data` (``VELOCITY``,
+``GYRO_BIAS``, …), as are the state, parameters and samples the kernels take.
 
 Frames and units: ENU navigation frame, FLU body frame, SI.
 """
@@ -29,6 +31,19 @@ from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.rotations import rotation_from_euler
 from pdr_ins_ekf import compiled_filter as kernels
 from pdr_ins_ekf import compiled_smoother
+from pdr_ins_ekf.compiled_smoother import SmootherParams
+from pdr_ins_ekf.kernel_data import (
+    BIAS_MODEL_CODES,
+    GYRO,
+    GYRO_BIAS,
+    NAV_AND_BIAS_STATES,
+    NAV_STATES,
+    VELOCITY,
+    FilterParams,
+    NavState,
+    Samples,
+    intervals,
+)
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
 
@@ -69,7 +84,7 @@ class FilterConfig:
 
     @property
     def states(self) -> int:
-        return 9 if self.bias_model == "none" else 15
+        return NAV_STATES if self.bias_model == "none" else NAV_AND_BIAS_STATES
 
 
 @dataclass
@@ -92,7 +107,7 @@ SMOOTHER_MODES = ("none", "segmented", "full")
 
 @dataclass(frozen=True)
 class SmootherConfig:
-    """RTS smoothing (001_5b5dbf275b14cf0a.txt, section III; :mod:`compiled_smoother`).
+    """RTS smoothing (Simón Colomar et al. 2012, section III; :mod:`compiled_smoother`).
 
     ``segmented`` cuts a segment ``tau_s`` seconds after Σ diag(P_v) falls below
     ``gamma_s_m2ps2`` at a ZUPT; ``full`` smooths the whole record in one backward pass
@@ -156,38 +171,33 @@ class SegmentSmoother:
                  ) -> None:
         self.config = config
         self.params = kernel_params(config)
-        self.p, self.v = np.zeros(3), np.zeros(3)
-        self.C, self.b, self.P = start.C.copy(), start.b.copy(), start.P.copy()
-        self.dx = np.zeros(self.P.shape[0])
-        self.prev = np.empty((3, 3))
+        self.smoother = smoother_params(smoother)
+        self.state = start_state(start.state.C, start.state.b, start.state.P)
         self.store = compiled_smoother.new_segment_store(
-            1024, self.P.shape[0], smoother.covariance, smoother.zero_heading_position,
+            1024, self.state.P.shape[0], smoother.covariance, smoother.zero_heading_position,
             2 if config.zaru else 1)
-        self.rule = np.array([smoother.gamma_s_m2ps2, smoother.tau_s, 0.0, 0.0])
-        self.zero_heading_position = smoother.zero_heading_position
         self.stamps: list[int] = []
         self.started = False
 
     @property
     def store_bytes(self) -> int:
         """Bytes held by the segment store."""
-        return sum(array.nbytes for array in self.store)
+        return sum(array.nbytes for array in self.store if isinstance(array, np.ndarray))
 
     def step(self, stamp_ns: int, f: np.ndarray, w: np.ndarray, dt: float, stance: bool
              ) -> SmoothedSegment | None:
         """One sample (dt = 0 for the first); the segment when this sample ends one."""
         f, w = np.asarray(f, float), np.asarray(w, float)
         if not self.started:
-            kernels.start(self.C, self.b, self.prev, f, w)
+            kernels.start(self.state, f, w)
             self.started = True
         j = len(self.stamps)
         self.store = compiled_smoother.grown(self.store, j + 1)
         self.stamps.append(int(stamp_ns))
-        c = self.config
-        cut = compiled_smoother.open_loop_step(
-            self.store, j, self.p, self.v, self.C, self.b, self.dx, self.P, self.prev, f, w,
-            float(dt), bool(stance), c.zaru, self.params, c.zupt_sigma_mps,
-            c.zaru_sigma_radps, self.zero_heading_position, self.rule)
+        sample = Samples(np.array([dt], float), f.reshape(1, 3), w.reshape(1, 3),
+                         np.array([stance], bool))
+        cut = compiled_smoother.open_loop_step(self.store, j, self.state, sample, 0,
+                                               self.params, self.smoother)
         return self.finish() if cut else None
 
     def finish(self) -> SmoothedSegment | None:
@@ -195,9 +205,7 @@ class SegmentSmoother:
         m = len(self.stamps)
         if not m:
             return None
-        self.store = compiled_smoother.close_segment(self.store, m - 1, self.p, self.v, self.C,
-                                                     self.b, self.dx, self.P, self.prev,
-                                                     self.rule)
+        self.store = compiled_smoother.close_segment(self.store, m - 1, self.state)
         out = SmoothedSegment(np.array(self.stamps, np.int64), np.empty((m, 3)),
                               np.empty((m, 3, 3)), np.empty((m, 3)))
         compiled_smoother.smooth_segment(self.store, m, self.params, out.position,
@@ -210,28 +218,37 @@ class SegmentSmoother:
 class ZuptEkf:
     """The filter state and its steps over blocks of samples (the live node's engine);
     the equations are the compiled kernels of :mod:`pdr_ins_ekf.compiled_filter`, which
-    :func:`run` also loops over, so both give the same numbers."""
+    :func:`run` also loops over, so both give the same numbers. ``state`` is the
+    :class:`~pdr_ins_ekf.kernel_data.NavState` they change in place (also read as
+    ``p``, ``v``, ``C``, ``b``, ``P``)."""
 
     def __init__(self, config: FilterConfig, attitude: np.ndarray, gyro_bias=(0.0, 0.0, 0.0),
                  position=(0.0, 0.0, 0.0)) -> None:
         self.config = config
-        self.p = np.asarray(position, float).copy()
-        self.v = np.zeros(3)
-        self.C = np.ascontiguousarray(attitude, float).copy()
-        self.b = np.concatenate([np.zeros(3), np.asarray(gyro_bias, float)])
-        self.P = initial_covariance(config)
-        self.prev = np.empty((3, 3))
+        P = initial_covariance(config)
+        b = np.zeros(6)
+        b[GYRO] = gyro_bias
+        self.state = NavState(p=np.array(position, float), v=np.zeros(3),
+                              C=np.array(attitude, float, order="C"), b=b, P=P,
+                              prev=np.empty((3, 3)), dx=np.zeros(P.shape[0]))
         self.started = False
         self.params = kernel_params(config)
 
+    p = property(lambda self: self.state.p, doc="Position p̂ (3,) [m], navigation frame.")
+    v = property(lambda self: self.state.v, doc="Velocity v̂ (3,) [m/s], navigation frame.")
+    C = property(lambda self: self.state.C, doc="Attitude Ĉ = C_b^n (3, 3).")
+    b = property(lambda self: self.state.b,
+                 doc="Biases b̂ (6,): accelerometer [m/s²], gyroscope [rad/s], body frame.")
+    P = property(lambda self: self.state.P, doc="Error-state covariance (n, n).")
+
     def predict(self, f: np.ndarray, w: np.ndarray, dt: float) -> None:
-        """Propagate the nominal state (trapezoidal) and the covariance over dt."""
+        """Propagate the nominal state (trapezoidal) and the covariance over dt [s] with
+        the specific force f [m/s²] and rate w [rad/s] (3,), body frame."""
         f, w = np.asarray(f, float), np.asarray(w, float)
         if not self.started:
-            kernels.start(self.C, self.b, self.prev, f, w)
+            kernels.start(self.state, f, w)
             self.started = True
-        kernels.predict(self.p, self.v, self.C, self.b, self.P, self.prev, f, w, dt,
-                        self.params)
+        kernels.predict(self.state, f, w, float(dt), self.params)
 
     @classmethod
     def aligned(cls, config: FilterConfig, accel_rest: np.ndarray, gyro_rest: np.ndarray,
@@ -248,40 +265,58 @@ class ZuptEkf:
         each (:func:`pdr_ins_ekf.compiled_filter.filter_block`, as :func:`run`)."""
         f, w = np.ascontiguousarray(f, float), np.ascontiguousarray(w, float)
         if len(f) and not self.started:
-            kernels.start(self.C, self.b, self.prev, f[0], w[0])
+            kernels.start(self.state, f[0], w[0])
             self.started = True
-        c = self.config
-        return FilterOutput(*kernels.filter_block(
-            self.p, self.v, self.C, self.b, self.P, self.prev, f, w,
-            np.ascontiguousarray(dt, float), np.ascontiguousarray(stance, bool), c.zaru,
-            self.params, c.zupt_sigma_mps, c.zaru_sigma_radps))
+        samples = Samples(np.ascontiguousarray(dt, float), f, w,
+                          np.ascontiguousarray(stance, bool))
+        return FilterOutput(*kernels.filter_block(self.state, samples, self.params))
 
     def zupt(self) -> None:
         """Zero-velocity pseudo-measurement: z = −v̂ observes δv."""
-        kernels.update(self.p, self.v, self.C, self.b, self.P, self.prev, -self.v, 3,
-                       self.config.zupt_sigma_mps)
+        kernels.update(self.state, -self.state.v, VELOCITY, self.config.zupt_sigma_mps)
 
     def zaru(self, w: np.ndarray) -> None:
         """Zero-angular-rate pseudo-measurement (15 states): z = ω − b̂_g observes δb_g."""
-        kernels.update(self.p, self.v, self.C, self.b, self.P, self.prev,
-                       np.asarray(w, float) - self.b[3:], 12, self.config.zaru_sigma_radps)
+        kernels.update(self.state, np.asarray(w, float) - self.state.b[GYRO], GYRO_BIAS,
+                       self.config.zaru_sigma_radps)
 
 
 def initial_covariance(config: FilterConfig) -> np.ndarray:
     """The error-state covariance at alignment (n, n), diagonal from the init_* σ."""
     sig = ([config.init_pos_sigma_m] * 3 + [config.init_vel_sigma_mps] * 3
            + [config.init_att_sigma_rad] * 2 + [config.init_yaw_sigma_rad])
-    if config.states == 15:
+    if config.states == NAV_AND_BIAS_STATES:
         sig += [config.init_acc_bias_sigma] * 3 + [config.init_gyro_bias_sigma] * 3
     return np.diag(np.square(sig))
 
 
-def kernel_params(config: FilterConfig) -> np.ndarray:
-    """The ``params`` array of :mod:`pdr_ins_ekf.compiled_filter`."""
-    return np.array([config.acc_noise, config.gyro_noise, config.acc_bias_noise,
-                     config.gyro_bias_noise, config.bias_tau_s,
-                     kernels.BIAS_MODEL_CODES[config.bias_model], config.gravity_mps2,
-                     config.zaru_gate_nis])
+def kernel_params(config: FilterConfig) -> FilterParams:
+    """The :class:`~pdr_ins_ekf.kernel_data.FilterParams` of the compiled kernels."""
+    return FilterParams(
+        acc_noise=float(config.acc_noise), gyro_noise=float(config.gyro_noise),
+        acc_bias_noise=float(config.acc_bias_noise),
+        gyro_bias_noise=float(config.gyro_bias_noise), bias_tau_s=float(config.bias_tau_s),
+        bias_model=BIAS_MODEL_CODES[config.bias_model],
+        gravity_mps2=float(config.gravity_mps2), zupt_sigma_mps=float(config.zupt_sigma_mps),
+        zaru=bool(config.zaru), zaru_sigma_radps=float(config.zaru_sigma_radps),
+        zaru_gate_nis=float(config.zaru_gate_nis))
+
+
+def smoother_params(smoother: SmootherConfig) -> SmootherParams:
+    """The :class:`~pdr_ins_ekf.compiled_smoother.SmootherParams` of the compiled
+    smoother."""
+    return SmootherParams(
+        gamma_s_m2ps2=float(smoother.gamma_s_m2ps2), tau_s=float(smoother.tau_s),
+        zero_heading_position=bool(smoother.zero_heading_position),
+        full=smoother.mode == "full", covariance=bool(smoother.covariance))
+
+
+def start_state(C0: np.ndarray, b0: np.ndarray, P0: np.ndarray) -> NavState:
+    """A :class:`~pdr_ins_ekf.kernel_data.NavState` at the origin at rest with copies of
+    the attitude C0 (3, 3), biases b0 (6,) and covariance P0 (n, n)
+    (:func:`pdr_ins_ekf.compiled_filter.new_state`)."""
+    return kernels.new_state(np.ascontiguousarray(C0, float), np.ascontiguousarray(b0, float),
+                             np.ascontiguousarray(P0, float))
 
 
 def initial_attitude(accel: np.ndarray, yaw_rad: float) -> np.ndarray:
@@ -311,15 +346,23 @@ def smooth(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarra
     the same alignment and equations as :func:`run`."""
     return SmoothedOutput(*compiled_smoother.smoother_loop(
         *_loop_inputs(t, accel, gyro, stance, config, alignment, yaw_rad),
-        smoother.zero_heading_position, smoother.gamma_s_m2ps2, smoother.tau_s,
-        smoother.mode == "full", smoother.covariance))
+        smoother_params(smoother)))
+
+
+def record_samples(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray
+                   ) -> Samples:
+    """The :class:`~pdr_ins_ekf.kernel_data.Samples` of a record: stamps t (N,) [s] as
+    intervals, contiguous specific force and rate (N, 3) and stance mask (N,); with a
+    leading runs axis on accel, gyro and stance for
+    :func:`pdr_ins_ekf.studies.ekf_montecarlo.ekf_batch`."""
+    return Samples(intervals(np.asarray(t, float)), np.ascontiguousarray(accel, float),
+                   np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool))
 
 
 def _loop_inputs(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarray,
                  config: FilterConfig, alignment: slice, yaw_rad: float) -> tuple:
-    """The leading arguments of the compiled loops: contiguous inputs, then the aligned
-    initial state and the noise parameters."""
+    """The leading arguments of the compiled loops: the samples, the aligned initial
+    attitude, biases and covariance, and the filter's parameters."""
     ekf = ZuptEkf.aligned(config, accel[alignment], gyro[alignment], yaw_rad)
-    return (np.ascontiguousarray(t, float), np.ascontiguousarray(accel, float),
-            np.ascontiguousarray(gyro, float), np.ascontiguousarray(stance, bool), config.zaru,
-            ekf.C, ekf.b, ekf.P, ekf.params, config.zupt_sigma_mps, config.zaru_sigma_radps)
+    return (record_samples(t, accel, gyro, stance), ekf.state.C, ekf.state.b, ekf.state.P,
+            ekf.params)

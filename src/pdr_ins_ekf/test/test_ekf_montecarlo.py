@@ -1,4 +1,4 @@
-"""Monte-Carlo ZUPT EKF batched over runs (000_fbd401126d10f515.txt, section IV-B,
+"""Monte-Carlo ZUPT EKF batched over runs (Zampella et al. 2011, section IV-B,
 Tables II-III)."""
 import numpy as np
 import pytest
@@ -19,9 +19,9 @@ from pdr_ins_ekf.studies.montecarlo import NoiseLevels, noisy_signals, straight_
 from pdr_ins_ekf.zero_velocity import (
     AdaptiveShoeDetector,
     AngularRateEnergyDetector,
+    ConditionVoteDetector,
     MagnitudeDetector,
     MovingVarianceDetector,
-    Paper000Detector,
     ShoeDetector,
 )
 
@@ -39,8 +39,8 @@ def signals(walk):
 
 
 @pytest.mark.parametrize("detector", [
-    Paper000Detector(variant="original"), Paper000Detector(variant="limited"),
-    Paper000Detector(variant="retarded"), ShoeDetector(), AdaptiveShoeDetector(),
+    ConditionVoteDetector(variant="original"), ConditionVoteDetector(variant="limited"),
+    ConditionVoteDetector(variant="retarded"), ShoeDetector(), AdaptiveShoeDetector(),
     MovingVarianceDetector(), MagnitudeDetector(), AngularRateEnergyDetector()],
     ids=lambda d: type(d).__name__ + getattr(d, "variant", ""))
 def test_detectors_decide_all_runs_at_once_as_one_by_one(signals, detector):
@@ -54,7 +54,7 @@ def test_detectors_decide_all_runs_at_once_as_one_by_one(signals, detector):
 def test_batch_runs_are_the_single_run_filter(walk, signals, states):
     a, w = signals
     config = filter_for(XSENS_MTI, states=states)
-    detector = Paper000Detector(variant="limited")
+    detector = ConditionVoteDetector(variant="limited")
     keep = stance_times(walk, 1.0, 40)
     stance = detect_runs(detector, a, w, RATE)
     batch = run_batch(walk, a, w, stance, config, keep)
@@ -70,7 +70,7 @@ def test_study_keeps_stance_samples_and_the_filters_own_view(walk):
     keep = stance_times(walk, 1.0, 30)
     assert walk.at_rest[keep].all() and walk.t_s[keep[0]] >= walk.rest_s + 1.0
     study = ekf_study(walk, NoiseLevels.only("acc_noise", 0.002), 10,
-                      Paper000Detector(variant="retarded"), filter_for(XSENS_MTI))
+                      ConditionVoteDetector(variant="retarded"), filter_for(XSENS_MTI))
     c = study.consistency
     assert study.growth.t_s[0] >= 1.0
     assert (c.sigma_p_q05_m <= c.sigma_p_m).all() and (c.sigma_p_m <= c.sigma_p_q95_m).all()

@@ -1,4 +1,4 @@
-"""The mechanization study reproduces the ranking of 000_fbd401126d10f515.txt, Fig. 6:
+"""The mechanization study reproduces the ranking of Zampella et al. 2011, Fig. 6:
 Padé [1,1] clearly worst; Padé [2,2], [3,3], Eq. (12) and expm close to each other."""
 import subprocess
 import sys

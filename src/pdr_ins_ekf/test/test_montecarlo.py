@@ -1,4 +1,4 @@
-"""Monte-Carlo pure INS (000_fbd401126d10f515.txt, section III-B, Table I)."""
+"""Monte-Carlo pure INS (Zampella et al. 2011, section III-B, Table I)."""
 import numpy as np
 import pytest
 

@@ -1,4 +1,4 @@
-"""RTS smoothing of the ZUPT-aided INS (001_5b5dbf275b14cf0a.txt, section III) on a
+"""RTS smoothing of the ZUPT-aided INS (Simón Colomar et al. 2012, section III) on a
 simulated 200-step walk with xsens_mtw noise."""
 import numpy as np
 import pytest
@@ -6,6 +6,7 @@ import pytest
 from pdr_core.metrics import within_step_rmse
 from pdr_ins_ekf.compiled_smoother import spd_solve
 from pdr_ins_ekf.config import RunConfig, load_run_config
+from pdr_ins_ekf.kernel_data import AXES, VELOCITY
 from pdr_ins_ekf.zupt_ekf import FilterConfig, SmootherConfig, run, smooth
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
@@ -70,21 +71,23 @@ def peaks(variance, stance):
 
 
 def test_smoothed_velocity_variance_peaks_mid_swing(walk):
-    """001, section III: the smoothed velocity variance peaks mid-swing, the filter's at
-    the end. The filter's does so for the vertical velocity, which heading does not touch.
-    Horizontally it peaks mid-swing too once the unobservable heading has some
-    uncertainty: δv ≈ δψ × v grows with the foot's speed (with a start heading known to
-    1e-6 rad the first 9 steps peak at the end, later ones mid-swing)."""
+    """Simón Colomar et al. 2012, section III: the smoothed velocity variance peaks
+    mid-swing, the filter's at the end. The filter's does so for the vertical velocity,
+    which heading does not touch. Horizontally it peaks mid-swing too once the
+    unobservable heading has some uncertainty: δv ≈ δψ × v grows with the foot's speed
+    (with a start heading known to 1e-6 rad the first 9 steps peak at the end, later ones
+    mid-swing)."""
     stance, filtered, smoothed = walk
     middle = peaks(smoothed["segmented"].velocity_variance.sum(axis=1), stance)
     assert np.mean((middle >= 1 / 3) & (middle <= 2 / 3)) >= 0.9
     vertical = peaks(smoothed["segmented"].velocity_variance[:, 2], stance)
     assert np.mean((vertical >= 1 / 3) & (vertical <= 2 / 3)) >= 0.9
-    assert np.mean(peaks(filtered.variance[:, 5], stance) >= 2 / 3) >= 0.9
+    assert np.mean(peaks(filtered.variance[:, VELOCITY + 2], stance) >= 2 / 3) >= 0.9
     variance = smoothed["segmented"].velocity_variance.sum(axis=1)
     # never above the filter's (the open-loop pass linearises about a slightly different
     # nominal state than the closed-loop filter, hence the 1 % margin)
-    assert (variance <= filtered.variance[:, 3:6].sum(axis=1) * 1.01).all()
+    assert (variance <= filtered.variance[:, VELOCITY:VELOCITY + AXES].sum(axis=1)
+            * 1.01).all()
 
 
 def test_bad_smoother_configuration():
@@ -216,11 +219,11 @@ def test_spd_solve_solves_indefinite_matrices_too():
 
 
 def test_zeroing_the_heading_position_cross_covariance(simulated, walk):
-    """001, section IV's remedy against sharp corrections, and what it costs, measured on
-    the 200-step walk (which has no sharp corrections to remove): the covariance is no
-    longer the filter's, and the smoothed steps end up worse than the filter's
-    (within-step RMSE 3.25 mm, against 1.59 mm filtered and 1.11 mm smoothed without
-    it), 1.6 cm RMS away from the filter's path (0.26 cm without it). The smoothed
+    """Simón Colomar et al. 2012, section IV's remedy against sharp corrections, and what
+    it costs, measured on the 200-step walk (which has no sharp corrections to remove):
+    the covariance is no longer the filter's, and the smoothed steps end up worse than
+    the filter's (within-step RMSE 3.25 mm, against 1.59 mm filtered and 1.11 mm smoothed
+    without it), 1.6 cm RMS away from the filter's path (0.26 cm without it). The smoothed
     states stay finite: they used to turn NaN once the zeroed covariance was indefinite
     (on four of the seven VICON trials)."""
     stance, filtered, smoothed = walk

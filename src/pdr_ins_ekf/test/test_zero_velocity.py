@@ -1,6 +1,6 @@
 """Stance detectors on the simulator's noiseless walk, where true stance is known.
 
-000_fbd401126d10f515.txt, section IV-A: the original detector's median filter keeps
+Zampella et al. 2011, section IV-A: the original detector's median filter keeps
 'stance' for the first samples of every swing; the limited and the retarded windows
 remove that (the effect on the EKF's along-track error is tested with the filter).
 """
@@ -9,9 +9,9 @@ import pytest
 
 from pdr_ins_ekf.zero_velocity import (
     AngularRateEnergyDetector,
+    ConditionVoteDetector,
     MagnitudeDetector,
     MovingVarianceDetector,
-    Paper000Detector,
     ShoeDetector,
 )
 from pdr_sim import signals
@@ -45,14 +45,14 @@ def late_stance(mask, onsets):
 
 def test_original_detector_extends_stance_into_the_swing(walk):
     accel, gyro, _, onsets = walk
-    original = Paper000Detector(variant="original").detect(accel, gyro, RATE).mask
+    original = ConditionVoteDetector(variant="original").detect(accel, gyro, RATE).mask
     assert late_stance(original, onsets) >= 3.0
 
 
 @pytest.mark.parametrize("variant", ["limited", "retarded"])
 def test_limited_and_retarded_windows_end_stance_at_the_onset(walk, variant):
     accel, gyro, still, onsets = walk
-    mask = Paper000Detector(variant=variant).detect(accel, gyro, RATE).mask
+    mask = ConditionVoteDetector(variant=variant).detect(accel, gyro, RATE).mask
     assert late_stance(mask, onsets) <= 1.0
     assert (mask & still).sum() >= 0.6 * still.sum(), "most of the true stance is found"
 
@@ -73,6 +73,6 @@ def test_skog_detectors_find_stance_and_little_swing(walk, detector, false_in_sw
 
 def test_bad_parameters():
     with pytest.raises(ValueError, match="variant"):
-        Paper000Detector(variant="centred")
+        ConditionVoteDetector(variant="centred")
     with pytest.raises(ValueError, match="w2 must be >= 1"):
-        Paper000Detector(w2=0)
+        ConditionVoteDetector(w2=0)

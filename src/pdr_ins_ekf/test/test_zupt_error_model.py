@@ -1,4 +1,4 @@
-"""The closed-form ZUPT error model (004_1269ce0256f0c590.txt, section III) and its check
+"""The closed-form ZUPT error model (Wang et al. 2020, section III) and its check
 against the EKF (section IV-A, Figs. 3-6)."""
 import math
 from dataclasses import replace
@@ -50,7 +50,7 @@ def test_without_gyro_noise_velocity_is_set_by_vrw_alone():
 
 def test_growth_laws():
     """σ_ψ is Eq. (38); σ_∥ grows as √t (Eq. (56)); σ_⊥ as t^2.5 once RRW dominates
-    (004, section III-E, comment 4)."""
+    (Wang et al. 2020, section III-E, comment 4)."""
     m = model()
     t = np.array([1.0, 100.0, 1e4])
     arw, rrw = VN200.arw_rad_per_sqrt_s, VN200.rrw_radps_per_sqrt_s
@@ -97,10 +97,10 @@ def test_paper_walk_has_the_papers_length_and_duration(walk):
     assert gait.t_stance_s == pytest.approx(0.2, abs=0.005)
 
 
-# 004, section IV-A: "a difference within 10 %" where its assumptions hold. σ_∥ (Eq. (56),
-# re-derived) assumes the swing's velocity error small against r (section III-E, comment
-# 6), true up to VRW ≈ 0.3 mg/√Hz; σ_⊥ assumes an unobservable azimuth, true up to RRW
-# ≈ 20 mdeg/s/√h (see the next test).
+# Wang et al. 2020, section IV-A: "a difference within 10 %" where its assumptions hold.
+# σ_∥ (Eq. (56), re-derived) assumes the swing's velocity error small against r (section
+# III-E, comment 6), true up to VRW ≈ 0.3 mg/√Hz; σ_⊥ assumes an unobservable azimuth,
+# true up to RRW ≈ 20 mdeg/s/√h (see the next test).
 @pytest.mark.parametrize("parameter, value, along, across", [
     ("arw", 0.01, True, False), ("arw", 0.21, True, False), ("arw", 1.0, True, False),
     ("vrw", 0.01, True, False), ("vrw", 0.3, True, False), ("vrw", 1.0, False, False),
@@ -145,8 +145,8 @@ def heading_agreement(walk, gait, rrw: float) -> float:
     """The filter's σ_ψ at the end of the walk / Eq. (38) − 1, with RRW [mdeg/s/√h] and the
     others at the baseline, set up as :func:`error_sweep.sweep_point` sets up its filter."""
     densities, noise = error_sweep.noise_point(**{**error_sweep.BASELINE, "rrw": rrw})
-    model = ZuptErrorModel(densities, gait, error_sweep.PAPER_004_ZUPT_SIGMA_MPS, walk.rate_hz)
-    config = replace(filter_for(noise, error_sweep.PAPER_004_ZUPT_SIGMA_MPS),
+    model = ZuptErrorModel(densities, gait, error_sweep.SWEEP_ZUPT_SIGMA_MPS, walk.rate_hz)
+    config = replace(filter_for(noise, error_sweep.SWEEP_ZUPT_SIGMA_MPS),
                      **error_sweep.KNOWN_START)
     rest = slice(0, int(np.searchsorted(walk.t_s, walk.rest_s)))
     filtered = run(walk.t_s, walk.accel, walk.gyro, walk.at_rest, config, rest, walk.yaw[0])

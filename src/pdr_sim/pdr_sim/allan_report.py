@@ -2,7 +2,7 @@
 
 Units at this edge: gyroscope ARW in °/√h, bias instability in °/h, RRW in °/s/√h;
 accelerometer VRW in m/s/√h and µg/√Hz, bias instability in mg, random walk in
-m/s²/√h. AR(1) parameters follow 003_05973562addf7331.txt, Eqs. (3.10)–(3.11).
+m/s²/√h. AR(1) parameters follow Muñoz Díaz 2016, Eqs. (3.10)–(3.11).
 """
 from __future__ import annotations
 

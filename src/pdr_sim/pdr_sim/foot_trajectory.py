@@ -1,4 +1,4 @@
-"""Foot-mounted IMU trajectory of a scenario (000_fbd401126d10f515.txt, section II).
+"""Foot-mounted IMU trajectory of a scenario (Zampella et al. 2011, section II).
 
 The walk is a sequence of *phases*: rest (standing or stance, the foot still), swing along
 a straight line or an arc, and turns in place. Every sample is evaluated in one

@@ -164,7 +164,8 @@ def signals_png(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, mag: np.ndar
 
 def step_fit_png(times: list[np.ndarray], xyz: list[np.ndarray], along, up, path: Path,
                  title: str) -> None:
-    """Aligned recorded steps (dotted) and the fitted patterns (like 000's Fig. 2a)."""
+    """Aligned recorded steps (dotted) and the fitted patterns (like Zampella et al. 2011,
+    Fig. 2a)."""
     fig, ax = plt.subplots(1, 2, figsize=(12, 5))
     for t, p in zip(times, xyz, strict=True):
         ax[0].plot(t, p[:, 0], ":", color="grey", lw=0.8)

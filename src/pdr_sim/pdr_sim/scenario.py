@@ -3,7 +3,7 @@
 A scenario is a YAML mapping (see ``pdr_sim/scenarios/*.yaml`` for the built-in ones):
 
     name: square_loop
-    step:                    # defaults for every stride (000_fbd401126d10f515.txt, Fig. 4)
+    step:                    # defaults for every stride (Zampella et al. 2011, Fig. 4)
       length_m: 1.3          # SL, stride length
       height_m: 0.14         # SH
       swing_s: 0.8           # t_u
@@ -65,7 +65,7 @@ DIRECTIONS = {"curve": ("left", "right"), "side_steps": ("left", "right"),
 
 @dataclass(frozen=True)
 class StepSpec:
-    """Stride parameters (000_fbd401126d10f515.txt, Eqs. (1)–(2)); defaults of its Fig. 4."""
+    """Stride parameters (Zampella et al. 2011, Eqs. (1)–(2)); defaults of its Fig. 4."""
 
     length_m: float = 1.3
     height_m: float = 0.14

@@ -1,10 +1,10 @@
 """True sensor signals of any trajectory (before sensor errors).
 
-- Specific force, 000_fbd401126d10f515.txt, Eq. (6) in ENU: f_b = C_b^nᵀ·(a_n + [0, 0, g]ᵀ).
+- Specific force, Zampella et al. 2011, Eq. (6) in ENU: f_b = C_b^nᵀ·(a_n + [0, 0, g]ᵀ).
 - Angular rate ω_ib^b = ω_nb^b + C_b^nᵀ·ω_ie^n, with the Earth rate at latitude λ of
-  003_05973562addf7331.txt, Eq. (3.24): ω_ie^n = ω_e·[0, cos λ, sin λ]ᵀ (ENU); omitted when
+  Muñoz Díaz 2016, Eq. (3.24): ω_ie^n = ω_e·[0, cos λ, sin λ]ᵀ (ENU); omitted when
   no latitude is given (the transport rate of a pedestrian is negligible).
-- Magnetic field, 003_05973562addf7331.txt, Eq. (3.26) without its noise term:
+- Magnetic field, Muñoz Díaz 2016, Eq. (3.26) without its noise term:
   μ = C_b^nᵀ·H(p), H from :class:`pdr_core.magnetic_field.MagneticField`.
 
 All outputs are (N, 3) in the body frame (FLU), SI units.
@@ -19,7 +19,7 @@ from pdr_sim.trajectory import Trajectory
 
 
 def specific_force(traj: Trajectory, gravity_mps2: float = STANDARD_GRAVITY_MPS2) -> np.ndarray:
-    """f_b [m/s²], 000 Eq. (6)."""
+    """f_b [m/s²], Zampella et al. 2011, Eq. (6)."""
     return traj.to_body(traj.acceleration + np.array([0.0, 0.0, gravity_mps2]))
 
 
@@ -32,5 +32,5 @@ def angular_rate(traj: Trajectory, latitude_deg: float | None = None) -> np.ndar
 
 
 def magnetic_field(traj: Trajectory, field: MagneticField) -> np.ndarray:
-    """μ [T] in the body frame, 003 Eq. (3.26) (noise is added by the error model)."""
+    """μ [T] in the body frame, Muñoz Díaz 2016, Eq. (3.26) (noise is added by the error model)."""
     return traj.to_body(field.at(traj.position))

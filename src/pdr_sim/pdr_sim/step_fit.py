@@ -1,5 +1,5 @@
 """Fitting raised-cosine step patterns to a recorded foot trajectory
-(000_fbd401126d10f515.txt, section II-B, Eqs. (3)–(5)).
+(Zampella et al. 2011, section II-B, Eqs. (3)–(5)).
 
 The recorded positions (N, 3) [m] in a z-up frame are treated as the paper describes:
 

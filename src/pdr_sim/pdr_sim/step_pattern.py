@@ -7,7 +7,7 @@ value, first and second time derivative, shape (N,).
 
 Patterns are written over the swing phase w ∈ [0, 1]:
 
-- :func:`basic_swing`: 000_fbd401126d10f515.txt, Eqs. (1)–(2):
+- :func:`basic_swing`: Zampella et al. 2011, Eqs. (1)–(2):
   s = SL/2·(1 − cos(πw)), z = SH/2·(1 − cos(2πw)), Δθ = θ_max·sin(2πw), Δφ = 0.
 - :class:`FittedPattern`: Eqs. (3)–(4), two (half) raised cosines per channel
   (:class:`RaisedCosines`), as fitted by :mod:`pdr_sim.step_fit`.
@@ -22,7 +22,7 @@ and turn rates are then continuous through every boundary, with the same step le
 height, maximal pitch and durations.
 
 Frames: s runs along the direction of travel, z up; with the FLU body frame a positive
-Δθ turns the toes down (000 uses NWU, the same handedness).
+Δθ turns the toes down (Zampella et al. 2011 use NWU, the same handedness).
 """
 from __future__ import annotations
 
@@ -84,7 +84,7 @@ def _one_minus_cos(amplitude, omega, w) -> Channel:
 
 
 def basic_swing(phase: Channel, length_m, height_m, pitch_max_rad) -> Swing:
-    """000_fbd401126d10f515.txt, Eqs. (1)–(2); parameters scalars or (N,) per sample."""
+    """Zampella et al. 2011, Eqs. (1)–(2); parameters scalars or (N,) per sample."""
     w = phase.f
     zero = np.zeros_like(w)
     two_pi = 2 * np.pi
@@ -101,7 +101,7 @@ class RaisedCosines:
     """f(t) = A0·(1 − cos(k·π·f0·(t − t0))) + A1·(1 − cos(k·π·f1·(t − t1))), t [s].
 
     k = 2 for Eq. (3) (height, roll, pitch), k = 1 for Eq. (4) (along-track, "half"
-    raised cosines), 000_fbd401126d10f515.txt.
+    raised cosines), Zampella et al. 2011.
     """
 
     a0: float

@@ -4,7 +4,7 @@
   velocity and position) on the noiseless signals returns to the true trajectory.
 - The analytic accelerations and turn rates agree with the paper's numerical route:
   finite differences of the positions through Eq. (6), and the matrix logarithm of
-  Eq. (10) (000_fbd401126d10f515.txt).
+  Eq. (10) (Zampella et al. 2011).
 """
 import numpy as np
 import pytest

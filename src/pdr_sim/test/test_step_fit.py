@@ -1,4 +1,4 @@
-"""Step-pattern fitting (000_fbd401126d10f515.txt, Eqs. (3)–(5)) on simulated feet, whose
+"""Step-pattern fitting (Zampella et al. 2011, Eqs. (3)–(5)) on simulated feet, whose
 true pattern is known, and the fitted pattern used back in the simulator."""
 import numpy as np
 import pytest

@@ -5,7 +5,7 @@ Subscribes ``imu/data`` (sensor_msgs/Imu) and publishes, per sample, ``pdr/foot/
 ``pdr/foot/stance`` (pdr_msgs/Stance), and at the end of every step ``pdr/foot/path``
 (one pose per step). With ``smoothed_path`` true it also publishes
 ``pdr/foot/smoothed_path``: one Path per segment of the segmented RTS smoother
-(001_5b5dbf275b14cf0a.txt), with every sample's smoothed pose, as soon as the segment
+(Simón Colomar et al. 2012), with every sample's smoothed pose, as soon as the segment
 ends (its lag and its memory are bounded by the segment). Serves ``~/reset``
 (std_srvs/Trigger).
 

@@ -1,12 +1,12 @@
 """``pdr-ekf analytic`` and ``pdr-ekf study sweep``: the closed-form ZUPT error levels of
-004_1269ce0256f0c590.txt, section III (:mod:`pdr_ins_ekf.studies.zupt_error_model`), in the
+Wang et al. 2020, section III (:mod:`pdr_ins_ekf.studies.zupt_error_model`), in the
 paper's units at the edge, and their check against the EKF (section IV-A,
 :mod:`pdr_ins_ekf.studies.error_sweep`).
 
 Defaults: the VN-200 of the paper (ARW 0.21 °/√h, VRW 0.14 mg/√Hz, RRW 0.048 °/s/√h) at
 800 Hz with r = 0.02 m/s, a_c = 0.84 and the paper's simulated walk (100 strides, 77 m,
 53.6 s: t_stride 0.536 s, s_N 0.77 m); the paper gives no stance time, 0.2 s is the
-stance of :data:`pdr_ins_ekf.studies.error_sweep.PAPER_004_STEP`.
+stance of :data:`pdr_ins_ekf.studies.error_sweep.SWEEP_STEP`.
 """
 from __future__ import annotations
 
@@ -35,10 +35,10 @@ def _floats(text: str) -> list[float]:
 
 def add_analytic(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "analytic", help="closed-form ZUPT error levels (004, Eqs. (38)-(57))",
+        "analytic", help="closed-form ZUPT error levels (Wang et al. 2020, Eqs. (38)-(57))",
         description="Steady σ_v (Eq. (44)), σ_θ (Eq. (50)) and σ_gN (Eq. (48)) of a ZUPT-aided "
                     "foot INS, and σ_∥ (Eq. (56)), σ_⊥ (Eq. (57)) and σ_ψ (Eq. (38)) at "
-                    "the given times. Defaults: VN-200 at 800 Hz (004, section IV).")
+                    "the given times. Defaults: VN-200 at 800 Hz (Wang et al. 2020, section IV).")
     p.add_argument("--arw-deg-per-sqrt-h", type=float, default=0.21,
                    help="gyroscope angular random walk [°/√h]")
     p.add_argument("--vrw-mg-per-sqrt-hz", type=float, default=0.14,
@@ -111,7 +111,7 @@ def run_analytic(args: argparse.Namespace) -> int:
 
 def add_sweep(studies: argparse._SubParsersAction) -> None:
     p = studies.add_parser(
-        "sweep", help="analytic against simulated error levels (004, Figs. 3-6)",
+        "sweep", help="analytic against simulated error levels (Wang et al. 2020, Figs. 3-6)",
         description="Sweep ARW (0.01-10 °/√h), VRW (0.01-10 mg/√Hz) and RRW (0.6-600 "
                     "mdeg/s/√h) on the paper's 100-stride walk at 800 Hz, comparing the "
                     "closed-form σ_v, σ_θ, σ_∥ and σ_⊥ with the ZUPT EKF's covariance (and "

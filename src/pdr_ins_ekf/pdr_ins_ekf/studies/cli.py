@@ -27,7 +27,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("study", help="reproduce the studies of the papers")
     studies = p.add_subparsers(dest="study", required=True)
     m = studies.add_parser(
-        "mechanization", help="attitude methods against sample rate (000, Fig. 6)",
+        "mechanization", help="attitude methods against sample rate (Zampella et al. 2011, Fig. 6)",
         description="Mechanize a noiseless simulated 10-stride walk with every attitude "
                     "method (Padé [1,1], [2,2], [3,3], Eq. (12), expm, quaternion) at each "
                     "rate and report the final position error.")

@@ -1,6 +1,5 @@
 """Monte-Carlo error analysis of the ZUPT EKF, batched over runs
-(000_fbd401126d10f515.txt, section IV-B, Tables II–III; 004_1269ce0256f0c590.txt,
-section IV-A).
+(Zampella et al. 2011, section IV-B, Tables II–III; Wang et al. 2020, section IV-A).
 
 N noise realisations of one noiseless simulated walk (standing first, to align on) are
 processed as one batch with no Python loop over runs: the stance detector sees all runs at
@@ -21,8 +20,9 @@ import numpy as np
 from numba import njit, prange
 
 from pdr_core import kernel_cache, small_matrix, units
-from pdr_ins_ekf import compiled_filter
+from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import filter_loop
+from pdr_ins_ekf.kernel_data import GYRO, HEADING, NAV_AND_BIAS_STATES, NAV_STATES, Samples
 from pdr_ins_ekf.studies.montecarlo import (
     ErrorGrowth,
     NoiseLevels,
@@ -30,59 +30,67 @@ from pdr_ins_ekf.studies.montecarlo import (
     error_growth,
     noisy_signals,
 )
-from pdr_ins_ekf.zero_velocity import Paper000Detector, StanceDetector
+from pdr_ins_ekf.zero_velocity import ConditionVoteDetector, StanceDetector
 from pdr_ins_ekf.zupt_ekf import (
     FilterConfig,
     initial_attitude,
     initial_covariance,
     kernel_params,
+    record_samples,
 )
 
-kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__,
+                               kernel_data.__file__)
 
-# 000, section IV-B: the XSens MTi of Tables II-III (3 °/√h, 122 µg/√Hz; constant biases
-# drawn per axis with σ 1.23 mg and 0.5 °/s)
+# Zampella et al. 2011, section IV-B: the XSens MTi of Tables II-III (3 °/√h, 122 µg/√Hz;
+# constant biases drawn per axis with σ 1.23 mg and 0.5 °/s)
 XSENS_MTI = NoiseLevels(acc_noise_mps2_per_sqrt_hz=units.ug_per_sqrt_hz_to_si(122.0),
                         gyro_noise_radps_per_sqrt_hz=units.arw_to_si(3.0),
                         acc_bias_mps2=units.mg_to_si(1.23),
                         gyro_bias_radps=np.radians(0.5))
 
 
-def filter_for(noise: NoiseLevels, zupt_sigma_mps: float = 0.01, states: int = 15
-               ) -> FilterConfig:
-    """The ZUPT filter matched to an IMU's noise: 15 states with ZUPT and ZARU (000,
-    section IV; 004, Eq. (2)), white noise densities as process noise, the bias σ as
-    initial bias uncertainty, the RRW as the gyro bias random walk (a floor keeps every
-    density > 0); or 9 states, ZUPT only, biases not estimated. As in the paper, the ZARU
-    runs in every detected stance (no innovation gate: ``zaru_gate_nis`` infinite), so
-    the detectors' windows are compared on the paper's filter."""
-    if states not in (9, 15):
-        raise ValueError(f"states must be 9 or 15, got {states}")
+def filter_for(noise: NoiseLevels, zupt_sigma_mps: float = 0.01,
+               states: int = NAV_AND_BIAS_STATES) -> FilterConfig:
+    """The ZUPT filter matched to an IMU's noise: 15 states with ZUPT and ZARU (Zampella
+    et al. 2011, section IV; Wang et al. 2020, Eq. (2)), white noise densities as process
+    noise, the bias σ as initial bias uncertainty, the RRW as the gyro bias random walk (a
+    floor keeps every density > 0); or 9 states, ZUPT only, biases not estimated. As in
+    the paper, the ZARU runs in every detected stance (no innovation gate:
+    ``zaru_gate_nis`` infinite), so the detectors' windows are compared on the paper's
+    filter."""
+    if states not in (NAV_STATES, NAV_AND_BIAS_STATES):
+        raise ValueError(f"states must be {NAV_STATES} or {NAV_AND_BIAS_STATES}, "
+                         f"got {states}")
     floor = 1e-9
     return FilterConfig(
         acc_noise=max(noise.acc_noise_mps2_per_sqrt_hz, 1e-5),
         gyro_noise=max(noise.gyro_noise_radps_per_sqrt_hz, 1e-7),
-        zupt_sigma_mps=zupt_sigma_mps, zaru=states == 15, zaru_gate_nis=np.inf,
-        bias_model="random_walk" if states == 15 else "none",
+        zupt_sigma_mps=zupt_sigma_mps, zaru=states == NAV_AND_BIAS_STATES,
+        zaru_gate_nis=np.inf,
+        bias_model="random_walk" if states == NAV_AND_BIAS_STATES else "none",
         acc_bias_noise=floor, gyro_bias_noise=max(noise.gyro_rrw_radps_per_sqrt_s, floor),
         init_acc_bias_sigma=max(noise.acc_bias_mps2, 1e-4),
         init_gyro_bias_sigma=max(noise.gyro_bias_radps, 1e-5))
 
 
 @njit(cache=True, parallel=True)
-def ekf_batch(t, accel, gyro, stance, zaru, C0, b0, P0, params, zupt_sigma, zaru_sigma, keep):
-    """``filter_loop`` on every run of accel, gyro (runs, T, 3), stance (runs, T), from
-    the per-run attitude C0 (runs, 3, 3) and bias b0 (runs, 6); at the sample indices
-    ``keep`` (K,): position (runs, K, 3), yaw (runs, K), the covariance diagonal
-    (runs, K, n) and the position covariance (runs, K, 3, 3)."""
-    runs, count = accel.shape[0], keep.shape[0]
+def ekf_batch(samples, C0, b0, P0, params, keep):
+    """``filter_loop`` on every run of ``samples``, a
+    :class:`~pdr_ins_ekf.kernel_data.Samples` with the intervals dt (T,) [s] shared by
+    all runs, accel [m/s²] and gyro [rad/s] (runs, T, 3) and stance (runs, T), from the
+    per-run attitude C0 (runs, 3, 3) and bias b0 (runs, 6) and the covariance P0 (n, n);
+    at the sample indices ``keep`` (K,): position [m] (runs, K, 3), yaw [rad] (runs, K),
+    the covariance diagonal (runs, K, n) and the position covariance [m²]
+    (runs, K, 3, 3)."""
+    runs, count = samples.accel.shape[0], keep.shape[0]
     pos = np.empty((runs, count, 3))
     yaw = np.empty((runs, count))
     var = np.empty((runs, count, P0.shape[0]))
     pcov = np.empty((runs, count, 3, 3))
     for r in prange(runs):
-        p, _, att, _, v, pc, _ = filter_loop(t, accel[r], gyro[r], stance[r], zaru, C0[r],
-                                             b0[r], P0, params, zupt_sigma, zaru_sigma)
+        run = Samples(samples.dt, samples.accel[r], samples.gyro[r], samples.stance[r])
+        p, _, att, _, v, pc, _ = filter_loop(run, C0[r], b0[r], P0, params)
         for i in range(count):
             j = keep[i]
             pos[r, i] = p[j]
@@ -119,11 +127,10 @@ def run_batch(walk: Walk, accel: np.ndarray, gyro: np.ndarray, stance: np.ndarra
     attitude = initial_attitude(accel[:, rest], walk.yaw[0])
     bias = np.zeros((len(accel), 6))
     if rest_gyro_bias:
-        bias[:, 3:] = gyro[:, rest].mean(axis=1)
+        bias[:, GYRO] = gyro[:, rest].mean(axis=1)
     return BatchResult(*ekf_batch(
-        np.ascontiguousarray(walk.t_s), accel, gyro, np.ascontiguousarray(stance, bool),
-        config.zaru, attitude, bias, initial_covariance(config), kernel_params(config),
-        config.zupt_sigma_mps, config.zaru_sigma_radps, keep))
+        record_samples(walk.t_s, accel, gyro, stance), attitude, bias,
+        initial_covariance(config), kernel_params(config), keep))
 
 
 def rest_samples(walk: Walk) -> slice:
@@ -136,7 +143,8 @@ def rest_samples(walk: Walk) -> slice:
 
 def stance_times(walk: Walk, first_s: float, points: int) -> np.ndarray:
     """About ``points`` sample indices at rest, from ``first_s`` seconds of walking on,
-    evenly spaced in log time (000, section IV-B: the errors "during the stance phase")."""
+    evenly spaced in log time (Zampella et al. 2011, section IV-B: the errors "during the
+    stance phase")."""
     candidates = np.flatnonzero(walk.at_rest & (walk.t_s >= walk.rest_s + first_s))
     if candidates.size == 0:
         raise ValueError(f"no stance after {first_s} s of walking")
@@ -175,7 +183,7 @@ def consistency(result: BatchResult, truth: np.ndarray) -> Consistency:
                      np.linalg.solve(result.position_cov, error[..., None])[..., 0])
     return Consistency(sigma_p.mean(axis=0), np.quantile(sigma_p, 0.05, axis=0),
                        np.quantile(sigma_p, 0.95, axis=0),
-                       np.sqrt(result.variance[..., 8]).mean(axis=0), nees.mean(axis=0))
+                       np.sqrt(result.variance[..., HEADING]).mean(axis=0), nees.mean(axis=0))
 
 
 def ekf_study(walk: Walk, noise: NoiseLevels, runs: int, detector: StanceDetector,
@@ -204,8 +212,9 @@ def ekf_study(walk: Walk, noise: NoiseLevels, runs: int, detector: StanceDetecto
     return EkfStudy(growth, consistency(result, walk.position[keep]))
 
 
-# 000, Tables II (σ_p [m]) and III (σ_ψ [rad]), t [s] of walking, per source and window
-PAPER_000_TABLES = {
+# Zampella et al. 2011, Tables II (σ_p [m]) and III (σ_ψ [rad]), t [s] of walking, per
+# source and window (original, limited, retarded)
+PUBLISHED_EKF_GROWTH = {
     "sigma_p": {
         "acc_noise": ("2e-2·t^1.11", "6e-4·t", "3e-4·t"),
         "gyro_noise": ("3e-2·t + 1.5e-4·t²", "2e-3·t + 1.5e-4·t²", "2e-3·t + 1.5e-4·t²"),
@@ -217,16 +226,17 @@ PAPER_000_TABLES = {
         "acc_bias": ("2e-4·t", "6e-6·t", "1.3e-7·t"),
         "gyro_bias": ("1.25e-3·t + 1e-2", "1.25e-3·t + 1e-2", "1.25e-3·t + 1e-2")},
 }
-PAPER_000_WINDOWS = ("original", "limited", "retarded")
-ESTIMATORS = ("ins", *(f"ekf_{w}" for w in PAPER_000_WINDOWS))
+VOTE_WINDOWS = ("original", "limited", "retarded")
+ESTIMATORS = ("ins", *(f"ekf_{w}" for w in VOTE_WINDOWS))
 
 
 def estimator_detector(estimator: str) -> StanceDetector:
-    """The detector of ``ekf_<window>``: paper 000's detector with that window."""
+    """The detector of ``ekf_<window>``: Zampella et al. 2011's condition vote
+    (:class:`~pdr_ins_ekf.zero_velocity.ConditionVoteDetector`) with that window."""
     window = estimator.removeprefix("ekf_")
-    if window not in PAPER_000_WINDOWS:
+    if window not in VOTE_WINDOWS:
         raise ValueError(f"unknown estimator {estimator!r}; one of {', '.join(ESTIMATORS)}")
-    return Paper000Detector(variant=window)
+    return ConditionVoteDetector(variant=window)
 
 
 def polynomial_fit(t_s: np.ndarray, sigma: np.ndarray) -> tuple[float, float]:

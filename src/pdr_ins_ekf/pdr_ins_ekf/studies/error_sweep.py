@@ -1,9 +1,9 @@
-"""The numerical verification of 004_1269ce0256f0c590.txt, section IV-A (Figs. 3–6):
+"""The numerical verification of Wang et al. 2020, section IV-A (Figs. 3–6):
 sweeps of ARW, VRW and RRW, the closed-form levels of :mod:`pdr_ins_ekf.studies.zupt_error_model`
 against the ZUPT EKF on the paper's simulated walk.
 
 The walk: 100 strides toward +x, 77 m in 53.6 s (the paper's figures; its stance time is
-not given, :data:`PAPER_004_STEP` splits the 0.536 s stride into 0.336 s of swing and
+not given, :data:`SWEEP_STEP` splits the 0.536 s stride into 0.336 s of swing and
 0.2 s of stance), after 2 s standing to align on, at 800 Hz. The model's time starts
 with the walk; a longer rest adds heading and z-bias drift it does not count (10 s put
 σ_⊥ 12–34 % above the model). The filter is the 15-state EKF with
@@ -38,10 +38,10 @@ from pdr_ins_ekf.studies.montecarlo import NoiseLevels, Walk, noisy_signals, str
 from pdr_ins_ekf.studies.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
 from pdr_ins_ekf.zupt_ekf import run
 
-PAPER_004_STEP = {"length_m": 0.77, "swing_s": 0.336, "stance_s": 0.2}
-PAPER_004_RATE_HZ = 800.0
-PAPER_004_ZUPT_SIGMA_MPS = 0.02
-# 004, section IV-A: the swept ranges and the values held while another is swept
+SWEEP_STEP = {"length_m": 0.77, "swing_s": 0.336, "stance_s": 0.2}
+SWEEP_RATE_HZ = 800.0
+SWEEP_ZUPT_SIGMA_MPS = 0.02
+# Wang et al. 2020, section IV-A: the swept ranges and the values held while another is swept
 BASELINE = {"arw": 0.21, "vrw": 0.14, "rrw": 48.0}
 RANGES = {"arw": (0.01, 10.0), "vrw": (0.01, 10.0), "rrw": (0.6, 600.0)}
 UNITS = {"arw": "°/√h", "vrw": "mg/√Hz", "rrw": "mdeg/s/√h"}
@@ -51,10 +51,10 @@ KNOWN_START = {"init_yaw_sigma_rad": 1e-6, "init_acc_bias_sigma": 1e-6,
 QUANTITIES = ("sigma_v_mps", "sigma_theta_rad", "sigma_par_m", "sigma_perp_m")
 
 
-def paper_walk(steps: int = 100, rate_hz: float = PAPER_004_RATE_HZ,
+def paper_walk(steps: int = 100, rate_hz: float = SWEEP_RATE_HZ,
                rest_s: float = 2.0) -> Walk:
     """The paper's straight walk (module docstring)."""
-    return straight_walk(steps, rate_hz, rest_s, PAPER_004_STEP)
+    return straight_walk(steps, rate_hz, rest_s, SWEEP_STEP)
 
 
 def gait_of(walk: Walk) -> Gait:
@@ -105,13 +105,13 @@ def sweep_point(walk: Walk, gait: Gait, parameter: str, value: float, runs: int,
     """The analytic and simulated levels with ``parameter`` at ``value``, the others at
     :data:`BASELINE`."""
     densities, noise = noise_point(**{**BASELINE, parameter: value})
-    model = ZuptErrorModel(densities, gait, PAPER_004_ZUPT_SIGMA_MPS, walk.rate_hz)
+    model = ZuptErrorModel(densities, gait, SWEEP_ZUPT_SIGMA_MPS, walk.rate_hz)
     steady = model.steady_state()
     duration = float(walk.t_s[-1] - walk.rest_s)
     analytic = {"sigma_v_mps": steady.sigma_v_mps, "sigma_theta_rad": steady.sigma_theta_rad,
                 "sigma_par_m": float(model.sigma_par_m(duration)),
                 "sigma_perp_m": float(model.sigma_perp_m(duration))}
-    config = replace(filter_for(noise, PAPER_004_ZUPT_SIGMA_MPS), **KNOWN_START)
+    config = replace(filter_for(noise, SWEEP_ZUPT_SIGMA_MPS), **KNOWN_START)
     rest = slice(0, int(np.searchsorted(walk.t_s, walk.rest_s)))
     filtered = run(walk.t_s, walk.accel, walk.gyro, walk.at_rest, config, rest, walk.yaw[0])
     swing_too = walk.t_s >= walk.rest_s + settle_fraction * duration

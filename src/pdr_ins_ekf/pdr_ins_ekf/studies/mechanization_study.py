@@ -1,5 +1,5 @@
 """Position error of pure INS for each attitude method over sample rates: the study of
-000_fbd401126d10f515.txt, section III-A, Fig. 6.
+Zampella et al. 2011, section III-A, Fig. 6.
 
 A noiseless simulated 10-stride straight walk (the basic pattern of Fig. 4) is mechanized
 from the true initial state with every method of :data:`METHODS`, at rates from 50 Hz to

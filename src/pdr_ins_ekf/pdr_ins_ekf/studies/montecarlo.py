@@ -1,5 +1,5 @@
 """Monte-Carlo error analysis of pure INS mechanization, batched over runs
-(000_fbd401126d10f515.txt, section III-B, Eqs. (13)–(14), Table I).
+(Zampella et al. 2011, section III-B, Eqs. (13)–(14), Table I).
 
 N noise realisations of one noiseless simulated walk are mechanized in one compiled call,
 parallel over runs (:func:`ins_batch`); each run is exactly :func:`ins_loop`, the
@@ -13,7 +13,7 @@ and a straight line in log-log, σ(t) ≈ c·tᵉ, per error source (:func:`powe
 Error sources (SI, units in the names): white noise densities ``acc_noise_mps2_per_sqrt_hz``
 and ``gyro_noise_radps_per_sqrt_hz`` (per-sample std density/√Δt), and constant biases
 ``acc_bias_mps2`` and ``gyro_bias_radps`` drawn per run and axis from N(0, σ²), and the
-gyro bias random walk ``gyro_rrw_radps_per_sqrt_s`` (RRW of 004_1269ce0256f0c590.txt).
+gyro bias random walk ``gyro_rrw_radps_per_sqrt_s`` (RRW of Wang et al. 2020).
 """
 from __future__ import annotations
 
@@ -24,12 +24,13 @@ from numba import njit, prange
 
 from pdr_core import kernel_cache, small_matrix
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_ins_ekf import compiled_filter
-from pdr_ins_ekf.compiled_filter import mechanize, start
+from pdr_ins_ekf import compiled_filter, kernel_data
+from pdr_ins_ekf.compiled_filter import mechanize, new_state, start
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
-kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_filter.__file__, small_matrix.__file__,
+                               kernel_data.__file__)
 
 SOURCES = ("acc_noise", "gyro_noise", "acc_bias", "gyro_bias")
 
@@ -39,15 +40,13 @@ def ins_loop(t, accel, gyro, C0, gravity):
     """Pure strapdown INS from rest at the origin with attitude C0: position (T, 3) and
     yaw (T,) [rad], with the filter's trapezoidal mechanization."""
     n = t.shape[0]
-    p, v, C, b = np.zeros(3), np.zeros(3), C0.copy(), np.zeros(6)
-    prev = np.empty((3, 3))
-    start(C, b, prev, accel[0], gyro[0])
+    state = new_state(C0, np.zeros(6), np.zeros((0, 0)))  # no covariance: no filter
+    start(state, accel[0], gyro[0])
     pos, yaw = np.empty((n, 3)), np.empty(n)
     for k in range(n):
-        mechanize(p, v, C, b, prev, accel[k], gyro[k], t[k] - t[k - 1] if k else 0.0,
-                  gravity)
-        pos[k] = p
-        yaw[k] = np.arctan2(C[1, 0], C[0, 0])
+        mechanize(state, accel[k], gyro[k], t[k] - t[k - 1] if k else 0.0, gravity)
+        pos[k] = state.p
+        yaw[k] = np.arctan2(state.C[1, 0], state.C[0, 0])
     return pos, yaw
 
 

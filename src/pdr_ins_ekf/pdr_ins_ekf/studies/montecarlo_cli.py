@@ -1,10 +1,10 @@
 """``pdr-ekf montecarlo``: error growth over N noise realisations of a simulated straight
-walk, per error source and estimator (000_fbd401126d10f515.txt, Tables I–III).
+walk, per error source and estimator (Zampella et al. 2011, Tables I–III).
 
 Estimators: ``ins`` (pure mechanization, :mod:`pdr_ins_ekf.studies.montecarlo`; fitted on the
 error the source adds, against the noiseless mechanization) and ``ekf_original``,
-``ekf_limited``, ``ekf_retarded`` (the 15-state ZUPT + ZARU EKF with paper 000's
-detector and window, :mod:`pdr_ins_ekf.studies.ekf_montecarlo`; fitted against the truth at
+``ekf_limited``, ``ekf_retarded`` (the 15-state ZUPT + ZARU EKF with the detector and window
+of Zampella et al. 2011, :mod:`pdr_ins_ekf.studies.ekf_montecarlo`; fitted against the truth at
 stance samples, t from the first stride, as the paper's tables).
 """
 from __future__ import annotations
@@ -17,8 +17,8 @@ from pathlib import Path
 from pdr_core.errors import InputError
 from pdr_ins_ekf.studies.ekf_montecarlo import (
     ESTIMATORS,
-    PAPER_000_TABLES,
-    PAPER_000_WINDOWS,
+    PUBLISHED_EKF_GROWTH,
+    VOTE_WINDOWS,
     XSENS_MTI,
     EkfStudy,
     ekf_study,
@@ -53,7 +53,7 @@ def _estimators(text: str) -> list[str]:
 
 def add_montecarlo(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "montecarlo", help="Monte-Carlo error growth (000, Tables I-III)",
+        "montecarlo", help="Monte-Carlo error growth (Zampella et al. 2011, Tables I-III)",
         description="Process N noisy copies of a noiseless simulated straight walk, one "
                     "error source at a time (or 'combined': all at once), batched over "
                     "runs, with each estimator; fit σ_p(t) and σ_ψ(t) (Eqs. (13)-(14)) with "
@@ -69,7 +69,8 @@ def add_montecarlo(sub: argparse._SubParsersAction) -> None:
                    help="standing before the walk, for the EKF's alignment [s]")
     p.add_argument("--seed", type=int, default=0, help="seed of the noise realisations")
     p.add_argument("--profile", choices=sorted(PROFILES),
-                   help="take every level from this IMU (000, section IV-B: xsens_mti)")
+                   help="take every level from this IMU (Zampella et al. 2011, section IV-B: "
+                        "xsens_mti)")
     for source, default in CLI_LEVELS.items():
         p.add_argument(f"--{source.replace('_', '-')}", type=float, default=default,
                        help=f"[{UNITS[source]}]")
@@ -77,8 +78,8 @@ def add_montecarlo(sub: argparse._SubParsersAction) -> None:
                    help="EKF: 15 (ZUPT + ZARU, bias states) or 9 (ZUPT, no bias states)")
     p.add_argument("--no-rest-gyro-bias", dest="rest_gyro_bias", action="store_false",
                    help="EKF: start from a zero gyro bias instead of the mean rate at rest, "
-                        "leaving it to ZARU (closer to 000's filter, whose yaw drifts with "
-                        "the gyro bias)")
+                        "leaving it to ZARU (closer to the filter of Zampella et al. 2011, "
+                        "whose yaw drifts with the gyro bias)")
     p.add_argument("--out", type=Path, help="write DIR/fits.csv, fits.md, sigma.csv, "
                                             "growth.png (and consistency.csv for the EKF)")
     p.set_defaults(func=run_montecarlo)
@@ -167,23 +168,23 @@ def fits_rows(growths: dict[tuple[str, str], ErrorGrowth]) -> list[dict]:
 
 
 def fits_markdown(rows: list[dict], growths: dict[tuple[str, str], ErrorGrowth]) -> str:
-    """The power-law table, then for the EKF the a·t + b·t² fits next to 000, Tables
-    II–III."""
+    """The power-law table, then for the EKF the a·t + b·t² fits next to Zampella et al.
+    2011, Tables II–III."""
     text = ("| source | estimator | quantity | coefficient | exponent |\n|---|---|---|---|---|\n"
             + "".join(f"| {r['source']} | {r['estimator']} | {r['quantity']} | "
                       f"{r['coefficient']:.4g} | {r['exponent']:.3f} |\n" for r in rows))
     paper = [(key, g) for key, g in growths.items()
-             if key[1] != "ins" and key[0] in PAPER_000_TABLES["sigma_p"]]
+             if key[1] != "ins" and key[0] in PUBLISHED_EKF_GROWTH["sigma_p"]]
     if paper:
-        text += ("\n| source | estimator | quantity | ours: a·t + b·t² | paper 000 |\n"
+        text += ("\n| source | estimator | quantity | ours: a·t + b·t² | Zampella et al. 2011 |\n"
                  "|---|---|---|---|---|\n")
         for (source, estimator), growth in paper:
-            window = PAPER_000_WINDOWS.index(estimator.removeprefix("ekf_"))
+            window = VOTE_WINDOWS.index(estimator.removeprefix("ekf_"))
             for quantity, sigma in (("sigma_p", growth.sigma_p_m),
                                     ("sigma_yaw", growth.sigma_yaw_rad)):
                 a, b = polynomial_fit(growth.t_s, sigma)
                 text += (f"| {source} | {estimator} | {quantity} | {a:.2g}·t + {b:.2g}·t² | "
-                         f"{PAPER_000_TABLES[quantity][source][window]} |\n")
+                         f"{PUBLISHED_EKF_GROWTH[quantity][source][window]} |\n")
     return text
 
 

@@ -14,7 +14,7 @@ from pdr_ins_ekf.studies.mechanization_study import MechanizationStudy
 
 
 def error_growth_png(growths: dict, path: Path, title: str) -> None:
-    """σ_p(t) and σ_ψ(t) per error source, log-log (000, Eqs. (13)–(14))."""
+    """σ_p(t) and σ_ψ(t) per error source, log-log (Zampella et al. 2011, Eqs. (13)–(14))."""
     fig, ax = plt.subplots(1, 2, figsize=(14, 5))
     for source, growth in growths.items():
         ax[0].loglog(growth.t_s, growth.sigma_p_m, label=source)
@@ -32,7 +32,8 @@ def error_growth_png(growths: dict, path: Path, title: str) -> None:
 
 
 def mechanization_png(study: MechanizationStudy, path: Path) -> None:
-    """Final position error against sample rate per attitude method (000, Fig. 6)."""
+    """Final position error against sample rate per attitude method (Zampella et al. 2011,
+    Fig. 6)."""
     fig, ax = plt.subplots(figsize=(8, 6))
     for j, method in enumerate(study.methods):
         ax.loglog(study.rates_hz, study.errors_m[:, j], "o-", label=method)
@@ -46,8 +47,9 @@ def mechanization_png(study: MechanizationStudy, path: Path) -> None:
 
 
 def sweep_png(points: list, path: Path) -> None:
-    """004, Figs. 3–6: σ_v and σ_θ against ARW, VRW and RRW, and σ_∥, σ_⊥ against RRW;
-    analytic lines, the filter's covariance as points with its fluctuation bars."""
+    """Wang et al. 2020, Figs. 3–6: σ_v and σ_θ against ARW, VRW and RRW, and σ_∥, σ_⊥
+    against RRW; analytic lines, the filter's covariance as points with its fluctuation
+    bars."""
     rows = [(p, q) for p in ("arw", "vrw", "rrw") for q in ("sigma_v_mps", "sigma_theta_rad")]
     rows += [("rrw", "sigma_par_m"), ("rrw", "sigma_perp_m")]
     fig, axes = plt.subplots(4, 2, figsize=(12, 16))
@@ -68,7 +70,7 @@ def sweep_png(points: list, path: Path) -> None:
         ax.set(xlabel=f"{parameter.upper()}", ylabel=quantity)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle("004, Figs. 3-6: analytic error levels against the ZUPT EKF")
+    fig.suptitle("Wang et al. 2020, Figs. 3-6: analytic error levels against the ZUPT EKF")
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)

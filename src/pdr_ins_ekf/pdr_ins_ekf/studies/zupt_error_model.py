@@ -1,5 +1,5 @@
 """Closed-form error levels of ZUPT-aided foot navigation due to IMU noise
-(004_1269ce0256f0c590.txt, section III, Eqs. (37)–(57)).
+(Wang et al. 2020, section III, Eqs. (37)–(57)).
 
 The model balances, over one gait cycle, the covariance a 15-state ZUPT EKF gains in the
 swing (Eqs. (8)–(25)) against what the stance updates remove (Eqs. (26)–(36)), for a
@@ -110,7 +110,7 @@ class SteadyState:
 
 @dataclass(frozen=True)
 class ZuptErrorModel:
-    """004, section III: IMU noise, gait, ZUPT velocity uncertainty r [m/s] and sample
+    """Wang et al. 2020, section III: IMU noise, gait, ZUPT velocity uncertainty r [m/s] and sample
     rate f_s [Hz]."""
 
     noise: NoiseDensities
