@@ -6,8 +6,9 @@ Per recording: the footfalls within 3 % or 2 of the truth (whichever is larger: 
 report counts two per step, so an odd truth cannot be met exactly); the level walks (the
 timed up-and-go among them) with at most 1 % of their steps on stairs and ending on their
 floor; the staircase (2.2–2.7 m high) climbed at least 1.5 m, descended at least 1.5 m,
-and down-then-up back within 1.0 m of the start. The board's level walks also go without
-their gyroscope, as the Oxford phone does."""
+and down-then-up back within 1.0 m of the start; the navigator's thigh pitch swinging once
+per gait cycle. The board's level walks also go without their gyroscope, as the Oxford
+phone does."""
 from __future__ import annotations
 
 import itertools
@@ -15,10 +16,11 @@ import json
 
 import numpy as np
 import pytest
+from scipy.signal import find_peaks
 
 from pdr_core.bag import BagReader
-from pdr_pocket.attitude_offline import read_pocket_bag
 from pdr_pocket.config import PocketConfig
+from pdr_pocket.inputs import read_pocket_bag
 from pdr_pocket.navigator import PocketNavigator
 from wstest import OXFORD, OXFORD_ARGS, THIGH, needs_shared
 
@@ -142,6 +144,23 @@ def test_attitude_runs_through_without_nans_and_flags_saturation(runs, name):
     flat_tops = ((gyro[1:] == gyro[:-1]) & (np.abs(gyro[1:]) > 4.0)).any(axis=1).sum()
     assert report["saturated_fraction"] * report["samples"] == flat_tops
     assert (flat_tops > 0) == (name == "s_both_thigh_1")
+
+
+@pytest.mark.parametrize("name", BOARD)
+def test_pitch_swings_once_per_gait_cycle(runs, name):
+    """The navigator's thigh pitch (NavigatorOutput.pitch: its axes learned from the data)
+    has one swing, a peak of at least 10°, per gait cycle: two footfalls, within 2. The
+    peaks at least the shortest gait cycle apart (``min_step_period_s``, 0.6 s): turning on
+    the landing of s_both_thigh_1 the thigh swings twice more in between (at 15.6 s and
+    16.7 s, 13° and 10°), which 0.4 s counted (28 for 25.5 cycles)."""
+    _, _, inputs = read_pocket_bag(runs[0][name][2], None)
+    config = PocketConfig()
+    out = PocketNavigator(config).process(inputs.t, inputs.gyro, inputs.accel, inputs.mag)
+    known = np.isfinite(out.pitch)
+    period_s = float(np.median(np.diff(inputs.t)))
+    peaks, _ = find_peaks(np.degrees(out.pitch[known]), prominence=10.0,
+                          distance=round(config.steps.min_step_period_s / period_s))
+    assert abs(len(peaks) - truth_footfalls(name) / 2) <= 2, len(peaks)
 
 
 def test_calibrate_mag_reports_the_coverage_of_a_walk(runs):

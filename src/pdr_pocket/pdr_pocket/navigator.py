@@ -9,7 +9,7 @@ offline, the same result either way):
    through a second-order low-pass at ``gravity_cutoff_hz`` (1.5 Hz keeps the gait
    cycle's fundamental, 0.6–1.1 Hz, and drops the heel strikes and harmonics), with the
    heading unknown (yaw 0, σ 180°: the position's covariance says so);
-2. the thigh frame and pitch (:mod:`pdr_pocket.compiled_gait`); samples seen while the
+2. the thigh frame and pitch (:mod:`pdr_pocket.compiled_mounting`); samples seen while the
    axes are still being learned (the first ``flexion_min_s`` of walking) are kept for
    ``replay_s`` and given the axes once known, so the first steps are not lost;
 3. the pitch-maximum step detector (:mod:`pdr_pocket.steps`, Section 4.1);
@@ -39,18 +39,18 @@ from pdr_pocket.activity import (
     activity_classifier,
     rest_activity,
 )
-from pdr_pocket.compiled_gait import (
-    EV_MAX,
-    EV_MIN,
-    EV_T_CONFIRM,
-    EV_T_MAX,
+from pdr_pocket.compiled_mounting import (
+    MountingInputs,
+    MountingOutputs,
     MountingParams,
     gravity_loop,
     mounting_loop,
+    new_gravity_state,
     new_mounting_state,
     thigh_angles,
 )
 from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, N_UPDATES, YAW_CORRECTION
+from pdr_pocket.compiled_peaks import EV_MAX, EV_MIN, EV_T_CONFIRM, EV_T_MAX
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.orientation import CORRECTION_NAMES, AttitudeEstimate, OrientationFilter
 from pdr_pocket.position import PSI, PositionFilter
@@ -132,7 +132,7 @@ class PocketNavigator:
     def reset(self) -> None:
         c = self.config
         self.orientation = OrientationFilter(c.orientation)
-        self.gravity_state = np.zeros(9)
+        self.gravity_state = new_gravity_state()
         self.mounting_params = mounting_params(c)
         axes = configured_axes(c.mounting.rpy_deg) if c.mounting.rpy_deg is not None \
             else (None, None)
@@ -183,16 +183,15 @@ class PocketNavigator:
             attitude = self.orientation.run(t, gyro, accel, mag)
             rate = np.linalg.norm(gyro, axis=1)
         n = len(t)
-        pitch, heading = np.full(n, np.nan), np.full(n, np.nan)
-        known = np.zeros(n, dtype=np.bool_)
-        up, flex, changes = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n)
+        thigh = MountingOutputs.empty(n)
+        pitch, heading, known, up, flex, changes = thigh
         # without a gyroscope the checks that read the phone's turns and the walking
         # pitch's mean are off: the gravity direction's pitch is too rough for them
         params = self.mounting_params if gyro is not None else \
             self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf,
                                           turned_pitch_angle=np.inf, skew_check=False)
-        mounting_loop(self.mounting, params, t, np.ascontiguousarray(rate),
-                      accel, attitude.attitude, pitch, heading, known, up, flex, changes)
+        mounting_loop(self.mounting, params, MountingInputs(
+            t, np.ascontiguousarray(rate), accel, attitude.attitude), thigh)
         self._count_motion(t, rate)
         self.remounts_t.extend(t[np.flatnonzero(np.diff(np.r_[self.changes_seen, changes]))])
         self.changes_seen = changes[-1] if n else self.changes_seen

@@ -5,7 +5,7 @@ the same inputs, t [s] (N,), the thigh pitch θ [rad] (N,) and the specific forc
 [m/s²] (N, 3) in the sensor frame, and returns :class:`DetectedSteps`:
 
 - :class:`PitchMaximumDetector`: the thesis' detector, one maximum of θ per cycle
-  (Section 4.1.1; hysteresis and plausibility rules in :mod:`pdr_pocket.compiled_gait`).
+  (Section 4.1.1; hysteresis and plausibility rules in :mod:`pdr_pocket.compiled_peaks`).
   It also runs one sample at a time (:meth:`~PitchMaximumDetector.push`) with the same
   state, which the navigator uses live.
 - :class:`FootfallDetector`, beyond the thesis, for an IMU without gyroscope: footfalls as
@@ -26,7 +26,7 @@ import numpy as np
 from scipy.signal import butter, sosfilt, sosfilt_zi
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_pocket.compiled_gait import (
+from pdr_pocket.compiled_peaks import (
     EV_MAX,
     EV_MIN,
     EV_T_MAX,
@@ -87,7 +87,7 @@ class PitchMaximumDetector:
 
     def push(self, t: np.ndarray, pitch: np.ndarray, force: np.ndarray | None = None
              ) -> np.ndarray:
-        """Samples in order; the confirmed maxima, rows of compiled_gait.EV_* columns
+        """Samples in order; the confirmed maxima, rows of compiled_peaks.EV_* columns
         (``force``, the specific force's norm, is not used)."""
         t = np.ascontiguousarray(t, dtype=float)
         events = np.empty((len(t) // 2 + 1, N_EVENT_COLUMNS))
@@ -128,8 +128,10 @@ class FootfallDetector:
 
     def push(self, t: np.ndarray, pitch: np.ndarray, force: np.ndarray) -> np.ndarray:
         """Samples in order: times [s], the pitch [rad] (NaN: unknown) and the specific
-        force's norm [m/s²]; the cycles closed, rows of compiled_gait.EV_* columns."""
+        force's norm [m/s²]; the cycles closed, rows of compiled_peaks.EV_* columns."""
         t, pitch, force = (np.ascontiguousarray(x, dtype=float) for x in (t, pitch, force))
+        if not len(t):          # (the navigator's stretch between two mounting changes)
+            return np.empty((0, N_EVENT_COLUMNS))
         if self.sos is None:
             if self.waiting is not None:
                 t, pitch, force = (np.concatenate(pair) for pair in

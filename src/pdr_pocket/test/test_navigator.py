@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from pdr_core.errors import InputError
 from pdr_pocket.activity import SITTING, STANDING, WALKING
+from pdr_pocket.compiled_mounting import CHANGES
 from pdr_pocket.config import (
     MountingConfig,
     PersonConfig,
@@ -22,8 +23,8 @@ from pdr_pocket.config import (
     StepLengthConfig,
 )
 from pdr_pocket.navigator import PocketNavigator
-from pdr_pocket.pocket_offline import match_steps, riser_errors, steps_since
 from pdr_pocket.position import PositionFilter
+from pdr_pocket.run_report import match_steps, riser_errors, steps_since
 from pdr_pocket.step_length import fit_line, fit_offset
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
@@ -164,8 +165,9 @@ REPOCKETED = {"upside down": (0.0, 0.0, 180.0), "screen facing in": (0.0, 180.0,
 REMOUNT_AT_S, REMOUNT_S, FOUND_AGAIN_S = 60.0, 1.5, 10.0
 
 
-def repocketed_h1(turn: tuple[float, float, float]):
-    """H1 with the phone turned in the pocket mid-walk: the simulation and the steps."""
+@cache
+def repocketed_h1_simulated(turn: tuple[float, float, float]):
+    """H1 with the phone turned in the pocket mid-walk, simulated."""
     from scipy.spatial.transform import Rotation
 
     from pdr_sim.pocket_scenario import mounting_matrix
@@ -179,8 +181,13 @@ def repocketed_h1(turn: tuple[float, float, float]):
     np.testing.assert_allclose(mounting_matrix({"rpy_deg": rpy}), after, atol=1e-9)
     data = {**data, "remounts": [{"at_s": REMOUNT_AT_S, "duration_s": REMOUNT_S,
                                   "mounting": {"rpy_deg": rpy}}]}
-    sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "h1"), data, "xsens_mtw",
-                                    {}, 100.0, 0, placement="pocket"))
+    return simulate(SimulationConfig(pocket_scenario_from_dict(data, "h1"), data, "xsens_mtw",
+                                     {}, 100.0, 0, placement="pocket"))
+
+
+def repocketed_h1(turn: tuple[float, float, float]):
+    """H1 with the phone turned in the pocket mid-walk: the simulation and the steps."""
+    sim = repocketed_h1_simulated(turn)
     nav = PocketNavigator(PocketConfig())
     out = nav.process(sim.trajectory.t, sim.imu["angular_velocity"],
                       sim.imu["linear_acceleration"], sim.mag["magnetic_field"])
@@ -199,6 +206,26 @@ def test_steps_are_found_again_within_10_s_of_a_mid_walk_change_of_mounting(name
     assert (match >= 0).all(), f"missed {(match < 0).sum()}"
     assert len(steps) == len(match)
     assert all(s.activity == WALKING for s in steps)
+
+
+def test_without_a_gyroscope_a_phone_found_turned_at_the_last_rest_loses_no_step():
+    """The phone turned in the pocket is found at the next rest without a gyroscope: here
+    the last, so the axes stay unknown to the end and the detector is given no sample
+    after the change (the footfall detector once stopped on that with a ValueError). Every
+    step is found, whole and in chunks alike."""
+    sim = repocketed_h1_simulated(REPOCKETED["mean pitch moved 40°"])
+    args = (sim.trajectory.t, None, sim.imu["linear_acceleration"])
+    navigator = PocketNavigator(PocketConfig())
+    whole = navigator.process(*args).steps
+    assert int(navigator.mounting.scalars[CHANGES]) == 1
+    assert len(whole) == len(sim.model.true_steps.end_s)
+    nav = PocketNavigator(PocketConfig())
+    rng = np.random.default_rng(0)
+    cuts = np.unique(np.r_[0, np.cumsum(rng.integers(1, 400, 200)), len(args[0])])
+    cuts = cuts[cuts <= len(args[0])]
+    chunked = [s for i, j in itertools.pairwise(cuts)
+               for s in nav.process(args[0][i:j], None, args[2][i:j]).steps]
+    assert [s.t for s in chunked] == [s.t for s in whole]
 
 
 def test_a_configured_mounting_is_used_as_given():

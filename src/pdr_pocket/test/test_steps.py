@@ -1,5 +1,5 @@
 """The footfall detector for an IMU without gyroscope (pdr_pocket.steps.FootfallDetector,
-pdr_pocket.compiled_gait.footfall_loop): footfalls in the specific force's norm, two per
+pdr_pocket.compiled_peaks.footfall_loop): footfalls in the specific force's norm, two per
 gait cycle, the same in chunks as whole and at any sample rate."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_pocket.compiled_gait import (
+from pdr_pocket.compiled_peaks import (
     EV_MAX,
     EV_MIN,
     EV_T_MAX,
@@ -83,3 +83,14 @@ def test_a_still_signal_has_no_footfall():
     detector = FootfallDetector()
     events = detector.push(t, np.zeros(len(t)), STANDARD_GRAVITY_MPS2 + 0.2 * np.sin(9 * t))
     assert detector.footfalls == 0 and len(events) == 0
+
+
+def test_an_empty_chunk_gives_no_cycle_and_changes_nothing():
+    """The navigator hands the detector no sample between two mounting changes."""
+    t, pitch, norm = walk(100.0)
+    whole = FootfallDetector().push(t, pitch, norm)
+    detector, empty = FootfallDetector(), np.empty(0)
+    parts = [detector.push(empty, empty, empty), detector.push(t[:500], pitch[:500], norm[:500]),
+             detector.push(empty, empty, empty), detector.push(t[500:], pitch[500:], norm[500:])]
+    assert all(part.shape == (0, N_EVENT_COLUMNS) for part in parts[::2])
+    np.testing.assert_array_equal(np.concatenate(parts), whole)

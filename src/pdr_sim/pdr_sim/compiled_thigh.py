@@ -4,7 +4,8 @@
 x, y, z, route heading, thigh pitch θ, sway; :mod:`pdr_sim.thigh_trajectory`) with their
 first two derivatives, and turns them into the sensor's position, velocity, acceleration,
 attitude and body rate, one sample at a time without temporaries. The same equations in
-NumPy are in ``test_thigh_trajectory.py`` (``numpy_kinematics``), asserted equal.
+NumPy are in ``test_pocket_model.py`` (``test_compiled_kinematics_equal_the_numpy_equations``),
+asserted equal.
 
 With ψ = heading + sway, α = −θ and C_t = Rz(ψ)·Ry(α) (thigh → ENU):
     ω_t = (−sin α·ψ̇, α̇, cos α·ψ̇),
@@ -39,6 +40,29 @@ class ThighBody(NamedTuple):
     pitch_coupling: float
 
 
+class ThighSpline(NamedTuple):
+    """The channels' cubic spline in scipy's PPoly layout: ``breaks`` (K+1,) [s] and
+    ``coeffs`` (4, K, 6), highest power first, channels X … SWAY [m, rad]."""
+
+    breaks: np.ndarray
+    coeffs: np.ndarray
+
+
+class SensorMotion(NamedTuple):
+    """The sensor at N times, filled by :func:`thigh_kinematics`."""
+
+    position: np.ndarray        # (N, 3) ENU [m]
+    velocity: np.ndarray        # (N, 3) ENU [m/s]
+    acceleration: np.ndarray    # (N, 3) ENU [m/s²]
+    quaternion: np.ndarray      # (N, 4) x, y, z, w of C_s^n
+    body_rate: np.ndarray       # (N, 3) ω_s, sensor frame [rad/s]
+
+    @classmethod
+    def empty(cls, n: int) -> SensorMotion:
+        return cls(np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 4)),
+                   np.empty((n, 3)))
+
+
 @njit(cache=True)
 def _channels(t, breaks, coeffs, out):
     """Spline value, 1st and 2nd derivative of every channel at time t: out (3, 6)."""
@@ -66,14 +90,14 @@ def _thigh_to_nav(cp, sp, ca, sa, u0, u1, u2):
 
 
 @njit(cache=True, nogil=True)
-def thigh_kinematics(t, breaks, coeffs, body: ThighBody, position, velocity, acceleration,
-                     quaternion, body_rate):
-    """Fill the (N, 3) position, velocity, acceleration (ENU), (N, 4) quaternion (x, y, z, w,
-    C_s^n) and (N, 3) body rate ω_s of the sensor at the times ``t`` (N,) [s], from the
-    spline's ``breaks`` (K+1,) and ``coeffs`` (4, K, 6) (scipy's PPoly layout). Releases
-    the GIL, so blocks of samples run in parallel threads."""
+def thigh_kinematics(t, spline: ThighSpline, body: ThighBody, out: SensorMotion):
+    """Fill ``out`` with the sensor's motion at the times ``t`` (N,) [s], from the
+    channels' ``spline``. Releases the GIL, so blocks of samples run in parallel threads."""
     ch = np.empty((3, 6))
+    breaks, coeffs = spline.breaks, spline.coeffs
     h, r, m, qm = body.hip_offset, body.lever_arm, body.mounting, body.mounting_quaternion
+    position, velocity, acceleration = out.position, out.velocity, out.acceleration
+    quaternion, body_rate = out.quaternion, out.body_rate
     for k in range(t.shape[0]):
         _channels(t[k], breaks, coeffs, ch)
         psi, psi_d, psi_dd = ch[0, HEADING] + ch[0, SWAY], ch[1, HEADING] + ch[1, SWAY], \

@@ -34,7 +34,15 @@ import numpy as np
 from scipy.interpolate import CubicSpline, PPoly
 from scipy.spatial.transform import Rotation
 
-from pdr_sim.compiled_thigh import HEADING, PITCH, SWAY, ThighBody, thigh_kinematics
+from pdr_sim.compiled_thigh import (
+    HEADING,
+    PITCH,
+    SWAY,
+    SensorMotion,
+    ThighBody,
+    ThighSpline,
+    thigh_kinematics,
+)
 from pdr_sim.gait_plan import (
     REST_KNOT_S,
     SETTLE_FRACTION,
@@ -366,17 +374,14 @@ class ThighTrajectory:
     def at(self, t: np.ndarray) -> Trajectory:
         """The sensor's trajectory at times ``t`` [s] (0 ≤ t ≤ duration), by
         :func:`pdr_sim.compiled_thigh.thigh_kinematics`."""
-        n = len(t)
-        position, velocity, acceleration, rate = (np.empty((n, 3)) for _ in range(4))
-        quaternion = np.empty((n, 4))
-        spline = self.spline
-        thigh_kinematics(np.ascontiguousarray(t, dtype=float), spline.x,
-                         np.ascontiguousarray(spline.c), self.body, position, velocity,
-                         acceleration, quaternion, rate)
-        attitude = Rotation.from_quat(quaternion)
+        motion = SensorMotion.empty(len(t))
+        spline = ThighSpline(self.spline.x, np.ascontiguousarray(self.spline.c))
+        thigh_kinematics(np.ascontiguousarray(t, dtype=float), spline, self.body, motion)
+        attitude, rate = Rotation.from_quat(motion.quaternion), motion.body_rate
         if self.scenario.remounts:
             attitude, rate = self._remounted(t, attitude, rate)
-        return Trajectory(t, position, velocity, acceleration, attitude, rate)
+        return Trajectory(t, motion.position, motion.velocity, motion.acceleration, attitude,
+                          rate)
 
     def _remounted(self, t: np.ndarray, attitude: Rotation,
                    rate: np.ndarray) -> tuple[Rotation, np.ndarray]:

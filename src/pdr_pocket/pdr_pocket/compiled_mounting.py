@@ -1,4 +1,4 @@
-"""The pocket navigator's per-sample gait loops, compiled with numba.
+"""The thigh's frame in the sensor's, learned sample by sample, compiled with numba.
 
 Two causal loops carry their state between calls, so one sample at a time (the live node)
 and a whole record give the same result:
@@ -31,21 +31,16 @@ and a whole record give the same result:
     :func:`_check_turned`, :func:`_remount`).
   * θ = atan2(−ℓ·h, ℓ_z) with ℓ = C·u the long axis in ENU (hip above knee) and h the
     unit horizontal direction of C·(f × u), the thigh's forward axis: the knee ahead tilts
-    ℓ backwards. The heading is atan2(h_y, h_x).
+    ℓ backwards. The heading is atan2(h_y, h_x) (:func:`thigh_angles`).
 
-- :func:`peak_loop`: a hysteresis extremum detector. A maximum is confirmed once the
-  signal has fallen ``drop`` below it, and the next one is sought once the signal has
-  risen ``rise`` above the minimum since (both the larger of a floor and a fraction of the
-  last accepted amplitude, so the heel-strike's second peak and the double minimum on
-  stairs, Figs. 4.1–4.3, never count). A maximum is a step when its amplitude over the
-  preceding minimum is at least ``min_amplitude`` (at most ``max_amplitude``), it was
-  reached within ``max_rise_s`` of that minimum and left within ``max_hold_s`` (sitting
-  down and getting up are not steps),
-  and it comes at least ``min_period_s`` after the last step's maximum (beyond the thesis:
-  a gait cycle shorter than that is running; on the real ``s_both_thigh_1`` stairs walk
-  the turn at the top otherwise gives two extra steps). After ``forget_s`` without a step
-  the last amplitude is forgotten, so one huge swing (the phone turned in the pocket)
-  cannot raise the thresholds beyond every later step.
+- :func:`gravity_loop`, beyond the thesis, for an IMU without gyroscope: the gravity
+  direction as the low-passed specific force (the attitude the thigh frame then reads),
+  and a motion measure in place of the turn rate.
+
+The state of each is a :class:`typing.NamedTuple` of arrays whose scalars are one NumPy
+record (a 0-d structured array, ``MOUNTING_SCALARS`` and ``GRAVITY_SCALARS``: one comment
+per field), read and written by name inside the kernels (``s = state.scalars[()]``,
+``s.rest_s``). The step detectors that read θ are in :mod:`pdr_pocket.compiled_peaks`.
 """
 from __future__ import annotations
 
@@ -54,11 +49,6 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-# mounting scalars (MountingState.scalars)
-LAST_T, REST_S, REST_N, MOVING_S, UP_PROVISIONAL, FLEX_KNOWN, MEAN_PITCH, CHANGES, \
-    STARTED, RECENT_S, LAST_CHECK_T, TURNED_S, RING_POS, RING_N, FOREIGN, TURN_SEEN, \
-    TURN_T, FLIP_S, RATE2, RATE3, SEATED_S = range(21)
-N_MOUNTING_SCALARS = 21
 # the swing of the last moved_tau_s is a plane (the remount check) when its middle
 # eigenvalue is at least SWING_MIN (a pitch swing of about ±4°) and its smallest at most
 # PLANAR_RATIO of the middle one
@@ -73,13 +63,33 @@ SKEW_TAU_S = 4.0                # the pitch rate's moments, over about three gai
 SKEW_FLIP = 0.3                 # a pitch-rate skewness below −SKEW_FLIP: f is reversed
 ANCHOR_RING = 80                # the checks of the last 8 s of walking (see _anchor)
 ANCHOR_LEAD_S = 1.0             # the anchor taken is this long before the turn was seen
-ANCHOR_PHI, ANCHOR_HEADING, ANCHOR_T = range(3)
-# peak detector scalars (PeakState.scalars)
-SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE, LAST_STEP_T = range(7)
-N_PEAK_SCALARS = 7
-# columns of the peak events
-EV_T_MAX, EV_MAX, EV_MIN, EV_T_MIN, EV_T_CONFIRM = range(5)
-N_EVENT_COLUMNS = 5
+ANCHOR_PHI, ANCHOR_HEADING, ANCHOR_T = range(3)     # columns of MountingState.anchors
+
+# MountingState.scalars, one record; times [s], angles [rad]
+MOUNTING_SCALARS = np.dtype([
+    ("started", np.bool_),          # a sample has been seen (last_t holds its time)
+    ("last_t", np.float64),         # the time of the last sample [s]
+    ("rest_s", np.float64),         # how long the current rest has lasted [s]
+    ("up_provisional", np.bool_),   # u is still the first sample's specific force
+    ("flex_known", np.bool_),       # f and its sign are known: θ and the heading are given
+    ("flex_sign", np.float64),      # ±1, the sign of f (MountingState.flex_raw is unsigned)
+    ("moving_s", np.float64),       # time walking while f is learned [s]
+    ("mean_pitch", np.float64),     # ∫θ dt over that time, whose sign gives f's [rad·s]
+    ("changes", np.int64),          # the mounting changes found so far
+    ("recent_s", np.float64),       # time the recent swing (turned_tau_s) has gathered [s]
+    ("last_check_t", np.float64),   # the last check of a turned phone (_check_turned) [s]
+    ("turned_s", np.float64),       # walking about an axis away from f this long [s]
+    ("ring_pos", np.int64),         # the next row of MountingState.anchors
+    ("ring_n", np.int64),           # the rows of MountingState.anchors filled
+    ("foreign", np.float64),        # the leaky integral of the turn outside span{f, vertical} [rad]
+    ("turn_seen", np.bool_),        # a turn of the phone seen, its axes not yet derived again
+    ("turn_t", np.float64),         # when that turn began [s]
+    ("flip_s", np.float64),         # the walking pitch negative (or its rate skewed) this long [s]
+    ("seated_s", np.float64),       # the walking pitch beyond turned_pitch_angle this long [s]
+    ("rate2", np.float64),          # the pitch rate's weighted second moment [rad²/s²]
+    ("rate3", np.float64),          # ... and third [rad³/s³]
+], align=True)
+CHANGES = "changes"                 # the field counting the mounting changes
 
 
 class MountingParams(NamedTuple):
@@ -105,11 +115,10 @@ class MountingParams(NamedTuple):
 
 
 class MountingState(NamedTuple):
-    scalars: np.ndarray         # (N_MOUNTING_SCALARS,)
+    scalars: np.ndarray         # () MOUNTING_SCALARS record
     rest_sum: np.ndarray        # (3,) specific force summed over the current rest
     up: np.ndarray              # (3,) u, sensor frame
-    flex_raw: np.ndarray        # (3,) power-iteration vector
-    flex_sign: np.ndarray       # (1,) ±1
+    flex_raw: np.ndarray        # (3,) f before its sign (scalars' flex_sign), sensor frame
     moment: np.ndarray          # (3, 3) weighted ∑g gᵀ of the vertical while walking
     mean: np.ndarray            # (3,) weighted ∑g
     recent: np.ndarray          # (3, 3) the same over turned_tau_s
@@ -118,44 +127,45 @@ class MountingState(NamedTuple):
     last_attitude: np.ndarray   # (3, 3) C_b^n of the previous sample
 
 
-class PeakParams(NamedTuple):
-    drop_min: float             # confirmation drop: max(drop_min, drop_fraction·amplitude)
-    drop_fraction: float
-    rise_min: float             # re-arming rise: max(rise_min, rise_fraction·amplitude)
-    rise_fraction: float
-    min_amplitude: float
-    max_amplitude: float        # beyond what a thigh can swing
-    max_rise_s: float
-    max_hold_s: float
-    min_period_s: float         # from the previous step's maximum
-    forget_s: float             # no step this long: the last amplitude is forgotten
+class MountingInputs(NamedTuple):
+    """N samples."""
+
+    t: np.ndarray               # (N,) [s]
+    rate: np.ndarray            # (N,) ‖ω‖ [rad/s], or without a gyroscope the
+                                # accelerometer's motion measure scaled to it
+    accel: np.ndarray           # (N, 3) specific force, sensor frame [m/s²]
+    attitude: np.ndarray        # (N, 3, 3) C_b^n, sensor → ENU
+
+
+class MountingOutputs(NamedTuple):
+    """Per sample of :class:`MountingInputs`, filled by :func:`mounting_loop`."""
+
+    pitch: np.ndarray           # (N,) θ [rad], NaN while the axes are unknown
+    heading: np.ndarray         # (N,) the thigh's heading [rad], NaN likewise
+    known: np.ndarray           # (N,) bool: the axes are known
+    up: np.ndarray              # (N, 3) u, sensor frame
+    flex: np.ndarray            # (N, 3) f (signed), sensor frame
+    changes: np.ndarray         # (N,) the mounting changes found so far
+
+    @classmethod
+    def empty(cls, n: int) -> MountingOutputs:
+        return cls(np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, dtype=np.bool_),
+                   np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n))
 
 
 def new_mounting_state(up=None, flexion=None) -> MountingState:
     """A fresh state; with ``up`` and ``flexion`` (a configured mounting) they are used."""
-    state = MountingState(np.zeros(N_MOUNTING_SCALARS), np.zeros(3), np.zeros(3),
-                          np.zeros(3), np.ones(1), np.zeros((3, 3)), np.zeros(3),
-                          np.zeros((3, 3)), np.zeros(3), np.zeros((ANCHOR_RING, 3)),
-                          np.eye(3))
+    scalars = np.zeros((), MOUNTING_SCALARS)
+    scalars["flex_sign"] = 1.0
+    state = MountingState(scalars, np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((3, 3)),
+                          np.zeros(3), np.zeros((3, 3)), np.zeros(3),
+                          np.zeros((ANCHOR_RING, 3)), np.eye(3))
     if up is not None:
         state.up[:] = up
         state.flex_raw[:] = flexion
-        state.scalars[FLEX_KNOWN] = 1.0
-        state.scalars[STARTED] = 1.0
+        scalars["flex_known"] = True
+        scalars["started"] = True
     return state
-
-
-class PeakState(NamedTuple):
-    scalars: np.ndarray         # (N_PEAK_SCALARS,)
-
-
-def new_peak_state() -> PeakState:
-    """Seeking a minimum first: a step needs one before its maximum."""
-    scalars = np.zeros(N_PEAK_SCALARS)
-    scalars[CUR_MIN] = np.inf
-    scalars[CUR_MAX] = -np.inf
-    scalars[LAST_STEP_T] = -np.inf
-    return PeakState(scalars)
 
 
 @njit(cache=True)
@@ -185,70 +195,66 @@ def thigh_angles(c, up, flex):
 
 
 @njit(cache=True)
-def mounting_loop(state, params, t, rate, accel, attitude, out_pitch, out_heading,
-                  out_known, out_up, out_flex, out_changes):
-    """The thigh frame per sample (module docstring); θ and heading NaN until known;
-    ``out_changes``: the mounting changes found so far.
-    ``rate``: the turn rate's norm [rad/s] (N,), or without a gyroscope the accelerometer's
-    motion measure scaled to it."""
-    s = state.scalars
+def mounting_loop(state, params, inputs, out):
+    """The thigh frame per sample of ``inputs`` (:class:`MountingInputs`; module
+    docstring) into ``out`` (:class:`MountingOutputs`): θ and heading NaN until known."""
+    s = state.scalars[()]
+    t, rate, accel, attitude = inputs.t, inputs.rate, inputs.accel, inputs.attitude
     for k in range(len(t)):
         w, a = rate[k], accel[k]
-        dt = t[k] - s[LAST_T] if s[STARTED] > 0 else 0.0
-        s[LAST_T] = t[k]
+        dt = t[k] - s.last_t if s.started else 0.0
+        s.last_t = t[k]
         if not params.fixed:
-            if s[STARTED] == 0.0:
+            if not s.started:
                 state.up[:] = _unit(a)
-                s[UP_PROVISIONAL] = 1.0
-                s[STARTED] = 1.0
+                s.up_provisional = True
+                s.started = True
             _rest(state, params, w, a, dt)
             _foreign_turn(state, params, w, dt, attitude[k],
                           _sample_turn(state.last_attitude, attitude[k]))
             state.last_attitude[:, :] = attitude[k]
             _motion(state, params, w, dt, attitude[k])
-        known = s[FLEX_KNOWN] > 0
-        up, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
-        out_up[k] = up
-        out_flex[k] = flex
-        out_known[k] = known
-        out_changes[k] = s[CHANGES]
+        known = s.flex_known
+        up, flex = _thigh_axes(state.up, state.flex_raw, s.flex_sign)
+        out.up[k] = up
+        out.flex[k] = flex
+        out.known[k] = known
+        out.changes[k] = s.changes
         if known:
-            out_pitch[k], out_heading[k] = thigh_angles(attitude[k], up, flex)
+            out.pitch[k], out.heading[k] = thigh_angles(attitude[k], up, flex)
         else:
-            out_pitch[k], out_heading[k] = np.nan, np.nan
+            out.pitch[k], out.heading[k] = np.nan, np.nan
 
 
 @njit(cache=True)
 def _rest(state, params, wn, a, dt):
     """Standing refines u, a rest out of the swing plane resets the mounting."""
-    s = state.scalars
+    s = state.scalars[()]
     an = np.sqrt(a @ a)
     if wn >= params.rest_rate or abs(an - params.gravity) >= params.rest_acc:
-        s[REST_S] = 0.0
-        s[REST_N] = 0.0
+        s.rest_s = 0.0
         state.rest_sum[:] = 0.0
         return
-    s[REST_S] += dt
-    s[REST_N] += 1.0
+    s.rest_s += dt
     state.rest_sum[:] += a
-    if s[REST_S] < params.rest_min_s:
+    if s.rest_s < params.rest_min_s:
         return
     g = _unit(state.rest_sum.copy())
-    if s[UP_PROVISIONAL] > 0:
+    if s.up_provisional:
         state.up[:] = g
-        s[UP_PROVISIONAL] = 0.0
+        s.up_provisional = False
         return
     if g @ state.up >= np.cos(params.standing_max_angle):
         state.up[:] = g
         return
-    if s[FLEX_KNOWN] > 0:
+    if s.flex_known:
         _, flex = _thigh_axes(state.up, state.flex_raw, 1.0)
         if abs(g @ flex) > np.sin(params.moved_min_angle):
             state.up[:] = g
-            s[FLEX_KNOWN] = 0.0
-            s[MOVING_S] = 0.0
-            s[MEAN_PITCH] = 0.0
-            s[CHANGES] += 1.0
+            s.flex_known = False
+            s.moving_s = 0.0
+            s.mean_pitch = 0.0
+            s.changes += 1
             state.moment[:, :] = 0.0
             state.mean[:] = 0.0
             state.flex_raw[:] = 0.0
@@ -257,7 +263,7 @@ def _rest(state, params, wn, a, dt):
 @njit(cache=True)
 def _motion(state, params, wn, dt, c):
     """Learn f from the scatter of the vertical; fix its sign once it is known."""
-    s = state.scalars
+    s = state.scalars[()]
     if wn <= params.moving_rate or dt <= 0:
         return
     lam = np.exp(-dt / params.flexion_tau_s)
@@ -271,23 +277,23 @@ def _motion(state, params, wn, dt, c):
         state.recent_mean[i] = lam * state.recent_mean[i] + (1.0 - lam) * g[i]
         for j in range(3):
             state.recent[i, j] = lam * state.recent[i, j] + (1.0 - lam) * g[i] * g[j]
-    s[RECENT_S] += dt
+    s.recent_s += dt
     spread = state.moment - np.outer(state.mean, state.mean)
     v = _least_swung_axis(spread, state.up)
     if v @ state.flex_raw < 0:
         v = -v
     state.flex_raw[:] = v
-    if s[FLEX_KNOWN] > 0:
+    if s.flex_known:
         _check_turned(state, params, c)
         return
-    s[MOVING_S] += dt
+    s.moving_s += dt
     up, flex = _thigh_axes(state.up, state.flex_raw, 1.0)
     pitch, _ = thigh_angles(c, up, flex)
     if np.isfinite(pitch):
-        s[MEAN_PITCH] += pitch * dt
-    if s[MOVING_S] >= params.flexion_min_s:
-        state.flex_sign[0] = 1.0 if s[MEAN_PITCH] >= 0 else -1.0
-        s[FLEX_KNOWN] = 1.0
+        s.mean_pitch += pitch * dt
+    if s.moving_s >= params.flexion_min_s:
+        s.flex_sign = 1.0 if s.mean_pitch >= 0 else -1.0
+        s.flex_known = True
 
 
 @njit(cache=True)
@@ -306,42 +312,42 @@ def _check_turned(state, params, c):
     walk that starts from a chair, or the phone turned about f while standing) puts u
     where level walking has its mean pitch ``walking_pitch``. Checked every
     CHECK_PERIOD_S."""
-    s = state.scalars
-    now = s[LAST_T]
-    if s[RECENT_S] < params.turned_tau_s or now - s[LAST_CHECK_T] < CHECK_PERIOD_S:
+    s = state.scalars[()]
+    now = s.last_t
+    if s.recent_s < params.turned_tau_s or now - s.last_check_t < CHECK_PERIOD_S:
         return
-    s[LAST_CHECK_T] = now
+    s.last_check_t = now
     values, vectors = np.linalg.eigh(state.recent)
     if values[1] < SWING_MIN or values[0] > PLANAR_RATIO * values[1]:
         return
-    up, flex = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
+    up, flex = _thigh_axes(state.up, state.flex_raw, s.flex_sign)
     axis = vectors[:, 0].copy()
-    if s[TURN_SEEN] > 0:
+    if s.turn_seen:
         _remount(state, params, c, axis, up, flex)
         return
     phi = _swing_angle(state.recent_mean, up, flex)
-    skew = s[RATE2] ** 1.5 * SKEW_FLIP if params.skew_check else np.inf
-    s[FLIP_S] = s[FLIP_S] + CHECK_PERIOD_S if phi > 0 or s[RATE3] < -skew else 0.0
-    s[SEATED_S] = s[SEATED_S] + CHECK_PERIOD_S if -phi > params.turned_pitch_angle else 0.0
-    if s[SEATED_S] >= SEATED_MIN_S:
-        s[SEATED_S] = 0.0
+    skew = s.rate2 ** 1.5 * SKEW_FLIP if params.skew_check else np.inf
+    s.flip_s = s.flip_s + CHECK_PERIOD_S if phi > 0 or s.rate3 < -skew else 0.0
+    s.seated_s = s.seated_s + CHECK_PERIOD_S if -phi > params.turned_pitch_angle else 0.0
+    if s.seated_s >= SEATED_MIN_S:
+        s.seated_s = 0.0
         _reorient(state, False, params.walking_pitch, flex)
         return
     same_axis = abs(axis @ flex) >= np.cos(params.turned_min_angle) and \
         abs(axis @ up) <= np.sin(params.turned_min_angle)
-    d = phi - _oldest_anchor(state)[0]
-    same_pitch = s[RING_N] == 0 or abs(np.arctan2(np.sin(d), np.cos(d))) <= \
+    d = phi - _oldest_anchor(state)[ANCHOR_PHI]
+    same_pitch = s.ring_n == 0 or abs(np.arctan2(np.sin(d), np.cos(d))) <= \
         params.turned_pitch_angle
     if same_axis and same_pitch:
-        s[TURNED_S] = 0.0
-        if s[FLIP_S] >= FLIP_MIN_S:
-            _reorient(state, s[RATE3] <= skew, params.walking_pitch, flex)
+        s.turned_s = 0.0
+        if s.flip_s >= FLIP_MIN_S:
+            _reorient(state, s.rate3 <= skew, params.walking_pitch, flex)
             return
         _anchor(state, c, up, flex)
         return
-    s[TURNED_S] += CHECK_PERIOD_S
-    if s[TURNED_S] >= params.turned_min_s:
-        _seen_turn(state, s[LAST_T] - params.turned_min_s - params.turned_tau_s)
+    s.turned_s += CHECK_PERIOD_S
+    if s.turned_s >= params.turned_min_s:
+        _seen_turn(state, s.last_t - params.turned_min_s - params.turned_tau_s)
 
 
 @njit(cache=True)
@@ -367,16 +373,16 @@ def _foreign_turn(state, params, wn, dt, c, turn):
     The recent swing then starts afresh TURN_HOLD_S after it began (a turn of the phone is
     over by then, and the old axes see the thigh's own swing as foreign too), and
     :func:`_check_turned` decides on it with the anchors from before."""
-    s = state.scalars
-    if dt > 0 and s[FLEX_KNOWN] > 0 and wn > params.moving_rate:
-        _, f = _thigh_axes(state.up, state.flex_raw, state.flex_sign[0])
+    s = state.scalars[()]
+    if dt > 0 and s.flex_known and wn > params.moving_rate:
+        _, f = _thigh_axes(state.up, state.flex_raw, s.flex_sign)
         g = c[2, :]
         normal = _unit(np.cross(f, g - (g @ f) * f))
-        s[FOREIGN] = np.exp(-dt / FOREIGN_TAU_S) * s[FOREIGN] + turn @ normal
-        if s[TURN_SEEN] == 0.0 and abs(s[FOREIGN]) > params.turned_angle:
-            _seen_turn(state, s[LAST_T])
+        s.foreign = np.exp(-dt / FOREIGN_TAU_S) * s.foreign + turn @ normal
+        if not s.turn_seen and abs(s.foreign) > params.turned_angle:
+            _seen_turn(state, s.last_t)
         _pitch_rate_moments(state, dt, turn @ f / dt)
-    if s[TURN_SEEN] > 0 and s[LAST_T] - s[TURN_T] < TURN_HOLD_S:
+    if s.turn_seen and s.last_t - s.turn_t < TURN_HOLD_S:
         _forget_recent(state)
 
 
@@ -388,26 +394,28 @@ def _pitch_rate_moments(state, dt, rate):
     u (beyond the thesis: it tells f's sign where the mean pitch cannot, :func:`_reorient`).
     Not used without a gyroscope: the pitch from the low-passed gravity loses the swing's
     fast rise (on the real Oxford phone it read reversed and flipped f)."""
-    s = state.scalars
+    s = state.scalars[()]
     lam = np.exp(-dt / SKEW_TAU_S)
-    s[RATE2] = lam * s[RATE2] + (1.0 - lam) * rate * rate
-    s[RATE3] = lam * s[RATE3] + (1.0 - lam) * rate * rate * rate
+    s.rate2 = lam * s.rate2 + (1.0 - lam) * rate * rate
+    s.rate3 = lam * s.rate3 + (1.0 - lam) * rate * rate * rate
 
 
 @njit(cache=True)
 def _seen_turn(state, t):
     """A turn of the phone that began at t: the recent swing starts afresh TURN_HOLD_S
     after it, for :func:`_remount`."""
-    s = state.scalars
-    s[TURN_SEEN] = 1.0
-    s[TURN_T] = t
-    s[TURNED_S] = 0.0
+    s = state.scalars[()]
+    s.turn_seen = True
+    s.turn_t = t
+    s.turned_s = 0.0
     _forget_recent(state)
 
 
 @njit(cache=True)
 def _forget_recent(state):
-    state.scalars[RECENT_S] = 0.0
+    """The recent swing (turned_tau_s) starts afresh."""
+    s = state.scalars[()]
+    s.recent_s = 0.0
     state.recent[:, :] = 0.0
     state.recent_mean[:] = 0.0
 
@@ -424,16 +432,16 @@ def _anchor(state, c, up, flex):
     """Keep φ of the mean vertical (the gait's mean pitch) and the thigh heading of each
     check in a ring: a remount takes the oldest, from before the phone began to turn (it
     is found turned_tau_s + turned_min_s later)."""
-    s = state.scalars
+    s = state.scalars[()]
     _, heading = thigh_angles(c, up, flex)
     if not np.isfinite(heading):
         return
-    k = int(s[RING_POS])
+    k = s.ring_pos
     state.anchors[k, ANCHOR_PHI] = _swing_angle(state.mean, up, flex)
     state.anchors[k, ANCHOR_HEADING] = heading
-    state.anchors[k, ANCHOR_T] = s[LAST_T]
-    s[RING_POS] = (k + 1) % ANCHOR_RING
-    s[RING_N] = min(s[RING_N] + 1.0, ANCHOR_RING)
+    state.anchors[k, ANCHOR_T] = s.last_t
+    s.ring_pos = (k + 1) % ANCHOR_RING
+    s.ring_n = min(s.ring_n + 1, ANCHOR_RING)
 
 
 @njit(cache=True)
@@ -444,34 +452,34 @@ def _reorient(state, flip, pitch, flex):
     the sign the skew of the pitch rate gives (:func:`_pitch_rate_moments`), and u is put
     about it so that the mean walking pitch is ``pitch`` (level walking's, positive by the
     thesis' asymmetry θ_max ≫ |θ_min|)."""
-    s = state.scalars
+    s = state.scalars[()]
     f = -flex if flip else flex
     gp = _unit(state.recent_mean - (state.recent_mean @ f) * f)
     angle = -abs(pitch)
     state.up[:] = np.cos(angle) * gp + np.sin(angle) * np.cross(f, gp)
     state.flex_raw[:] = f
-    state.flex_sign[0] = 1.0
+    s.flex_sign = 1.0
     if flip:
-        s[RATE3] = -s[RATE3]
-    s[FLIP_S] = 0.0
-    s[RING_N] = 0.0
-    s[RING_POS] = 0.0
-    s[CHANGES] += 1.0
+        s.rate3 = -s.rate3
+    s.flip_s = 0.0
+    s.ring_n = 0
+    s.ring_pos = 0
+    s.changes += 1
 
 
 @njit(cache=True)
 def _oldest_anchor(state):
     """φ, heading and t of the oldest check in the ring (zeros while it is empty)."""
-    s = state.scalars
-    return state.anchors[int(s[RING_POS]) if s[RING_N] == ANCHOR_RING else 0]
+    s = state.scalars[()]
+    return state.anchors[s.ring_pos if s.ring_n == ANCHOR_RING else 0]
 
 
 @njit(cache=True)
 def _anchor_before(state, t):
     """The newest check at least ANCHOR_LEAD_S before t, else the oldest."""
-    s = state.scalars
-    for back in range(1, int(s[RING_N]) + 1):
-        row = state.anchors[int(s[RING_POS] - back) % ANCHOR_RING]
+    s = state.scalars[()]
+    for back in range(1, s.ring_n + 1):
+        row = state.anchors[(s.ring_pos - back) % ANCHOR_RING]
         if row[ANCHOR_T] <= t - ANCHOR_LEAD_S:
             return row
     return _oldest_anchor(state)
@@ -484,12 +492,12 @@ def _remount(state, params, c, axis, up, flex):
     one that keeps the thigh heading of the anchor (the thigh does not turn with the
     phone). Taken when u or f moves by more than ``turned_min_angle``/2 (a turn seen that
     was the thigh's own changes nothing)."""
-    s = state.scalars
-    s[TURNED_S] = 0.0
-    s[TURN_SEEN] = 0.0
-    if s[RING_N] == 0:
+    s = state.scalars[()]
+    s.turned_s = 0.0
+    s.turn_seen = False
+    if s.ring_n == 0:
         return
-    phi, before, _ = _anchor_before(state, s[TURN_T])
+    phi, before, _ = _anchor_before(state, s.turn_t)
     g = _unit(state.recent_mean.copy())
     best = -np.inf
     new_up, new_flex = up.copy(), flex.copy()
@@ -507,14 +515,14 @@ def _remount(state, params, c, axis, up, flex):
         return
     state.up[:] = new_up
     state.flex_raw[:] = new_flex
-    state.flex_sign[0] = 1.0
+    s.flex_sign = 1.0
     state.moment[:, :] = state.recent
     state.mean[:] = state.recent_mean
-    s[RATE2] = s[RATE3] = 0.0
-    s[UP_PROVISIONAL] = 0.0
-    s[RING_N] = 0.0
-    s[RING_POS] = 0.0
-    s[CHANGES] += 1.0
+    s.rate2 = s.rate3 = 0.0
+    s.up_provisional = False
+    s.ring_n = 0
+    s.ring_pos = 0
+    s.changes += 1
 
 
 @njit(cache=True)
@@ -530,148 +538,49 @@ def _least_swung_axis(spread, up):
     return _unit(np.cross(up, np.cos(phi) * e1 + np.sin(phi) * e2))
 
 
+# GravityState.scalars, one record
+GRAVITY_SCALARS = np.dtype([
+    ("started", np.bool_),          # a sample has been seen (last_t holds its time)
+    ("last_t", np.float64),         # the time of the last sample [s]
+    ("motion", np.float64),         # the motion measure, ‖α − gravity‖ low-passed [m/s²]
+], align=True)
+
+
+class GravityState(NamedTuple):
+    scalars: np.ndarray         # () GRAVITY_SCALARS record
+    first: np.ndarray           # (3,) the specific force through the first low-pass [m/s²]
+    gravity: np.ndarray         # (3,) ... and through the second: gravity, sensor frame
+
+
+def new_gravity_state() -> GravityState:
+    """Nothing seen: the first sample starts both stages at its specific force."""
+    return GravityState(np.zeros((), GRAVITY_SCALARS), np.zeros(3), np.zeros(3))
+
+
 @njit(cache=True)
 def gravity_loop(state, tau_s, motion_tau_s, t, accel, out_gravity, out_motion):
-    """Without a gyroscope: the gravity direction as the specific force through two
-    first-order low-passes in cascade (time constant ``tau_s`` each, any sample rate), and
-    a motion measure, ‖α − gravity‖ through one low-pass of ``motion_tau_s`` [m/s²].
-    ``state``: (9,) last t, started flag, the two filter stages (3 each), the motion."""
+    """Without a gyroscope: the gravity direction as the specific force ``accel`` [m/s²]
+    (N, 3) at times ``t`` [s] (N,) through two first-order low-passes in cascade (time
+    constant ``tau_s`` each, any sample rate) into ``out_gravity`` (N, 3) [m/s²], and a
+    motion measure, ‖α − gravity‖ through one low-pass of ``motion_tau_s``, into
+    ``out_motion`` (N,) [m/s²]."""
+    s = state.scalars[()]
+    first, gravity = state.first, state.gravity
     for k in range(len(t)):
         a = accel[k]
-        if state[1] == 0.0:
-            state[2:5] = a
-            state[5:8] = a
-            state[1] = 1.0
+        if not s.started:
+            first[:] = a
+            gravity[:] = a
+            s.started = True
             dt = 0.0
         else:
-            dt = t[k] - state[0]
-        state[0] = t[k]
+            dt = t[k] - s.last_t
+        s.last_t = t[k]
         alpha = dt / (tau_s + dt)
-        state[2:5] += alpha * (a - state[2:5])
-        state[5:8] += alpha * (state[2:5] - state[5:8])
-        out_gravity[k] = state[5:8]
-        d = a - state[5:8]
+        first += alpha * (a - first)
+        gravity += alpha * (first - gravity)
+        out_gravity[k] = gravity
+        d = a - gravity
         beta = dt / (motion_tau_s + dt)
-        state[8] += beta * (np.sqrt(d @ d) - state[8])
-        out_motion[k] = state[8]
-
-
-@njit(cache=True)
-def peak_loop(state, params, t, signal, events):
-    """Confirmed maxima of ``signal`` (module docstring) into ``events`` (rows of
-    EV_* columns); returns how many. NaN samples are skipped."""
-    s = state.scalars
-    count = 0
-    for k in range(len(t)):
-        x = signal[k]
-        if not np.isfinite(x):
-            continue
-        if t[k] - s[LAST_STEP_T] > params.forget_s:
-            s[LAST_AMPLITUDE] = 0.0
-        amplitude = s[LAST_AMPLITUDE]
-        if s[SEEKING_MAX] > 0:
-            if x > s[CUR_MAX]:
-                s[CUR_MAX] = x
-                s[T_MAX] = t[k]
-            if s[CUR_MAX] - x >= max(params.drop_min, params.drop_fraction * amplitude):
-                rise = s[CUR_MAX] - s[CUR_MIN]
-                if (params.min_amplitude <= rise <= params.max_amplitude
-                        and s[T_MAX] - s[T_MIN] <= params.max_rise_s
-                        and t[k] - s[T_MAX] <= params.max_hold_s
-                        and s[T_MAX] - s[LAST_STEP_T] >= params.min_period_s):
-                    events[count, EV_T_MAX] = s[T_MAX]
-                    events[count, EV_MAX] = s[CUR_MAX]
-                    events[count, EV_MIN] = s[CUR_MIN]
-                    events[count, EV_T_MIN] = s[T_MIN]
-                    events[count, EV_T_CONFIRM] = t[k]
-                    count += 1
-                    s[LAST_AMPLITUDE] = rise
-                    s[LAST_STEP_T] = s[T_MAX]
-                s[SEEKING_MAX] = 0.0
-                s[CUR_MIN] = x
-                s[T_MIN] = t[k]
-        else:
-            if x < s[CUR_MIN]:
-                s[CUR_MIN] = x
-                s[T_MIN] = t[k]
-            if x - s[CUR_MIN] >= max(params.rise_min, params.rise_fraction * amplitude):
-                s[SEEKING_MAX] = 1.0
-                s[CUR_MAX] = x
-                s[T_MAX] = t[k]
-    return count
-
-
-# footfall detector scalars (a (N_FOOTFALL_SCALARS,) array)
-(FF_SEEKING_MAX, FF_CUR_MIN, FF_CUR_MAX, FF_T_MAX, FF_HELD_T, FF_HELD_VALUE, FF_LAST_T,
- FF_COUNT, FF_PITCH_MAX, FF_PITCH_MIN, FF_T_PITCH_MIN) = range(11)
-N_FOOTFALL_SCALARS = 11
-
-
-def new_footfall_state() -> np.ndarray:
-    """Seeking a minimum, nothing held, no footfall yet."""
-    s = np.zeros(N_FOOTFALL_SCALARS)
-    s[FF_CUR_MIN], s[FF_CUR_MAX] = np.inf, -np.inf
-    s[FF_HELD_T] = s[FF_LAST_T] = -np.inf
-    s[FF_PITCH_MAX], s[FF_PITCH_MIN] = -np.inf, np.inf
-    return s
-
-
-@njit(cache=True)
-def _footfall(s, t_ff, t_now, events, count):
-    """A footfall at ``t_ff`` confirmed at ``t_now``: every second one closes a gait
-    cycle of the sensor leg, an event row (the pitch's extremes since the last one)."""
-    s[FF_COUNT] += 1.0
-    s[FF_LAST_T] = t_ff
-    if s[FF_COUNT] % 2 == 0.0:
-        events[count, EV_T_MAX] = t_ff
-        events[count, EV_MAX] = s[FF_PITCH_MAX]
-        events[count, EV_MIN] = s[FF_PITCH_MIN]
-        events[count, EV_T_MIN] = s[FF_T_PITCH_MIN]
-        events[count, EV_T_CONFIRM] = t_now
-        s[FF_PITCH_MAX], s[FF_PITCH_MIN] = -np.inf, np.inf
-        return count + 1
-    return count
-
-
-@njit(cache=True)
-def footfall_loop(s, prominence, min_interval_s, t, force, pitch, events):
-    """Footfalls in the low-passed specific force's norm ``force`` [m/s²] (N,), and the
-    gait cycles they close into ``events`` (rows of EV_* columns, every second footfall;
-    returns how many). A footfall is a peak standing ``prominence`` above the troughs on
-    both sides (risen that much since the last trough, fallen that much since), at least
-    ``min_interval_s`` from the last one: a peak is held that long, and a higher one
-    within it takes its place (scipy.signal.find_peaks' ``distance``, causally, with
-    ``min_interval_s`` of latency). ``pitch`` [rad] (NaN: unknown) gives each cycle its
-    θ_max and θ_min."""
-    count = 0
-    for k in range(len(t)):
-        x = force[k]
-        if np.isfinite(pitch[k]):
-            if pitch[k] > s[FF_PITCH_MAX]:
-                s[FF_PITCH_MAX] = pitch[k]
-            if pitch[k] < s[FF_PITCH_MIN]:
-                s[FF_PITCH_MIN] = pitch[k]
-                s[FF_T_PITCH_MIN] = t[k]
-        if s[FF_HELD_T] > -np.inf and t[k] - s[FF_HELD_T] >= min_interval_s:
-            count = _footfall(s, s[FF_HELD_T], t[k], events, count)
-            s[FF_HELD_T] = -np.inf
-        if not np.isfinite(x):
-            continue
-        if s[FF_SEEKING_MAX] > 0:
-            if x > s[FF_CUR_MAX]:
-                s[FF_CUR_MAX] = x
-                s[FF_T_MAX] = t[k]
-            if s[FF_CUR_MAX] - x >= prominence:
-                if (s[FF_T_MAX] - s[FF_LAST_T] >= min_interval_s
-                        and (s[FF_HELD_T] == -np.inf or s[FF_CUR_MAX] > s[FF_HELD_VALUE])):
-                    s[FF_HELD_T], s[FF_HELD_VALUE] = s[FF_T_MAX], s[FF_CUR_MAX]
-                s[FF_SEEKING_MAX] = 0.0
-                s[FF_CUR_MIN] = x
-        else:
-            if x < s[FF_CUR_MIN]:
-                s[FF_CUR_MIN] = x
-            if x - s[FF_CUR_MIN] >= prominence:
-                s[FF_SEEKING_MAX] = 1.0
-                s[FF_CUR_MAX] = x
-                s[FF_T_MAX] = t[k]
-    return count
+        s.motion += beta * (np.sqrt(d @ d) - s.motion)
+        out_motion[k] = s.motion
