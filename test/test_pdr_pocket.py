@@ -157,7 +157,7 @@ def halves(tmp_path):
     """bags/pocket_walk cut in two at the middle IMU sample, written as bags A and B; the
     whole record's inputs and the middle index."""
     from pdr_core.bag import write_batches
-    from pdr_pocket.attitude_offline import pocket_inputs
+    from pdr_pocket.inputs import pocket_inputs
 
     batches = BagReader(BAG).read_batches(["/imu/data", "/imu/mag"])
     middle = len(batches["/imu/data"]) // 2

@@ -13,7 +13,7 @@ import pytest
 from pdr_core.bag import BagReader, write_batches
 from pdr_core.csv_export import import_arguments, log_table
 from pdr_core.metrics import truth_at
-from pdr_pocket.pocket_offline import POSE_TOPIC, STEP_TOPIC
+from pdr_pocket.messages import POSE_TOPIC, STEP_TOPIC
 from wstest import ROOT, Processes
 
 pytestmark = pytest.mark.ros

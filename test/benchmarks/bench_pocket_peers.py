@@ -32,8 +32,8 @@ from scipy.spatial.transform import Rotation
 
 from pdr_core.csv_import import CsvImuFormat, import_csv
 from pdr_core.metrics import error_report, truth_at
-from pdr_pocket.attitude_offline import pocket_inputs
 from pdr_pocket.config import PocketConfig
+from pdr_pocket.inputs import pocket_inputs
 from pdr_pocket.navigator import PocketNavigator
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate

@@ -16,7 +16,7 @@ import numpy as np
 
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import PocketNavigator
-from pdr_pocket.pocket_offline import match_steps, riser_errors
+from pdr_pocket.run_report import match_steps, riser_errors
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 

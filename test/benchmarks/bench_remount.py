@@ -18,7 +18,7 @@ from scipy.spatial.transform import Rotation
 from pdr_pocket.activity import WALKING
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import PocketNavigator
-from pdr_pocket.pocket_offline import steps_since
+from pdr_pocket.run_report import steps_since
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 

@@ -1,6 +1,6 @@
 """Each IMU sample paired with a magnetometer reading: the latest one stamped at or before
 it and at most :data:`MAG_MAX_AGE_S` old, else none (a NaN row). One rule for every tool
-that pairs the two topics: the pocket navigator offline (pdr_pocket.attitude_offline) and
+that pairs the two topics: the pocket navigator offline (pdr_pocket.inputs) and
 live (pdr_pocket.streaming), and ``pdr-sim export-csv`` (pdr_core.csv_export).
 
 - :func:`paired_mag`: a ``sensor_msgs/MagneticField`` batch paired with IMU stamps;

@@ -42,16 +42,13 @@ from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_checks import FIELD_RANGE, median_field_t
 from pdr_core.magnetic_field import homogeneous
 from pdr_core.metrics import truth_orientation_at
-from pdr_pocket.attitude_offline import (
-    attitude_batches,
-    attitude_errors,
-    attitude_report,
-    read_pocket_bag,
-)
 from pdr_pocket.config import load_pocket_config, orientation_from_allan
 from pdr_pocket.evaluation import STEPS_PER
+from pdr_pocket.inputs import read_pocket_bag
 from pdr_pocket.magnetometer import MIN_COVERAGE, calibrate
+from pdr_pocket.messages import attitude_batches
 from pdr_pocket.orientation import OrientationFilter
+from pdr_pocket.run_report import attitude_errors, attitude_report
 
 
 def _add_navigator_options(p: argparse.ArgumentParser) -> None:
@@ -227,7 +224,7 @@ def _run_calibrate_step(args: argparse.Namespace) -> int:
     import yaml
 
     from pdr_pocket.step_length import fit_line, fit_offset
-    from pdr_pocket.tables import level_amplitudes
+    from pdr_pocket.studies.tables import level_amplitudes
 
     try:
         distances = [float(d) for d in args.distance_m.split(",")]
@@ -274,7 +271,7 @@ def _add_tables(sub: argparse._SubParsersAction) -> None:
 
 
 def _run_table(args: argparse.Namespace) -> int:
-    from pdr_pocket.tables import detector_rows, stride_rows
+    from pdr_pocket.studies.tables import detector_rows, stride_rows
 
     config = load_pocket_config(args.config)
     rows = (detector_rows if args.table == "table-steps" else stride_rows)(args.bags, config)

@@ -19,45 +19,20 @@
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
-from pdr_drift.drift import DriftEstimate, offline_drift
+from pdr_drift.drift import offline_drift
+from pdr_drift.drift_log import DriftLog
 from pdr_drift.estimator import DriftEstimator, StepResult
-from pdr_drift.landmarks import Landmark
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
 from pdr_pocket.orientation import AttitudeEstimate
 
 CHUNK_S = 30.0
-
-
-@dataclass
-class DriftLog:
-    """What the drift estimator did: landmarks, drift estimates, corrections with their
-    outcome (accepted, message), and offline ε₀ [rad/s] with the estimates kept."""
-
-    landmarks: list[Landmark] = field(default_factory=list)
-    drifts: list[DriftEstimate] = field(default_factory=list)
-    corrections: list[tuple[float, bool, str]] = field(default_factory=list)
-    offline_drift: float | None = None
-    kept: list[DriftEstimate] = field(default_factory=list)
-
-    def summary(self) -> dict:
-        accepted = sum(1 for _, ok, _ in self.corrections if ok)
-        return {"landmarks": len(self.landmarks),
-                "corners": sum(1 for m in self.landmarks if m.type == 0),
-                "stairs": sum(1 for m in self.landmarks if m.type == 1),
-                "associations": len(self.drifts),
-                "drift_deg_per_s": [float(np.degrees(d.drift)) for d in self.drifts],
-                "corrections_accepted": accepted,
-                "corrections_refused": len(self.corrections) - accepted,
-                "correction_messages": [m for _, _, m in self.corrections],
-                "offline_drift_deg_per_s": None if self.offline_drift is None
-                else float(np.degrees(self.offline_drift))}
 
 
 def step_sample(step: StepRecord) -> StepSample:

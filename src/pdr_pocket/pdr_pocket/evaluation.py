@@ -2,7 +2,7 @@
 afterwards: a bag's ``ground_truth/step`` and ``ground_truth/pose``, a CSV of true
 footfall (or gait cycle) times, a known walked distance.
 
-The figures against a bag are :func:`pdr_pocket.pocket_offline.navigation_report`'s, on
+The figures against a bag are :func:`pdr_pocket.run_report.navigation_report`'s, on
 the steps as the run made them: the same numbers ``pdr-pocket run`` reports when its input
 holds that truth. Every field: docs/reports.md.
 
@@ -29,14 +29,10 @@ from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
 from pdr_pocket.config import StairsConfig
+from pdr_pocket.messages import POSE_TOPIC, STEP_TOPIC
 from pdr_pocket.navigator import StepRecord
-from pdr_pocket.pocket_offline import (
-    POSE_TOPIC,
-    RUN_RECORD,
-    STEP_TOPIC,
-    navigation_report,
-    true_floors,
-)
+from pdr_pocket.pocket_offline import RUN_RECORD
+from pdr_pocket.run_report import navigation_report, true_floors
 from pdr_pocket.stairs import Staircases
 
 # --truth-steps: what one row of the CSV is

@@ -10,7 +10,7 @@ result whatever the chunks, pdr_pocket.navigator):
 - an IMU sample with NaN/Inf, beyond any IMU's range (pdr_core.imu_checks.plausible), or
   with a stamp that does not increase, is dropped and counted;
 - each IMU sample pairs with the latest magnetometer reading stamped at or before it and
-  at most :data:`~pdr_pocket.attitude_offline.MAG_MAX_AGE_S` older, as offline. The two
+  at most :data:`~pdr_core.magnetometer_pairing.MAG_MAX_AGE_S` older, as offline. The two
   topics travel separately, so a reading may arrive after IMU samples stamped later than
   it: a sample is held until a reading stamped at or after it arrives (at once when the
   magnetometer keeps pace) or until ``mag_wait_s`` of IMU data has come after it. A
@@ -39,7 +39,7 @@ import numpy as np
 
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units, plausible
-from pdr_pocket.attitude_offline import latest_readings
+from pdr_core.magnetometer_pairing import latest_readings
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator

@@ -59,7 +59,7 @@ def shape_rmse(mode: str) -> float:
 
 def truth_of(log) -> dict:
     """The drift loop's landmarks and associations against the walk's truth."""
-    from pdr_pocket.drift_report import truth_report
+    from pdr_drift.drift_report import truth_report
 
     sim = theresienhoehe()
     record = [{"id": m.id, "revisit_of": m.revisit_of} for m in sim.model.landmarks]
@@ -134,7 +134,7 @@ def test_building_associations_are_right_by_type_and_floor():
     same way, laps on the upper floor): every association pairs landmarks of one type and
     floor, and is right against the truth (docs/pocket.md: 19 of 21 landmarks found, one
     false, one association)."""
-    from pdr_pocket.drift_report import truth_report
+    from pdr_drift.drift_report import truth_report
 
     _, data = load_pocket_scenario("building")
     sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "building"), data,

@@ -53,15 +53,16 @@ from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
-from pdr_pocket.attitude_offline import (
+from pdr_pocket.config import load_pocket_config
+from pdr_pocket.inputs import PocketInputs
+from pdr_pocket.magnetometer import MagCalibration
+from pdr_pocket.messages import (
     ATTITUDE_TOPIC,
     GYRO_BIAS_TOPIC,
-    PocketInputs,
     attitude_batches,
+    pose_fields,
+    step_fields,
 )
-from pdr_pocket.config import load_pocket_config
-from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.pocket_offline import pose_fields, step_fields
 from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from pdr_core.batch import MessageBatch
-from pdr_pocket.drift_loop import DriftLog
+from pdr_drift.drift_log import DriftLog
 
 MATCH_S = 10.0
 

@@ -21,10 +21,10 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.errors import InputError
 from pdr_pocket.activity import WALKING
-from pdr_pocket.attitude_offline import read_pocket_bag
 from pdr_pocket.config import PocketConfig
+from pdr_pocket.inputs import read_pocket_bag
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
-from pdr_pocket.pocket_offline import match_steps
+from pdr_pocket.run_report import match_steps
 from pdr_pocket.step_length import StrideInputs, stride_model
 from pdr_pocket.steps import table_4_1_detectors
 

@@ -1,0 +1,87 @@
+"""The pocket navigator's inputs from a bag, for every offline tool.
+
+- :func:`pocket_inputs`: ``imu/data`` cleaned (NaN/Inf, values beyond any IMU's range
+  and stamps that do not increase dropped and counted, units and rate checked) and
+  ``imu/mag`` paired with it (:mod:`pdr_core.magnetometer_pairing`: the latest reading at
+  most ``MAG_MAX_AGE_S`` old, else none), calibrated when a calibration is given;
+- :func:`read_pocket_bag`: a bag's batches (``imu/data``, ``imu/mag`` and the truth topics
+  it has) and those inputs.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pdr_core import topics
+from pdr_core.batch import MessageBatch
+from pdr_core.errors import InputError
+from pdr_core.imu_checks import (
+    check_mag_units,
+    check_sample_interval,
+    check_units,
+    clean_samples,
+)
+from pdr_core.magnetometer_pairing import paired_mag
+from pdr_pocket.magnetometer import MagCalibration
+
+
+@dataclass
+class PocketInputs:
+    """Clean, paired inputs: stamps [ns], t [s from the first], gyro, accel [SI], mag [T]
+    (NaN rows: none), the kept indices of imu/data and the counts of what was dropped."""
+
+    stamp_ns: np.ndarray
+    t: np.ndarray
+    gyro: np.ndarray
+    accel: np.ndarray
+    mag: np.ndarray
+    accel_covariance: np.ndarray
+    counts: dict[str, int] = field(default_factory=dict)
+    has_gyro: bool = True       # False: angular_velocity_covariance[0] = −1 (REP-145)
+
+    @property
+    def gyro_or_none(self) -> np.ndarray | None:
+        return self.gyro if self.has_gyro else None
+
+
+def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
+                  calibration: MagCalibration | None = None) -> PocketInputs:
+    """The filter's inputs from the two topics (see the module docstring)."""
+    keep, counts = clean_samples(imu)
+    if len(keep) < 2:
+        raise InputError(topics.IMU_DATA, f"{len(keep)} usable samples are too few")
+    stamp_ns = imu.stamp_ns[keep]
+    gyro = imu["angular_velocity"][keep]
+    accel = imu["linear_acceleration"][keep]
+    has_gyro = not bool(np.all(imu["angular_velocity_covariance"][keep, 0] == -1))
+    check_sample_interval((stamp_ns - stamp_ns[0]) * 1e-9, topics.IMU_DATA)
+    check_units(accel, gyro)
+    mag_values, counts["mag_non_finite"] = paired_mag(stamp_ns, mag)
+    if np.isfinite(mag_values).any():
+        check_mag_units(mag_values[np.isfinite(mag_values).all(axis=1)], topics.IMU_MAG)
+        if calibration is not None:
+            mag_values = calibration.apply(mag_values)
+    counts["mag_missing"] = int((~np.isfinite(mag_values).all(axis=1)).sum())
+    return PocketInputs(stamp_ns, (stamp_ns - stamp_ns[0]) * 1e-9, gyro, accel, mag_values,
+                        imu["linear_acceleration_covariance"][keep], counts, has_gyro)
+
+
+TRUTH_TOPICS = (topics.GROUND_TRUTH_POSE, topics.GROUND_TRUTH_STEP,
+                topics.GROUND_TRUTH_LANDMARKS)
+
+
+def read_pocket_bag(bag, calibration_file=None, require=(), *, strict=False):
+    """A bag's reader, its batches (imu/data, imu/mag and the truth topics it has) and
+    the filter's inputs; ``require``: topics it must have besides imu/data; ``strict``:
+    refuse a bag cut short (pdr_core.bag)."""
+    from pdr_core.bag import BagReader
+
+    reader = BagReader(bag, strict=strict)
+    reader.require_topics([topics.IMU_DATA, *require])
+    wanted = [t for t in (topics.IMU_DATA, topics.IMU_MAG, *TRUTH_TOPICS)
+              if t in reader.topics]
+    batches = reader.read_batches(wanted)
+    calibration = MagCalibration.load(calibration_file) if calibration_file else None
+    inputs = pocket_inputs(batches[topics.IMU_DATA], batches.get(topics.IMU_MAG), calibration)
+    return reader, batches, inputs

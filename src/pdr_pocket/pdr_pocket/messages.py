@@ -1,0 +1,110 @@
+"""The pocket navigator's outputs as messages, one packing for the live node
+(``pocket_pdr``) and the bag ``pdr-pocket run`` writes.
+
+- :func:`step_batches`: ``pdr/pocket/step`` (pdr_msgs/Step) and ``pdr/pocket/pose``
+  (geometry_msgs/PoseWithCovarianceStamped, the thigh's attitude and the position with
+  its covariance) at each step's confirmation, stamped with the IMU sample that
+  confirmed it (:func:`step_stamps`), from :func:`step_fields` and :func:`pose_fields`;
+- :func:`path_batch`: the steps' poses for ``pdr/pocket/path``;
+- :func:`attitude_batches`: ``pdr/pocket/attitude`` (sensor_msgs/Imu with orientation and
+  its covariance, REP-145) and ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped) at
+  every sample.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from pdr_core.batch import MessageBatch
+from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
+from pdr_core.msgtypes import (
+    IMU,
+    POSE_STAMPED,
+    POSE_WITH_COVARIANCE_STAMPED,
+    STEP,
+    VECTOR3_STAMPED,
+)
+from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_pocket.inputs import PocketInputs
+from pdr_pocket.navigator import NavigatorOutput, StepRecord
+from pdr_pocket.orientation import AttitudeEstimate
+
+STEP_TOPIC, POSE_TOPIC, PATH_TOPIC = "/pdr/pocket/step", "/pdr/pocket/pose", "/pdr/pocket/path"
+
+
+def step_stamps(steps: list[StepRecord], stamp_ns: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The IMU stamp [ns] of the sample that confirmed each step."""
+    confirms = np.array([s.t_confirm for s in steps])
+    return stamp_ns[np.clip(np.searchsorted(t, confirms), 0, len(t) - 1)]
+
+
+def step_fields(steps: list[StepRecord]) -> dict[str, np.ndarray]:
+    return {"index": np.array([s.index for s in steps], np.uint32),
+            "length": np.array([s.length for s in steps]),
+            "vertical_displacement": np.array([s.vertical_displacement for s in steps]),
+            "heading": np.array([s.heading for s in steps]),
+            "pitch_max": np.array([s.pitch_max for s in steps]),
+            "pitch_min": np.array([s.pitch_min for s in steps]),
+            "pitch_amplitude": np.array([s.pitch_amplitude for s in steps]),
+            "duration": np.array([s.duration for s in steps]),
+            "activity": np.array([s.activity for s in steps], np.uint8)}
+
+
+def pose_fields(steps: list[StepRecord], attitude: np.ndarray) -> dict[str, np.ndarray]:
+    """Position and covariance (x, y, z block; orientation variances unknown: −1 on the
+    diagonal per REP-145 would be read as "no orientation", so the attitude filter's are
+    not repeated here and the block is left 0) and the sensor attitude (N, 3, 3)."""
+    cov = np.zeros((len(steps), 6, 6))
+    cov[:, :3, :3] = np.reshape([s.covariance for s in steps], (-1, 3, 3))
+    return {"pose.pose.position": np.array([s.position for s in steps]).reshape(-1, 3),
+            "pose.pose.orientation": quaternion_from_orthonormal(attitude),
+            "pose.covariance": cov.reshape(-1, 36)}
+
+
+def step_batches(out: NavigatorOutput, stamp_ns: np.ndarray) -> dict[str, MessageBatch]:
+    steps, t = out.steps, out.attitude.t
+    stamps = step_stamps(steps, stamp_ns, t)
+    at = np.clip(np.searchsorted(t, [s.t_confirm for s in steps]), 0, len(t) - 1)
+    return {STEP_TOPIC: MessageBatch(STEP, stamps, MAP_FRAME, step_fields(steps)),
+            POSE_TOPIC: MessageBatch(POSE_WITH_COVARIANCE_STAMPED, stamps, MAP_FRAME,
+                                     pose_fields(steps, out.attitude.attitude[at]))}
+
+
+def path_batch(steps: list[StepRecord], stamps: np.ndarray) -> MessageBatch:
+    """The steps' poses as a PoseStamped batch for ``pdr/pocket/path``."""
+    quat = np.zeros((len(steps), 4))
+    quat[:, 2], quat[:, 3] = np.sin([s.heading / 2 for s in steps]), \
+        np.cos([s.heading / 2 for s in steps])
+    return MessageBatch(POSE_STAMPED, stamps, MAP_FRAME, {
+        "pose.position": np.array([s.position for s in steps]).reshape(-1, 3),
+        "pose.orientation": quat})
+
+
+def step_positions(steps: list[StepRecord]) -> np.ndarray:
+    """The origin and each step's position (N + 1, 3) [m], map frame."""
+    return np.vstack([np.zeros(3), *(s.position for s in steps)])
+
+
+ATTITUDE_TOPIC = "/pdr/pocket/attitude"
+
+
+GYRO_BIAS_TOPIC = "/pdr/pocket/gyro_bias"
+
+
+def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,
+                     gyro_noise_var: float, frame: str = SENSOR_FRAME
+                     ) -> dict[str, MessageBatch]:
+    """``pdr/pocket/attitude`` and ``pdr/pocket/gyro_bias`` at every sample, stamped in the
+    sensor's ``frame``."""
+    n = len(inputs.t)
+    cov = estimate.covariance
+    rate_cov = cov[:, 3:, 3:] + np.eye(3) * gyro_noise_var
+    attitude = MessageBatch(IMU, inputs.stamp_ns, frame, {
+        "orientation": quaternion_from_orthonormal(estimate.attitude),
+        "orientation_covariance": cov[:, :3, :3].reshape(n, 9),
+        "angular_velocity": inputs.gyro - estimate.bias,
+        "angular_velocity_covariance": rate_cov.reshape(n, 9),
+        "linear_acceleration": inputs.accel,
+        "linear_acceleration_covariance": inputs.accel_covariance})
+    bias = MessageBatch(VECTOR3_STAMPED, inputs.stamp_ns, frame,
+                        {"vector": estimate.bias})
+    return {ATTITUDE_TOPIC: attitude, GYRO_BIAS_TOPIC: bias}

@@ -1,0 +1,122 @@
+"""The code's shape, read from its syntax trees (issue 31): compiled kernels take few,
+named arguments; the navigators import no evaluation or study module; papers are cited
+by author and year."""
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+from wstest import ROOT
+
+SOURCES = sorted(p for p in (ROOT / "src").glob("*/*/**/*.py") if "__pycache__" not in p.parts)
+MAX_KERNEL_ARGUMENTS = 8
+
+
+def tree(path: Path) -> ast.Module:
+    return ast.parse(path.read_text(), str(path))
+
+
+def is_compiled(function: ast.FunctionDef) -> bool:
+    """Decorated with numba's njit or jit (bare or called)."""
+    for decorator in function.decorator_list:
+        target = decorator.func if isinstance(decorator, ast.Call) else decorator
+        name = target.attr if isinstance(target, ast.Attribute) else getattr(target, "id", "")
+        if name in ("njit", "jit"):
+            return True
+    return False
+
+
+def kernels() -> list[tuple[str, ast.FunctionDef]]:
+    return [(f"{path.relative_to(ROOT)}:{node.lineno} {node.name}", node)
+            for path in SOURCES for node in ast.walk(tree(path))
+            if isinstance(node, ast.FunctionDef) and is_compiled(node)]
+
+
+def test_the_tree_has_compiled_kernels_to_check():
+    assert len(kernels()) > 50
+
+
+def test_no_compiled_kernel_takes_more_than_eight_arguments():
+    """State, parameters and inputs travel as named tuples, not as loose arrays."""
+    wide = [f"{where} ({len(node.args.args)})" for where, node in kernels()
+            if len(node.args.args) > MAX_KERNEL_ARGUMENTS]
+    assert wide == []
+
+
+PAPER_FILE = re.compile(r"\b00[0-4]_[0-9a-f]{16}\b")
+PAPER_NUMBER = re.compile(r"[Pp]apers? 00[0-4]\b|Paper00[0-4]|PAPER_00[0-4]|\(00[0-4][,)]"
+                          r"|\b00[0-4]'s\b|\b00[0-4],? (?:[Ss]ection|Eqs?\.|Tables?|Fig)")
+
+
+@pytest.mark.parametrize("folder", ["src", "test", "tools"])
+def test_papers_are_cited_by_author_not_by_file_name_or_number(folder):
+    hits = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}"
+            for path in sorted((ROOT / folder).rglob("*"))
+            if path.is_file() and path.suffix in (".py", ".yaml", ".msg", ".srv", ".sh", ".xml")
+            and "__pycache__" not in path.parts and path != Path(__file__)
+            for n, line in enumerate(path.read_text().splitlines(), 1)
+            if PAPER_FILE.search(line) or PAPER_NUMBER.search(line)]
+    assert hits == []
+
+
+def test_the_citation_patterns_catch_what_they_are_for():
+    for cited in ("see 000_fbd401126d10f515.txt", "papers 000, 001", "Paper000Detector",
+                  "PAPER_004_STEP", "(001, Eq. (8))", "004, section II", "000's Fig. 2a",
+                  "(000, Fig. 6)", "003, Eq. (3.10)"):
+        assert PAPER_FILE.search(cited) or PAPER_NUMBER.search(cited), cited
+    for fine in ("0.002", "σ 0.001 m", "Zampella et al. 2011, Eq. (12)", "x[004]"):
+        assert not (PAPER_FILE.search(fine) or PAPER_NUMBER.search(fine)), fine
+
+
+# What the navigators may not depend on: scores against a truth, and the studies.
+EVALUATION = re.compile(r"^pdr_core\.metrics$|^pdr_\w+\.studies(\.|$)|\.evaluation$"
+                        r"|\.drift_report$|\.run_report$")
+# Offline jobs and presentation, which may: the command lines, the plots, the runs of
+# whole bags that write reports.
+JOBS = re.compile(r"\.cli$|\.plots$|^pdr_pocket\.pocket_offline$|^pdr_drift\.offline$")
+NAVIGATOR_PACKAGES = ("pdr_ins_ekf", "pdr_pocket", "pdr_drift")
+
+
+def module_name(path: Path) -> str:
+    name = ".".join(path.relative_to(ROOT / "src").parts[1:])[:-3]
+    return name.removesuffix(".__init__")
+
+
+def imported(path: Path, known: set[str]) -> set[str]:
+    """The project modules a file imports, at its top or inside functions."""
+    found = set()
+    for node in ast.walk(tree(path)):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            found |= {node.module} | {f"{node.module}.{a.name}" for a in node.names}
+        elif isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+    return found & known
+
+
+def import_closure() -> dict[str, set[str]]:
+    modules = {module_name(p): p for p in SOURCES if "test" not in p.parts}
+    direct = {m: imported(p, set(modules)) for m, p in modules.items()}
+    closure = {}
+    for start in modules:
+        seen, todo = set(), [start]
+        while todo:
+            for nxt in direct[todo.pop()] - seen:
+                seen.add(nxt)
+                todo.append(nxt)
+        closure[start] = seen
+    return closure
+
+
+def test_the_navigators_import_no_evaluation_or_study_module():
+    """Not even through another module: a node or a navigator that reached pdr_core.metrics
+    or a study would carry scoring code into a robot's graph (issue 31)."""
+    closure = import_closure()
+    navigators = [m for m in closure if m.startswith(NAVIGATOR_PACKAGES)
+                  and not EVALUATION.search(m) and not JOBS.search(m)]
+    assert {"pdr_pocket.navigator", "pdr_pocket.nodes.pocket_pdr",
+            "pdr_ins_ekf.nodes.zupt_ekf", "pdr_drift.nodes.landmark_drift"} <= set(navigators)
+    reached = {m: sorted(x for x in closure[m] if EVALUATION.search(x)) for m in navigators}
+    assert {m: x for m, x in reached.items() if x} == {}
