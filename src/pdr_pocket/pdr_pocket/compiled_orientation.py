@@ -7,9 +7,10 @@ sigma points are C_i = exp([δθ_i×])·C, so nothing ever divides by cos θ, an
 (a sitting thigh comes close) gives neither NaN nor a jump. φ, θ, ψ are read from C
 (ZYX, :mod:`pdr_core.rotations`) and their covariance from the δθ block; near θ = ±90° only
 the split of the attitude between roll and yaw is ill-defined, as it is for any Euler
-angles. P is the 6 × 6 covariance of [δθ, δb].
+angles. P is the 6 × 6 covariance of [δθ, δb], rows named by :data:`ATT_EAST` ...
+:data:`BIAS_Z`.
 
-Per sample k, with δt from the stamps:
+Per sample k, with δt from the stamps (:func:`filter_loop`):
 - prediction, each sigma point: C_i ← C_i·A(ω − b_i − C_iᵀ·ω_ie^n) with Rodrigues' A
   (Eqs. (3.3)–(3.5)) and the Earth rate of Eqs. (3.23)–(3.24) (zero when no latitude is
   set), the rotation vector by the trapezoidal rule with the coning term; b_i kept (a
@@ -22,23 +23,33 @@ Per sample k, with δt from the stamps:
   r, which the norm alone does not see), zero angular rate (max ‖ω‖ ≤ threshold),
   magnetic disturbance (‖C·μ‖ spread and angle to the window's mean direction, both
   ≤ thresholds);
-- updates, each switched on or off, applied in turn: absolute gravity [φ̄, θ̄] (Eqs.
-  (3.12)–(3.14)), differential gravity α^k against A(ω − b)ᵀ·α^{k−1} (Eqs. (3.15)–(3.16)),
-  absolute magnetic field μ^k against Cᵀ·μ̄_r with μ̄_r = C·μ at the start of the
-  quasi-constant period (Eq. (3.17)), differential magnetic field μ^k against
-  A(ω − b)ᵀ·μ^{k−1} (Eqs. (3.18)–(3.19)), absolute compass ψ̄ (Eqs. (3.20)–(3.21)),
-  ZARU ω − b = 0 (Eq. (3.22)); and, beyond the thesis, a mean gravity update: over each
-  window of W seconds the specific force turned to the navigation frame sums to
-  g·W·e_up plus the window's change of velocity, which is bounded while walking, so the
-  summed direction, turned to the body frame, is the vertical there: the up axis of the
-  attitude (the row C[2, :], which no yaw moves) across it, [0, 0] expected, measures the
-  tilt with σ ≈ σ_Δv/(g·W) (0.6° for W = 10 s and σ_Δv = 1 m/s) at any walking speed.
-  (Its first model, the horizontal part of the sum in the navigation frame, turned with
-  the yaw too: with the window's velocity change in it, the update moved the yaw, and took
-  0.08° of a landmark's 0.24° yaw correction back one sample after it.) The
-  zero-acceleration periods it does not need are rare on a thigh: on the real
-  ``thigh_revalew`` walk, |‖α‖ − g| ≤ 0.4 m/s² and ‖ω‖ ≤ 40 °/s over 0.1 s never hold
-  while walking, so without it roll and pitch drift through a long walk without stops.
+- updates, each switched on or off, applied in turn where its detector holds, each a
+  :class:`Measurement` made by its builder:
+  1. absolute gravity [φ̄, θ̄] (Eqs. (3.12)–(3.14)), at zero acceleration
+     (:func:`absolute_gravity`);
+  2. differential gravity, α^k against A(ω − b)ᵀ·α^{k−1} (Eqs. (3.15)–(3.16)), at zero
+     acceleration (:func:`differential_gravity`);
+  3. absolute magnetic field, μ^k against Cᵀ·μ̄_r with μ̄_r = C·μ at the start of the
+     quasi-constant period (Eq. (3.17)), in a steady field (:func:`absolute_magnetic`);
+  4. differential magnetic field, μ^k against A(ω − b)ᵀ·μ^{k−1} (Eqs. (3.18)–(3.19)), in
+     a steady field (:func:`differential_magnetic`);
+  5. absolute compass ψ̄ (Eqs. (3.20)–(3.21)), in a steady field (:func:`compass`);
+  6. beyond the thesis, mean gravity, at the end of each window (:func:`mean_gravity`):
+     over a window of W seconds the specific force turned to the navigation frame sums
+     to g·W·e_up plus the window's change of velocity, which is bounded while walking, so
+     the summed direction, turned to the body frame, is the vertical there: the up axis
+     of the attitude (the row C[2, :], which no yaw moves) across it, [0, 0] expected,
+     measures the tilt with σ ≈ σ_Δv/(g·W) (0.6° for W = 10 s and σ_Δv = 1 m/s) at any
+     walking speed. (Its first model, the horizontal part of the sum in the navigation
+     frame, turned with the yaw too: with the window's velocity change in it, the update
+     moved the yaw, and took 0.08° of a landmark's 0.24° yaw correction back one sample
+     after it.) The zero-acceleration periods it does not need are rare on a thigh: on
+     the real ``thigh_revalew`` walk, |‖α‖ − g| ≤ 0.4 m/s² and ‖ω‖ ≤ 40 °/s over 0.1 s
+     never hold while walking, so without it roll and pitch drift through a long walk
+     without stops;
+  7. ZARU ω − b = 0 (Eq. (3.22)), at zero angular rate (:func:`zaru`).
+- external corrections between samples (Eq. (6.2), :func:`correct`): the yaw ψ_L or the
+  z gyro bias, as the same unscented update (:func:`external_correction`).
 
 A(ω)ᵀ maps a vector fixed in the navigation frame from the previous body frame to the
 current one (C_k = C_{k−1}·A, so v_b^k = Aᵀ·v_b^{k−1}); the thesis writes A for it.
@@ -49,6 +60,14 @@ move the attitude only about the vertical (their gain on the tilt is zeroed): th
 error follows the tilt error, and a compass applied at every sample as if its errors were
 white otherwise turns yaw residuals into roll. Updates at samples whose gyroscope
 saturated leave the biases alone (their bias gain is zeroed).
+
+Kernel data, as NamedTuples: :class:`FilterParams` (set by the configuration),
+:class:`FilterState` (changed by every sample), :class:`FilterInputs` and
+:class:`FilterOutputs` (a record in, its estimates out), :class:`Sample` (one sample) and
+:class:`Measurement` (one update, made by its builder). A compiled function that takes a
+NamedTuple increments and decrements the reference count of every array in it on each
+call, and numba does not always prune that: the small helpers called at every sample take
+the arrays they use, not the whole state (taking it cost 15–20 % of the loop's time).
 """
 from __future__ import annotations
 
@@ -62,14 +81,21 @@ from pdr_core.small_matrix import cholesky, product3, rodrigues
 
 kernel_cache.forget_if_changed(__file__, small_matrix.__file__)
 
+# the state's rows: the attitude error δθ (a small rotation in the navigation frame, ENU)
+# and the gyro bias error δb (body frame)
 N_STATE = 6
-ATT, BIAS = 0, 3                        # state blocks: attitude error δθ, bias b
-# update kinds (columns of the "ran" output)
+ATT, BIAS = 0, 3                        # first rows of the blocks δθ and δb
+ATT_EAST, ATT_NORTH, ATT_UP = ATT, ATT + 1, ATT + 2   # δθ about east and north (the tilt)
+                                                      # and about up (the yaw)
+BIAS_Z = BIAS + 2                       # δb_z
+ATT_ROWS, BIAS_ROWS = slice(ATT, ATT + 3), slice(BIAS, BIAS + 3)   # for NumPy code
+# update kinds (columns of the "ran" output), then the external corrections (Eq. (6.2))
 ABS_GRAVITY, DIFF_GRAVITY, ABS_MAG, DIFF_MAG, COMPASS, ZARU, MEAN_GRAVITY = range(7)
 YAW_CORRECTION, BIAS_Z_CORRECTION = 7, 8
 N_UPDATES = 7
 # detectors (columns of the "detected" output)
 ZERO_ACC, ZERO_RATE, MAG_STEADY, SATURATED = range(4)
+N_DETECTORS = 4
 RING = 2048                             # trailing-window capacity [samples]
 
 
@@ -82,7 +108,7 @@ class FilterParams(NamedTuple):
     bias_mean_decays: bool          # Eq. (3.8) literally (see pdr_pocket.config)
     earth_rate_n: np.ndarray        # ω_ie^n (3,) [rad/s], zeros when off
     gravity: float                  # [m/s²]
-    use: np.ndarray                 # (6,) bool: which updates run
+    use: np.ndarray                 # (N_UPDATES,) bool: which updates run
     gravity_angle_var: float        # [rad²] of φ̄, θ̄ at θ = 0
     diff_gravity_var: float         # [m²/s⁴] per axis
     mag_var: float                  # [T²] per axis (absolute and differential)
@@ -114,10 +140,8 @@ class FilterState(NamedTuple):
 
     attitude: np.ndarray            # (3, 3) C_b^n
     bias: np.ndarray                # (3,) [rad/s]
-    covariance: np.ndarray          # (6, 6)
-    scalars: np.ndarray             # [t_prev, started, ring_count, ring_head, mag_was_steady,
-                                    #  gap_count, mean_gravity_time, windows_done,
-                                    #  swing_armed, window_from_marker]
+    covariance: np.ndarray          # (N_STATE, N_STATE) of [δθ, δb]
+    scalars: np.ndarray             # (N_SCALARS,) indexed by T_PREV ... WINDOW_FROM_MARKER
     force_sum: np.ndarray           # (3,) Σ C·f·δt over the mean gravity window
     previous_gyro: np.ndarray       # (3,)
     previous_accel: np.ndarray      # (3,)
@@ -131,8 +155,90 @@ class FilterState(NamedTuple):
     swing_axis: np.ndarray          # (3,) its principal axis (the thigh's flexion axis)
 
 
-(T_PREV, STARTED, RING_COUNT, RING_HEAD, MAG_WAS_STEADY, GAPS, WINDOW_TIME, WINDOWS_DONE,
- SWING_ARMED, WINDOW_FROM_MARKER) = range(10)
+# FilterState.scalars
+T_PREV = 0              # the last sample's stamp [s]
+STARTED = 1             # 1: a sample has been seen
+RING_COUNT = 2          # samples in the trailing windows' ring
+RING_HEAD = 3           # where the next sample goes in it
+MAG_WAS_STEADY = 4      # 1: the field was steady (and anchored) at the last sample
+GAPS = 5                # gaps longer than max_gap_s seen
+WINDOW_TIME = 6         # the mean gravity window's length so far [s]
+WINDOWS_DONE = 7        # mean gravity windows closed
+SWING_ARMED = 8         # 1: a swing lobe was fast enough: the next zero crossing is a marker
+WINDOW_FROM_MARKER = 9  # 1: the mean gravity window started at a swing marker
+N_SCALARS = 10
+
+
+def initial_state(attitude: np.ndarray, covariance: np.ndarray) -> FilterState:
+    """A state at the attitude C_b^n (3, 3) with the covariance (N_STATE, N_STATE), zero
+    biases and empty windows."""
+    return FilterState(
+        attitude=np.ascontiguousarray(attitude, dtype=float), bias=np.zeros(3),
+        covariance=np.ascontiguousarray(covariance, dtype=float),
+        scalars=np.zeros(N_SCALARS), force_sum=np.zeros(3), previous_gyro=np.zeros(3),
+        previous_accel=np.zeros(3), previous_mag=np.full(3, np.nan),
+        mag_reference=np.zeros(3), ring_t=np.zeros(RING), ring_acc=np.zeros(RING),
+        ring_rate=np.zeros(RING), ring_mag=np.full((RING, 3), np.nan),
+        swing=np.zeros((3, 3)), swing_axis=np.full(3, 1.0 / np.sqrt(3.0)))
+
+
+class FilterInputs(NamedTuple):
+    """The samples :func:`filter_loop` runs over: N of each, body frame, SI units."""
+
+    t: np.ndarray                   # (N,) stamps [s]
+    gyro: np.ndarray                # (N, 3) ω [rad/s]
+    accel: np.ndarray               # (N, 3) α, the specific force [m/s²]
+    mag: np.ndarray                 # (N, 3) μ [T]; rows of NaN: no reading
+    saturated: np.ndarray           # (N,) bool: the gyroscope saturated
+
+
+class FilterOutputs(NamedTuple):
+    """What :func:`filter_loop` fills, per sample."""
+
+    attitude: np.ndarray            # (N, 3, 3) C_b^n
+    bias: np.ndarray                # (N, 3) b [rad/s]
+    covariance: np.ndarray          # (N, N_STATE, N_STATE) of [δθ, δb]
+    detected: np.ndarray            # (N, N_DETECTORS) bool, columns ZERO_ACC ... SATURATED
+    ran: np.ndarray                 # (N, N_UPDATES) bool, columns ABS_GRAVITY ... MEAN_GRAVITY
+
+
+class Sample(NamedTuple):
+    """One sample, as the prediction and the updates read it (body frame)."""
+
+    dt: float                       # δt since the sample before [s]
+    gyro: np.ndarray                # (3,) ω^k [rad/s]
+    previous_gyro: np.ndarray       # (3,) ω^{k−1} [rad/s], at the start of the interval
+    accel: np.ndarray               # (3,) α^k [m/s²]
+    mag: np.ndarray                 # (3,) μ^k [T]; NaN: no reading
+    saturated: bool                 # the gyroscope saturated: updates leave the biases alone
+
+
+class Detected(NamedTuple):
+    """The detectors at one sample (Muñoz Díaz 2016, Section 3.2)."""
+
+    zero_acc: bool                  # zero acceleration: the gravity updates may run
+    zero_rate: bool                 # zero angular rate: the ZARU may run
+    mag_steady: bool                # a quasi-constant field: the magnetic updates may run
+    mag_anchored: bool              # ... and its reference μ̄_r taken with the tilt known:
+                                    # the absolute magnetic update may run
+
+
+class WindowEnd(NamedTuple):
+    """Whether the mean gravity window ends at this sample, and how."""
+
+    marker: bool                    # a swing marker (once per gait cycle) at this sample
+    closes: bool                    # the window closes: the mean gravity update is due
+    cycles: bool                    # ... from one marker to another (whole gait cycles)
+
+
+class Measurement(NamedTuple):
+    """One update's measurement, made by its builder (:func:`absolute_gravity` ...
+    :func:`external_correction`) and applied by :func:`update`."""
+
+    kind: int                       # ABS_GRAVITY ... BIAS_Z_CORRECTION: selects h(x)
+    z: np.ndarray                   # (m,) the measurement
+    r: np.ndarray                   # (m, m) its noise covariance R
+    vectors: np.ndarray             # (2, 3) the vectors h(x) reads (see each builder)
 
 
 class Workspace(NamedTuple):
@@ -254,7 +360,8 @@ def _sigma_points(state, work):
             s = 1.0 if sign == 0 else -1.0
             for m in range(N_STATE):
                 deviations[i, m] = s * root[m, j]
-            rodrigues(deviations[i, 0], deviations[i, 1], deviations[i, 2], rot)
+            rodrigues(deviations[i, ATT_EAST], deviations[i, ATT_NORTH], deviations[i, ATT_UP],
+                      rot)
             product3(rot, state.attitude, sigma_att[i])
             for m in range(3):
                 sigma_bias[i, m] = state.bias[m] + deviations[i, BIAS + m]
@@ -279,10 +386,10 @@ def _body_increment(c, gyro, previous_gyro, bias, earth_n, dt, out):
 
 
 @njit(cache=True)
-def predict(state, params, gyro, dt, work):
+def predict(state, params, sample, work):
     """Propagate mean and covariance over δt with the (bias-corrected) rate: see
     :func:`_body_increment`."""
-    prev = state.previous_gyro
+    gyro, prev, dt = sample.gyro, sample.previous_gyro, sample.dt
     n2 = 2 * N_STATE
     _sigma_points(state, work)
     sat, sbias = work.attitudes, work.biases
@@ -302,7 +409,7 @@ def predict(state, params, gyro, dt, work):
         _mul_bt(moved, mean_att, rel)
         rotation_log(rel, err)
         for m in range(3):
-            prop[i, m] = err[m]
+            prop[i, ATT + m] = err[m]
             prop[i, BIAS + m] = c_mean * sbias[i, m] - mean_bias[m]
     centre = np.zeros(N_STATE)
     for i in range(n2):
@@ -325,46 +432,329 @@ def predict(state, params, gyro, dt, work):
     gap = dt > params.max_gap_s
     for m in range(3):
         turned = 0.5 * (gyro[m] + prev[m]) * dt
-        p[m, m] += q_att + params.gyro_scale_var * turned * turned
+        p[ATT + m, ATT + m] += q_att + params.gyro_scale_var * turned * turned
         if gap:
             # over a gap the trapezoid guesses the rate between its two ends: its error
             # is of the order of half their difference times the gap
             unknown = 0.5 * (gyro[m] - prev[m]) * dt
-            p[m, m] += unknown * unknown
+            p[ATT + m, ATT + m] += unknown * unknown
         p[BIAS + m, BIAS + m] += q_bias
     state.covariance[:, :] = 0.5 * (p + p.T)
 
 
-# --- updates ---------------------------------------------------------------------------
+# --- the unscented update ----------------------------------------------------------------
 @njit(cache=True)
-def _measure(kind, att, bias, gyro, previous_gyro, dt, params, prev_vec, ref_vec, out):
-    """h(x) of one sigma point for update ``kind`` (see the module docstring)."""
-    if kind == ABS_GRAVITY:
-        e = np.empty(3)
-        euler_of(att, e)
-        out[0], out[1] = e[0], e[1]
-    elif kind in (DIFF_GRAVITY, DIFF_MAG):
-        inc = np.empty((3, 3))
-        _body_increment(att, gyro, previous_gyro, bias, params.earth_rate_n, dt, inc)
-        for m in range(3):
-            out[m] = inc[0, m] * prev_vec[0] + inc[1, m] * prev_vec[1] + inc[2, m] * prev_vec[2]
-    elif kind == ABS_MAG:
-        for m in range(3):
-            out[m] = att[0, m] * ref_vec[0] + att[1, m] * ref_vec[1] + att[2, m] * ref_vec[2]
-    elif kind in (COMPASS, YAW_CORRECTION):
-        out[0] = np.arctan2(att[1, 0], att[0, 0])
-    elif kind == MEAN_GRAVITY:
-        # prev_vec, ref_vec: two unit vectors across the summed force (body frame)
-        out[0] = att[2, 0] * prev_vec[0] + att[2, 1] * prev_vec[1] + att[2, 2] * prev_vec[2]
-        out[1] = att[2, 0] * ref_vec[0] + att[2, 1] * ref_vec[1] + att[2, 2] * ref_vec[2]
-    elif kind == ZARU:
-        e = params.earth_rate_n
-        for m in range(3):
-            out[m] = gyro[m] - bias[m] - (att[0, m] * e[0] + att[1, m] * e[1] + att[2, m] * e[2])
-    else:  # BIAS_Z_CORRECTION
-        out[0] = bias[2]
+def _measure(measurement, sample, earth_n, attitude, bias, sigma_att, sigma_bias, out):
+    """h(x) for the measurement's kind at the mean (``attitude``, ``bias``: ``out[0]``) and
+    at each sigma point (``out[1 + i]``), out (2n + 1, m); the builders' docstrings give
+    each model."""
+    kind, vectors = measurement.kind, measurement.vectors
+    e, inc = np.empty(3), np.empty((3, 3))
+    for i in range(out.shape[0]):
+        att = attitude if i == 0 else sigma_att[i - 1]
+        b = bias if i == 0 else sigma_bias[i - 1]
+        h = out[i]
+        if kind == ABS_GRAVITY:                   # [φ, θ] of C
+            euler_of(att, e)
+            h[0], h[1] = e[0], e[1]
+        elif kind in (DIFF_GRAVITY, DIFF_MAG):    # A(ω − b)ᵀ·v^{k−1}
+            before = vectors[0]
+            _body_increment(att, sample.gyro, sample.previous_gyro, b, earth_n, sample.dt, inc)
+            for m in range(3):
+                h[m] = inc[0, m] * before[0] + inc[1, m] * before[1] + inc[2, m] * before[2]
+        elif kind == ABS_MAG:                     # Cᵀ·μ̄_r
+            ref = vectors[0]
+            for m in range(3):
+                h[m] = att[0, m] * ref[0] + att[1, m] * ref[1] + att[2, m] * ref[2]
+        elif kind in (COMPASS, YAW_CORRECTION):   # ψ of C
+            h[0] = np.arctan2(att[1, 0], att[0, 0])
+        elif kind == MEAN_GRAVITY:                # C[2, :]·b₁, C[2, :]·b₂
+            b1, b2 = vectors[0], vectors[1]
+            h[0] = att[2, 0] * b1[0] + att[2, 1] * b1[1] + att[2, 2] * b1[2]
+            h[1] = att[2, 0] * b2[0] + att[2, 1] * b2[1] + att[2, 2] * b2[2]
+        elif kind == ZARU:                        # ω − b − Cᵀ·ω_ie^n
+            w = sample.gyro
+            for m in range(3):
+                h[m] = w[m] - b[m] - (att[0, m] * earth_n[0] + att[1, m] * earth_n[1]
+                                      + att[2, m] * earth_n[2])
+        else:                                     # BIAS_Z_CORRECTION: b_z
+            h[0] = b[2]
 
 
+@njit(cache=True)
+def _angular(kind, m):
+    """Whether measurement component m of ``kind`` is an angle (wrapped)."""
+    return kind in (ABS_GRAVITY, COMPASS, YAW_CORRECTION)
+
+
+@njit(cache=True)
+def update(state, params, measurement, sample, work):
+    """One unscented update with ``measurement`` (z (m,), R (m, m)) at ``sample``; returns
+    the normalised innovation squared ν^T·S^{-1}·ν. A saturated sample zeroes the bias
+    gain; the compass and the yaw correction zero the tilt gain."""
+    kind, z, r = measurement.kind, measurement.z, measurement.r
+    m_dim = z.shape[0]
+    n2 = 2 * N_STATE
+    _sigma_points(state, work)
+    dev, sat, sbias = work.deviations, work.attitudes, work.biases
+    predicted = np.empty((n2 + 1, m_dim))
+    _measure(measurement, sample, params.earth_rate_n, state.attitude, state.bias, sat, sbias,
+             predicted)
+    h_mean = predicted[0]
+    hs = np.empty((n2, m_dim))
+    for i in range(n2):
+        for m in range(m_dim):
+            d = predicted[1 + i, m] - h_mean[m]
+            hs[i, m] = _wrap(d) if _angular(kind, m) else d
+    dbar = np.zeros(m_dim)
+    for i in range(n2):
+        dbar += hs[i] / n2
+    s = r.copy()
+    pxz = np.zeros((N_STATE, m_dim))
+    for i in range(n2):
+        for a in range(m_dim):
+            da = (hs[i, a] - dbar[a]) / n2
+            for b in range(m_dim):
+                s[a, b] += da * (hs[i, b] - dbar[b])
+            for b in range(N_STATE):
+                pxz[b, a] += dev[i, b] * da
+    innovation = np.empty(m_dim)
+    for m in range(m_dim):
+        v = z[m] - (h_mean[m] + dbar[m])
+        innovation[m] = _wrap(v) if _angular(kind, m) else v
+    s_inv = np.empty((m_dim, m_dim))
+    _inverse_spd(s, s_inv)
+    gain = np.zeros((N_STATE, m_dim))
+    heading_only = kind in (COMPASS, YAW_CORRECTION)
+    for a in range(N_STATE):
+        if (sample.saturated and a >= BIAS) or (heading_only and a in (ATT_EAST, ATT_NORTH)):
+            continue
+        for b in range(m_dim):
+            for c in range(m_dim):
+                gain[a, b] += pxz[a, c] * s_inv[c, b]
+    dx = np.zeros(N_STATE)
+    for a in range(N_STATE):
+        for b in range(m_dim):
+            dx[a] += gain[a, b] * innovation[b]
+    rot, corrected = work.m1, work.m2
+    rodrigues(dx[ATT_EAST], dx[ATT_NORTH], dx[ATT_UP], rot)
+    product3(rot, state.attitude, corrected)
+    state.attitude[:, :] = corrected
+    for m in range(3):
+        state.bias[m] += dx[BIAS + m]
+    # P − K·Pxzᵀ − Pxz·Kᵀ + K·S·Kᵀ: valid for any gain (the bias rows zeroed make it
+    # sub-optimal); with the optimal gain it is P − K·S·Kᵀ
+    ks = np.zeros((N_STATE, m_dim))
+    for a in range(N_STATE):
+        for b in range(m_dim):
+            for c in range(m_dim):
+                ks[a, b] += gain[a, c] * s[c, b]
+    p = state.covariance
+    for a in range(N_STATE):
+        for b in range(a, N_STATE):
+            v = p[a, b]
+            for c in range(m_dim):
+                v += -gain[a, c] * pxz[b, c] - pxz[a, c] * gain[b, c] + ks[a, c] * gain[b, c]
+            p[a, b] = v
+            p[b, a] = v
+    nis = 0.0
+    for a in range(m_dim):
+        for b in range(m_dim):
+            nis += innovation[a] * s_inv[a, b] * innovation[b]
+    return nis
+
+
+# --- the measurements, one builder per update ------------------------------------------
+@njit(cache=True)
+def _diagonal(m_dim, variance):
+    """R = variance·I (m_dim, m_dim)."""
+    return np.eye(m_dim) * variance
+
+
+@njit(cache=True)
+def absolute_gravity(params, sample):
+    """Roll and pitch from the specific force at rest, z = [φ̄, θ̄] (Muñoz Díaz 2016,
+    Eqs. (3.12)–(3.14)) against h(x) = [φ, θ] of C; the roll's variance grows as
+    1/cos²θ."""
+    a = sample.accel
+    z = np.empty(2)
+    z[0] = np.arctan2(a[1], a[2])
+    z[1] = np.arctan2(-a[0], np.sqrt(a[1] ** 2 + a[2] ** 2))
+    cos_t = max(np.cos(z[1]), 1e-6)
+    r = np.zeros((2, 2))
+    r[0, 0] = params.gravity_angle_var / (cos_t * cos_t)
+    r[1, 1] = params.gravity_angle_var
+    return Measurement(ABS_GRAVITY, z, r, np.zeros((2, 3)))
+
+
+@njit(cache=True)
+def differential_gravity(params, sample, previous_accel):
+    """z = α^k against h(x) = A(ω − b)ᵀ·α^{k−1} (Muñoz Díaz 2016, Eqs. (3.15)–(3.16));
+    vectors[0] = α^{k−1} (body frame)."""
+    vectors = np.zeros((2, 3))
+    vectors[0] = previous_accel
+    return Measurement(DIFF_GRAVITY, sample.accel.copy(), _diagonal(3, params.diff_gravity_var),
+                       vectors)
+
+
+@njit(cache=True)
+def absolute_magnetic(params, sample, reference):
+    """z = μ^k against h(x) = Cᵀ·μ̄_r, μ̄_r the field in the navigation frame taken at the
+    start of the quasi-constant period (Muñoz Díaz 2016, Eq. (3.17)); vectors[0] = μ̄_r."""
+    vectors = np.zeros((2, 3))
+    vectors[0] = reference
+    return Measurement(ABS_MAG, sample.mag.copy(), _diagonal(3, params.mag_var), vectors)
+
+
+@njit(cache=True)
+def differential_magnetic(params, sample, previous_mag):
+    """z = μ^k against h(x) = A(ω − b)ᵀ·μ^{k−1} (Muñoz Díaz 2016, Eqs. (3.18)–(3.19));
+    vectors[0] = μ^{k−1} (body frame)."""
+    vectors = np.zeros((2, 3))
+    vectors[0] = previous_mag
+    return Measurement(DIFF_MAG, sample.mag.copy(), _diagonal(3, params.mag_var), vectors)
+
+
+@njit(cache=True)
+def compass(params, sample, attitude):
+    """z = ψ̄ from the field tilt-compensated with the roll and pitch of ``attitude``
+    (Muñoz Díaz 2016, Eqs. (3.20)–(3.21), in ENU: see :func:`compass_yaw`) against
+    h(x) = ψ of C."""
+    z = np.empty(1)
+    z[0] = compass_yaw(attitude, sample.mag, params.field_azimuth)
+    return Measurement(COMPASS, z, _diagonal(1, params.compass_var), np.zeros((2, 3)))
+
+
+@njit(cache=True)
+def mean_gravity(params, attitude, force_sum, window_s, cycles):
+    """Beyond the thesis (the module docstring derives it): over a window of ``window_s``
+    seconds, the up row of C across the summed force turned to the body frame,
+    Cᵀ·Σ C·α·δt: z = [0, 0] against h(x) = [C[2, :]·b₁, C[2, :]·b₂], vectors = [b₁, b₂]
+    two unit vectors across the sum, R = σ_Δv²/(g·W)² I, σ_Δv that of a window of whole
+    gait cycles when ``cycles``."""
+    total = params.gravity * window_s
+    velocity_var = params.cycle_velocity_var if cycles else params.mean_gravity_velocity_var
+    r = np.zeros((2, 2))
+    r[0, 0] = r[1, 1] = velocity_var / (total * total)
+    vectors = np.empty((2, 3))
+    vectors[0], vectors[1] = _across(_force_in_body(attitude, force_sum))
+    return Measurement(MEAN_GRAVITY, np.zeros(2), r, vectors)
+
+
+@njit(cache=True)
+def zaru(params):
+    """z = [0, 0, 0] against h(x) = ω − b − Cᵀ·ω_ie^n (Muñoz Díaz 2016, Eq. (3.22))."""
+    return Measurement(ZARU, np.zeros(3), _diagonal(3, params.zaru_var), np.zeros((2, 3)))
+
+
+@njit(cache=True)
+def external_correction(kind, value, variance):
+    """An external correction (Muñoz Díaz 2016, Eq. (6.2)): the yaw ψ_L [rad] against
+    h(x) = ψ of C (``kind`` YAW_CORRECTION), or the z gyro bias [rad/s] against b_z
+    (BIAS_Z_CORRECTION), with its variance."""
+    z = np.empty(1)
+    z[0] = value
+    r = np.empty((1, 1))
+    r[0, 0] = variance
+    return Measurement(kind, z, r, np.zeros((2, 3)))
+
+
+# --- detectors ---------------------------------------------------------------------------
+@njit(cache=True)
+def _push_ring(state, params, t, sample):
+    """Add the sample to the trailing windows: |‖α‖ − g|, ‖ω‖ and C·μ (NaN: no reading);
+    returns its row."""
+    s = state.scalars
+    head = int(s[RING_HEAD])
+    a, w, mu, c = sample.accel, sample.gyro, sample.mag, state.attitude
+    state.ring_t[head] = t
+    state.ring_acc[head] = abs(np.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2) - params.gravity)
+    state.ring_rate[head] = np.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
+    nav = state.ring_mag[head]
+    if np.isfinite(mu[0]):
+        for m in range(3):
+            nav[m] = c[m, 0] * mu[0] + c[m, 1] * mu[1] + c[m, 2] * mu[2]
+    else:
+        nav[:] = np.nan
+    s[RING_HEAD] = (head + 1) % RING
+    s[RING_COUNT] = min(RING, s[RING_COUNT] + 1)
+    return head
+
+
+@njit(cache=True)
+def _window_max(ring_t, values, scalars, t, window_s):
+    """Max of ``values`` (a ring of the state) over the samples of the last ``window_s``
+    seconds (−1 when the window is not yet full)."""
+    count, head = int(scalars[RING_COUNT]), int(scalars[RING_HEAD])
+    best = -np.inf
+    covered = False
+    for j in range(count):
+        i = (head - 1 - j) % RING
+        if t - ring_t[i] > window_s + 1e-9:
+            covered = True
+            break
+        best = max(best, values[i])
+    return best if covered else -1.0
+
+
+@njit(cache=True)
+def _mag_steady(ring_t, ring_mag, scalars, t, params):
+    """Norm spread and angle to the mean direction of C·μ over the trailing window."""
+    count, head = int(scalars[RING_COUNT]), int(scalars[RING_HEAD])
+    total = np.zeros(3)
+    lo, hi = np.inf, -np.inf
+    n = 0
+    covered = False
+    for j in range(count):
+        i = (head - 1 - j) % RING
+        if t - ring_t[i] > params.mag_window_s + 1e-9:
+            covered = True
+            break
+        v = ring_mag[i]
+        if not np.isfinite(v[0]):
+            return False
+        norm = np.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+        lo, hi = min(lo, norm), max(hi, norm)
+        total += v / max(norm, 1e-12)
+        n += 1
+    if not covered or n < 2 or hi - lo > params.mag_norm_threshold:
+        return False
+    mean = total / max(np.sqrt(total[0] ** 2 + total[1] ** 2 + total[2] ** 2), 1e-12)
+    min_cos = np.cos(params.mag_direction_threshold)
+    for j in range(n):
+        i = (head - 1 - j) % RING
+        v = ring_mag[i]
+        if v[0] * mean[0] + v[1] * mean[1] + v[2] * mean[2] < min_cos * np.sqrt(
+                v[0] ** 2 + v[1] ** 2 + v[2] ** 2):
+            return False
+    return True
+
+
+@njit(cache=True)
+def detect(state, params, t, sample):
+    """Push the sample into the trailing windows and read the detectors there; take the
+    field reference μ̄_r at the start of a steady period."""
+    s, ring_t, ring_rate = state.scalars, state.ring_t, state.ring_rate
+    newest = _push_ring(state, params, t, sample)
+    zero_acc = 0.0 <= _window_max(ring_t, state.ring_acc, s, t, params.zero_acc_window_s) \
+        <= params.zero_acc_threshold and _window_max(
+            ring_t, ring_rate, s, t, params.zero_acc_window_s) <= params.zero_acc_max_rate
+    zero_rate = 0.0 <= _window_max(ring_t, ring_rate, s, t,
+                                   params.zero_rate_window_s) <= params.zero_rate_threshold
+    steady = np.isfinite(sample.mag[0]) and _mag_steady(ring_t, state.ring_mag, s, t, params)
+    # the absolute field update holds the attitude to the field's direction taken at
+    # the start of the steady period: taken while the tilt is uncertain (after a gap)
+    # it would hold an error as if it were known
+    p = state.covariance
+    anchored = steady and (s[MAG_WAS_STEADY] == 1.0 or max(
+        p[ATT_EAST, ATT_EAST], p[ATT_NORTH, ATT_NORTH]) <= params.mag_reference_max_var)
+    if anchored and s[MAG_WAS_STEADY] == 0.0:
+        state.mag_reference[:] = state.ring_mag[newest]
+    s[MAG_WAS_STEADY] = 1.0 if anchored else 0.0
+    return Detected(zero_acc, zero_rate, steady, anchored)
+
+
+# --- the mean gravity window ------------------------------------------------------------
 @njit(cache=True)
 def swing_marker(state, params, gyro, dt):
     """True once per gait cycle, at the same phase of each: where the rate about the swing
@@ -405,289 +795,129 @@ def _across(v):
 
 
 @njit(cache=True)
-def _angular(kind, m):
-    """Whether measurement component m of ``kind`` is an angle (wrapped)."""
-    return kind in (ABS_GRAVITY, COMPASS, YAW_CORRECTION)
-
-
-@njit(cache=True)
-def update(state, params, kind, z, r, gyro, dt, prev_vec, ref_vec, freeze_bias, work):
-    """One unscented update with measurement ``z`` (m,) and noise ``r`` (m, m); returns
-    the normalised innovation squared ν^T·S^{-1}·ν. ``freeze_bias`` zeroes the bias gain."""
-    m_dim = z.shape[0]
-    n2 = 2 * N_STATE
-    _sigma_points(state, work)
-    dev, sat, sbias = work.deviations, work.attitudes, work.biases
-    h_mean = np.empty(m_dim)
-    _measure(kind, state.attitude, state.bias, gyro, state.previous_gyro, dt, params, prev_vec,
-             ref_vec, h_mean)
-    hs = np.empty((n2, m_dim))
-    h = np.empty(m_dim)
-    for i in range(n2):
-        _measure(kind, sat[i], sbias[i], gyro, state.previous_gyro, dt, params, prev_vec,
-                 ref_vec, h)
-        for m in range(m_dim):
-            d = h[m] - h_mean[m]
-            hs[i, m] = _wrap(d) if _angular(kind, m) else d
-    dbar = np.zeros(m_dim)
-    for i in range(n2):
-        dbar += hs[i] / n2
-    s = r.copy()
-    pxz = np.zeros((N_STATE, m_dim))
-    for i in range(n2):
-        for a in range(m_dim):
-            da = (hs[i, a] - dbar[a]) / n2
-            for b in range(m_dim):
-                s[a, b] += da * (hs[i, b] - dbar[b])
-            for b in range(N_STATE):
-                pxz[b, a] += dev[i, b] * da
-    innovation = np.empty(m_dim)
-    for m in range(m_dim):
-        v = z[m] - (h_mean[m] + dbar[m])
-        innovation[m] = _wrap(v) if _angular(kind, m) else v
-    s_inv = np.empty((m_dim, m_dim))
-    _inverse_spd(s, s_inv)
-    gain = np.zeros((N_STATE, m_dim))
-    heading_only = kind in (COMPASS, YAW_CORRECTION)
-    for a in range(N_STATE):
-        if (freeze_bias and a >= BIAS) or (heading_only and a < 2):
-            continue
-        for b in range(m_dim):
-            for c in range(m_dim):
-                gain[a, b] += pxz[a, c] * s_inv[c, b]
-    dx = np.zeros(N_STATE)
-    for a in range(N_STATE):
-        for b in range(m_dim):
-            dx[a] += gain[a, b] * innovation[b]
-    rot, corrected = work.m1, work.m2
-    rodrigues(dx[0], dx[1], dx[2], rot)
-    product3(rot, state.attitude, corrected)
-    state.attitude[:, :] = corrected
+def _force_in_body(attitude, force_sum):
+    """The window's summed force Σ C·α·δt turned to the body frame with C."""
+    c, f = attitude, force_sum
+    body = np.empty(3)
     for m in range(3):
-        state.bias[m] += dx[BIAS + m]
-    # P − K·Pxzᵀ − Pxz·Kᵀ + K·S·Kᵀ: valid for any gain (the bias rows zeroed make it
-    # sub-optimal); with the optimal gain it is P − K·S·Kᵀ
-    ks = np.zeros((N_STATE, m_dim))
-    for a in range(N_STATE):
-        for b in range(m_dim):
-            for c in range(m_dim):
-                ks[a, b] += gain[a, c] * s[c, b]
-    p = state.covariance
-    for a in range(N_STATE):
-        for b in range(a, N_STATE):
-            v = p[a, b]
-            for c in range(m_dim):
-                v += -gain[a, c] * pxz[b, c] - pxz[a, c] * gain[b, c] + ks[a, c] * gain[b, c]
-            p[a, b] = v
-            p[b, a] = v
-    nis = 0.0
-    for a in range(m_dim):
-        for b in range(m_dim):
-            nis += innovation[a] * s_inv[a, b] * innovation[b]
-    return nis
-
-
-# --- detectors ---------------------------------------------------------------------------
-@njit(cache=True)
-def _push_ring(state, t, acc_dev, rate_norm, mag_n):
-    s = state.scalars
-    head = int(s[RING_HEAD])
-    state.ring_t[head] = t
-    state.ring_acc[head] = acc_dev
-    state.ring_rate[head] = rate_norm
-    state.ring_mag[head, :] = mag_n
-    s[RING_HEAD] = (head + 1) % RING
-    s[RING_COUNT] = min(RING, s[RING_COUNT] + 1)
+        body[m] = c[0, m] * f[0] + c[1, m] * f[1] + c[2, m] * f[2]
+    return body
 
 
 @njit(cache=True)
-def _window_max(state, values, t, window_s):
-    """Max of ``values`` over the samples of the last ``window_s`` seconds (−1 when the
-    window is not yet full)."""
-    s = state.scalars
-    count, head = int(s[RING_COUNT]), int(s[RING_HEAD])
-    best = -np.inf
-    covered = False
-    for j in range(count):
-        i = (head - 1 - j) % RING
-        if t - state.ring_t[i] > window_s + 1e-9:
-            covered = True
-            break
-        best = max(best, values[i])
-    return best if covered else -1.0
+def _holds_gravity(params, attitude, force_sum, window_s):
+    """Whether the summed force of a window of ``window_s`` seconds is a gravity reference:
+    not far from g·W (free fall or a sensor giving zeros is not)."""
+    body = _force_in_body(attitude, force_sum)
+    return np.sqrt(body[0] ** 2 + body[1] ** 2 + body[2] ** 2) > 0.5 * (params.gravity * window_s)
 
 
 @njit(cache=True)
-def _mag_steady(state, t, params):
-    """Norm spread and angle to the mean direction of C·μ over the trailing window."""
-    s = state.scalars
-    count, head = int(s[RING_COUNT]), int(s[RING_HEAD])
-    total = np.zeros(3)
-    lo, hi = np.inf, -np.inf
-    n = 0
-    covered = False
-    for j in range(count):
-        i = (head - 1 - j) % RING
-        if t - state.ring_t[i] > params.mag_window_s + 1e-9:
-            covered = True
-            break
-        v = state.ring_mag[i]
-        if not np.isfinite(v[0]):
-            return False
-        norm = np.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
-        lo, hi = min(lo, norm), max(hi, norm)
-        total += v / max(norm, 1e-12)
-        n += 1
-    if not covered or n < 2 or hi - lo > params.mag_norm_threshold:
-        return False
-    mean = total / max(np.sqrt(total[0] ** 2 + total[1] ** 2 + total[2] ** 2), 1e-12)
-    min_cos = np.cos(params.mag_direction_threshold)
-    for j in range(n):
-        i = (head - 1 - j) % RING
-        v = state.ring_mag[i]
-        if v[0] * mean[0] + v[1] * mean[1] + v[2] * mean[2] < min_cos * np.sqrt(
-                v[0] ** 2 + v[1] ** 2 + v[2] ** 2):
-            return False
-    return True
+def _add_to_window(scalars, force_sum, attitude, params, sample, marker):
+    """Add C·α·δt to the window's sum; whether it closes now. The first windows are short
+    (2, 4, 8 s ... up to W): a start while walking leaves the first sample's tilt up to
+    15° off. A window from one swing marker to another spans whole gait cycles, over
+    which the velocity comes back: it closes at the first marker after
+    ``cycle_window_min_s``, with the smaller variance."""
+    s, c, a, dt = scalars, attitude, sample.accel, sample.dt
+    s[WINDOW_TIME] += dt
+    for m in range(3):
+        force_sum[m] += dt * (c[m, 0] * a[0] + c[m, 1] * a[1] + c[m, 2] * a[2])
+    window = min(params.mean_gravity_window_s, 2.0 * 2.0 ** s[WINDOWS_DONE])
+    cycles = marker and s[WINDOW_FROM_MARKER] == 1.0 and \
+        s[WINDOW_TIME] >= params.cycle_window_min_s
+    return WindowEnd(marker, cycles or s[WINDOW_TIME] >= window, cycles)
+
+
+@njit(cache=True)
+def _restart_window(scalars, force_sum, end):
+    """A new window after one closed, or from the first swing marker of one that did not
+    start at a marker."""
+    s = scalars
+    if end.closes or (end.marker and s[WINDOW_FROM_MARKER] == 0.0):
+        s[WINDOW_TIME] = 0.0
+        s[WINDOWS_DONE] += 1.0 if end.closes else 0.0
+        s[WINDOW_FROM_MARKER] = 1.0 if end.marker else 0.0
+        force_sum[:] = 0.0
 
 
 # --- the loop ----------------------------------------------------------------------------
 @njit(cache=True)
-def filter_loop(state, params, t, gyro, accel, mag, saturated, attitude_out, bias_out,
-                covariance_out, detected_out, ran_out):
-    """Run the filter over samples t (N,) [s], gyro, accel (N, 3) [rad/s, m/s²], mag
-    (N, 3) [T] (rows of NaN: no reading), saturated (N,) bool; fill attitude_out
-    (N, 3, 3), bias_out (N, 3), covariance_out (N, 6, 6), detected_out (N, 4) and
-    ran_out (N, 6) (bool). The first sample ever only initialises the clock."""
-    s = state.scalars
-    use = params.use
-    work = workspace()
-    two = np.empty(2)
-    r2 = np.zeros((2, 2))
-    r3 = np.eye(3)
-    one = np.empty(1)
-    r1 = np.empty((1, 1))
-    nav = np.empty(3)
-    for k in range(t.shape[0]):
-        if s[STARTED] == 0.0:
-            dt = 0.0
-            s[STARTED] = 1.0
-        else:
-            dt = t[k] - s[T_PREV]
-            if dt > params.max_gap_s:
-                # a gap: the attitude across it is a guess (predict widens P), and a mean
-                # gravity window that straddles it would average two attitudes; start anew
-                s[GAPS] += 1.0
-                s[WINDOW_TIME] = 0.0
-                s[WINDOW_FROM_MARKER] = 0.0
-                state.force_sum[:] = 0.0
-        s[T_PREV] = t[k]
+def _elapsed(scalars, force_sum, max_gap_s, t):
+    """δt from the last sample to ``t`` [s] (0 at the first sample ever). After a gap the
+    attitude across it is a guess (predict widens P), and a mean gravity window that
+    straddles it would average two attitudes: the window starts anew."""
+    s = scalars
+    if s[STARTED] == 0.0:
+        dt = 0.0
+        s[STARTED] = 1.0
+    else:
+        dt = t - s[T_PREV]
+        if dt > max_gap_s:
+            s[GAPS] += 1.0
+            s[WINDOW_TIME] = 0.0
+            s[WINDOW_FROM_MARKER] = 0.0
+            force_sum[:] = 0.0
+    s[T_PREV] = t
+    return dt
+
+
+@njit(cache=True)
+def filter_loop(state, params, inputs, out):
+    """Run the filter over ``inputs`` (:class:`FilterInputs`, N samples) and fill ``out``
+    (:class:`FilterOutputs`): per sample the prediction, the detectors, and the updates
+    of the module docstring in its order, each where its detector holds and its flag in
+    ``params.use`` is set. The first sample ever only initialises the clock."""
+    s, use, work = state.scalars, params.use, workspace()
+    for k in range(inputs.t.shape[0]):
+        t = inputs.t[k]
+        dt = _elapsed(s, state.force_sum, params.max_gap_s, t)
+        sample = Sample(dt, inputs.gyro[k], state.previous_gyro, inputs.accel[k],
+                        inputs.mag[k], inputs.saturated[k])
         if dt > 0.0:
-            predict(state, params, gyro[k], dt, work)
-        a = accel[k]
-        mu = mag[k]
-        has_mag = np.isfinite(mu[0])
-        if has_mag:
-            for m in range(3):
-                nav[m] = (state.attitude[m, 0] * mu[0] + state.attitude[m, 1] * mu[1]
-                          + state.attitude[m, 2] * mu[2])
-        else:
-            nav[:] = np.nan
-        acc_dev = abs(np.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2) - params.gravity)
-        w = gyro[k]
-        _push_ring(state, t[k], acc_dev, np.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2), nav)
-        zero_acc = 0.0 <= _window_max(state, state.ring_acc, t[k], params.zero_acc_window_s) \
-            <= params.zero_acc_threshold and _window_max(
-                state, state.ring_rate, t[k], params.zero_acc_window_s) <= params.zero_acc_max_rate
-        zero_rate = 0.0 <= _window_max(state, state.ring_rate, t[k],
-                                       params.zero_rate_window_s) <= params.zero_rate_threshold
-        steady = has_mag and _mag_steady(state, t[k], params)
-        # the absolute field update holds the attitude to the field's direction taken at
-        # the start of the steady period: taken while the tilt is uncertain (after a gap)
-        # it would hold an error as if it were known
-        anchored = steady and (s[MAG_WAS_STEADY] == 1.0 or max(
-            state.covariance[0, 0], state.covariance[1, 1]) <= params.mag_reference_max_var)
-        if anchored and s[MAG_WAS_STEADY] == 0.0:
-            state.mag_reference[:] = nav
-        s[MAG_WAS_STEADY] = 1.0 if anchored else 0.0
-        frozen = saturated[k]
-        detected_out[k, ZERO_ACC], detected_out[k, ZERO_RATE] = zero_acc, zero_rate
-        detected_out[k, MAG_STEADY], detected_out[k, SATURATED] = steady, frozen
-        for u in range(N_UPDATES):
-            ran_out[k, u] = False
+            predict(state, params, sample, work)
+        found = detect(state, params, t, sample)
+        detected, ran = out.detected[k], out.ran[k]
+        detected[ZERO_ACC], detected[ZERO_RATE] = found.zero_acc, found.zero_rate
+        detected[MAG_STEADY], detected[SATURATED] = found.mag_steady, sample.saturated
+        ran[:] = False
         if dt > 0.0:
-            if use[ABS_GRAVITY] and zero_acc:
-                two[0] = np.arctan2(a[1], a[2])
-                two[1] = np.arctan2(-a[0], np.sqrt(a[1] ** 2 + a[2] ** 2))
-                cos_t = max(np.cos(two[1]), 1e-6)
-                r2[0, 0] = params.gravity_angle_var / (cos_t * cos_t)
-                r2[1, 1] = params.gravity_angle_var
-                update(state, params, ABS_GRAVITY, two, r2, gyro[k], dt, a, a, frozen, work)
-                ran_out[k, ABS_GRAVITY] = True
-            if use[DIFF_GRAVITY] and zero_acc:
-                update(state, params, DIFF_GRAVITY, a.copy(), r3 * params.diff_gravity_var,
-                       gyro[k], dt, state.previous_accel, a, frozen, work)
-                ran_out[k, DIFF_GRAVITY] = True
-            if use[ABS_MAG] and anchored:
-                update(state, params, ABS_MAG, mu.copy(), r3 * params.mag_var, gyro[k], dt,
-                       mu, state.mag_reference, frozen, work)
-                ran_out[k, ABS_MAG] = True
-            if use[DIFF_MAG] and steady and np.isfinite(state.previous_mag[0]):
-                update(state, params, DIFF_MAG, mu.copy(), r3 * params.mag_var, gyro[k], dt,
-                       state.previous_mag, mu, frozen, work)
-                ran_out[k, DIFF_MAG] = True
-            if use[COMPASS] and steady:
-                one[0] = compass_yaw(state.attitude, mu, params.field_azimuth)
-                r1[0, 0] = params.compass_var
-                update(state, params, COMPASS, one, r1, gyro[k], dt, mu, mu, frozen, work)
-                ran_out[k, COMPASS] = True
-            s[WINDOW_TIME] += dt
-            for m in range(3):
-                state.force_sum[m] += dt * (state.attitude[m, 0] * a[0]
-                                            + state.attitude[m, 1] * a[1]
-                                            + state.attitude[m, 2] * a[2])
-            # the first windows are short (2, 4, 8 s ... up to W): a start while walking
-            # leaves the first sample's tilt up to 15° off. A window from one swing marker
-            # to another spans whole gait cycles, over which the velocity comes back: it
-            # closes at the first marker after cycle_window_min_s, with the smaller variance
-            window = min(params.mean_gravity_window_s, 2.0 * 2.0 ** s[WINDOWS_DONE])
-            marker = swing_marker(state, params, w, dt)
-            cycles = marker and s[WINDOW_FROM_MARKER] == 1.0 and \
-                s[WINDOW_TIME] >= params.cycle_window_min_s
-            closes = cycles or s[WINDOW_TIME] >= window
-            if use[MEAN_GRAVITY] and closes:
-                total = params.gravity * s[WINDOW_TIME]
-                two[0], two[1] = 0.0, 0.0
-                velocity_var = params.cycle_velocity_var if cycles else \
-                    params.mean_gravity_velocity_var
-                r2[0, 0] = r2[1, 1] = velocity_var / (total * total)
-                body = np.empty(3)
-                for m in range(3):
-                    body[m] = (state.attitude[0, m] * state.force_sum[0]
-                               + state.attitude[1, m] * state.force_sum[1]
-                               + state.attitude[2, m] * state.force_sum[2])
-                # a window whose force is far from g (free fall, a sensor giving zeros) is
-                # no gravity reference
-                if np.sqrt(body[0] ** 2 + body[1] ** 2 + body[2] ** 2) > 0.5 * total:
-                    b1, b2 = _across(body)
-                    update(state, params, MEAN_GRAVITY, two, r2, gyro[k], dt, b1, b2,
-                           frozen, work)
-                    ran_out[k, MEAN_GRAVITY] = True
-            if closes or (marker and s[WINDOW_FROM_MARKER] == 0.0):
-                s[WINDOW_TIME] = 0.0
-                s[WINDOWS_DONE] += 1.0 if closes else 0.0
-                s[WINDOW_FROM_MARKER] = 1.0 if marker else 0.0
-                state.force_sum[:] = 0.0
-            if use[ZARU] and zero_rate:
-                update(state, params, ZARU, np.zeros(3), r3 * params.zaru_var, gyro[k], dt,
-                       a, a, frozen, work)
-                ran_out[k, ZARU] = True
-        state.previous_gyro[:] = gyro[k]
-        state.previous_accel[:] = a
-        state.previous_mag[:] = mu
-        attitude_out[k] = state.attitude
-        bias_out[k] = state.bias
-        covariance_out[k] = state.covariance
+            if use[ABS_GRAVITY] and found.zero_acc:
+                update(state, params, absolute_gravity(params, sample), sample, work)
+                ran[ABS_GRAVITY] = True
+            if use[DIFF_GRAVITY] and found.zero_acc:
+                update(state, params, differential_gravity(params, sample, state.previous_accel),
+                       sample, work)
+                ran[DIFF_GRAVITY] = True
+            if use[ABS_MAG] and found.mag_anchored:
+                update(state, params, absolute_magnetic(params, sample, state.mag_reference),
+                       sample, work)
+                ran[ABS_MAG] = True
+            if use[DIFF_MAG] and found.mag_steady and np.isfinite(state.previous_mag[0]):
+                update(state, params, differential_magnetic(params, sample, state.previous_mag),
+                       sample, work)
+                ran[DIFF_MAG] = True
+            if use[COMPASS] and found.mag_steady:
+                update(state, params, compass(params, sample, state.attitude), sample, work)
+                ran[COMPASS] = True
+            end = _add_to_window(s, state.force_sum, state.attitude, params, sample,
+                                 swing_marker(state, params, sample.gyro, dt))
+            window_s = s[WINDOW_TIME]
+            if use[MEAN_GRAVITY] and end.closes and _holds_gravity(
+                    params, state.attitude, state.force_sum, window_s):
+                update(state, params, mean_gravity(params, state.attitude, state.force_sum,
+                                                   window_s, end.cycles), sample, work)
+                ran[MEAN_GRAVITY] = True
+            _restart_window(s, state.force_sum, end)
+            if use[ZARU] and found.zero_rate:
+                update(state, params, zaru(params), sample, work)
+                ran[ZARU] = True
+        state.previous_gyro[:] = sample.gyro
+        state.previous_accel[:] = sample.accel
+        state.previous_mag[:] = sample.mag
+        out.attitude[k] = state.attitude
+        out.bias[k] = state.bias
+        out.covariance[k] = state.covariance
 
 
 @njit(cache=True)
@@ -708,7 +938,6 @@ def compass_yaw(attitude, mu, field_azimuth):
 def correct(state, params, kind, value, variance):
     """An external correction (Muñoz Díaz 2016, Eq. (6.2)): the yaw ψ_L [rad] or the z
     gyro bias [rad/s] with its variance, as an unscented update; returns the NIS."""
-    z = np.array([value])
-    r = np.array([[variance]])
     zero = np.zeros(3)
-    return update(state, params, kind, z, r, zero, 0.0, zero, zero, False, workspace())
+    return update(state, params, external_correction(kind, value, variance),
+                  Sample(0.0, zero, state.previous_gyro, zero, zero, False), workspace())

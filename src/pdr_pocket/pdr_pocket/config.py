@@ -175,7 +175,7 @@ class OrientationConfig:
 
 @dataclass(frozen=True)
 class MountingConfig:
-    """The thigh's frame in the sensor's (pdr_pocket.compiled_gait). ``rpy_deg`` set: the
+    """The thigh's frame in the sensor's (pdr_pocket.compiled_mounting). ``rpy_deg`` set: the
     phone's mounting C_s^t is known (ZYX roll, pitch, yaw of the sensor in the thigh frame
     x forward, y left, z up) and nothing is estimated."""
 
@@ -213,7 +213,7 @@ class MountingConfig:
 
 @dataclass(frozen=True)
 class StepsConfig:
-    """The pitch-maximum step detector (Muñoz Díaz 2016, Section 4.1; compiled_gait)."""
+    """The pitch-maximum step detector (Muñoz Díaz 2016, Section 4.1; compiled_peaks)."""
 
     drop_min_deg: float = 5.0
     drop_fraction: float = 0.2
@@ -223,7 +223,7 @@ class StepsConfig:
     max_amplitude_deg: float = 110.0   # no thigh swings further (Δθ_U ≈ 53°, sitting 90°)
     max_rise_s: float = 1.5
     max_hold_s: float = 1.0
-    min_step_period_s: float = 0.6     # a shorter gait cycle is running (compiled_gait)
+    min_step_period_s: float = 0.6     # a shorter gait cycle is running (compiled_peaks)
     # without a gyroscope, footfalls in the specific force's norm (steps.FootfallDetector):
     footfall_cutoff_hz: float = 3.0     # the norm low-passed here (fourth-order) ...
     footfall_prominence_mps2: float = 1.5   # ... a footfall stands this far over its troughs

@@ -2,8 +2,8 @@
 
 :class:`OrientationFilter` wraps the compiled loop (:mod:`pdr_pocket.compiled_orientation`,
 whose docstring gives the equations): :meth:`~OrientationFilter.run` processes whole
-arrays, :meth:`~OrientationFilter.push` one sample at a time with the same state and the
-same result (the live node uses it), :meth:`~OrientationFilter.correct_yaw` and
+arrays or any run of samples after the last, with the same state and the same result
+(the live path feeds it in chunks), :meth:`~OrientationFilter.correct_yaw` and
 :meth:`~OrientationFilter.correct_bias_z` apply external corrections (Eq. (6.2)) as
 Kalman updates, refused when they fail a χ² gate (:meth:`~OrientationFilter.gate` and
 :meth:`~OrientationFilter.apply` do the two apart).
@@ -23,13 +23,22 @@ from scipy.stats import chi2
 from pdr_core.rotations import rotation_from_euler
 from pdr_pocket import compiled_orientation as kernel
 from pdr_pocket.compiled_orientation import (
+    ATT_EAST,
+    ATT_NORTH,
+    ATT_ROWS,
+    ATT_UP,
+    BIAS_ROWS,
+    BIAS_Z,
     BIAS_Z_CORRECTION,
+    N_DETECTORS,
     N_STATE,
     N_UPDATES,
-    RING,
     YAW_CORRECTION,
+    FilterInputs,
+    FilterOutputs,
     FilterState,
     compass_yaw,
+    initial_state,
 )
 from pdr_pocket.config import OrientationConfig
 
@@ -76,13 +85,13 @@ class AttitudeEstimate:
         e[:, 1, 0], e[:, 1, 1] = -np.sin(yaw), np.cos(yaw)
         e[:, 2, 0], e[:, 2, 1] = np.cos(yaw) * np.tan(pitch), np.sin(yaw) * np.tan(pitch)
         e[:, 2, 2] = 1.0
-        cov = np.einsum("nij,njk,nlk->nil", e, self.covariance[:, :3, :3], e)
+        cov = np.einsum("nij,njk,nlk->nil", e, self.covariance[:, ATT_ROWS, ATT_ROWS], e)
         return np.sqrt(np.maximum(np.diagonal(cov, axis1=1, axis2=2), 0.0))
 
     @property
     def bias_sigma(self) -> np.ndarray:
-        return np.sqrt(np.maximum(np.diagonal(self.covariance[:, 3:, 3:], axis1=1, axis2=2),
-                                  0.0))
+        return np.sqrt(np.maximum(np.diagonal(self.covariance[:, BIAS_ROWS, BIAS_ROWS],
+                                              axis1=1, axis2=2), 0.0))
 
     def fraction_ran(self) -> dict[str, float]:
         return {name: float(self.ran[:, i].mean()) for i, name in enumerate(UPDATE_NAMES)}
@@ -124,15 +133,11 @@ class OrientationFilter:
         else:
             yaw = 0.0
         attitude = rotation_from_euler(roll, pitch, yaw).as_matrix()
-        covariance = np.diag(np.concatenate([
-            np.radians([c.initial_tilt_sigma_deg] * 2 + [c.initial_yaw_sigma_deg]) ** 2,
-            np.full(3, np.radians(c.initial_bias_sigma_deg_per_s) ** 2)]))
-        return FilterState(np.ascontiguousarray(attitude), np.zeros(3), covariance,
-                           np.zeros(10), np.zeros(3), np.zeros(3), np.zeros(3),
-                           np.full(3, np.nan), np.zeros(3),
-                           np.zeros(RING), np.zeros(RING), np.zeros(RING),
-                           np.full((RING, 3), np.nan), np.zeros((3, 3)),
-                           np.full(3, 1.0 / np.sqrt(3.0)))
+        variances = np.zeros(N_STATE)
+        variances[[ATT_EAST, ATT_NORTH]] = np.radians(c.initial_tilt_sigma_deg) ** 2
+        variances[ATT_UP] = np.radians(c.initial_yaw_sigma_deg) ** 2
+        variances[BIAS_ROWS] = np.radians(c.initial_bias_sigma_deg_per_s) ** 2
+        return initial_state(attitude, np.diag(variances))
 
     def reset(self) -> None:
         self.state = None
@@ -150,20 +155,15 @@ class OrientationFilter:
         if self.state is None and n:
             self.state = self._start(accel[0], mag[0])
         saturated = saturation_flags(gyro, self._range(), self.previous_gyro)
-        out = AttitudeEstimate(np.asarray(t, float), np.empty((n, 3, 3)), np.empty((n, 3)),
-                               np.empty((n, N_STATE, N_STATE)), np.zeros((n, 4), dtype=bool),
-                               np.zeros((n, N_UPDATES), dtype=bool))
-        kernel.filter_loop(self.state, self.params, out.t, gyro, accel, mag, saturated,
-                           out.attitude, out.bias, out.covariance, out.detected, out.ran)
+        t = np.ascontiguousarray(t, dtype=float)
+        out = FilterOutputs(np.empty((n, 3, 3)), np.empty((n, 3)),
+                            np.empty((n, N_STATE, N_STATE)), np.zeros((n, N_DETECTORS), dtype=bool),
+                            np.zeros((n, N_UPDATES), dtype=bool))
+        kernel.filter_loop(self.state, self.params, FilterInputs(t, gyro, accel, mag, saturated),
+                           out)
         if n:
             self.previous_gyro = gyro[-1].copy()
-        return out
-
-    def push(self, t: float, gyro, accel, mag=None) -> AttitudeEstimate:
-        """One sample (the live node's path): the same state and result as :meth:`run`."""
-        row = np.full((1, 3), np.nan) if mag is None else np.asarray(mag, float).reshape(1, 3)
-        return self.run(np.array([t], float), np.asarray(gyro, float).reshape(1, 3),
-                        np.asarray(accel, float).reshape(1, 3), row)
+        return AttitudeEstimate(t, **out._asdict())
 
     def _range(self) -> float | None:
         r = self.config.gyro_range_deg_per_s
@@ -241,4 +241,4 @@ class OrientationFilter:
     def _predicted_variance(self, kind: int) -> float:
         """Variance of the yaw (about the vertical: the navigation-frame z error) or of b_z."""
         p = self.state.covariance
-        return float(p[2, 2] if kind == YAW_CORRECTION else p[5, 5])
+        return float(p[ATT_UP, ATT_UP] if kind == YAW_CORRECTION else p[BIAS_Z, BIAS_Z])

@@ -316,7 +316,12 @@ def test_a_correction_is_all_or_nothing_every_part_gated_before_any_is_applied()
 
     from scipy.stats import chi2
 
-    from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, YAW_CORRECTION
+    from pdr_pocket.compiled_orientation import (
+        ATT_UP,
+        BIAS_Z,
+        BIAS_Z_CORRECTION,
+        YAW_CORRECTION,
+    )
     from pdr_pocket.config import default_config_path, load_pocket_config
 
     sim = simulated("h1_rectangle")
@@ -326,9 +331,9 @@ def test_a_correction_is_all_or_nothing_every_part_gated_before_any_is_applied()
     nav.process(sim.trajectory.t[:n], sim.imu["angular_velocity"][:n],
                 sim.imu["linear_acceleration"][:n], None)
     p = nav.orientation.state.covariance
-    yaw, yaw_var = 0.01, 0.1 * p[2, 2]
-    bias_var = 0.1 * p[5, 5]
-    bias = 0.97 * np.sqrt(chi2.ppf(0.999, 1) * (p[5, 5] + bias_var))
+    yaw, yaw_var = 0.01, 0.1 * p[ATT_UP, ATT_UP]
+    bias_var = 0.1 * p[BIAS_Z, BIAS_Z]
+    bias = 0.97 * np.sqrt(chi2.ppf(0.999, 1) * (p[BIAS_Z, BIAS_Z] + bias_var))
     after_yaw = copy.deepcopy(nav.orientation)
     after_yaw.apply(YAW_CORRECTION, after_yaw.yaw + yaw, yaw_var)
     target = float(nav.orientation.state.bias[2]) + bias

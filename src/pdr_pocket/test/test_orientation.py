@@ -2,6 +2,7 @@
 detector, the covariance through any mix of updates, corrections and the live path."""
 from __future__ import annotations
 
+import ast
 from dataclasses import replace
 from pathlib import Path
 
@@ -22,6 +23,7 @@ from pdr_sim.pocket_scenario import pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "pocket_pdr.yaml"
+KERNEL = Path(k.__file__)
 NONE = Updates(False, False, False, False, False, False, False)
 
 
@@ -245,3 +247,57 @@ def test_streaming_refuses_g_and_survives_a_silent_magnetometer():
     live.push_imu(5, (0.0, 0.0, 9.81), (0.0, 0.0, 0.0))
     live.push_imu(300 * 10_000_000, (np.nan, 0.0, 9.81), (0.0, 0.0, 0.0))
     assert live.counts["stamp_not_increasing"] == 1 and live.counts["non_finite"] == 1
+
+
+# --- the kernels' shape (issue 31, acceptance 1) ---------------------------------------------
+def _is_njit(decorator: ast.expr) -> bool:
+    target = decorator.func if isinstance(decorator, ast.Call) else decorator
+    return getattr(target, "id", getattr(target, "attr", None)) == "njit"
+
+
+def test_no_compiled_kernel_takes_more_than_8_arguments():
+    tree = ast.parse(KERNEL.read_text())
+    kernels = {f.name: len(f.args.args) for f in ast.walk(tree)
+               if isinstance(f, ast.FunctionDef) and any(map(_is_njit, f.decorator_list))}
+    assert "filter_loop" in kernels and "update" in kernels
+    assert {name: n for name, n in kernels.items() if n > 8} == {}
+
+
+# arrays indexed by the state's rows (ATT_EAST ... BIAS_Z), in the kernel and its wrapper
+STATE_INDEXED = {"covariance", "p", "prop", "deviations", "dx", "gain", "pxz", "centre"}
+
+
+def _bare_rows(source: str) -> list[str]:
+    """Subscripts of the state-indexed arrays with an integer literal in them."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.Subscript):
+            continue
+        value = node.value
+        name = value.attr if isinstance(value, ast.Attribute) else getattr(value, "id", None)
+        if name in STATE_INDEXED and any(
+                isinstance(c, ast.Constant) and isinstance(c.value, int)
+                for c in ast.walk(node.slice)):
+            found.append(f"line {node.lineno}: {ast.unparse(node)}")
+    return found
+
+
+def test_state_rows_are_named():
+    """No bare row numbers for the state: ``p[ATT_UP, ATT_UP]``, never ``p[2, 2]``."""
+    from pdr_pocket import orientation
+
+    assert _bare_rows("p[2, 2] + covariance[:, 3:, 3:]") == [
+        "line 1: p[2, 2]", "line 1: covariance[:, 3:, 3:]"]
+    for module in (KERNEL, Path(orientation.__file__)):
+        assert _bare_rows(module.read_text()) == [], module.name
+
+
+def test_each_update_has_a_builder_that_cites_its_equation():
+    builders = {k.ABS_GRAVITY: k.absolute_gravity, k.DIFF_GRAVITY: k.differential_gravity,
+                k.ABS_MAG: k.absolute_magnetic, k.DIFF_MAG: k.differential_magnetic,
+                k.COMPASS: k.compass, k.ZARU: k.zaru, k.MEAN_GRAVITY: k.mean_gravity,
+                k.YAW_CORRECTION: k.external_correction}
+    assert set(range(k.N_UPDATES)) <= set(builders)
+    for builder in builders.values():
+        doc = " ".join(builder.__doc__.split())
+        assert "Muñoz Díaz 2016, Eq" in doc or doc.startswith("Beyond the thesis"), builder
