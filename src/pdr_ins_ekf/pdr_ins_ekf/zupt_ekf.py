@@ -225,12 +225,10 @@ class ZuptEkf:
     def __init__(self, config: FilterConfig, attitude: np.ndarray, gyro_bias=(0.0, 0.0, 0.0),
                  position=(0.0, 0.0, 0.0)) -> None:
         self.config = config
-        P = initial_covariance(config)
         b = np.zeros(6)
         b[GYRO] = gyro_bias
-        self.state = NavState(p=np.array(position, float), v=np.zeros(3),
-                              C=np.array(attitude, float, order="C"), b=b, P=P,
-                              prev=np.empty((3, 3)), dx=np.zeros(P.shape[0]))
+        self.state = start_state(attitude, b, initial_covariance(config))
+        self.state.p[:] = position
         self.started = False
         self.params = kernel_params(config)
 
