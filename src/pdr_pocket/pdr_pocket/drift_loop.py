@@ -7,8 +7,8 @@
   ``pocket_pdr`` node's service runs (Section 6.1). A correction is applied right after
   the sample that confirmed its step, as the live graph applies it as soon as the service
   call comes (a few samples later): the chunk is run again from a copy of the navigator
-  taken before it, up to that sample. Applied at the end of the chunk instead, the poses
-  ended 0.13 m from the live graph's.
+  taken before it (a checkpoint, pdr_core.checkpoints), up to that sample. Applied at the
+  end of the chunk instead, the poses ended 0.13 m from the live graph's.
 - :func:`navigate_offline`: a first pass collects every association's drift, ε₀ of
   Eq. (6.5) (outliers rejected), and a second pass takes ε₀·t off every step's heading
   and applies no correction: the path has no jumps (Section 6.2). The thesis reprocesses
@@ -23,6 +23,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from pdr_core.checkpoints import Checkpoints
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.drift import offline_drift
@@ -60,6 +61,9 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
     navigator = PocketNavigator(config)
     estimator = DriftEstimator(drift)
     log = DriftLog()
+    # the navigator before the chunk; the chunk is the record's, so no inputs are recorded
+    before: Checkpoints[PocketNavigator, None] = Checkpoints(
+        PocketNavigator.copy_state, np.inf, capacity=1)
 
     def run(start: int, stop: int) -> NavigatorOutput:
         part = slice(start, stop)
@@ -74,15 +78,15 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
     outputs, start = [], 0
     for end in np.searchsorted(t, np.arange(t[0], t[-1] + CHUNK_S, CHUNK_S)[1:], "left"):
         while start < end:
-            before = navigator.copy_state()
+            before.remember(t[start], navigator)
             out = run(start, end)
             step, corrections = _estimate(estimator, out.steps, log)
             if step is None:
                 outputs.append(out)
                 start = end
                 continue
-            navigator = before
             stop = max(int(np.searchsorted(t, step.t_confirm, "right")), start + 1)
+            navigator = before.revert_to(t[stop - 1]).state
             outputs.append(run(start, stop))
             for c in corrections:
                 ok, message = navigator.apply_correction(

@@ -28,8 +28,10 @@ result whatever the chunks, pdr_pocket.navigator):
   an update of the orientation filter in between (a mean gravity window closing) turns
   out differently with the yaw corrected or not: 2.3 m at the end of a two-lap walk
   without magnetometer updates between 0 and 2 samples late. ``pdr-pocket run --drift
-  online`` applies it at that same point (pdr_pocket.drift_loop), so the two agree. After
-  more than ``replay_max_s`` without a step the correction applies from now.
+  online`` applies it at that same point (pdr_pocket.drift_loop), so the two agree. The
+  state right after the last step and the samples since are a checkpoint
+  (pdr_core.checkpoints, which also says how a correction later than it is expressed).
+  After more than ``replay_max_s`` without a step the correction applies from now.
 """
 from __future__ import annotations
 
@@ -37,6 +39,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdr_core.checkpoints import Checkpoints
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
@@ -84,9 +87,9 @@ class StreamingPocket:
 
     def reset(self) -> None:
         self.navigator = PocketNavigator(self.config)
-        self.at_step: PocketNavigator | None = None     # right after the last step ...
-        self.at_step_t = 0.0                             # ... at this navigator time [s]
-        self.since_step: list[tuple] = []                # the inputs processed since
+        # right after the last step (its confirmation [s]) and the inputs processed since
+        self.at_step: Checkpoints[PocketNavigator, tuple] = Checkpoints(
+            PocketNavigator.copy_state, self.replay_max_s, capacity=1)
         self.last_stamp_ns: int | None = None
         # the readings a sample not yet processed may pair with: from the last one at or
         # before the last processed sample on (stamps [ns] ascending, values [T])
@@ -257,13 +260,15 @@ class StreamingPocket:
     def apply_correction(self, *correction) -> tuple[bool, str]:
         """:meth:`PocketNavigator.apply_correction` as of right after the last step (the
         module docstring), the samples since run again; from now when there is none."""
-        if self.at_step is None:
+        reverted = self.at_step.revert_to()
+        if reverted is None:
             return self.navigator.apply_correction(*correction)
-        navigator = self.at_step.copy_state()
+        navigator = reverted.state
         result = navigator.apply_correction(*correction)
-        self.at_step = navigator.copy_state()
-        for inputs in self.since_step:
+        self.at_step.remember(reverted.t_s, navigator)
+        for inputs in reverted.inputs:
             navigator.process(*inputs)
+            self.at_step.record(inputs, inputs[0][-1])
         navigator.steps = self.navigator.steps
         self.navigator = navigator
         return result
@@ -272,25 +277,21 @@ class StreamingPocket:
         """Keep the state right after the last step and the inputs since (the module
         docstring)."""
         t = inputs[0]
-        if not out.steps:
-            if self.at_step is None:        # no step yet, or too long ago: nothing kept
-                return
-            self.since_step.append(inputs)
-            if t[-1] - self.at_step_t > self.replay_max_s:
-                self.at_step, self.since_step = None, []
+        if not out.steps:       # the samples since the step, while within replay_max_s
+            self.at_step.record(inputs, t[-1])
             return
         confirm = out.steps[-1].t_confirm
-        self.at_step_t = confirm
         cut = max(int(np.searchsorted(t, confirm, side="right")), 1)
         if cut >= len(t):
-            self.at_step, self.since_step = self.navigator.copy_state(), []
+            self.at_step.remember(confirm, self.navigator)
             return
         # the chunk went on past the step: run it again from before, up to the step
         steps = self.navigator.steps
         before.process(*(x[:cut] for x in inputs))
-        self.at_step = before.copy_state()
-        before.process(*(x[cut:] for x in inputs))
+        self.at_step.remember(confirm, before)
+        since = tuple(x[cut:] for x in inputs)
+        before.process(*since)
         before.steps = steps
         self.navigator = before
-        self.since_step = [tuple(x[cut:] for x in inputs)]
+        self.at_step.record(since, t[-1])
 
