@@ -120,3 +120,70 @@ def test_the_navigators_import_no_evaluation_or_study_module():
             "pdr_ins_ekf.nodes.zupt_ekf", "pdr_drift.nodes.landmark_drift"} <= set(navigators)
     reached = {m: sorted(x for x in closure[m] if EVALUATION.search(x)) for m in navigators}
     assert {m: x for m, x in reached.items() if x} == {}
+
+
+# One vocabulary (issue 31): the angle wraps, the topic names, the frame names, the
+# activities and the landmark types each have one home in pdr_core.
+MODULES = [p for p in SOURCES if "test" not in p.relative_to(ROOT / "src").parts[1:]]
+WRAP = re.compile(r"np\.angle\(np\.exp\(|%\s*\(2(\.0)?\s*\*\s*(np|math)\.pi\)"
+                  r"|arctan2\(np\.sin\((\w+)\),\s*np\.cos\(\3\)\)")
+TOPIC = re.compile(r"/?pdr(/\w+)+")
+VOCABULARY = {"STANDING", "WALKING", "UPSTAIRS", "DOWNSTAIRS", "SITTING", "ACTIVITY_NAMES",
+              "CORNER", "STAIRS", "LANDMARK_NAMES", "FLOOR_HEIGHT_M"}
+HOMES = {"wrap": "pdr_core/angles.py", "topic": "pdr_core/topics.py",
+         "frame": "pdr_core/frames.py", "vocabulary": "pdr_core/vocabulary.py"}
+
+
+def outside(home: str) -> list[Path]:
+    return [p for p in MODULES if not p.as_posix().endswith(HOMES[home])]
+
+
+def string_constants(path: Path) -> list[ast.Constant]:
+    """The string constants of a module that are not docstrings."""
+    module = tree(path)
+    docstrings = {id(node.body[0].value) for node in ast.walk(module)
+                  if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef))
+                  and node.body and isinstance(node.body[0], ast.Expr)}
+    return [node for node in ast.walk(module) if isinstance(node, ast.Constant)
+            and isinstance(node.value, str) and id(node) not in docstrings]
+
+
+def test_angles_are_wrapped_by_pdr_core_angles():
+    hits = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}" for path in outside("wrap")
+            for n, line in enumerate(path.read_text().splitlines(), 1) if WRAP.search(line)]
+    assert hits == []
+
+
+def test_topic_and_frame_names_are_spelled_in_pdr_core_only():
+    """Nodes, bag writers, readers and command lines take them from pdr_core.topics and
+    pdr_core.frames; prose that names a topic is fine."""
+    topics = [f"{p.relative_to(ROOT)}:{c.lineno}: {c.value}" for p in outside("topic")
+              for c in string_constants(p) if TOPIC.fullmatch(c.value)]
+    frames = [f"{p.relative_to(ROOT)}:{c.lineno}: {c.value}" for p in outside("frame")
+              for c in string_constants(p) if c.value in ("map", "imu_link")]
+    assert topics == [] and frames == []
+
+
+def test_the_activities_and_landmark_types_are_defined_once():
+    """No module but pdr_core.vocabulary assigns them (``WALKING = 1``, ``... = range(5)``):
+    the others import Activity, LandmarkType and the names from it."""
+    hits = []
+    for path in outside("vocabulary"):
+        for node in tree(path).body:
+            if not isinstance(node, (ast.Assign, ast.AnnAssign)):
+                continue
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names = {n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)}
+            hits += [f"{path.relative_to(ROOT)}:{node.lineno}: {name}"
+                     for name in sorted(names & VOCABULARY)]
+    assert hits == []
+
+
+def test_the_vocabulary_patterns_catch_what_they_are_for():
+    for wrap in ("np.angle(np.exp(1j * x))", "(a + np.pi) % (2.0 * np.pi) - np.pi",
+                 "(a + np.pi) % (2 * np.pi)", "np.arctan2(np.sin(d), np.cos(d))"):
+        assert WRAP.search(wrap), wrap
+    assert not WRAP.search("np.arctan2(np.sin(a).sum(), np.cos(b).sum())")
+    for topic in ("pdr/foot/pose", "/pdr/pocket/apply_correction", "pdr/drift"):
+        assert TOPIC.fullmatch(topic), topic
+    assert not TOPIC.fullmatch("Reads pdr/pocket/step and pdr/pocket/pose")

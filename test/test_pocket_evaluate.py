@@ -10,10 +10,10 @@ import json
 import numpy as np
 import pytest
 
+from pdr_core import topics
 from pdr_core.bag import BagReader, write_batches
 from pdr_core.csv_export import import_arguments, log_table
 from pdr_core.metrics import truth_at
-from pdr_pocket.messages import POSE_TOPIC, STEP_TOPIC
 from wstest import ROOT, Processes
 
 pytestmark = pytest.mark.ros
@@ -80,8 +80,8 @@ def test_export_writes_the_bags_samples_with_units_in_the_column_names(walk):
 
 def test_the_exported_log_imported_again_navigates_to_the_same_steps(walk):
     folder, _ = walk
-    original = BagReader(folder / "run").read(STEP_TOPIC)
-    again = BagReader(folder / "run_imported").read(STEP_TOPIC)
+    original = BagReader(folder / "run").read(topics.POCKET_STEP)
+    again = BagReader(folder / "run_imported").read(topics.POCKET_STEP)
     assert len(again) == len(original) == 122
     assert np.array_equal(again.stamp_ns - again.stamp_ns[0],
                           original.stamp_ns - original.stamp_ns[0])
@@ -188,7 +188,7 @@ def test_evaluate_refusals(walk, procs, tmp_path):
     assert line.startswith(f"pdr-pocket: error: {POCKET_WALK}: not a pdr-pocket run output: "
                            "no topic /pdr/pocket/step, /pdr/pocket/pose (the bag has: ")
     # steps and poses alone (a recording of pocket_pdr): no run record
-    data = BagReader(run).read_batches([STEP_TOPIC, POSE_TOPIC])
+    data = BagReader(run).read_batches([topics.POCKET_STEP, topics.POCKET_POSE])
     write_batches(tmp_path / "recorded", data)
     line = refusal(procs, "pdr-pocket", "evaluate", tmp_path / "recorded", "--distance-m", "10")
     assert line.startswith(f"pdr-pocket: error: {tmp_path / 'recorded'}: not a pdr-pocket run "

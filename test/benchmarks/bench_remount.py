@@ -15,7 +15,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from pdr_pocket.activity import WALKING
+from pdr_core.vocabulary import Activity
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import PocketNavigator
 from pdr_pocket.run_report import steps_since
@@ -43,7 +43,7 @@ def found_again_after(rpy: tuple[float, float, float]) -> tuple[float, float]:
                                    TURN_AT_S + TURN_S + wait)
         if (match >= 0).all() and len(steps) == len(match):
             found = min(found, wait)
-            if all(s.activity == WALKING for s in steps):
+            if all(s.activity == Activity.WALKING for s in steps):
                 return found, float(wait)
     return found, labelled
 

@@ -27,6 +27,15 @@ def rotation_from_euler(roll: np.ndarray, pitch: np.ndarray, yaw: np.ndarray) ->
     return Rotation.from_quat(quat)
 
 
+def tilt_from_specific_force(force: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Roll φ and pitch θ [rad], (...,) each, of the C_b^n that levels the specific force
+    ``force`` (..., 3) [m/s²] measured at rest in the body frame, f = C_b^nᵀ·[0, 0, g]:
+    φ = atan2(f_y, f_z), θ = atan2(−f_x, √(f_y² + f_z²)) (Muñoz Díaz 2016,
+    Eqs. (3.12)–(3.13)). The yaw is left free: gravity does not show it."""
+    f = np.asarray(force)
+    return np.arctan2(f[..., 1], f[..., 2]), np.arctan2(-f[..., 0], np.hypot(f[..., 1], f[..., 2]))
+
+
 def body_rate_from_euler(roll, pitch, yaw, roll_rate, pitch_rate, yaw_rate) -> np.ndarray:
     """ω_nb^b [rad/s], (N, 3), from Euler angles and their time derivatives.
 

@@ -1,8 +1,9 @@
-"""Topic names as stored in bags (absolute, without namespace).
+"""Topic and service names, defined once, as stored in bags (absolute, without namespace).
 
-On the ROS graph the same names are used relative to the node's namespace (``imu/data``),
-so a namespace can prefix them; ``bag_play`` and ``bag_record`` map between the two.
-See docs/nodes.md for the topics of each node.
+On the ROS graph the same names are used relative to the node's namespace (``imu/data``,
+:func:`graph_name`), so a namespace can prefix them; ``bag_play`` and ``bag_record`` map
+between the two. Nodes, bag writers, readers and command lines all take the names from
+here. See docs/nodes.md for the topics of each node.
 """
 IMU_DATA = "/imu/data"
 IMU_MAG = "/imu/mag"
@@ -11,6 +12,26 @@ GROUND_TRUTH_STEP = "/ground_truth/step"            # pocket placement: one per 
 GROUND_TRUTH_LANDMARKS = "/ground_truth/landmarks"  # pocket placement: corners, flights
 GROUND_TRUTH_STANCE = "/ground_truth/stance"        # foot placement: true zero velocity
 CLOCK = "/clock"
+
+# the foot navigator (zupt_ekf, pdr-ekf run)
+FOOT_POSE = "/pdr/foot/pose"
+FOOT_VELOCITY = "/pdr/foot/velocity"
+FOOT_STANCE = "/pdr/foot/stance"
+FOOT_PATH = "/pdr/foot/path"
+FOOT_SMOOTHED_PATH = "/pdr/foot/smoothed_path"
+
+# the pocket navigator (pocket_pdr, pdr-pocket run)
+POCKET_ATTITUDE = "/pdr/pocket/attitude"
+POCKET_GYRO_BIAS = "/pdr/pocket/gyro_bias"
+POCKET_STEP = "/pdr/pocket/step"
+POCKET_POSE = "/pdr/pocket/pose"
+POCKET_PATH = "/pdr/pocket/path"
+POCKET_CORRECTED_PATH = "/pdr/pocket/corrected_path"   # pdr-drift run's offline correction
+POCKET_APPLY_CORRECTION = "/pdr/pocket/apply_correction"   # the service pocket_pdr offers
+
+# the landmark drift estimator (landmark_drift, pdr-drift run)
+LANDMARKS = "/pdr/landmarks"
+DRIFT = "/pdr/drift"
 
 
 def graph_name(bag_topic: str) -> str:

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pdr_core.angles import circular_mean, wrap_angle
+
 
 @dataclass(frozen=True)
 class StepSample:
@@ -49,21 +51,11 @@ class Corner:
     turn: float               # yaw_after − yaw_before, wrapped [rad]
 
 
-def wrap(angle):
-    """To (−π, π]."""
-    return np.angle(np.exp(1j * np.asarray(angle, float)))
-
-
-def circular_mean(angles) -> float:
-    a = np.asarray(angles, float)
-    return float(np.arctan2(np.sin(a).sum(), np.cos(a).sum()))
-
-
 def _corner(steps: list[StepSample], before: list[float], after: list[float]) -> Corner:
     middle = steps[len(steps) // 2]
     b, a = circular_mean(before), circular_mean(after)
     return Corner(middle.t, b, a, middle.position, middle.covariance, middle.floor,
-                  float(wrap(a - b)))
+                  float(wrap_angle(a - b)))
 
 
 class BufferCornerDetector:
@@ -84,7 +76,7 @@ class BufferCornerDetector:
         steps = list(self.window)
         before = [s.heading for s in steps[:self.q]]
         after = [s.heading for s in steps[-self.q:]]
-        jump = abs(float(wrap(circular_mean(after) - circular_mean(before))))
+        jump = abs(float(wrap_angle(circular_mean(after) - circular_mean(before))))
         if self.r1 < jump < self.r2:
             corner = _corner(steps, before, after)
             if self.candidate is None or abs(jump - np.pi / 2) < self.candidate[0]:
@@ -112,8 +104,8 @@ class TurnCornerDetector:
         """The last step turned by ``rate_min``, or the last two by twice it (a slow
         wide turn with one straighter step inside)."""
         h = list(self.recent)
-        one = len(h) >= 2 and abs(float(wrap(h[-1] - h[-2]))) >= self.rate_min
-        two = len(h) == 3 and abs(float(wrap(h[-1] - h[-3]))) >= 2 * self.rate_min
+        one = len(h) >= 2 and abs(float(wrap_angle(h[-1] - h[-2]))) >= self.rate_min
+        two = len(h) == 3 and abs(float(wrap_angle(h[-1] - h[-3]))) >= 2 * self.rate_min
         return one or two
 
     def push(self, step: StepSample) -> Corner | None:

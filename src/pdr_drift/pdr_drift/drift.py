@@ -21,7 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdr_drift.landmarks import CORNER, Association
+from pdr_core.angles import wrap_axial
+from pdr_core.vocabulary import LandmarkType
+from pdr_drift.landmarks import Association
 
 YAW_SIGMA_RAD = np.radians(4.0)      # each landmark yaw (Section 5.3)
 
@@ -39,20 +41,15 @@ class DriftEstimate:
     deviation_variance: float
 
 
-def _half_turn_wrap(angle) -> np.ndarray:
-    """To (−π/2, π/2]: equal modulo 180°."""
-    return np.angle(np.exp(2j * np.asarray(angle, float))) / 2
-
-
 def deviation(association: Association) -> tuple[float, int]:
     """δ [rad] (module docstring) and how many yaw pairs it averages."""
     first, revisit = association.first, association.revisit
-    if first.type != CORNER:
-        return float(_half_turn_wrap(first.yaw_before - revisit.yaw_before)), 1
+    if first.type != LandmarkType.CORNER:
+        return float(wrap_axial(first.yaw_before - revisit.yaw_before)), 1
     directions = np.array([first.yaw_before, first.yaw_after])
     deltas = []
     for yaw in (revisit.yaw_before, revisit.yaw_after):
-        candidates = _half_turn_wrap(directions - yaw)
+        candidates = wrap_axial(directions - yaw)
         deltas.append(candidates[np.argmin(np.abs(candidates))])
     return float(np.mean(deltas)), 2
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pdr_core.angles import wrap_angle
 from pdr_core.batch import MessageBatch
 from pdr_drift.drift_log import DriftLog
 
@@ -56,6 +57,6 @@ def truth_report(log: DriftLog, truth: MessageBatch, record_landmarks: list[dict
 def final_errors(attitude_yaw: np.ndarray, true_yaw: np.ndarray, position: np.ndarray,
                  true_position: np.ndarray) -> dict:
     """Yaw [deg] and position [m] errors at the end."""
-    yaw = float(np.degrees(np.angle(np.exp(1j * (attitude_yaw[-1] - true_yaw[-1])))))
+    yaw = float(np.degrees(wrap_angle(attitude_yaw[-1] - true_yaw[-1])))
     return {"final_yaw_error_deg": yaw,
             "final_position_error_m": float(np.linalg.norm(position[-1] - true_position[-1]))}

@@ -24,11 +24,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.stats import chi2
 
-from pdr_drift.corners import Corner, StepSample, circular_mean
-
-CORNER, STAIRS = 0, 1            # pdr_msgs/Landmark types
-LANDMARK_NAMES = ("corner", "stairs")
-UPSTAIRS, DOWNSTAIRS = 2, 3      # pdr_msgs/Step activities
+from pdr_core.angles import circular_mean
+from pdr_core.vocabulary import STAIRS_ACTIVITIES, LandmarkType
+from pdr_drift.corners import Corner, StepSample
 
 
 @dataclass(frozen=True)
@@ -56,7 +54,7 @@ class Association:
 
 
 def from_corner(corner: Corner, id_: int) -> Landmark:
-    return Landmark(id_, CORNER, corner.t, corner.position, corner.covariance,
+    return Landmark(id_, LandmarkType.CORNER, corner.t, corner.position, corner.covariance,
                     corner.yaw_before, corner.yaw_after, corner.floor, corner.floor)
 
 
@@ -69,7 +67,7 @@ class StairsTracker:
 
     def push(self, step: StepSample, id_: int) -> Landmark | None:
         """A step; the landmark of the flight it ends (or None)."""
-        on_stairs = step.activity in (UPSTAIRS, DOWNSTAIRS)
+        on_stairs = step.activity in STAIRS_ACTIVITIES
         landmark = None
         if self.flight and (not on_stairs or step.activity != self.flight[-1].activity):
             landmark = self._landmark(id_)
@@ -85,8 +83,8 @@ class StairsTracker:
         middle = self.flight[len(self.flight) // 2]
         yaw = circular_mean([s.heading for s in self.flight])
         after = self.flight[-1].floor
-        return Landmark(id_, STAIRS, middle.t, middle.position, middle.covariance, yaw, yaw,
-                        after, min(after, self.floor_before))
+        return Landmark(id_, LandmarkType.STAIRS, middle.t, middle.position,
+                        middle.covariance, yaw, yaw, after, min(after, self.floor_before))
 
 
 @dataclass

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.estimator import DriftEstimator, StepResult
@@ -25,7 +26,7 @@ MAX_UNPAIRED = 100
 @dataclass
 class StreamingDrift:
     config: DriftConfig = field(default_factory=DriftConfig)
-    floor_height_m: float = 3.5
+    floor_height_m: float = FLOOR_HEIGHT_M
     counts: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:

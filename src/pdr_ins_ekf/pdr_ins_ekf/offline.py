@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdr_core import topics
 from pdr_core.batch import LazyBatch, MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
@@ -138,10 +139,10 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch
 
     detector = np.full(n, run_.detector, np.uint8)
     return {
-        "/pdr/foot/pose": LazyBatch(POSE_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, pose),
-        "/pdr/foot/velocity": LazyBatch(TWIST_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame,
+        topics.FOOT_POSE: LazyBatch(POSE_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, pose),
+        topics.FOOT_VELOCITY: LazyBatch(TWIST_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame,
                                         velocity),
-        "/pdr/foot/stance": LazyBatch(STANCE, run_.stamp_ns, SENSOR_FRAME, lambda index: {
+        topics.FOOT_STANCE: LazyBatch(STANCE, run_.stamp_ns, SENSOR_FRAME, lambda index: {
             "stationary": run_.stance[index], "statistic": run_.statistic[index],
             "detector": detector[index]}),
     }

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.rotations import rotation_from_euler
+from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_ins_ekf import compiled_filter as kernels
 from pdr_ins_ekf import compiled_smoother
 from pdr_ins_ekf.compiled_smoother import SmootherParams
@@ -321,8 +321,7 @@ def initial_attitude(accel: np.ndarray, yaw_rad: float) -> np.ndarray:
     """C_b^n (3, 3) from the mean specific force at rest (roll, pitch) over the samples
     of ``accel`` (n, 3) and a given yaw; for runs (R, n, 3), one per run (R, 3, 3)."""
     f = accel.mean(axis=-2)
-    roll = np.arctan2(f[..., 1], f[..., 2])
-    pitch = np.arctan2(-f[..., 0], np.hypot(f[..., 1], f[..., 2]))
+    roll, pitch = tilt_from_specific_force(f)
     matrix = rotation_from_euler(np.atleast_1d(roll), np.atleast_1d(pitch),
                                  np.full(np.atleast_1d(roll).shape, yaw_rad)).as_matrix()
     return matrix.reshape(*f.shape[:-1], 3, 3)

@@ -61,7 +61,7 @@ Two classifiers of a step's activity, chosen by ``activity.model`` (:data:`MODEL
 
 Standing and sitting are decided only when no step has come for ``rest_after_s``: from
 the pitch, about 0° standing, 45°–90° sitting (:func:`rest_activity`). Activities are the
-pdr_msgs/Step constants.
+pdr_msgs/Step constants (:class:`pdr_core.vocabulary.Activity`).
 """
 from __future__ import annotations
 
@@ -70,10 +70,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pdr_core.vocabulary import Activity
 from pdr_pocket.config import ActivityConfig
-
-STANDING, WALKING, UPSTAIRS, DOWNSTAIRS, SITTING = range(5)
-ACTIVITY_NAMES = ("standing", "walking", "upstairs", "downstairs", "sitting")
 
 
 @dataclass(frozen=True)
@@ -103,7 +101,7 @@ class ThesisActivity:
         while it turned were not the gait's)."""
         self.level.clear()
 
-    def classify(self, shape: StepShape) -> int:
+    def classify(self, shape: StepShape) -> Activity:
         """WALKING, UPSTAIRS or DOWNSTAIRS for one step."""
         c = self.config
         hi, lo = np.degrees(shape.pitch_max), np.degrees(shape.pitch_min)
@@ -113,15 +111,15 @@ class ThesisActivity:
             if amplitude > mean_amp + c.up_amplitude_margin_deg and \
                     hi > mean_hi + c.up_max_margin_deg and \
                     lo > mean_lo - c.up_min_tolerance_deg:
-                return UPSTAIRS
+                return Activity.UPSTAIRS
             if amplitude < c.down_amplitude_ratio * mean_amp and \
                     mean_lo + c.down_min_margin_deg < lo < mean_hi:
-                return DOWNSTAIRS
+                return Activity.DOWNSTAIRS
         self.level.append((hi, lo, amplitude))
-        return WALKING
+        return Activity.WALKING
 
 
-STATES = (WALKING, UPSTAIRS, DOWNSTAIRS)    # the hidden states, in this order
+STATES = (Activity.WALKING, Activity.UPSTAIRS, Activity.DOWNSTAIRS)   # the hidden states, in order
 
 
 class LevelPriorActivity:
@@ -177,7 +175,7 @@ class LevelPriorActivity:
         ratio = np.exp(log_amplitude - log_level)
         return np.array([mid * ratio, log_level, low * ratio])
 
-    def classify(self, shape: StepShape) -> int:
+    def classify(self, shape: StepShape) -> Activity:
         """WALKING, UPSTAIRS or DOWNSTAIRS for one step: the state of highest posterior
         probability after the step's evidence."""
         hi, lo = np.degrees(shape.pitch_max), np.degrees(shape.pitch_min)
@@ -241,8 +239,8 @@ class LevelOnlyActivity:
     def restart(self) -> None:
         """Nothing is learned."""
 
-    def classify(self, shape: StepShape) -> int:
-        return WALKING
+    def classify(self, shape: StepShape) -> Activity:
+        return Activity.WALKING
 
 
 MODELS = {"thesis": ThesisActivity, "level_prior": LevelPriorActivity}
@@ -257,4 +255,4 @@ def activity_classifier(config: ActivityConfig, gyroscope: bool = True):
 def rest_activity(pitch: np.ndarray, config: ActivityConfig) -> np.ndarray:
     """STANDING or SITTING per sample from |θ| [rad] (N,)."""
     sitting = np.abs(np.degrees(pitch)) >= config.sitting_min_pitch_deg
-    return np.where(sitting, SITTING, STANDING).astype(np.uint8)
+    return np.where(sitting, Activity.SITTING, Activity.STANDING).astype(np.uint8)

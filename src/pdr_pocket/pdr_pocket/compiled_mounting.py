@@ -49,6 +49,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from pdr_core import angles, kernel_cache
+from pdr_core.angles import wrap_angle_jit
+
+kernel_cache.forget_if_changed(__file__, angles.__file__)
+
 # the swing of the last moved_tau_s is a plane (the remount check) when its middle
 # eigenvalue is at least SWING_MIN (a pitch swing of about ±4°) and its smallest at most
 # PLANAR_RATIO of the middle one
@@ -336,7 +341,7 @@ def _check_turned(state, params, c):
     same_axis = abs(axis @ flex) >= np.cos(params.turned_min_angle) and \
         abs(axis @ up) <= np.sin(params.turned_min_angle)
     d = phi - _oldest_anchor(state)[ANCHOR_PHI]
-    same_pitch = s.ring_n == 0 or abs(np.arctan2(np.sin(d), np.cos(d))) <= \
+    same_pitch = s.ring_n == 0 or abs(wrap_angle_jit(d)) <= \
         params.turned_pitch_angle
     if same_axis and same_pitch:
         s.turned_s = 0.0

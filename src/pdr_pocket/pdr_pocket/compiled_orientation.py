@@ -76,10 +76,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, small_matrix
+from pdr_core import angles, kernel_cache, small_matrix
+from pdr_core.angles import wrap_angle_jit
 from pdr_core.small_matrix import cholesky, product3, rodrigues
 
-kernel_cache.forget_if_changed(__file__, small_matrix.__file__)
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__)
 
 # the state's rows: the attitude error δθ (a small rotation in the navigation frame, ENU)
 # and the gyro bias error δb (body frame)
@@ -330,11 +331,6 @@ def _inverse_spd(a, out):
             out[i, j] = s
 
 
-@njit(cache=True)
-def _wrap(a):
-    return (a + np.pi) % (2.0 * np.pi) - np.pi
-
-
 # --- sigma points ----------------------------------------------------------------------
 @njit(cache=True)
 def _sqrt_cov(p, out):
@@ -505,7 +501,7 @@ def update(state, params, measurement, sample, work):
     for i in range(n2):
         for m in range(m_dim):
             d = predicted[1 + i, m] - h_mean[m]
-            hs[i, m] = _wrap(d) if _angular(kind, m) else d
+            hs[i, m] = wrap_angle_jit(d) if _angular(kind, m) else d
     dbar = np.zeros(m_dim)
     for i in range(n2):
         dbar += hs[i] / n2
@@ -521,7 +517,7 @@ def update(state, params, measurement, sample, work):
     innovation = np.empty(m_dim)
     for m in range(m_dim):
         v = z[m] - (h_mean[m] + dbar[m])
-        innovation[m] = _wrap(v) if _angular(kind, m) else v
+        innovation[m] = wrap_angle_jit(v) if _angular(kind, m) else v
     s_inv = np.empty((m_dim, m_dim))
     _inverse_spd(s, s_inv)
     gain = np.zeros((N_STATE, m_dim))
@@ -931,7 +927,7 @@ def compass_yaw(attitude, mu, field_azimuth):
     y1 = cr * mu[1] - sr * mu[2]
     z1 = sr * mu[1] + cr * mu[2]
     x2 = cp * mu[0] + sp * z1
-    return _wrap(field_azimuth - np.arctan2(y1, x2))
+    return wrap_angle_jit(field_azimuth - np.arctan2(y1, x2))
 
 
 @njit(cache=True)

@@ -29,7 +29,6 @@ from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
 from pdr_pocket.config import StairsConfig
-from pdr_pocket.messages import POSE_TOPIC, STEP_TOPIC
 from pdr_pocket.navigator import StepRecord
 from pdr_pocket.pocket_offline import RUN_RECORD
 from pdr_pocket.run_report import navigation_report, true_floors
@@ -64,7 +63,7 @@ def read_run(path: Path, *, strict: bool = False) -> RunOutput:
     from pdr_core.bag import BagReader
 
     reader = BagReader(path, strict=strict)
-    missing = [t for t in (STEP_TOPIC, POSE_TOPIC) if t not in reader.topics]
+    missing = [t for t in (topics.POCKET_STEP, topics.POCKET_POSE) if t not in reader.topics]
     if missing:
         have = ", ".join(sorted(reader.topics)) or "none"
         raise _not_a_run(path, f"no topic {', '.join(missing)} (the bag has: {have})")
@@ -72,15 +71,15 @@ def read_run(path: Path, *, strict: bool = False) -> RunOutput:
     if not isinstance(record, dict) or "step_t_s" not in record:
         raise _not_a_run(path, f"its metadata.yaml has no {RUN_RECORD} record (a recording "
                                "of pocket_pdr, or a run older than pdr-pocket evaluate)")
-    data = reader.read_batches([STEP_TOPIC, POSE_TOPIC])
-    steps, poses = data[STEP_TOPIC], data[POSE_TOPIC]
+    data = reader.read_batches([topics.POCKET_STEP, topics.POCKET_POSE])
+    steps, poses = data[topics.POCKET_STEP], data[topics.POCKET_POSE]
     if len(record["step_t_s"]) != len(steps):
         raise _not_a_run(path, f"its {RUN_RECORD} record has {len(record['step_t_s'])} step "
-                               f"times for {len(steps)} {STEP_TOPIC} messages")
+                               f"times for {len(steps)} {topics.POCKET_STEP} messages")
     pose_of = {int(s): i for i, s in enumerate(poses.stamp_ns)}
     unpaired = [int(s) for s in steps.stamp_ns if int(s) not in pose_of]
     if unpaired:
-        raise _not_a_run(path, f"{len(unpaired)} steps without their {POSE_TOPIC} (the "
+        raise _not_a_run(path, f"{len(unpaired)} steps without their {topics.POCKET_POSE} (the "
                                f"first stamped {unpaired[0]} ns)")
     staircases = Staircases(dataclasses.replace(StairsConfig(),
                                                 floor_height_m=record["floor_height_m"]))

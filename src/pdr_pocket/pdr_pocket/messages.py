@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.msgtypes import (
@@ -27,8 +28,6 @@ from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.navigator import NavigatorOutput, StepRecord
 from pdr_pocket.orientation import AttitudeEstimate
-
-STEP_TOPIC, POSE_TOPIC, PATH_TOPIC = "/pdr/pocket/step", "/pdr/pocket/pose", "/pdr/pocket/path"
 
 
 def step_stamps(steps: list[StepRecord], stamp_ns: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -64,8 +63,8 @@ def step_batches(out: NavigatorOutput, stamp_ns: np.ndarray) -> dict[str, Messag
     steps, t = out.steps, out.attitude.t
     stamps = step_stamps(steps, stamp_ns, t)
     at = np.clip(np.searchsorted(t, [s.t_confirm for s in steps]), 0, len(t) - 1)
-    return {STEP_TOPIC: MessageBatch(STEP, stamps, MAP_FRAME, step_fields(steps)),
-            POSE_TOPIC: MessageBatch(POSE_WITH_COVARIANCE_STAMPED, stamps, MAP_FRAME,
+    return {topics.POCKET_STEP: MessageBatch(STEP, stamps, MAP_FRAME, step_fields(steps)),
+            topics.POCKET_POSE: MessageBatch(POSE_WITH_COVARIANCE_STAMPED, stamps, MAP_FRAME,
                                      pose_fields(steps, out.attitude.attitude[at]))}
 
 
@@ -82,12 +81,6 @@ def path_batch(steps: list[StepRecord], stamps: np.ndarray) -> MessageBatch:
 def step_positions(steps: list[StepRecord]) -> np.ndarray:
     """The origin and each step's position (N + 1, 3) [m], map frame."""
     return np.vstack([np.zeros(3), *(s.position for s in steps)])
-
-
-ATTITUDE_TOPIC = "/pdr/pocket/attitude"
-
-
-GYRO_BIAS_TOPIC = "/pdr/pocket/gyro_bias"
 
 
 def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,
@@ -107,4 +100,4 @@ def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,
         "linear_acceleration_covariance": inputs.accel_covariance})
     bias = MessageBatch(VECTOR3_STAMPED, inputs.stamp_ns, frame,
                         {"vector": estimate.bias})
-    return {ATTITUDE_TOPIC: attitude, GYRO_BIAS_TOPIC: bias}
+    return {topics.POCKET_ATTITUDE: attitude, topics.POCKET_GYRO_BIAS: bias}

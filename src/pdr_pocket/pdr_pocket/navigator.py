@@ -30,15 +30,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.rotations import rotation_from_euler
-from pdr_pocket.activity import (
-    DOWNSTAIRS,
-    UPSTAIRS,
-    WALKING,
-    StepShape,
-    activity_classifier,
-    rest_activity,
-)
+from pdr_core.angles import wrap_angle
+from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
+from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
+from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
 from pdr_pocket.compiled_mounting import (
     MountingInputs,
     MountingOutputs,
@@ -150,7 +145,7 @@ class PocketNavigator:
         self.vz_max, self.vz_min = -np.inf, np.inf
         self.tilt_var_max = 0.0                 # the tilt's largest variance [rad²]
         self.last_confirm = -np.inf
-        self.last_activity = WALKING
+        self.last_activity = Activity.WALKING
         self.corrections = {"accepted": 0, "refused": 0}
         self.changes_seen = 0.0
         self.remounts_t: list[float] = []       # mounting changes of this chunk
@@ -280,8 +275,7 @@ class PocketNavigator:
         gravity, motion = np.empty((n, 3)), np.empty(n)
         tau = CASCADE_FACTOR / (2 * np.pi * m.gravity_cutoff_hz)
         gravity_loop(self.gravity_state, tau, MOTION_TIME_CONSTANT_S, t, accel, gravity, motion)
-        roll = np.arctan2(gravity[:, 1], gravity[:, 2])
-        pitch = np.arctan2(-gravity[:, 0], np.hypot(gravity[:, 1], gravity[:, 2]))
+        roll, pitch = tilt_from_specific_force(gravity)
         c = rotation_from_euler(roll, pitch, np.zeros(n)).as_matrix().reshape(n, 3, 3)
         covariance = np.zeros((n, 6, 6))
         covariance[:, 0, 0] = covariance[:, 1, 1] = GRAVITY_TILT_SIGMA_RAD**2
@@ -383,15 +377,15 @@ class PocketNavigator:
         heading = float(np.arctan2(self.sum_sin, self.sum_cos) - drift * t_max)
         turn = heading - self.steps[-1].heading if self.steps else 0.0
         activity = self.classifier.classify(StepShape(
-            float(event[EV_MAX]), float(event[EV_MIN]), float(np.angle(np.exp(1j * turn))),
+            float(event[EV_MAX]), float(event[EV_MIN]), float(wrap_angle(turn)),
             duration, float(np.sqrt(self.tilt_var_max))))
         vertical_range = self.vz_max - self.vz_min
         length = self.stride.length(StrideInputs(amplitude_deg, duration, vertical_range)) \
-            if activity == WALKING else c.step_length.stairs_stride_m
+            if activity == Activity.WALKING else c.step_length.stairs_stride_m
         vertical = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
         self.staircases.add(index, t_max, activity, vertical)
-        on_stairs = activity in (UPSTAIRS, DOWNSTAIRS)
+        on_stairs = activity in STAIRS_ACTIVITIES
         self.position.step(length, vertical, heading, yaw_var, c.step_length.length_sigma_m**2,
                            c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2,
                            duration)

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2
 
-from pdr_core.rotations import rotation_from_euler
+from pdr_core.angles import wrap_angle
+from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_pocket import compiled_orientation as kernel
 from pdr_pocket.compiled_orientation import (
     ATT_EAST,
@@ -123,8 +124,7 @@ class OrientationFilter:
     # --- state ----------------------------------------------------------------------
     def _start(self, accel: np.ndarray, mag: np.ndarray) -> FilterState:
         c = self.config
-        roll = np.arctan2(accel[1], accel[2])
-        pitch = np.arctan2(-accel[0], np.hypot(accel[1], accel[2]))
+        roll, pitch = tilt_from_specific_force(accel)
         tilt = rotation_from_euler(roll, pitch, 0.0).as_matrix()
         if c.initial_yaw_deg is not None:
             yaw = np.radians(c.initial_yaw_deg)
@@ -208,7 +208,7 @@ class OrientationFilter:
     def _nis(self, kind: int, value: float, variance: float) -> tuple[float, float, float]:
         predicted = self._predicted_variance(kind)
         change = np.float64(value) - self._current(kind)
-        innovation = (change + np.pi) % (2 * np.pi) - np.pi if kind == YAW_CORRECTION else change
+        innovation = wrap_angle(change) if kind == YAW_CORRECTION else change
         with np.errstate(over="ignore"):     # a huge request: an infinite NIS, refused
             return float(innovation**2 / (predicted + variance)), float(innovation), predicted
 

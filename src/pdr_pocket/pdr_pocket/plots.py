@@ -12,6 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
+from pdr_core.vocabulary import Activity
 
 AXES = ("x", "y", "z")
 COLOURS = ("tab:blue", "tab:red", "tab:green")
@@ -101,18 +102,16 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     and ``associations`` (pairs of positions), the top view marks them, as Muñoz Díaz
     2016, Figs. 6.8-6.9. The title: ``source``'s name, the steps and ``final_error_m``
     (against a truth) or ``loop_gap_m`` (the report's)."""
-    from pdr_pocket.activity import ACTIVITY_NAMES
-
     fig = plt.figure(figsize=(15, 10))
     grid = fig.add_gridspec(2, 4)
     ax3 = fig.add_subplot(grid[0, :2], projection="3d")
     top = fig.add_subplot(grid[0, 2:])
     zoom = len(step_t) > ZOOM_CYCLES and t_s[-1] - t_s[0] > ZOOM_ABOVE_S
     pitch_ax = fig.add_subplot(grid[1, :3] if zoom else grid[1, :])
-    for a, name in enumerate(ACTIVITY_NAMES):
+    for a in Activity:
         mask = activity == a
         if mask.any():
-            ax3.scatter(*positions[mask].T, s=4, color=ACTIVITY_COLOURS[a], label=name)
+            ax3.scatter(*positions[mask].T, s=4, color=ACTIVITY_COLOURS[a], label=a.label)
     if truth is not None:
         ax3.plot(*truth.T, color="k", lw=0.6, label="truth")
         top.plot(truth[:, 0], truth[:, 1], color="k", lw=0.6, label="truth")

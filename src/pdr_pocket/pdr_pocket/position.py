@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import chi2
 
+from pdr_core.angles import wrap_angle
 from pdr_pocket.config import PositionConfig
 
 X, Y, Z, PSI, EPS = range(5)
@@ -135,7 +136,7 @@ class PositionFilter:
         step's growth counts."""
         h = np.zeros((1, N_POSITION_STATE))
         h[0, PSI] = 1.0
-        innovation = np.angle(np.exp(1j * (heading_rad - self.x[PSI])))
+        innovation = wrap_angle(heading_rad - self.x[PSI])
         message = self._update(h, np.array([innovation]), np.array([[variance]]), "heading")
         self.yaw_variance = yaw_variance_after
         return message

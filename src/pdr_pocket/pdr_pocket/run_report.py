@@ -21,9 +21,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from pdr_core.angles import wrap_angle
 from pdr_core.batch import MessageBatch
 from pdr_core.metrics import error_report
-from pdr_pocket.activity import ACTIVITY_NAMES
+from pdr_core.vocabulary import ACTIVITY_NAMES
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.messages import step_positions
 from pdr_pocket.navigator import StepRecord
@@ -161,7 +162,7 @@ def attitude_errors(estimate: AttitudeEstimate, truth_quat: np.ndarray) -> np.nd
     from scipy.spatial.transform import Rotation
 
     truth = Rotation.from_quat(truth_quat).as_euler("ZYX")[:, ::-1]
-    return np.angle(np.exp(1j * (estimate.euler - truth)))
+    return wrap_angle(estimate.euler - truth)
 
 
 def attitude_report(inputs: PocketInputs, estimate: AttitudeEstimate,

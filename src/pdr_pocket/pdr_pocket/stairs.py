@@ -15,15 +15,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_pocket.activity import DOWNSTAIRS, UPSTAIRS
+from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
 from pdr_pocket.config import StairsConfig
 
 
 def vertical_displacement_m(activity: int, amplitude_deg: float, config: StairsConfig) -> float:
     """v [m], + up, of one step (0 unless on stairs)."""
-    if activity == UPSTAIRS:
+    if activity == Activity.UPSTAIRS:
         return (config.a_u_cm_per_deg * amplitude_deg + config.b_u_cm) / 100.0
-    if activity == DOWNSTAIRS:
+    if activity == Activity.DOWNSTAIRS:
         return -(config.a_d_cm_per_deg * amplitude_deg + config.b_d_cm) / 100.0
     return 0.0
 
@@ -57,7 +57,7 @@ class Staircases:
         self.on_stairs = False
 
     def add(self, index: int, t: float, activity: int, v_m: float) -> None:
-        if activity not in (UPSTAIRS, DOWNSTAIRS):
+        if activity not in STAIRS_ACTIVITIES:
             self.on_stairs = False
             return
         last = self.done[-1] if self.done else None

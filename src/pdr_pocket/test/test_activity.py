@@ -8,10 +8,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from pdr_core.vocabulary import Activity
 from pdr_pocket.activity import (
-    DOWNSTAIRS,
-    UPSTAIRS,
-    WALKING,
     LevelOnlyActivity,
     LevelPriorActivity,
     StepShape,
@@ -40,7 +38,7 @@ def test_level_walk_at_changing_speeds_stays_level():
     slow, brisk = (18.0, -7.0), (28.0, -14.0)
     model = LevelPriorActivity(ActivityConfig())
     walk = [step(slow)] * 10 + [step(brisk, duration_s=1.0)] * 10 + [step(slow)] * 5
-    assert labels(model, walk) == [WALKING] * len(walk)
+    assert labels(model, walk) == [Activity.WALKING] * len(walk)
 
 
 def test_a_walk_that_starts_on_a_staircase_is_read_against_a_level_gait():
@@ -48,8 +46,9 @@ def test_a_walk_that_starts_on_a_staircase_is_read_against_a_level_gait():
     begins on the stairs then reads as level. The population's level gait does not."""
     walk = [step(UP)] * 6 + [step(LEVEL)] * 4 + [step(DOWN)] * 6 + [step(LEVEL)] * 3
     assert labels(LevelPriorActivity(ActivityConfig()), walk) == \
-        [UPSTAIRS] * 6 + [WALKING] * 4 + [DOWNSTAIRS] * 6 + [WALKING] * 3
-    assert labels(ThesisActivity(ActivityConfig()), walk)[:6] == [WALKING] * 6
+        [Activity.UPSTAIRS] * 6 + [Activity.WALKING] * 4 + [Activity.DOWNSTAIRS] * 6 + \
+        [Activity.WALKING] * 3
+    assert labels(ThesisActivity(ActivityConfig()), walk)[:6] == [Activity.WALKING] * 6
 
 
 def test_one_odd_step_is_no_staircase():
@@ -57,7 +56,7 @@ def test_one_odd_step_is_no_staircase():
     walk is not a staircase: the level state's tails are heavy and its prior strong."""
     odd = (30.0, 1.0)
     walk = [step(LEVEL)] * 8 + [step(odd)] + [step(LEVEL)] * 4
-    assert labels(LevelPriorActivity(ActivityConfig()), walk) == [WALKING] * 13
+    assert labels(LevelPriorActivity(ActivityConfig()), walk) == [Activity.WALKING] * 13
 
 
 def test_stairs_are_walked_not_run():
@@ -68,7 +67,7 @@ def test_stairs_are_walked_not_run():
     jog = labels(model, [*before, step(down_ish, duration_s=0.8)])
     model.restart()
     walked = labels(model, [*before, step(down_ish, duration_s=1.25)])
-    assert jog[-1] == WALKING and walked[-1] == DOWNSTAIRS
+    assert jog[-1] == Activity.WALKING and walked[-1] == Activity.DOWNSTAIRS
 
 
 def test_an_uncertain_tilt_weakens_the_evidence():
@@ -76,7 +75,7 @@ def test_an_uncertain_tilt_weakens_the_evidence():
     the next to confirm it."""
     model = LevelPriorActivity(ActivityConfig())
     walk = [step(LEVEL)] * 8 + [step(DOWN, tilt_sigma_deg=20.0), step(DOWN), step(DOWN)]
-    assert labels(model, walk)[-3:] == [WALKING, DOWNSTAIRS, DOWNSTAIRS]
+    assert labels(model, walk)[-3:] == [Activity.WALKING, Activity.DOWNSTAIRS, Activity.DOWNSTAIRS]
 
 
 def test_the_level_gait_is_learned_from_level_steps():

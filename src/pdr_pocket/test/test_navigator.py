@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pdr_core.errors import InputError
-from pdr_pocket.activity import SITTING, STANDING, WALKING
+from pdr_core.vocabulary import Activity
 from pdr_pocket.compiled_mounting import CHANGES
 from pdr_pocket.config import (
     MountingConfig,
@@ -84,7 +84,7 @@ def test_a_walk_that_speeds_up_stays_level(seed):
     step level at every seed (scaled to the step's amplitude, the level gait explains
     the faster swing; unscaled, 46 and 47 steps read as up at seeds 1 and 2)."""
     sim, out = navigated("h2_rectangle_speeds", seed=seed)
-    assert [s.activity for s in out.steps] == [WALKING] * len(sim.model.true_steps.end_s)
+    assert [s.activity for s in out.steps] == [Activity.WALKING] * len(sim.model.true_steps.end_s)
 
 
 def test_sitting_and_standing_periods_have_no_step_and_are_named():
@@ -92,7 +92,7 @@ def test_sitting_and_standing_periods_have_no_step_and_are_named():
     steps_t = np.array([s.t for s in out.steps])
     t = sim.trajectory.t
     for period in sim.model.periods:
-        if period.activity not in (STANDING, SITTING):
+        if period.activity not in (Activity.STANDING, Activity.SITTING):
             continue
         assert not ((steps_t > period.start_s + 1.5) & (steps_t < period.end_s - 1.5)).any()
         inside = (t > period.start_s + 4.0) & (t < period.end_s - 2.0)
@@ -205,7 +205,7 @@ def test_steps_are_found_again_within_10_s_of_a_mid_walk_change_of_mounting(name
                                REMOUNT_AT_S + REMOUNT_S + FOUND_AGAIN_S)
     assert (match >= 0).all(), f"missed {(match < 0).sum()}"
     assert len(steps) == len(match)
-    assert all(s.activity == WALKING for s in steps)
+    assert all(s.activity == Activity.WALKING for s in steps)
 
 
 def test_without_a_gyroscope_a_phone_found_turned_at_the_last_rest_loses_no_step():
@@ -380,7 +380,7 @@ def test_stride_calibration_recovers_the_line_and_refuses_bad_walks():
 
 def test_walking_label_for_level_steps_at_any_speed():
     _, out = navigated("h2_rectangle_speeds")
-    assert all(s.activity == WALKING for s in out.steps)
+    assert all(s.activity == Activity.WALKING for s in out.steps)
 
 
 
@@ -471,7 +471,7 @@ def test_a_walk_from_a_chair_finds_its_standing_axis():
         sim.mag["magnetic_field"])
     match = matched(sim, out)
     assert (match >= 0).all() and len(out.steps) == len(match)
-    assert all(s.activity == WALKING for s in out.steps)
+    assert all(s.activity == Activity.WALKING for s in out.steps)
 
 
 def test_a_back_pocket_finds_every_step():
@@ -481,7 +481,7 @@ def test_a_back_pocket_finds_every_step():
     sim, out = navigated("h1_rectangle", seed=0, carried="back_pocket")
     match = matched(sim, out)
     assert (match >= 0).all() and len(out.steps) == len(match)
-    assert all(s.activity == WALKING for s in out.steps)
+    assert all(s.activity == Activity.WALKING for s in out.steps)
     error = sum(s.length for s in out.steps) / sim.model.true_steps.length.sum() - 1
     assert -0.45 < error < -0.30
 

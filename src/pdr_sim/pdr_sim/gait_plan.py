@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdr_core.vocabulary import Activity, LandmarkType
 from pdr_sim.pocket_scenario import (
     DEFAULT_SPEED_KMH,
     KMH,
@@ -32,8 +33,6 @@ from pdr_sim.pocket_scenario import (
     nominal_stride_m,
 )
 
-STANDING, WALKING, UPSTAIRS, DOWNSTAIRS, SITTING = 0, 1, 2, 3, 4   # pdr_msgs/Step
-CORNER, STAIRS = 0, 1                                              # pdr_msgs/Landmark
 DEFAULT_STAIRS_SPEED_KMH = 3.0      # level steps on landings
 REST_KNOT_S = 0.5                   # spacing of the pose knots while resting
 SIT_TRANSITION_S = 1.5              # sitting down and standing up
@@ -47,7 +46,7 @@ class Cycles:
 
     start: list = field(default_factory=list)          # [s]
     duration: list = field(default_factory=list)       # [s]
-    activity: list = field(default_factory=list)       # WALKING, UPSTAIRS, DOWNSTAIRS
+    activity: list = field(default_factory=list)       # Activity: WALKING, UPSTAIRS, DOWNSTAIRS
     pitch_max: list = field(default_factory=list)      # target θ_max [rad]
     pitch_min: list = field(default_factory=list)      # target θ_min [rad]
     risers: list = field(default_factory=list)         # signed riser count (+ up)
@@ -166,7 +165,7 @@ class _Planner:
         amplitude = np.radians((v * period - p.b_h_m) / p.a_h_m_per_deg)
         pitch_min = -p.pitch_min_fraction * amplitude
         scatter = p.stride_scatter_m * self.rng.standard_normal()
-        self._cycle(period, WALKING, pitch_min + amplitude, pitch_min, turn=turn,
+        self._cycle(period, Activity.WALKING, pitch_min + amplitude, pitch_min, turn=turn,
                     scatter=scatter)
 
     def stair_step(self, direction: str, risers: int, riser_m: float, tread_m: float) -> None:
@@ -181,7 +180,7 @@ class _Planner:
             amplitude_deg = (v_cm - p.b_d_cm) / p.a_d_cm_per_deg
             pitch_min_deg = p.down_pitch_min_deg
         scatter = np.radians(p.stair_pitch_scatter_deg * self.rng.standard_normal())
-        activity = UPSTAIRS if direction == "up" else DOWNSTAIRS
+        activity = Activity.UPSTAIRS if direction == "up" else Activity.DOWNSTAIRS
         sign = 1 if direction == "up" else -1
         self._cycle(1.0 / p.stair_cadence_hz, activity, np.radians(pitch_min_deg + amplitude_deg),
                     np.radians(pitch_min_deg), sign * risers, riser_m, risers * tread_m,
@@ -195,10 +194,10 @@ class _Planner:
         getattr(self, f"_{seg.type}")(seg)
 
     def _standing(self, seg: PocketSegment) -> None:
-        self.rest(seg.duration_s, STANDING, 0.0)
+        self.rest(seg.duration_s, Activity.STANDING, 0.0)
 
     def _sitting(self, seg: PocketSegment) -> None:
-        self.rest(seg.duration_s, SITTING, np.radians(seg.pitch_deg))
+        self.rest(seg.duration_s, Activity.SITTING, np.radians(seg.pitch_deg))
 
     def _walk(self, seg: PocketSegment) -> None:
         steps = seg.steps or max(1, round(seg.distance_m / nominal_stride_m(self.person,
@@ -208,7 +207,7 @@ class _Planner:
 
     def _turn(self, seg: PocketSegment) -> None:
         if seg.duration_s:
-            self.rest(seg.duration_s, STANDING, 0.0, np.radians(seg.angle_deg))
+            self.rest(seg.duration_s, Activity.STANDING, 0.0, np.radians(seg.angle_deg))
             self._corner(seg.angle_deg, len(self.cycles), len(self.rests) - 1)
             return
         steps = seg.steps or 2
@@ -221,7 +220,8 @@ class _Planner:
         """A corner landmark when the turn is one (60–120° or 150–210°)."""
         a = abs(angle_deg)
         if 60.0 <= a <= 120.0 or 150.0 <= a <= 210.0:
-            self.landmarks.append(PlannedLandmark(CORNER, first, len(self.cycles) - 1,
+            self.landmarks.append(PlannedLandmark(LandmarkType.CORNER, first,
+                                                  len(self.cycles) - 1,
                                                   self.floor, rest))
 
     def _climb(self, direction: str, flights_per_floor: int) -> int:
@@ -255,7 +255,8 @@ class _Planner:
             if odd:
                 self.stair_step(seg.direction, 1, seg.riser_m, seg.tread_m)
             lower = self._climb(seg.direction, seg.flights_per_floor)
-            self.landmarks.append(PlannedLandmark(STAIRS, first, len(self.cycles) - 1, lower))
+            self.landmarks.append(PlannedLandmark(LandmarkType.STAIRS, first,
+                                                  len(self.cycles) - 1, lower))
 
     def _platform(self, seg: PocketSegment) -> None:
         self.stair_step(seg.direction, 1, seg.riser_m, 2 * seg.tread_m)

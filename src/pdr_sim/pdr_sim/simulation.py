@@ -34,6 +34,7 @@ from pdr_core.imu_profiles import PROFILES, profile
 from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, MagneticField, homogeneous
 from pdr_core.msgtypes import IMU, LANDMARK, MAGNETIC_FIELD, POSE_STAMPED, STEP
 from pdr_core.rotations import quaternion_xyzw
+from pdr_core.vocabulary import ACTIVITY_NAMES, LandmarkType
 from pdr_sim import signals
 from pdr_sim.foot_trajectory import FootTrajectory, sample_times
 from pdr_sim.pocket_scenario import PocketScenario, load_pocket_scenario, pocket_scenario_from_dict
@@ -277,7 +278,7 @@ def simulation_record(sim: Simulation) -> dict[str, Any]:
               "true_gyro_bias_deg_per_s": [float(np.degrees(b)) for b in sim.gyro_bias]}
     if isinstance(sim.model, ThighTrajectory):
         record["landmarks"] = [
-            {"id": m.id, "type": "corner" if m.type == 0 else "stairs",
+            {"id": m.id, "type": LandmarkType(m.type).label,
              "time_s": round(m.time_s, 3), "floor": m.floor, "revisit_of": m.revisit_of,
              "position_m": [round(v, 3) for v in m.position]} for m in sim.model.landmarks]
         record["periods"] = [{"activity": ACTIVITY_NAMES[p.activity],
@@ -285,5 +286,3 @@ def simulation_record(sim: Simulation) -> dict[str, Any]:
                              for p in sim.model.periods]
     return record
 
-
-ACTIVITY_NAMES = ("standing", "walking", "upstairs", "downstairs", "sitting")

@@ -34,6 +34,8 @@ import numpy as np
 from scipy.interpolate import CubicSpline, PPoly
 from scipy.spatial.transform import Rotation
 
+from pdr_core.angles import wrap_angle
+from pdr_core.vocabulary import Activity, LandmarkType
 from pdr_sim.compiled_thigh import (
     HEADING,
     PITCH,
@@ -47,7 +49,6 @@ from pdr_sim.gait_plan import (
     REST_KNOT_S,
     SETTLE_FRACTION,
     SIT_TRANSITION_S,
-    STAIRS,
     GaitPlan,
     plan_gait,
 )
@@ -60,9 +61,9 @@ KNOT_PHASES = np.array([0.0, 0.08, 0.30, 0.44, 0.58, 0.72, 0.86, 0.94])
 # θ_min at toe-off (0.58), θ_max in the swing (0.86), the dip before heel strike.
 # Stairs: no heel-strike peak; two minima (0.30 and 0.58) around a small rise.
 PITCH_SHAPES = {
-    1: np.array([0.80, 0.72, 0.45, 0.20, 0.00, 0.40, 1.00, 0.70]),
-    2: np.array([0.70, 0.55, 0.06, 0.14, 0.00, 0.45, 1.00, 0.88]),
-    3: np.array([0.70, 0.55, 0.06, 0.14, 0.00, 0.45, 1.00, 0.88]),
+    Activity.WALKING: np.array([0.80, 0.72, 0.45, 0.20, 0.00, 0.40, 1.00, 0.70]),
+    Activity.UPSTAIRS: np.array([0.70, 0.55, 0.06, 0.14, 0.00, 0.45, 1.00, 0.88]),
+    Activity.DOWNSTAIRS: np.array([0.70, 0.55, 0.06, 0.14, 0.00, 0.45, 1.00, 0.88]),
 }
 MIN_PHASE = KNOT_PHASES[4]
 PITCH_ITERATIONS = 3
@@ -110,10 +111,6 @@ class Period:
     activity: int
     start_s: float
     end_s: float
-
-
-def _wrap(angle: np.ndarray) -> np.ndarray:
-    return np.angle(np.exp(1j * np.asarray(angle)))
 
 
 def _first_ramp(phase: np.ndarray) -> np.ndarray:
@@ -407,7 +404,7 @@ class ThighTrajectory:
         c, route = self.plan.cycles, self.route
         _, _, pmax, pmin = self.pitch_extremes
         return TrueSteps(c.start + c.duration, route["stride"], c.risers * c.riser_m,
-                         _wrap(route["chord"]), pmax, pmin, c.duration.astype(float),
+                         wrap_angle(route["chord"]), pmax, pmin, c.duration.astype(float),
                          c.activity.astype(np.uint8))
 
     @cached_property
@@ -424,20 +421,20 @@ class ThighTrajectory:
                 pivot = self.plan.rests[mark.rest]
                 position = (route["start"][b] + route["step"][b]) if b >= 0 else \
                     np.asarray(self.scenario.initial.position_m, float)
-                before, after = (float(_wrap(pivot.heading)),
-                                 float(_wrap(pivot.heading + pivot.turn)))
+                before, after = (float(wrap_angle(pivot.heading)),
+                                 float(wrap_angle(pivot.heading + pivot.turn)))
                 time_s = pivot.start + pivot.duration / 2
-            elif mark.type == STAIRS:
+            elif mark.type == LandmarkType.STAIRS:
                 finish = route["start"][b] + route["step"][b]
                 position = (route["start"][a] + finish) / 2
-                before = after = float(_wrap(route["chord"][a]))
+                before = after = float(wrap_angle(route["chord"][a]))
                 time_s = float((c.start[a] + ends[b]) / 2)
             else:
                 middle = (a + b + 1) / 2
                 k = int(middle)
                 position = route["start"][k] + (middle - k) * route["step"][k]
-                before = float(_wrap(route["heading"][a]))
-                after = float(_wrap(route["heading"][b] + c.turn[b]))
+                before = float(wrap_angle(route["heading"][a]))
+                after = float(wrap_angle(route["heading"][b] + c.turn[b]))
                 time_s = float((c.start[a] + ends[b]) / 2)
             candidates = [(np.hypot(*(np.asarray(e.position[:2]) - position[:2])), e.id)
                           for e in out if e.type == mark.type and e.floor == mark.floor
@@ -455,5 +452,6 @@ class ThighTrajectory:
         spans = [Period(r.activity, r.start, r.start + r.duration) for r in self.plan.rests]
         starts = c.start[c.first_of_bout.astype(bool)]
         ends = (c.start + c.duration)[c.last_of_bout.astype(bool)]
-        spans += [Period(1, float(a), float(b)) for a, b in zip(starts, ends, strict=True)]
+        spans += [Period(Activity.WALKING, float(a), float(b))
+                  for a, b in zip(starts, ends, strict=True)]
         return tuple(sorted(spans, key=lambda s: s.start_s))

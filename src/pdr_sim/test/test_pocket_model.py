@@ -10,9 +10,9 @@ from scipy.spatial.transform import Rotation
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.magnetic_field import MagneticField, homogeneous
+from pdr_core.vocabulary import Activity
 from pdr_sim import signals
 from pdr_sim.compiled_thigh import HEADING, PITCH, SWAY
-from pdr_sim.gait_plan import DOWNSTAIRS, UPSTAIRS, WALKING
 from pdr_sim.pocket_scenario import (
     PersonSpec,
     load_pocket_scenario,
@@ -211,7 +211,7 @@ def local_extrema(model: ThighTrajectory, start: float, end: float):
 def steady_level_steps(model: ThighTrajectory) -> np.ndarray:
     """Indices of level steps that neither start nor end a walking bout."""
     c = model.plan.cycles
-    return np.flatnonzero((c.activity == WALKING) & ~c.first_of_bout.astype(bool)
+    return np.flatnonzero((c.activity == Activity.WALKING) & ~c.first_of_bout.astype(bool)
                           & ~c.last_of_bout.astype(bool))
 
 
@@ -249,16 +249,16 @@ def flights(model: ThighTrajectory):
 def test_stairs_pitch_per_flight(builtin):
     model = builtin("up_dw")
     steps, c = model.true_steps, model.plan.cycles
-    first_stairs = np.flatnonzero(c.activity != WALKING)[0]
+    first_stairs = np.flatnonzero(c.activity != Activity.WALKING)[0]
     level = steady_level_steps(model)
     level = level[level < first_stairs]             # the first 40 m at 3.5 km/h
     theta_h_max = steps.pitch_max[level].mean()
     delta_h = steps.pitch_amplitude[level].mean()
-    seen = {UPSTAIRS: 0, DOWNSTAIRS: 0}
+    seen = {Activity.UPSTAIRS: 0, Activity.DOWNSTAIRS: 0}
     for activity, idx in flights(model):
         seen[activity] += 1
         delta = steps.pitch_amplitude[idx].mean()
-        if activity == UPSTAIRS:
+        if activity == Activity.UPSTAIRS:
             assert 1.6 <= steps.pitch_max[idx].mean() / theta_h_max <= 2.4
             assert delta > delta_h
         else:
@@ -268,7 +268,7 @@ def test_stairs_pitch_per_flight(builtin):
         for k in idx[1:-1]:      # a double minimum, no second maximum
             _, _, min_t, _ = local_extrema(model, c.start[k], c.start[k] + c.duration[k])
             assert len(min_t) == 2, (k, min_t)
-    assert seen == {UPSTAIRS: 8, DOWNSTAIRS: 8}
+    assert seen == {Activity.UPSTAIRS: 8, Activity.DOWNSTAIRS: 8}
 
 
 # --- acceptance 4: the person's lines ---------------------------------------------------------
@@ -282,15 +282,15 @@ def test_person_lines_are_recovered_from_the_truth(builtin):
     s, dtheta = [], []
     for name in ("h1_rectangle", "h2_rectangle_speeds", "h3_museum"):
         steps = builtin(name).true_steps
-        level = steps.activity == WALKING
+        level = steps.activity == Activity.WALKING
         s.append(steps.length[level])
         dtheta.append(np.degrees(steps.pitch_amplitude[level]))
     a_h, b_h = np.polyfit(np.concatenate(dtheta), np.concatenate(s), 1)
     assert a_h == pytest.approx(person.a_h_m_per_deg, rel=2e-4)  # README: 0.02 %
     assert b_h == pytest.approx(person.b_h_m, rel=2e-4)
     steps = builtin("up_dw").true_steps
-    for activity, a, b in ((UPSTAIRS, person.a_u_cm_per_deg, person.b_u_cm),
-                           (DOWNSTAIRS, person.a_d_cm_per_deg, person.b_d_cm)):
+    for activity, a, b in ((Activity.UPSTAIRS, person.a_u_cm_per_deg, person.b_u_cm),
+                           (Activity.DOWNSTAIRS, person.a_d_cm_per_deg, person.b_d_cm)):
         sel = steps.activity == activity
         v_cm = 100 * np.abs(steps.vertical_displacement[sel])
         slope, intercept = np.polyfit(v_cm, np.degrees(steps.pitch_amplitude[sel]), 1)

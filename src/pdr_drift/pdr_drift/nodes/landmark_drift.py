@@ -25,25 +25,18 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
+from pdr_core import topics
 from pdr_core.frames import MAP_FRAME
 from pdr_core.headers import set_header, stamp_ns
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
-from pdr_drift.config import load_drift_config
-from pdr_drift.landmarks import LANDMARK_NAMES
+from pdr_core.topics import graph_name
+from pdr_core.vocabulary import FLOOR_HEIGHT_M, LandmarkType
+from pdr_drift.config import default_config_path, load_drift_config
 from pdr_drift.streaming import StreamingDrift
 from pdr_msgs.msg import DriftEstimate, Landmark, Step
 from pdr_msgs.srv import ApplyCorrection
-
-
-def default_config_path() -> str:
-    from pathlib import Path
-
-    from ament_index_python.packages import get_package_share_directory
-
-    return str(Path(get_package_share_directory("pdr_drift")) / "config" /
-               "landmark_drift.yaml")
 
 
 class LandmarkDriftNode(Node):
@@ -54,7 +47,7 @@ class LandmarkDriftNode(Node):
         refuse_removed(self, {"frame_id": "map_frame"})
         path = declare(self, "config", "", "drift estimator YAML (pdr_drift.config); empty: "
                        "the installed config/landmark_drift.yaml")
-        floor_height = declare(self, "floor_height_m", 3.5,
+        floor_height = declare(self, "floor_height_m", FLOOR_HEIGHT_M,
                                "the floor of a pose is its height over this [m]")
         self.timeout_s = declare(self, "correction_timeout_s", 5.0, "a correction call not "
                                  "answered within this is sent again [s]")
@@ -68,14 +61,15 @@ class LandmarkDriftNode(Node):
                                     floor_height)
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        self.create_subscription(Step, "pdr/pocket/step", self.on_step, qos)
-        self.create_subscription(PoseWithCovarianceStamped, "pdr/pocket/pose", self.on_pose,
-                                 qos)
+        self.create_subscription(Step, graph_name(topics.POCKET_STEP), self.on_step, qos)
+        self.create_subscription(PoseWithCovarianceStamped, graph_name(topics.POCKET_POSE),
+                                 self.on_pose, qos)
         out = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        self.landmark_pub = self.create_publisher(Landmark, "pdr/landmarks", out)
-        self.drift_pub = self.create_publisher(DriftEstimate, "pdr/drift", out)
-        self.client = self.create_client(ApplyCorrection, "pdr/pocket/apply_correction")
+        self.landmark_pub = self.create_publisher(Landmark, graph_name(topics.LANDMARKS), out)
+        self.drift_pub = self.create_publisher(DriftEstimate, graph_name(topics.DRIFT), out)
+        self.client = self.create_client(ApplyCorrection,
+                                         graph_name(topics.POCKET_APPLY_CORRECTION))
         self.waiting: list[list] = []        # [request, tries]
         self.in_flight: list[list] = []      # [future, sent at (s), request, tries]
         self.create_timer(retry_period, self.service_corrections)
@@ -117,7 +111,7 @@ class LandmarkDriftNode(Node):
             self.landmark_pub.publish(self.landmark_message(stamp, landmark))
             x, y, z = landmark.position
             self.get_logger().info(
-                f"new landmark {landmark.id}: {LANDMARK_NAMES[landmark.type]} at ({x:.1f}, "
+                f"new landmark {landmark.id}: {LandmarkType(landmark.type).label} at ({x:.1f}, "
                 f"{y:.1f}, {z:.1f}) m, floor {landmark.floor}")
         for estimate in result.drifts:
             self.drift_pub.publish(self.drift_message(stamp, estimate))
@@ -160,8 +154,8 @@ class LandmarkDriftNode(Node):
             item[1] += 1
             if item[1] > self.max_retries:
                 self.waiting.remove(item)
-                self.get_logger().error("pdr/pocket/apply_correction absent: correction "
-                                        f"dropped after {self.max_retries} retries")
+                self.get_logger().error(f"{graph_name(topics.POCKET_APPLY_CORRECTION)} absent: "
+                                        f"correction dropped after {self.max_retries} retries")
 
     def log_response(self, future) -> None:
         try:

@@ -40,12 +40,14 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
+from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.frames import MAP_FRAME
 from pdr_core.msgtypes import IMU
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
+from pdr_core.topics import graph_name
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import FootRun, output_batches, pose_path
 from pdr_ins_ekf.streaming import StreamingNavigator
@@ -98,13 +100,13 @@ class ZuptEkfNode(Node):
         latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.estimate_pubs = {
-            "/pdr/foot/pose": self.create_publisher(PoseWithCovarianceStamped,
-                                                    "pdr/foot/pose", out),
-            "/pdr/foot/velocity": self.create_publisher(TwistWithCovarianceStamped,
-                                                        "pdr/foot/velocity", out),
-            "/pdr/foot/stance": self.create_publisher(Stance, "pdr/foot/stance", out)}
-        self.path_pub = self.create_publisher(PathMsg, "pdr/foot/path", latched)
-        self.smoothed_pub = self.create_publisher(PathMsg, "pdr/foot/smoothed_path", out)
+            topic: self.create_publisher(kind, graph_name(topic), out)
+            for topic, kind in ((topics.FOOT_POSE, PoseWithCovarianceStamped),
+                                (topics.FOOT_VELOCITY, TwistWithCovarianceStamped),
+                                (topics.FOOT_STANCE, Stance))}
+        self.path_pub = self.create_publisher(PathMsg, graph_name(topics.FOOT_PATH), latched)
+        self.smoothed_pub = self.create_publisher(PathMsg, graph_name(topics.FOOT_SMOOTHED_PATH),
+                                                  out)
         self.create_service(Trigger, "~/reset", self.on_reset)
         self.steps = _Steps()
         self.undecodable = 0

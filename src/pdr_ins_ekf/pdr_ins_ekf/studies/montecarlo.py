@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit, prange
 
 from pdr_core import kernel_cache, small_matrix
+from pdr_core.angles import wrap_angle
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import mechanize, new_state, start
@@ -116,7 +117,7 @@ def error_growth(t_s: np.ndarray, position: np.ndarray, yaw: np.ndarray,
     """Eqs. (13)–(14) over runs: position (runs, K, 3) and yaw (runs, K) against the
     truth (K, 3) and (K,), both from the start."""
     dp = position - true_position
-    dyaw = np.angle(np.exp(1j * (yaw - true_yaw)))
+    dyaw = wrap_angle(yaw - true_yaw)
     return ErrorGrowth(t_s, np.sqrt(np.mean(np.sum(dp**2, axis=2), axis=0)),
                        np.sqrt(np.mean(dyaw**2, axis=0)))
 

@@ -43,6 +43,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from sensor_msgs.msg import Imu, MagneticField
 from std_srvs.srv import Trigger
 
+from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
@@ -51,18 +52,13 @@ from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
+from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.messages import (
-    ATTITUDE_TOPIC,
-    GYRO_BIAS_TOPIC,
-    attitude_batches,
-    pose_fields,
-    step_fields,
-)
+from pdr_pocket.messages import attitude_batches, pose_fields, step_fields
 from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
@@ -111,15 +107,18 @@ class PocketPdrNode(Node):
         self.mag_topic = self.mag_sub.topic_name
         out = QoSProfile(depth=HISTORY, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        self.attitude_pub = self.create_publisher(Imu, "pdr/pocket/attitude", out)
-        self.bias_pub = self.create_publisher(Vector3Stamped, "pdr/pocket/gyro_bias", out)
-        self.step_pub = self.create_publisher(Step, "pdr/pocket/step", out)
-        self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pdr/pocket/pose", out)
-        self.path_pub = self.create_publisher(Path, "pdr/pocket/path", out)
+        self.attitude_pub = self.create_publisher(Imu, graph_name(topics.POCKET_ATTITUDE), out)
+        self.bias_pub = self.create_publisher(Vector3Stamped, graph_name(topics.POCKET_GYRO_BIAS),
+                                             out)
+        self.step_pub = self.create_publisher(Step, graph_name(topics.POCKET_STEP), out)
+        self.pose_pub = self.create_publisher(PoseWithCovarianceStamped,
+                                              graph_name(topics.POCKET_POSE), out)
+        self.path_pub = self.create_publisher(Path, graph_name(topics.POCKET_PATH), out)
         self.path = Path()
         self.path.header.frame_id = self.map_frame
         self.create_service(Trigger, "~/reset", self.on_reset)
-        self.create_service(ApplyCorrection, "pdr/pocket/apply_correction", self.on_correction)
+        self.create_service(ApplyCorrection, graph_name(topics.POCKET_APPLY_CORRECTION),
+                            self.on_correction)
         self.sources = _Sources()
         self.undecodable = 0
         self.reported: dict[str, int] = {}
@@ -176,8 +175,8 @@ class PocketPdrNode(Node):
             inputs = self.sources.take(chunk.stamp_ns)
             batches = attitude_batches(inputs, out.attitude, self.gyro_noise_var,
                                        self.sensor_frame)
-            publish_acked([(self.attitude_pub, batches[ATTITUDE_TOPIC]),
-                           (self.bias_pub, batches[GYRO_BIAS_TOPIC])], HISTORY // 2,
+            publish_acked([(self.attitude_pub, batches[topics.POCKET_ATTITUDE]),
+                           (self.bias_pub, batches[topics.POCKET_GYRO_BIAS])], HISTORY // 2,
                           ACK_TIMEOUT)
             for step in out.steps:
                 self.publish_step(chunk.stamp_of(step.t_confirm), step,

@@ -20,7 +20,7 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.errors import InputError
-from pdr_pocket.activity import WALKING
+from pdr_core.vocabulary import Activity
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.inputs import read_pocket_bag
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
@@ -74,8 +74,8 @@ def stride_inputs(step: StepRecord) -> StrideInputs:
 def walked(out: NavigatorOutput, model, factor: float = 1.0) -> float:
     """The distance [m] of the steps with the level strides by ``model`` times ``factor``
     (stairs steps keep theirs)."""
-    return sum(factor * model.length(stride_inputs(s)) if s.activity == WALKING else s.length
-               for s in out.steps)
+    return sum(factor * model.length(stride_inputs(s)) if s.activity == Activity.WALKING
+               else s.length for s in out.steps)
 
 
 def stride_rows(bags: list[Path], config: PocketConfig) -> list[dict]:
@@ -100,7 +100,7 @@ def level_amplitudes(bag: Path, config: PocketConfig) -> np.ndarray:
     """Δθ [deg] of the level steps of a walk (calibrate-step)."""
     out, _, _ = navigate(bag, config)
     amplitudes = np.array([np.degrees(s.pitch_amplitude) for s in out.steps
-                           if s.activity == WALKING])
+                           if s.activity == Activity.WALKING])
     if not len(amplitudes):
         raise InputError(bag, "no level steps found: is this a walk with the phone in the "
                               "trouser pocket?")

@@ -1,0 +1,47 @@
+"""The words the packages share, defined once: activities, landmark types, floor height.
+
+- :class:`Activity`: what a person does during a step, the ``pdr_msgs/Step`` constants
+  (``STANDING`` … ``SITTING``); ``Activity.WALKING.label`` is the name reports use,
+  :data:`ACTIVITY_NAMES` all of them by value, :data:`STAIRS_ACTIVITIES` those on a flight.
+- :class:`LandmarkType`: the ``pdr_msgs/Landmark`` types (``CORNER``, ``STAIRS``);
+  ``LandmarkType.CORNER.label`` is the name logs use.
+- :data:`FLOOR_HEIGHT_M`: the default height of one floor [m], from which a height becomes
+  a floor index, round(z / FLOOR_HEIGHT_M).
+
+A test checks the enums against the message definitions, so adding an activity starts in
+``Step.msg`` and here (docs/extending.md).
+"""
+from __future__ import annotations
+
+from enum import IntEnum
+
+
+class _Labelled(IntEnum):
+    @property
+    def label(self) -> str:
+        """The lower-case name reports, plots and logs use ("upstairs")."""
+        return self.name.lower()
+
+
+class Activity(_Labelled):
+    """pdr_msgs/Step activities."""
+
+    STANDING = 0
+    WALKING = 1
+    UPSTAIRS = 2
+    DOWNSTAIRS = 3
+    SITTING = 4
+
+
+ACTIVITY_NAMES = tuple(a.label for a in Activity)
+STAIRS_ACTIVITIES = (Activity.UPSTAIRS, Activity.DOWNSTAIRS)
+
+
+class LandmarkType(_Labelled):
+    """pdr_msgs/Landmark types."""
+
+    CORNER = 0
+    STAIRS = 1
+
+
+FLOOR_HEIGHT_M = 3.5
