@@ -1,6 +1,7 @@
 """docs/reports.md against the code: every CLI of its index runs once on a sample bag, in
 each case the doc distinguishes, and its report has exactly the fields the doc lists for
-that case (the doc's "present" column), each of the JSON type the doc gives (issue 29).
+that case (the doc's "present" column), each of the JSON type the doc gives (issue 29);
+a CLI that writes OUT/report.json prints the same text.
 
 The doc is read as it stands: its index table says which sections make up each CLI's
 report, each section's table gives the fields, and the legend the condition terms. A
@@ -15,6 +16,7 @@ import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader, write_batches
+from pdr_core.report_files import write_report
 from wstest import ROOT, Processes
 
 pytestmark = pytest.mark.ros
@@ -51,6 +53,14 @@ def read_doc() -> tuple[dict, dict, set]:
     start = text.index("**When a field is there**") + len("**When a field is there**")
     legend = text[start:text.index("A name `a.b`")]
     return index, sections, set(re.findall(r"\*([^*]+)\*", legend))
+
+
+def test_a_report_is_json_indented_by_two_with_one_final_newline(tmp_path):
+    """pdr_core.report_files, which every CLI writes and prints its report with."""
+    path = write_report(tmp_path, {"steps": 3, "figures": {"rmse_m": 0.1}, "warnings": []})
+    assert path == tmp_path / "report.json"
+    assert path.read_text() == ('{\n  "steps": 3,\n  "figures": {\n    "rmse_m": 0.1\n  },'
+                                '\n  "warnings": []\n}\n')
 
 
 def test_the_index_and_the_conditions_are_consistent():
@@ -115,6 +125,7 @@ class Runs:
                                     timeout=300)
             assert result.returncode == 0, f"{case}: {result.stderr}"
             text = (self.folder / case / "report.json").read_text() if writes else result.stdout
+            assert result.stdout == text, f"{case}: the printed report is not the written one"
             self.done[case] = json.loads(text)
         return self.done[case]
 

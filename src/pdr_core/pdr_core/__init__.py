@@ -6,11 +6,15 @@ Modules:
   Errors, configuration, names and units
     errors                    InputError and the CLI error convention (one line naming
                               file and problem).
-    config_files              Typed dataclasses from YAML mappings (units in key names).
+    config_files              Typed dataclasses from YAML mappings (units in key names),
+                              YAML errors as InputError, a package's shipped config/.
+    report_files              report.json written and printed one way.
     constants                 Physical constants, in one place (SI).
     units                     Conversions at the edges (°/√h, µg/√Hz, mg, ...).
     frames                    Default frame names of the messages (REP-105, REP-145).
-    topics                    Topic names in bags and on the graph.
+    topics                    Topic and service names in bags and on the graph.
+    vocabulary                Activities, landmark types and the floor height (the
+                              pdr_msgs constants).
   Messages and bags
     msgtypes                  The rosbags typestore: ROS 2 Jazzy types plus pdr_msgs.
     batch                     MessageBatch: a topic's messages as NumPy arrays.
@@ -39,11 +43,18 @@ Modules:
     magnetometer_calibration  Hard/soft-iron calibration by ellipsoid fitting.
     magnetometer_pairing      Each IMU sample paired with its latest magnetometer reading.
   Attitude and compiled kernels
-    rotations                 Attitude conventions (ENU/FLU, ZYX Euler) and conversions.
+    rotations                 Attitude conventions (ENU/FLU, ZYX Euler), conversions, the
+                              tilt from specific force.
+    angles                    The angle wrap (plain and compiled), the axial wrap, the
+                              circular mean.
     small_matrix              Compiled (numba) kernels for 3 × 3 rotations and small
                               symmetric positive-definite matrices.
     kernel_cache              Keeps numba's on-disk cache valid when a kernel's callee in
                               another module changes.
+  Corrections
+    checkpoints               A navigator's state kept at past instants with the inputs
+                              since: a late correction taken there and the inputs run
+                              again (robot_localization's revertTo).
   Evaluation and figures
     metrics                   Trajectory error metrics: the report.json fields
                               (docs/reports.md).

@@ -3,17 +3,23 @@
 - :func:`read_config_file`: a YAML file's mapping; ``base: OTHER.yaml`` (relative to the
   file) is read first and the file's own keys override it, mapping by mapping.
 - :func:`dataclass_from_mapping`: a dataclass from a mapping, each value checked against
-  its field's type; unknown keys and bad values raise InputError naming the key's path.
+  its field's type, the keys not given at their defaults; unknown keys and bad values
+  raise InputError naming the key's path.
 - :func:`check_keys`: the key check alone (unknown and required keys), for mappings whose
   values need more than a type check (scenarios, nested configurations).
+- :func:`parse_yaml`: YAML text as data, invalid YAML an InputError naming its source.
+- :func:`shipped_config_dir`: a package's installed ``config/`` folder, where each
+  navigator's default configuration lies (``foot_ekf.yaml``, ``pocket_pdr.yaml``,
+  ``landmark_drift.yaml``).
 
-Used by the navigators' configurations (pdr_ins_ekf.config, pdr_pocket.config) and the
-simulator's scenarios (pdr_sim.scenario, pdr_sim.pocket_scenario).
+Used by the navigators' and the drift estimator's configurations (pdr_ins_ekf.config,
+pdr_pocket.config, pdr_drift.config) and the simulator's scenarios (pdr_sim.scenario,
+pdr_sim.pocket_scenario).
 """
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import fields
+from dataclasses import fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -66,13 +72,14 @@ def check_keys(data: Any, cls: type, where: str, required: tuple[str, ...] = ())
     return dict(data)
 
 
-def dataclass_from_mapping(cls: type, values: dict, where: str) -> Any:
-    """``cls(**values)`` with every key known and every value of its field's type."""
+def dataclass_from_mapping(cls: type, values: dict, where: str, defaults: Any = None) -> Any:
+    """``cls(**values)`` with every key known and every value of its field's type; with
+    ``defaults`` (a ``cls``), the keys not given keep its values instead of the class's."""
     values = check_keys(values, cls, where)
     kinds = {f.name: str(f.type) for f in fields(cls)}
     typed = {k: typed_value(v, kinds[k], f"{where}.{k}") for k, v in values.items()}
     try:
-        return cls(**typed)
+        return cls(**typed) if defaults is None else replace(defaults, **typed)
     except (TypeError, ValueError) as exc:
         raise InputError(where, str(exc)) from exc
 
@@ -86,6 +93,21 @@ def merged(base: dict, override: dict) -> dict:
     return out
 
 
+def parse_yaml(text: str, where: str | Path) -> Any:
+    """The data of YAML ``text``; invalid YAML is an InputError at ``where``."""
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise InputError(where, f"invalid YAML ({exc})") from exc
+
+
+def shipped_config_dir(package: str) -> Path:
+    """The installed ``config/`` folder of ``package`` (its ament share directory)."""
+    from ament_index_python.packages import get_package_share_directory
+
+    return Path(get_package_share_directory(package)) / "config"
+
+
 def read_config_file(path: Path, seen: tuple[Path, ...] = ()) -> dict:
     """A configuration file's mapping; ``base: FILE`` (relative to the file) is read first
     and the file's own keys override it."""
@@ -93,10 +115,7 @@ def read_config_file(path: Path, seen: tuple[Path, ...] = ()) -> dict:
         raise InputError(path, "no such configuration file")
     if path.resolve() in seen:
         raise InputError(path, "base files include each other")
-    try:
-        data = yaml.safe_load(path.read_text()) or {}
-    except yaml.YAMLError as exc:
-        raise InputError(path, f"invalid YAML ({exc})") from exc
+    data = parse_yaml(path.read_text(), path) or {}
     if not isinstance(data, dict):
         raise InputError(path, "expected a mapping at the top level")
     base = data.pop("base", None)

@@ -11,11 +11,12 @@ Errors in the input exit with status 2 and one line naming the file and the prob
 from __future__ import annotations
 
 import argparse
-import json
 from collections.abc import Sequence
 from pathlib import Path
 
 from pdr_core.errors import cli_parser, dispatch
+from pdr_core.report_files import print_report
+from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_drift.config import load_drift_config
 from pdr_drift.offline import run
 
@@ -32,7 +33,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                    help="output directory: a bag with OUT/report.json")
     p.add_argument("--config", type=Path, help="YAML of the drift estimator "
                                                "(pdr_drift.config); default: built in")
-    p.add_argument("--floor-height-m", type=float, default=3.5,
+    p.add_argument("--floor-height-m", type=float, default=FLOOR_HEIGHT_M,
                    help="height of one floor [m]: the floor of a pose is its height over this")
     p.add_argument("--plot", action="store_true", help="also write OUT/drift.png")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output")
@@ -42,7 +43,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 def _run(args: argparse.Namespace) -> int:
     summary = run(args.bag, args.out, load_drift_config(args.config), args.floor_height_m,
                   plot=args.plot, overwrite=args.overwrite)
-    print(json.dumps(summary, indent=2))
+    print_report(summary)
     return 0
 
 

@@ -1,13 +1,14 @@
 """Configuration of the drift estimator: a typed dataclass from YAML, units in the names.
 
-The dataclass defaults are the shipped ``config/landmark_drift.yaml`` (tested).
+The dataclass defaults are the shipped ``config/landmark_drift.yaml`` (tested), the
+default of the landmark_drift node (:func:`default_config_path`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
 
-from pdr_core.config_files import dataclass_from_mapping, read_config_file
+from pdr_core.config_files import dataclass_from_mapping, read_config_file, shipped_config_dir
 
 CORNER_DETECTORS = ("turn", "buffer")
 
@@ -41,6 +42,11 @@ class DriftConfig:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
         if not self.r1_deg < self.r2_deg:
             raise ValueError("r1_deg must be below r2_deg")
+
+
+def default_config_path() -> Path:
+    """The installed ``config/landmark_drift.yaml``."""
+    return shipped_config_dir("pdr_drift") / "landmark_drift.yaml"
 
 
 def load_drift_config(path: str | Path | None) -> DriftConfig:

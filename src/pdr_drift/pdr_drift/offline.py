@@ -17,13 +17,12 @@ corrected path from that start and the position before the first step, the figur
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from pdr_core import cdr
+from pdr_core import cdr, topics
 from pdr_core.bag import BagReader, BagWriter
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
@@ -31,15 +30,11 @@ from pdr_core.frames import MAP_FRAME
 from pdr_core.metrics import walk_figures
 from pdr_core.msgtypes import DRIFT_ESTIMATE, LANDMARK, PATH, POSE_STAMPED
 from pdr_core.nav_path import encode_path
+from pdr_core.report_files import write_report
 from pdr_drift.config import DriftConfig
 from pdr_drift.drift import DriftEstimate, offline_drift
 from pdr_drift.landmarks import Landmark
 from pdr_drift.streaming import StreamingDrift
-
-STEP_TOPIC, POSE_TOPIC = "/pdr/pocket/step", "/pdr/pocket/pose"
-ATTITUDE_TOPIC = "/pdr/pocket/attitude"
-LANDMARK_TOPIC, DRIFT_TOPIC = "/pdr/landmarks", "/pdr/drift"
-CORRECTED_PATH_TOPIC = "/pdr/pocket/corrected_path"
 
 
 @dataclass
@@ -61,7 +56,7 @@ def correct(steps: MessageBatch, poses: MessageBatch, config: DriftConfig,
     """The drift estimator over the steps, ε₀ and the re-integrated path, ε₀·t with t
     from ``start_ns`` (the first IMU sample; None: the first step's start)."""
     if len(steps) == 0:
-        raise InputError(STEP_TOPIC, "no steps to correct")
+        raise InputError(topics.POCKET_STEP, "no steps to correct")
     if start_ns is None:
         start_ns = int(steps.stamp_ns[0] - round(steps["duration"][0] * 1e9))
     stream = StreamingDrift(config, floor_height_m)
@@ -113,7 +108,7 @@ def batches(result: OfflineResult) -> dict[str, MessageBatch]:
         "elapsed": np.array([d.elapsed for d in estimates]),
         "drift": np.array([d.drift for d in estimates]),
         "drift_variance": np.array([d.drift_variance for d in estimates])})
-    return {LANDMARK_TOPIC: landmark, DRIFT_TOPIC: drift}
+    return {topics.LANDMARKS: landmark, topics.DRIFT: drift}
 
 
 def walk_path(result: OfflineResult, positions: np.ndarray, stamps: np.ndarray
@@ -166,9 +161,9 @@ def report(result: OfflineResult, warnings: list[str] = ()) -> dict:
 def walk_start_ns(reader: BagReader) -> int | None:
     """The stamp [ns] of the first ``pdr/pocket/attitude`` message (the first IMU
     sample), None when the bag has no such topic."""
-    if ATTITUDE_TOPIC not in reader.topics:
+    if topics.POCKET_ATTITUDE not in reader.topics:
         return None
-    first = next(reader.raw_messages([ATTITUDE_TOPIC]), None)
+    first = next(reader.raw_messages([topics.POCKET_ATTITUDE]), None)
     if first is None:
         return None
     stamp = cdr.decode_generic(first.msgtype, first.data).header.stamp
@@ -178,14 +173,15 @@ def walk_start_ns(reader: BagReader) -> int | None:
 def run(bag: Path, out: Path, config: DriftConfig, floor_height_m: float, *,
         plot: bool = False, overwrite: bool = False) -> dict:
     reader = BagReader(bag)
-    reader.require_topics([STEP_TOPIC, POSE_TOPIC])
-    data = reader.read_batches([STEP_TOPIC, POSE_TOPIC])
+    reader.require_topics([topics.POCKET_STEP, topics.POCKET_POSE])
+    data = reader.read_batches([topics.POCKET_STEP, topics.POCKET_POSE])
     start_ns = walk_start_ns(reader)
-    result = correct(data[STEP_TOPIC], data[POSE_TOPIC], config, floor_height_m, start_ns)
+    result = correct(data[topics.POCKET_STEP], data[topics.POCKET_POSE], config, floor_height_m,
+                     start_ns)
     summary = report(result, [] if start_ns is not None else [
-        f"no {ATTITUDE_TOPIC}: the walk's figures and ε₀·t count from the first step's start "
-        "(its stamp less its duration), not from the first IMU sample; record "
-        f"{ATTITUDE_TOPIC} with the steps and poses"])
+        f"no {topics.POCKET_ATTITUDE}: the walk's figures and ε₀·t count from the first "
+        "step's start (its stamp less its duration), not from the first IMU sample; record "
+        f"{topics.POCKET_ATTITUDE} with the steps and poses"])
     quat = np.zeros((len(result.after), 4))
     quat[:, 3] = 1.0
     path = MessageBatch(POSE_STAMPED, result.stamps, MAP_FRAME,
@@ -193,8 +189,9 @@ def run(bag: Path, out: Path, config: DriftConfig, floor_height_m: float, *,
     with BagWriter(out, overwrite=overwrite) as writer:
         writer.write_merged({t: b for t, b in batches(result).items() if len(b)})
         stamp = int(result.stamps[-1])
-        writer.write_raw(CORRECTED_PATH_TOPIC, PATH, stamp, encode_path(path, stamp, MAP_FRAME))
-        (writer.staging / "report.json").write_text(json.dumps(summary, indent=2) + "\n")
+        writer.write_raw(topics.POCKET_CORRECTED_PATH, PATH, stamp,
+                         encode_path(path, stamp, MAP_FRAME))
+        write_report(writer.staging, summary)
         if plot:
             from pdr_drift.plots import paths_png
             paths_png(walk_path(result, result.after, result.stamps)[1],

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -34,6 +33,7 @@ from pdr_core.bag import BagReader, BagWriter, add_strict_option
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.metrics import error_report, truth_at, within_step_rmse
 from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
+from pdr_core.report_files import print_report, write_report
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import (
     navigate,
@@ -107,12 +107,12 @@ def _run_run(args: argparse.Namespace) -> int:
     outputs = output_batches(result)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
         writer.write_merged(outputs)
-        writer.add_topic("/pdr/foot/path", PATH)
+        writer.add_topic(topics.FOOT_PATH, PATH)
         stamp, path = step_path(result)
-        writer.write_raw("/pdr/foot/path", PATH, stamp, path)
+        writer.write_raw(topics.FOOT_PATH, PATH, stamp, path)
         for stamp, path in smoothed:
-            writer.write_raw("/pdr/foot/smoothed_path", PATH, stamp, path)
-        (writer.staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+            writer.write_raw(topics.FOOT_SMOOTHED_PATH, PATH, stamp, path)
+        write_report(writer.staging, report)
         if args.plot:
             from pdr_ins_ekf import plots
             plots.path_png(t_s, result.output.position, truth, writer.staging / "path.png",
@@ -120,7 +120,7 @@ def _run_run(args: argparse.Namespace) -> int:
                            shows="the foot navigator")
             if result.smoothed is not None:
                 plots.smoothing_png(t_s, result, writer.staging / "smoothing.png")
-    print(json.dumps(report, indent=2))
+    print_report(report)
     return 0
 
 
@@ -185,7 +185,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     t_s = (estimate.stamp_ns - estimate.stamp_ns[0]) * 1e-9
     position = estimate[POSITION_FIELD[estimate.msgtype]]
     report = error_report(t_s, position, truth)
-    print(json.dumps(report, indent=2))
+    print_report(report)
     if args.plot:
         from pdr_ins_ekf import plots
         plots.path_png(t_s, position, truth, args.plot, str(args.bag))

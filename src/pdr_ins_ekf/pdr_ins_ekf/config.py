@@ -5,17 +5,18 @@
                                     # moving_variance | magnitude | angular_rate_energy
       <its parameters>              # e.g. w1: 15 (see the detector's class)
     filter:                         # pdr_ins_ekf.zupt_ekf.FilterConfig fields
-      acc_noise: 0.002
+      acc_noise: 0.02
     smoother:                       # pdr_ins_ekf.zupt_ekf.SmootherConfig fields
       mode: none                    # none | segmented | full
-    alignment_min_s: 0.5            # shortest stationary period to align on [s]
+    alignment_min_s: 0.3            # shortest stationary period to align on [s]
     initial_yaw_deg: 0.0            # heading is unobservable: the start heading
     max_gap_s: 0.1                  # longer gaps between samples are warned about
     base: other.yaml                # optional: read that file first, override its keys
 
-Unknown keys are refused with their path; defaults are those of the dataclasses. The
-shipped ``foot_ekf.yaml`` is the default of the node and the CLI; ``foot_ekf_<profile>.yaml``
-adapt it to the IMU profiles of :mod:`pdr_core.imu_profiles` (``--imu-profile``).
+Unknown keys are refused with their path; a key not given keeps RunConfig's default, the
+shipped ``foot_ekf.yaml``'s (tested; the detector aside, see RunConfig). That file is the
+default of the node and the CLI; ``foot_ekf_<profile>.yaml`` adapt it to the IMU profiles
+of :mod:`pdr_core.imu_profiles` (``--imu-profile``).
 """
 from __future__ import annotations
 
@@ -27,6 +28,7 @@ from pdr_core.config_files import (
     check_keys,
     dataclass_from_mapping,
     read_config_file,
+    shipped_config_dir,
     typed_value,
 )
 from pdr_core.errors import InputError
@@ -50,11 +52,16 @@ DETECTORS = {"original": ConditionVoteDetector, "limited": ConditionVoteDetector
 
 @dataclass(frozen=True)
 class RunConfig:
-    detector: StanceDetector = field(
-        default_factory=lambda: ConditionVoteDetector(variant="retarded"))
-    filter: FilterConfig = field(default_factory=FilterConfig)
-    smoother: SmootherConfig = field(default_factory=SmootherConfig)
-    alignment_min_s: float = 0.5
+    """The navigator as the shipped ``foot_ekf.yaml`` sets it (tested): adaptive SHOE, and
+    the filter's and smoother's noise tuned for real shoes (FilterConfig's and
+    SmootherConfig's own defaults are plain, paper-like values for simulated data)."""
+
+    detector: StanceDetector = field(default_factory=AdaptiveShoeDetector)
+    filter: FilterConfig = field(
+        default_factory=lambda: FilterConfig(acc_noise=0.02, gyro_noise=0.002))
+    smoother: SmootherConfig = field(
+        default_factory=lambda: SmootherConfig(gamma_s_m2ps2=3.0e-4))
+    alignment_min_s: float = 0.3
     initial_yaw_deg: float = 0.0
     max_gap_s: float = 0.1
 
@@ -66,37 +73,33 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
                            if k in ("alignment_min_s", "initial_yaw_deg", "max_gap_s")}
     if "detector" in data:
         detector = dict(data["detector"] or {})
-        kind = detector.pop("type", "retarded")
+        kind = detector.pop("type", "adaptive_shoe")
         if kind not in DETECTORS:
             raise InputError(f"{where}.detector.type", f"unknown detector '{kind}' "
                                                        f"(known: {', '.join(DETECTORS)})")
         if DETECTORS[kind] is ConditionVoteDetector:
             detector["variant"] = kind
         out["detector"] = dataclass_from_mapping(DETECTORS[kind], detector, f"{where}.detector")
+    defaults = RunConfig()
     if "filter" in data:
         out["filter"] = dataclass_from_mapping(FilterConfig, dict(data["filter"] or {}),
-                                               f"{where}.filter")
+                                               f"{where}.filter", defaults.filter)
     if "smoother" in data:
         out["smoother"] = dataclass_from_mapping(SmootherConfig, dict(data["smoother"] or {}),
-                                 f"{where}.smoother")
+                                                 f"{where}.smoother", defaults.smoother)
     return RunConfig(**out)
-
-
-def _config_dir() -> Path:
-    from ament_index_python.packages import get_package_share_directory
-
-    return Path(get_package_share_directory("pdr_ins_ekf")) / "config"
 
 
 def default_config_path() -> Path:
     """The installed ``config/foot_ekf.yaml``: the documented default of the node and the
-    CLI (the dataclass defaults are plain, paper-like values for simulated data)."""
-    return _config_dir() / "foot_ekf.yaml"
+    CLI."""
+    return shipped_config_dir("pdr_ins_ekf") / "foot_ekf.yaml"
 
 
 def imu_profiles() -> list[str]:
     """The IMU profiles with a shipped configuration ``config/foot_ekf_<profile>.yaml``."""
-    return sorted(p.stem.removeprefix("foot_ekf_") for p in _config_dir().glob("foot_ekf_*.yaml"))
+    return sorted(p.stem.removeprefix("foot_ekf_")
+                  for p in shipped_config_dir("pdr_ins_ekf").glob("foot_ekf_*.yaml"))
 
 
 def profile_config_path(profile: str) -> Path:
@@ -105,7 +108,7 @@ def profile_config_path(profile: str) -> Path:
     if profile not in known:
         raise InputError("imu_profile", f"no configuration for '{profile}' (known: "
                                         f"{', '.join(known)})")
-    return _config_dir() / f"foot_ekf_{profile}.yaml"
+    return shipped_config_dir("pdr_ins_ekf") / f"foot_ekf_{profile}.yaml"
 
 
 def load_run_config(path: str | Path | None = None, imu_profile: str | None = None

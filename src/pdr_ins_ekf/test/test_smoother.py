@@ -5,8 +5,9 @@ import pytest
 
 from pdr_core.metrics import within_step_rmse
 from pdr_ins_ekf.compiled_smoother import spd_solve
-from pdr_ins_ekf.config import RunConfig, load_run_config
+from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.kernel_data import AXES, VELOCITY
+from pdr_ins_ekf.zero_velocity import ConditionVoteDetector
 from pdr_ins_ekf.zupt_ekf import FilterConfig, SmootherConfig, run, smooth
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
@@ -28,7 +29,7 @@ def walk(simulated):
     sim = simulated
     t = sim.imu.t_s - sim.imu.t_s[0]
     accel, gyro = sim.imu["linear_acceleration"], sim.imu["angular_velocity"]
-    stance = RunConfig().detector.detect(accel, gyro, RATE).mask
+    stance = ConditionVoteDetector(variant="retarded").detect(accel, gyro, RATE).mask
     args = (t, accel, gyro, stance, FilterConfig())
     return stance, run(*args, ALIGN), {
         mode: smooth(*args, SmootherConfig(mode, covariance=True), ALIGN)
@@ -198,8 +199,8 @@ def test_segments_longer_than_the_store_grow_it():
     sim = simulate(SimulationConfig(scenario_from_dict(stop, "stop"), stop, "xsens_mtw", {},
                                     RATE, 1))
     accel, gyro = sim.imu["linear_acceleration"], sim.imu["angular_velocity"]
-    args = (sim.imu.t_s - sim.imu.t_s[0], accel, gyro,
-            RunConfig().detector.detect(accel, gyro, RATE).mask, FilterConfig())
+    stance = ConditionVoteDetector(variant="retarded").detect(accel, gyro, RATE).mask
+    args = (sim.imu.t_s - sim.imu.t_s[0], accel, gyro, stance, FilterConfig())
     alone = smooth(*args, SmootherConfig("segmented"), ALIGN)
     written = smooth(*args, SmootherConfig("segmented", covariance=True), ALIGN)
     assert np.diff(alone.segment_ends).max() > 1024

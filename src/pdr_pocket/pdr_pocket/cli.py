@@ -42,6 +42,7 @@ from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_checks import FIELD_RANGE, median_field_t
 from pdr_core.magnetic_field import homogeneous
 from pdr_core.metrics import truth_orientation_at
+from pdr_core.report_files import print_report, write_report, write_report_file
 from pdr_pocket.config import load_pocket_config, orientation_from_allan
 from pdr_pocket.evaluation import STEPS_PER
 from pdr_pocket.inputs import read_pocket_bag
@@ -98,7 +99,7 @@ def _run_attitude(args: argparse.Namespace) -> int:
     report = attitude_report(inputs, estimate, truth, true_bias)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
         writer.write_merged(attitude_batches(inputs, estimate, filt.params.gyro_noise_var))
-        (writer.staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+        write_report(writer.staging, report)
         if args.plot:
             from pdr_pocket import plots
             errors = None if truth is None else np.degrees(attitude_errors(estimate, truth))
@@ -106,7 +107,7 @@ def _run_attitude(args: argparse.Namespace) -> int:
                                np.degrees(estimate.bias), np.degrees(estimate.bias_sigma),
                                None if true_bias is None else np.degrees(true_bias),
                                writer.staging / "attitude.png", str(args.bag))
-    print(json.dumps(report, indent=2))
+    print_report(report)
     return 0
 
 
@@ -147,7 +148,7 @@ def _run_navigator(args: argparse.Namespace) -> int:
 def _print_report(report: dict, source: str = "") -> None:
     """The report as JSON on stdout, and each of its warnings as one stderr line, after
     ``source`` (the file it is about, when the warnings do not name it)."""
-    print(json.dumps(report, indent=2))
+    print_report(report)
     for warning in report["warnings"]:
         print(f"pdr-pocket: warning: {source}{warning}", file=sys.stderr)
 
@@ -196,7 +197,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                       args.distance_m, strict=args.strict)
     if args.out is not None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(json.dumps(report, indent=2) + "\n")
+        write_report_file(args.out, report)
     _print_report(report)
     return 0
 

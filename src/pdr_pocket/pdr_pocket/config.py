@@ -22,10 +22,17 @@ from typing import Any
 import numpy as np
 
 from pdr_core import units
-from pdr_core.config_files import check_keys, dataclass_from_mapping, read_config_file
+from pdr_core.config_files import (
+    check_keys,
+    dataclass_from_mapping,
+    read_config_file,
+    shipped_config_dir,
+)
 from pdr_core.constants import STANDARD_GRAVITY_MPS2, earth_rate_enu
 from pdr_core.errors import InputError
+from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_pocket.compiled_orientation import FilterParams
+from pdr_pocket.step_length import STRIDE_MODELS
 
 
 @dataclass(frozen=True)
@@ -333,8 +340,8 @@ class StepLengthConfig:
     length_sigma_m: float = 0.03        # 1σ of one stride about the line
 
     def __post_init__(self) -> None:
-        if self.model not in STEP_LENGTH_MODELS:
-            raise ValueError(f"model must be one of {', '.join(STEP_LENGTH_MODELS)}, "
+        if self.model not in STRIDE_MODELS:
+            raise ValueError(f"model must be one of {', '.join(STRIDE_MODELS)}, "
                              f"got {self.model!r}")
         _positive(self, ("a_h_m_per_deg", "weinberg_zeta", "stairs_stride_m",
                          "length_sigma_m"))
@@ -349,7 +356,7 @@ class StairsConfig:
     b_u_cm: float = -8.456
     a_d_cm_per_deg: float = 2.0
     b_d_cm: float = -19.24
-    floor_height_m: float = 3.5
+    floor_height_m: float = FLOOR_HEIGHT_M
     vertical_sigma_m: float = 0.02      # 1σ of one step's v
 
     def __post_init__(self) -> None:
@@ -403,7 +410,6 @@ class PocketConfig:
     magnetometer_calibration: str | None = None   # YAML of pdr-pocket calibrate-mag
 
 
-STEP_LENGTH_MODELS = ("pitch", "frequency", "weinberg")
 ACTIVITY_MODELS = ("thesis", "level_prior")
 SECTIONS = {"mounting": MountingConfig, "steps": StepsConfig, "activity": ActivityConfig,
             "step_length": StepLengthConfig, "stairs": StairsConfig,
@@ -444,9 +450,7 @@ def pocket_config(data: dict | None, where: str = "config") -> PocketConfig:
 
 def default_config_path() -> Path:
     """The installed ``config/pocket_pdr.yaml``."""
-    from ament_index_python.packages import get_package_share_directory
-
-    return Path(get_package_share_directory("pdr_pocket")) / "config" / "pocket_pdr.yaml"
+    return shipped_config_dir("pdr_pocket") / "pocket_pdr.yaml"
 
 
 def load_pocket_config(path: str | Path | None = None) -> PocketConfig:

@@ -9,15 +9,14 @@ drift corrections, writing its messages (:mod:`pdr_pocket.messages`), its report
 """
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
 from pdr_core.frames import MAP_FRAME
+from pdr_core.report_files import write_report
 from pdr_pocket.compiled_mounting import CHANGES
 from pdr_pocket.messages import (
-    PATH_TOPIC,
     attitude_batches,
     path_batch,
     step_batches,
@@ -148,9 +147,9 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                                              navigator.orientation.params.gyro_noise_var)
                             | step_batches(result, inputs.stamp_ns))
         if steps:
-            writer.write_raw(PATH_TOPIC, PATH, int(stamps[-1]),
+            writer.write_raw(topics.POCKET_PATH, PATH, int(stamps[-1]),
                              encode_path(path_batch(steps, stamps), int(stamps[-1]), MAP_FRAME))
-        (writer.staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+        write_report(writer.staging, report)
         if plot:
             from pdr_pocket import plots
             positions = step_positions(steps)

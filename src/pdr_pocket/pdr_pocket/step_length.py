@@ -6,8 +6,12 @@
 - :class:`Weinberg`: s = ζ·(α_z,max − α_z,min)^¼ (Eq. (2.3)), the vertical specific force
   in the navigation frame over the cycle.
 
-Each takes a :class:`StrideInputs` and returns metres. Stairs steps are not walked at the
-level line: the navigator gives them ``stairs_stride_m`` (two treads, Section 4.3.3).
+Each is built from the configuration (``from_config``) and takes a :class:`StrideInputs`
+to return metres. :data:`STRIDE_MODELS` names them for ``step_length.model``, as
+pdr_ins_ekf.config.DETECTORS names the stance detectors: a new model is a class here with
+those two methods and an entry there (its parameters, if any, keys of
+:class:`~pdr_pocket.config.StepLengthConfig`). Stairs steps are not walked at the level
+line: the navigator gives them ``stairs_stride_m`` (two treads, Section 4.3.3).
 
 :func:`fit_offset` and :func:`fit_line` calibrate from a walk of known length
 (``pdr-pocket calibrate-step``).
@@ -27,11 +31,14 @@ not scaled.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from pdr_core.errors import InputError
-from pdr_pocket.config import StepLengthConfig
+
+if TYPE_CHECKING:   # pdr_pocket.config checks step_length.model against STRIDE_MODELS
+    from pdr_pocket.config import StepLengthConfig
 
 MIN_CALIBRATION_STEPS = 20
 POPULATION_HEIGHT_M = 1.70          # the adult the population line stands for
@@ -47,9 +54,23 @@ class StrideInputs:
     vertical_range_mps2: float
 
 
+class StrideModel(Protocol):
+    """What :data:`STRIDE_MODELS` holds: a model built from the configuration, giving a
+    cycle's stride [m]."""
+
+    @classmethod
+    def from_config(cls, config: StepLengthConfig) -> StrideModel: ...
+
+    def length(self, x: StrideInputs) -> float: ...
+
+
 class PitchLine:
     def __init__(self, a_h_m_per_deg: float, b_h_m: float) -> None:
         self.a, self.b = a_h_m_per_deg, b_h_m
+
+    @classmethod
+    def from_config(cls, config: StepLengthConfig) -> PitchLine:
+        return cls(config.a_h_m_per_deg, config.b_h_m)
 
     def length(self, x: StrideInputs) -> float:
         return self.a * x.amplitude_deg + self.b
@@ -59,6 +80,10 @@ class FrequencyLine:
     def __init__(self, c_h_m_per_hz: float, d_h_m: float) -> None:
         self.c, self.d = c_h_m_per_hz, d_h_m
 
+    @classmethod
+    def from_config(cls, config: StepLengthConfig) -> FrequencyLine:
+        return cls(config.c_h_m_per_hz, config.d_h_m)
+
     def length(self, x: StrideInputs) -> float:
         return self.c / x.duration_s + self.d
 
@@ -67,8 +92,17 @@ class Weinberg:
     def __init__(self, zeta: float) -> None:
         self.zeta = zeta
 
+    @classmethod
+    def from_config(cls, config: StepLengthConfig) -> Weinberg:
+        return cls(config.weinberg_zeta)
+
     def length(self, x: StrideInputs) -> float:
         return self.zeta * max(x.vertical_range_mps2, 0.0) ** 0.25
+
+
+STRIDE_MODELS: dict[str, type[StrideModel]] = {
+    "pitch": PitchLine, "frequency": FrequencyLine, "weinberg": Weinberg}
+"""``step_length.model`` → its class (module docstring)."""
 
 
 class Scaled:
@@ -88,13 +122,9 @@ def height_scale(config: StepLengthConfig, height_m: float | None) -> float:
 
 
 def stride_model(config: StepLengthConfig, height_m: float | None = None):
-    """The configured model, scaled to the person's height when uncalibrated."""
-    if config.model == "frequency":
-        model = FrequencyLine(config.c_h_m_per_hz, config.d_h_m)
-    elif config.model == "weinberg":
-        model = Weinberg(config.weinberg_zeta)
-    else:
-        model = PitchLine(config.a_h_m_per_deg, config.b_h_m)
+    """The configured model (:data:`STRIDE_MODELS`), scaled to the person's height when
+    uncalibrated."""
+    model = STRIDE_MODELS[config.model].from_config(config)
     factor = height_scale(config, height_m)
     return model if factor == 1.0 else Scaled(model, factor)
 

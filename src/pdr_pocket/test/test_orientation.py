@@ -8,15 +8,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from pdr_core.config_files import read_config_file
 from pdr_core.small_matrix import rodrigues
 from pdr_pocket import compiled_orientation as k
-from pdr_pocket.config import OrientationConfig, PocketConfig, Updates, pocket_config
+from pdr_pocket.config import OrientationConfig, PocketConfig, Updates
 from pdr_pocket.orientation import OrientationFilter, saturation_flags
 from pdr_pocket.streaming import StreamingPocket
 from pdr_sim.pocket_scenario import pocket_scenario_from_dict
@@ -192,12 +190,6 @@ def test_corrections_are_kalman_updates_gated_and_refused_when_unusable():
 
 
 # --- configuration and the live path -----------------------------------------------------
-def test_shipped_yaml_holds_the_dataclass_defaults():
-    assert pocket_config(read_config_file(CONFIG), str(CONFIG)) == PocketConfig()
-    assert set(yaml.safe_load(CONFIG.read_text())["orientation"]["updates"]) == \
-        set(Updates.__dataclass_fields__)
-
-
 @pytest.mark.parametrize("mag_lag", [0, -3, 40])
 def test_streaming_equals_the_whole_record(mag_lag):
     """The live path, one message at a time, gives the bulk run's estimates: with the

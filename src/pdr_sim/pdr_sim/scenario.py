@@ -47,9 +47,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-import yaml
-
-from pdr_core.config_files import check_keys
+from pdr_core.config_files import check_keys, parse_yaml
 from pdr_core.errors import InputError
 from pdr_core.magnetic_field import Cylinder
 from pdr_sim.foot_gaits import GAIT_TYPES, GaitSpec, gait_defaults, gait_keys, with_overrides
@@ -308,10 +306,7 @@ def read_scenario_yaml(name_or_path: str, builtin: tuple[str, ...],
         if not path.is_file():
             raise InputError(path, f"no such scenario file (built-in: {', '.join(builtin)})")
         text, where = path.read_text(), str(path)
-    try:
-        return yaml.safe_load(text), where
-    except yaml.YAMLError as exc:
-        raise InputError(where, f"invalid YAML ({exc})") from exc
+    return parse_yaml(text, where), where
 
 
 def load_scenario(name_or_path: str) -> tuple[Scenario, dict]:

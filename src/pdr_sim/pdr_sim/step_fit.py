@@ -25,10 +25,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import yaml
 from scipy.ndimage import uniform_filter1d
 from scipy.optimize import least_squares
 
+from pdr_core.config_files import parse_yaml
+from pdr_core.errors import InputError
 from pdr_sim.step_pattern import FittedPattern, RaisedCosines
 
 
@@ -132,11 +133,15 @@ def pattern_to_dict(pattern: FittedPattern) -> dict:
 
 
 def pattern_from_file(path: str | Path) -> FittedPattern:
-    """A pattern written by ``pdr-sim fit-steps``."""
-    data = yaml.safe_load(Path(path).read_text())
-    return FittedPattern(float(data["swing_s"]), RaisedCosines(*data["s"], half=True),
-                         RaisedCosines(*data["z"]), RaisedCosines(*data["pitch"]),
-                         RaisedCosines(*data["roll"]))
+    """A pattern written by ``pdr-sim fit-steps``; InputError names the file when it cannot
+    be read or is not such a pattern."""
+    try:
+        data = parse_yaml(Path(path).read_text(), path)
+        return FittedPattern(float(data["swing_s"]), RaisedCosines(*data["s"], half=True),
+                             RaisedCosines(*data["z"]), RaisedCosines(*data["pitch"]),
+                             RaisedCosines(*data["roll"]))
+    except (OSError, KeyError, TypeError, ValueError) as exc:
+        raise InputError(path, f"not a step pattern of pdr-sim fit-steps ({exc!r})") from exc
 
 
 def rms_error(steps: Steps, pattern: FittedPattern) -> tuple[float, float]:

@@ -21,10 +21,8 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterable
-from pathlib import Path
 
 import rclpy
-from ament_index_python.packages import get_package_share_directory
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -32,6 +30,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 
 from pdr_core import topics as bag_topics
 from pdr_core.bag import RawMessage
+from pdr_core.config_files import shipped_config_dir
 from pdr_core.errors import InputError
 from pdr_core.node_main import check_params_files
 from pdr_core.node_params import declare
@@ -46,7 +45,7 @@ _NS = 1_000_000_000
 def use_fast_heartbeats() -> None:
     """Point Fast DDS at the players' profile (5 ms heartbeats, so acknowledgements come
     quickly) unless the user chose a profile already. Call before ``rclpy.init``."""
-    profile = Path(get_package_share_directory("pdr_sim")) / "config" / "bag_play_fastdds.xml"
+    profile = shipped_config_dir("pdr_sim") / "bag_play_fastdds.xml"
     os.environ.setdefault("FASTRTPS_DEFAULT_PROFILES_FILE", str(profile))
 
 
