@@ -127,7 +127,7 @@ def test_the_navigators_import_no_evaluation_or_study_module():
 MODULES = [p for p in SOURCES if "test" not in p.relative_to(ROOT / "src").parts[1:]]
 WRAP = re.compile(r"np\.angle\(np\.exp\(|%\s*\(2(\.0)?\s*\*\s*(np|math)\.pi\)"
                   r"|arctan2\(np\.sin\((\w+)\),\s*np\.cos\(\3\)\)")
-TOPIC = re.compile(r"/?pdr(/\w+)+")
+TOPIC = re.compile(r"/?(pdr|imu|ground_truth)(/\w+)+")
 VOCABULARY = {"STANDING", "WALKING", "UPSTAIRS", "DOWNSTAIRS", "SITTING", "ACTIVITY_NAMES",
               "CORNER", "STAIRS", "LANDMARK_NAMES", "FLOOR_HEIGHT_M"}
 HOMES = {"wrap": "pdr_core/angles.py", "topic": "pdr_core/topics.py",

@@ -121,7 +121,7 @@ FILTERS = {
     "15 GM + ZARU": {"bias_model": "gauss_markov", "zaru": True},
     # the 15 states that keep the VICON trials (docs/foot_ins.md, "Heading on long walks")
     "15 RW + ZARU 0.05": {"bias_model": "random_walk", "zaru": True, "zaru_sigma_radps": 0.05,
-                          "init_gyro_bias_sigma": 5e-4, "init_acc_bias_sigma": 0.01},
+                          "init_gyro_bias_sigma_radps": 5e-4, "init_acc_bias_sigma_mps2": 0.01},
 }
 
 

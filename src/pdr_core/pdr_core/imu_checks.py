@@ -26,6 +26,7 @@ import numpy as np
 from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
+from pdr_core.topics import IMU_DATA, IMU_MAG, graph_name
 from pdr_core.units import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
@@ -148,7 +149,7 @@ def usable_samples(stamp_ns: np.ndarray, accel: np.ndarray, gyro: np.ndarray,
                   "stamp_not_increasing": int((sane & ~later).sum())}
 
 
-def check_units(accel: np.ndarray, gyro: np.ndarray, topic: str = "imu/data") -> None:
+def check_units(accel: np.ndarray, gyro: np.ndarray, topic: str = graph_name(IMU_DATA)) -> None:
     """Refuse data in the wrong units, naming ``topic``, the value and the fix. The median
     |f| of any walk or rest is near g: one between :data:`G_LIKE_MEDIAN_MPS2` gives away
     data in g; a 99th percentile of |ω| above :data:`MAX_WALK_RATE_RADPS` data in deg/s."""
@@ -162,7 +163,7 @@ def check_units(accel: np.ndarray, gyro: np.ndarray, topic: str = "imu/data") ->
                                             GYRO_UNITS_RADPS, "--gyro-unit"))
 
 
-def check_mag_units(mag: np.ndarray, topic: str = "imu/mag") -> None:
+def check_mag_units(mag: np.ndarray, topic: str = graph_name(IMU_MAG)) -> None:
     """Refuse magnetometer data that is not in tesla, naming ``topic``, the value and the
     fix: a median |B| above :data:`MAX_FIELD_T` is µT (25-65 for the Earth's field) or
     gauss (0.25-0.65) data, one below :data:`MIN_FIELD_T` tesla data imported as µT."""
@@ -172,7 +173,7 @@ def check_mag_units(mag: np.ndarray, topic: str = "imu/mag") -> None:
                                             MAG_UNITS_T, "--mag-unit", default="ut"))
 
 
-def check_sample_interval(t_s: np.ndarray, topic: str = "imu/data") -> None:
+def check_sample_interval(t_s: np.ndarray, topic: str = graph_name(IMU_DATA)) -> None:
     """Refuse stamps [s] whose median interval lies beyond :data:`SAMPLE_INTERVAL_RANGE`
     (5-10000 Hz), naming ``topic``, the interval and the fix; fewer than two pass."""
     if len(t_s) < 2:

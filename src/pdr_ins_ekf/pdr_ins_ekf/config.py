@@ -3,9 +3,9 @@
     detector:                       # one of the detectors of pdr_ins_ekf.zero_velocity
       type: retarded                # original | limited | retarded | shoe |
                                     # moving_variance | magnitude | angular_rate_energy
-      <its parameters>              # e.g. w1: 15 (see the detector's class)
+      <its parameters>              # e.g. w1_samples: 15 (see the detector's class)
     filter:                         # pdr_ins_ekf.zupt_ekf.FilterConfig fields
-      acc_noise: 0.02
+      acc_noise_mps2_per_sqrt_hz: 0.02
     smoother:                       # pdr_ins_ekf.zupt_ekf.SmootherConfig fields
       mode: none                    # none | segmented | full
     alignment_min_s: 0.3            # shortest stationary period to align on [s]
@@ -13,20 +13,22 @@
     max_gap_s: 0.1                  # longer gaps between samples are warned about
     base: other.yaml                # optional: read that file first, override its keys
 
-Unknown keys are refused with their path; a key not given keeps RunConfig's default, the
-shipped ``foot_ekf.yaml``'s (tested; the detector aside, see RunConfig). That file is the
-default of the node and the CLI; ``foot_ekf_<profile>.yaml`` adapt it to the IMU profiles
+Unknown keys are refused with their path (a key renamed to carry its unit, with its new
+name: :data:`RENAMED_KEYS`); a key not given keeps RunConfig's default, the shipped
+``foot_ekf.yaml``'s (tested, test/test_config_defaults.py). That file is the default of
+the node and the CLI; ``foot_ekf_<profile>.yaml`` adapt it to the IMU profiles
 of :mod:`pdr_core.imu_profiles` (``--imu-profile``).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
 from pdr_core.config_files import (
     check_keys,
     dataclass_from_mapping,
+    key_path,
     read_config_file,
     shipped_config_dir,
     typed_value,
@@ -49,6 +51,15 @@ DETECTORS = {"original": ConditionVoteDetector, "limited": ConditionVoteDetector
              "moving_variance": MovingVarianceDetector, "magnitude": MagnitudeDetector,
              "angular_rate_energy": AngularRateEnergyDetector}
 
+# keys renamed to carry their unit: an old key is refused, naming its new name
+RENAMED_KEYS = {
+    "acc_noise": "acc_noise_mps2_per_sqrt_hz", "gyro_noise": "gyro_noise_radps_per_sqrt_hz",
+    "acc_bias_noise": "acc_bias_noise_mps2_per_sqrt_s",
+    "gyro_bias_noise": "gyro_bias_noise_radps_per_sqrt_s",
+    "init_acc_bias_sigma": "init_acc_bias_sigma_mps2",
+    "init_gyro_bias_sigma": "init_gyro_bias_sigma_radps",
+    "window": "window_samples", "w1": "w1_samples", "w2": "w2_samples"}
+
 
 @dataclass(frozen=True)
 class RunConfig:
@@ -58,12 +69,24 @@ class RunConfig:
 
     detector: StanceDetector = field(default_factory=AdaptiveShoeDetector)
     filter: FilterConfig = field(
-        default_factory=lambda: FilterConfig(acc_noise=0.02, gyro_noise=0.002))
+        default_factory=lambda: FilterConfig(acc_noise_mps2_per_sqrt_hz=0.02,
+                                             gyro_noise_radps_per_sqrt_hz=0.002))
     smoother: SmootherConfig = field(
         default_factory=lambda: SmootherConfig(gamma_s_m2ps2=3.0e-4))
     alignment_min_s: float = 0.3
     initial_yaw_deg: float = 0.0
     max_gap_s: float = 0.1
+
+
+def _section(cls: type, data: Any, where: str, defaults: Any = None) -> Any:
+    """``dataclass_from_mapping`` of one section, an old key refused with its new name."""
+    section = dict(data or {})
+    known = {f.name for f in fields(cls)}
+    for key in section:
+        if RENAMED_KEYS.get(key) in known:
+            raise InputError(key_path(where, key), f"unknown key (renamed to "
+                                                   f"{RENAMED_KEYS[key]})")
+    return dataclass_from_mapping(cls, section, where, defaults)
 
 
 def run_config(data: dict | None, where: str = "config") -> RunConfig:
@@ -79,14 +102,14 @@ def run_config(data: dict | None, where: str = "config") -> RunConfig:
                                                        f"(known: {', '.join(DETECTORS)})")
         if DETECTORS[kind] is ConditionVoteDetector:
             detector["variant"] = kind
-        out["detector"] = dataclass_from_mapping(DETECTORS[kind], detector, f"{where}.detector")
+        out["detector"] = _section(DETECTORS[kind], detector, f"{where}.detector")
     defaults = RunConfig()
     if "filter" in data:
-        out["filter"] = dataclass_from_mapping(FilterConfig, dict(data["filter"] or {}),
-                                               f"{where}.filter", defaults.filter)
+        out["filter"] = _section(FilterConfig, data["filter"], f"{where}.filter",
+                                 defaults.filter)
     if "smoother" in data:
-        out["smoother"] = dataclass_from_mapping(SmootherConfig, dict(data["smoother"] or {}),
-                                                 f"{where}.smoother", defaults.smoother)
+        out["smoother"] = _section(SmootherConfig, data["smoother"], f"{where}.smoother",
+                                   defaults.smoother)
     return RunConfig(**out)
 
 

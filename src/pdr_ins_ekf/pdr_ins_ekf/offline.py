@@ -31,6 +31,7 @@ from pdr_ins_ekf.zero_velocity import sample_rate_hz
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
 STANCE = "pdr_msgs/msg/Stance"
+IMU_GRAPH = topics.graph_name(topics.IMU_DATA)     # the input errors name
 UNKNOWN_VARIANCE = 1e6
 # the blocks of a geometry_msgs 6×6 covariance: x, y, z, then about the x, y, z axes
 LINEAR, ANGULAR = slice(0, 3), slice(3, 6)
@@ -55,17 +56,17 @@ def alignment_window(stance: np.ndarray, t_s: np.ndarray, min_s: float) -> slice
     for start, stop in zip(edges[::2], edges[1::2], strict=True):
         if t_s[stop - 1] - t_s[start] >= min_s:
             return slice(int(start), int(stop))
-    raise InputError("imu/data", f"no stationary period of {min_s:g} s to align on")
+    raise InputError(IMU_GRAPH, f"no stationary period of {min_s:g} s to align on")
 
 
 def check_rest(accel: np.ndarray, gyro: np.ndarray) -> None:
     """Refuse an alignment window that is not at rest under 1 g."""
     f = float(np.linalg.norm(accel.mean(axis=0)))
     if not 8.8 < f < 10.8:
-        raise InputError("imu/data", f"specific force at rest is {f:.3f} m/s², expected 9.81")
+        raise InputError(IMU_GRAPH, f"specific force at rest is {f:.3f} m/s², expected 9.81")
     w = float(np.linalg.norm(gyro.mean(axis=0)))
     if w > 0.2:
-        raise InputError("imu/data", f"angular rate at rest is {w:.3f} rad/s: not at rest")
+        raise InputError(IMU_GRAPH, f"angular rate at rest is {w:.3f} rad/s: not at rest")
 
 
 def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
@@ -75,7 +76,7 @@ def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
     t = (stamp_ns - stamp_ns[0]) * 1e-9
     accel, gyro = imu["linear_acceleration"][keep], imu["angular_velocity"][keep]
     if len(t) < 10 or t[-1] <= 0:
-        raise InputError("imu/data", f"{len(t)} usable samples are too few")
+        raise InputError(IMU_GRAPH, f"{len(t)} usable samples are too few")
     check_units(accel, gyro)
     result = config.detector.detect(accel, gyro, sample_rate_hz(stamp_ns))
     window = alignment_window(result.mask, t, config.alignment_min_s)

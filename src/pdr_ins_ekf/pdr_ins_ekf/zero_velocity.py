@@ -87,12 +87,12 @@ class StanceDetector(Protocol):
 
 
 class _CentredWindow:
-    """Context of a detector with one centred window of ``window`` samples."""
+    """Context of a detector with one centred window of ``window_samples`` samples."""
 
-    window: int
+    window_samples: int
 
     def context(self, rate_hz: float) -> tuple[int, int]:
-        return self.window // 2, (self.window - 1) // 2
+        return self.window_samples // 2, (self.window_samples - 1) // 2
 
 
 def trailing_mean(x: np.ndarray, samples: int) -> np.ndarray:
@@ -117,49 +117,49 @@ class ConditionVoteDetector:
     Eqs. (15)–(19), and its limited / retarded windows (see the module docstring).
 
     Thresholds: |a| in (acc_low_mps2, acc_high_mps2), |ω| < rate_max_radps, std of |a|
-    over W1+1 samples < acc_std_max_mps2; median over W2+1 samples. The paper gives no
-    values; the defaults suit 100 Hz walking data: with them the limited and the retarded
-    windows end a noiseless 100-step walk within 1 cm along track (Zampella et al. 2011,
-    section IV-A).
+    over W1+1 samples < acc_std_max_mps2; median over W2+1 samples (W1, W2: ``w1_samples``,
+    ``w2_samples``). The paper gives no values; the defaults suit 100 Hz walking data: with
+    them the limited and the retarded windows end a noiseless 100-step walk within 1 cm along
+    track (Zampella et al. 2011, section IV-A).
     """
 
     acc_low_mps2: float = 9.0
     acc_high_mps2: float = 11.0
     rate_max_radps: float = 0.5
     acc_std_max_mps2: float = 0.5
-    w1: int = 15
-    w2: int = 11
+    w1_samples: int = 15
+    w2_samples: int = 11
     variant: str = "original"
 
     def __post_init__(self) -> None:
         if self.variant not in ("original", "limited", "retarded"):
             raise ValueError(f"variant must be original, limited or retarded, got "
                              f"{self.variant!r}")
-        _check_window("w1", self.w1)
-        _check_window("w2", self.w2)
+        _check_window("w1_samples", self.w1_samples)
+        _check_window("w2_samples", self.w2_samples)
 
     def context(self, rate_hz: float) -> tuple[int, int]:
         if self.variant == "retarded":
-            window = max(self.w1, self.w2) + 1
+            window = max(self.w1_samples, self.w2_samples) + 1
             return 2 * (window // 2), 2 * ((window - 1) // 2)
-        return self.w1 + self.w2, 0
+        return self.w1_samples + self.w2_samples, 0
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
         norm_a = np.linalg.norm(accel, axis=-1)
         c1 = (self.acc_low_mps2 < norm_a) & (norm_a < self.acc_high_mps2)
         c2 = np.linalg.norm(gyro, axis=-1) < self.rate_max_radps
         if self.variant == "retarded":
-            window = max(self.w1, self.w2) + 1
+            window = max(self.w1_samples, self.w2_samples) + 1
             mean, mean_sq = centred_mean(norm_a, window), centred_mean(norm_a**2, window)
         else:
-            mean, mean_sq = trailing_mean(norm_a, self.w1 + 1), trailing_mean(norm_a**2,
-                                                                              self.w1 + 1)
+            window = self.w1_samples + 1
+            mean, mean_sq = trailing_mean(norm_a, window), trailing_mean(norm_a**2, window)
         std = np.sqrt(np.maximum(mean_sq - mean**2, 0.0))
         conditions = c1 & c2 & (std < self.acc_std_max_mps2)
         if self.variant == "retarded":
-            votes = centred_mean(conditions, max(self.w1, self.w2) + 1)
+            votes = centred_mean(conditions, max(self.w1_samples, self.w2_samples) + 1)
         else:
-            votes = trailing_mean(conditions, self.w2 + 1)
+            votes = trailing_mean(conditions, self.w2_samples + 1)
         mask = votes > 0.5
         if self.variant == "limited":
             mask &= conditions
@@ -168,7 +168,8 @@ class ConditionVoteDetector:
 
 @dataclass(frozen=True)
 class ShoeDetector(_CentredWindow):
-    """SHOE / GLRT (Wang et al. 2020, section II): σ_a [m/s²], σ_ω [rad/s], window W, threshold γ.
+    """SHOE / GLRT (Wang et al. 2020, section II): σ_a [m/s²], σ_ω [rad/s], window W
+    [samples], threshold γ.
 
     With the default σ, γ = 1e5 admits |ω| up to 0.55 rad/s or an acceleration residual of
     3 m/s² over the window; γ scales with 1/σ², so change σ and γ together.
@@ -176,15 +177,15 @@ class ShoeDetector(_CentredWindow):
 
     sigma_acc_mps2: float = 0.01
     sigma_rate_radps: float = 0.1 * np.pi / 180
-    window: int = 5
+    window_samples: int = 5
     threshold: float = 1.0e5
     gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def __post_init__(self) -> None:
-        _check_window("window", self.window)
+        _check_window("window_samples", self.window_samples)
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
-        w = self.window
+        w = self.window_samples
         mean_a = centred_mean(accel, w)
         norm = np.linalg.norm(mean_a, axis=-1, keepdims=True)
         # a window of zero mean force has no gravity direction: its u·mean(y) is 0 anyway
@@ -250,12 +251,12 @@ class MovingVarianceDetector(_CentredWindow):
     """Acceleration moving variance (Skog et al. 2010)."""
 
     sigma_acc_mps2: float = 0.01
-    window: int = 5
+    window_samples: int = 5
     threshold: float = 1.0e2
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
-        mean_a = centred_mean(accel, self.window)
-        variance = (centred_mean(np.sum(accel**2, axis=-1), self.window)
+        mean_a = centred_mean(accel, self.window_samples)
+        variance = (centred_mean(np.sum(accel**2, axis=-1), self.window_samples)
                     - np.sum(mean_a**2, axis=-1))
         statistic = np.maximum(variance, 0.0) / self.sigma_acc_mps2**2
         return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["moving_variance"])
@@ -266,13 +267,13 @@ class MagnitudeDetector(_CentredWindow):
     """Acceleration magnitude (Skog et al. 2010)."""
 
     sigma_acc_mps2: float = 0.01
-    window: int = 5
+    window_samples: int = 5
     threshold: float = 5.0e3
     gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
         deviation = (np.linalg.norm(accel, axis=-1) - self.gravity_mps2) ** 2
-        statistic = centred_mean(deviation, self.window) / self.sigma_acc_mps2**2
+        statistic = centred_mean(deviation, self.window_samples) / self.sigma_acc_mps2**2
         return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["magnitude"])
 
 
@@ -281,10 +282,11 @@ class AngularRateEnergyDetector(_CentredWindow):
     """Angular-rate energy (Skog et al. 2010)."""
 
     sigma_rate_radps: float = 0.1 * np.pi / 180
-    window: int = 5
+    window_samples: int = 5
     threshold: float = 1.0e4
 
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
-        statistic = centred_mean(np.sum(gyro**2, axis=-1), self.window) / self.sigma_rate_radps**2
+        statistic = (centred_mean(np.sum(gyro**2, axis=-1), self.window_samples)
+                     / self.sigma_rate_radps**2)
         return Stance(statistic < self.threshold, statistic,
                       DETECTOR_IDS["angular_rate_energy"])

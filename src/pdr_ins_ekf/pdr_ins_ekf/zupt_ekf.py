@@ -52,22 +52,22 @@ BIAS_MODELS = ("none", "random_walk", "gauss_markov")
 class FilterConfig:
     """Noise and aiding parameters (SI; densities per √Hz)."""
 
-    acc_noise: float = 0.002          # [m/s²/√Hz]
-    gyro_noise: float = 0.0002        # [rad/s/√Hz]
+    acc_noise_mps2_per_sqrt_hz: float = 0.002
+    gyro_noise_radps_per_sqrt_hz: float = 0.0002
     zupt_sigma_mps: float = 0.01      # [m/s]
     zaru_sigma_radps: float = 0.01    # [rad/s]
     zaru: bool = False
     zaru_gate_nis: float = 16.27      # ZARU where νᵀS⁻¹ν < this (χ², 3 dof, 0.999)
     bias_model: str = "none"
-    acc_bias_noise: float = 1e-4      # [m/s²/√s]
-    gyro_bias_noise: float = 1e-5     # [rad/s/√s]
+    acc_bias_noise_mps2_per_sqrt_s: float = 1e-4    # bias random walk / GM driving noise
+    gyro_bias_noise_radps_per_sqrt_s: float = 1e-5
     bias_tau_s: float = 300.0         # Gauss–Markov correlation time [s]
     init_pos_sigma_m: float = 1e-5
     init_vel_sigma_mps: float = 1e-5
     init_att_sigma_rad: float = (0.1 * np.pi / 180)
     init_yaw_sigma_rad: float = (0.1 * np.pi / 180)
-    init_acc_bias_sigma: float = 0.05  # [m/s²]
-    init_gyro_bias_sigma: float = 0.005  # [rad/s]
+    init_acc_bias_sigma_mps2: float = 0.05
+    init_gyro_bias_sigma_radps: float = 0.005
     gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def __post_init__(self) -> None:
@@ -77,8 +77,8 @@ class FilterConfig:
         if self.zaru and self.bias_model == "none":
             raise ValueError("ZARU needs the gyro bias states (bias_model random_walk or "
                              "gauss_markov)")
-        for name in ("acc_noise", "gyro_noise", "zupt_sigma_mps", "zaru_sigma_radps",
-                     "zaru_gate_nis"):
+        for name in ("acc_noise_mps2_per_sqrt_hz", "gyro_noise_radps_per_sqrt_hz",
+                     "zupt_sigma_mps", "zaru_sigma_radps", "zaru_gate_nis"):
             if getattr(self, name) <= 0:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
 
@@ -284,16 +284,18 @@ def initial_covariance(config: FilterConfig) -> np.ndarray:
     sig = ([config.init_pos_sigma_m] * 3 + [config.init_vel_sigma_mps] * 3
            + [config.init_att_sigma_rad] * 2 + [config.init_yaw_sigma_rad])
     if config.states == NAV_AND_BIAS_STATES:
-        sig += [config.init_acc_bias_sigma] * 3 + [config.init_gyro_bias_sigma] * 3
+        sig += [config.init_acc_bias_sigma_mps2] * 3 + [config.init_gyro_bias_sigma_radps] * 3
     return np.diag(np.square(sig))
 
 
 def kernel_params(config: FilterConfig) -> FilterParams:
     """The :class:`~pdr_ins_ekf.kernel_data.FilterParams` of the compiled kernels."""
     return FilterParams(
-        acc_noise=float(config.acc_noise), gyro_noise=float(config.gyro_noise),
-        acc_bias_noise=float(config.acc_bias_noise),
-        gyro_bias_noise=float(config.gyro_bias_noise), bias_tau_s=float(config.bias_tau_s),
+        acc_noise=float(config.acc_noise_mps2_per_sqrt_hz),
+        gyro_noise=float(config.gyro_noise_radps_per_sqrt_hz),
+        acc_bias_noise=float(config.acc_bias_noise_mps2_per_sqrt_s),
+        gyro_bias_noise=float(config.gyro_bias_noise_radps_per_sqrt_s),
+        bias_tau_s=float(config.bias_tau_s),
         bias_model=BIAS_MODEL_CODES[config.bias_model],
         gravity_mps2=float(config.gravity_mps2), zupt_sigma_mps=float(config.zupt_sigma_mps),
         zaru=bool(config.zaru), zaru_sigma_radps=float(config.zaru_sigma_radps),

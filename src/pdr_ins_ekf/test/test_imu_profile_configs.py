@@ -70,9 +70,12 @@ def test_unknown_profile_and_both_sources_are_refused(tmp_path):
 
 
 def test_base_keys_are_overridden_mapping_by_mapping(tmp_path):
-    (tmp_path / "base.yaml").write_text("filter: {acc_noise: 0.03, gyro_noise: 0.003}\n"
+    (tmp_path / "base.yaml").write_text("filter: {acc_noise_mps2_per_sqrt_hz: 0.03,\n"
+                                        "         gyro_noise_radps_per_sqrt_hz: 0.003}\n"
                                         "max_gap_s: 0.2\n")
-    (tmp_path / "top.yaml").write_text("base: base.yaml\nfilter: {acc_noise: 0.05}\n")
+    (tmp_path / "top.yaml").write_text("base: base.yaml\n"
+                                       "filter: {acc_noise_mps2_per_sqrt_hz: 0.05}\n")
     config = load_run_config(tmp_path / "top.yaml")
-    assert config.filter.acc_noise == 0.05 and config.filter.gyro_noise == 0.003
+    assert config.filter.acc_noise_mps2_per_sqrt_hz == 0.05
+    assert config.filter.gyro_noise_radps_per_sqrt_hz == 0.003
     assert np.isclose(config.max_gap_s, 0.2)

@@ -96,8 +96,9 @@ def test_the_rows_are_the_error_states_blocks():
 def test_parameter_types_do_not_depend_on_how_a_value_was_written():
     """An integer in the YAML (``bias_tau_s: 300``) must not make numba compile a second
     specialisation of every kernel."""
-    written = FilterConfig(acc_noise=1, gyro_noise=1, bias_model="gauss_markov",
-                           bias_tau_s=300, zupt_sigma_mps=1, gravity_mps2=10)
+    written = FilterConfig(acc_noise_mps2_per_sqrt_hz=1, gyro_noise_radps_per_sqrt_hz=1,
+                           bias_model="gauss_markov", bias_tau_s=300, zupt_sigma_mps=1,
+                           gravity_mps2=10)
     assert numba.typeof(kernel_params(written)) == numba.typeof(kernel_params(FilterConfig()))
     assert (numba.typeof(smoother_params(SmootherConfig("segmented", 1, 0)))
             == numba.typeof(smoother_params(SmootherConfig())))

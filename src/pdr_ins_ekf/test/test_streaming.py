@@ -35,7 +35,8 @@ def test_stream_equals_offline(imu, detector, block):
 
 def test_stream_smoother_equals_offline_segments(imu):
     config = run_config({"smoother": {"mode": "segmented", "gamma_s_m2ps2": 3.0e-4},
-                         "filter": {"acc_noise": 0.02, "gyro_noise": 0.002}})
+                         "filter": {"acc_noise_mps2_per_sqrt_hz": 0.02,
+                                    "gyro_noise_radps_per_sqrt_hz": 0.002}})
     offline = navigate(imu, config).smoothed
     navigator = StreamingNavigator(config)
     stream(navigator, imu, block=50)
@@ -90,9 +91,17 @@ def test_memory_stays_bounded(imu):
 
 def test_configuration_values_are_typed():
     from pdr_core.errors import InputError
-    config = run_config({"detector": {"type": "shoe", "threshold": "1.0e6", "window": 7}})
-    assert config.detector.threshold == 1.0e6 and config.detector.window == 7
-    with pytest.raises(InputError, match=r"config.detector.window: expected an integer"):
-        run_config({"detector": {"type": "shoe", "window": 2.5}})
+    config = run_config({"detector": {"type": "shoe", "threshold": "1.0e6",
+                                      "window_samples": 7}})
+    assert config.detector.threshold == 1.0e6 and config.detector.window_samples == 7
+    with pytest.raises(InputError,
+                       match=r"config.detector.window_samples: expected an integer"):
+        run_config({"detector": {"type": "shoe", "window_samples": 2.5}})
+    with pytest.raises(InputError, match=r"config.filter.acc_noise: unknown key \(renamed "
+                                         r"to acc_noise_mps2_per_sqrt_hz\)"):
+        run_config({"filter": {"acc_noise": 0.02}})
+    with pytest.raises(InputError, match=r"config.detector.window: unknown key \(renamed "
+                                         r"to window_samples\)"):
+        run_config({"detector": {"type": "shoe", "window": 7}})
     with pytest.raises(InputError, match=r"config.filter.zaru: expected true or false"):
         run_config({"filter": {"zaru": "yes"}})

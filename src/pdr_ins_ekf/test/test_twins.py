@@ -399,11 +399,12 @@ def rotation(rotvec: np.ndarray) -> np.ndarray:
 def filter_config(states: int, bias_model: str, noise: np.ndarray, **more) -> FilterConfig:
     """A FilterConfig with the drawn noise (8,): white, bias and measurement σ, τ."""
     return FilterConfig(
-        acc_noise=noise[0], gyro_noise=noise[1], acc_bias_noise=noise[2],
-        gyro_bias_noise=noise[3], zupt_sigma_mps=noise[4], zaru_sigma_radps=noise[5],
+        acc_noise_mps2_per_sqrt_hz=noise[0], gyro_noise_radps_per_sqrt_hz=noise[1],
+        acc_bias_noise_mps2_per_sqrt_s=noise[2], gyro_bias_noise_radps_per_sqrt_s=noise[3],
+        zupt_sigma_mps=noise[4], zaru_sigma_radps=noise[5],
         bias_tau_s=noise[6], zaru_gate_nis=noise[7], bias_model=bias_model,
         init_pos_sigma_m=0.01, init_vel_sigma_mps=0.01, init_att_sigma_rad=1e-3,
-        init_yaw_sigma_rad=2e-3, init_acc_bias_sigma=0.01, init_gyro_bias_sigma=0.01,
+        init_yaw_sigma_rad=2e-3, init_acc_bias_sigma_mps2=0.01, init_gyro_bias_sigma_radps=0.01,
         **more)
 
 

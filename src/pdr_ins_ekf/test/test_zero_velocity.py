@@ -74,5 +74,5 @@ def test_skog_detectors_find_stance_and_little_swing(walk, detector, false_in_sw
 def test_bad_parameters():
     with pytest.raises(ValueError, match="variant"):
         ConditionVoteDetector(variant="centred")
-    with pytest.raises(ValueError, match="w2 must be >= 1"):
-        ConditionVoteDetector(w2=0)
+    with pytest.raises(ValueError, match="w2_samples must be >= 1"):
+        ConditionVoteDetector(w2_samples=0)

@@ -95,7 +95,7 @@ def test_zaru_gate_passes_a_bias_within_its_uncertainty():
     runs, and the bias is found (the gate refuses only what the covariance calls
     implausible)."""
     config = FilterConfig(bias_model="random_walk", zaru=True)
-    bias = 2 * config.init_gyro_bias_sigma
+    bias = 2 * config.init_gyro_bias_sigma_radps
     assert _turning_in_place(config, turn_radps=bias)[2] == pytest.approx(bias, rel=0.05)
 
 

@@ -92,8 +92,8 @@ class ZuptEkfNode(Node):
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
-        self.subscription = self.create_subscription(Imu, "imu/data", self.on_imu, qos,
-                                                     raw=True)
+        self.subscription = self.create_subscription(Imu, graph_name(topics.IMU_DATA),
+                                                     self.on_imu, qos, raw=True)
         # transient local: a recorder that joins late still gets the last 1000 estimates
         out = QoSProfile(depth=HISTORY, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -64,14 +64,15 @@ def filter_for(noise: NoiseLevels, zupt_sigma_mps: float = 0.01,
                          f"got {states}")
     floor = 1e-9
     return FilterConfig(
-        acc_noise=max(noise.acc_noise_mps2_per_sqrt_hz, 1e-5),
-        gyro_noise=max(noise.gyro_noise_radps_per_sqrt_hz, 1e-7),
+        acc_noise_mps2_per_sqrt_hz=max(noise.acc_noise_mps2_per_sqrt_hz, 1e-5),
+        gyro_noise_radps_per_sqrt_hz=max(noise.gyro_noise_radps_per_sqrt_hz, 1e-7),
         zupt_sigma_mps=zupt_sigma_mps, zaru=states == NAV_AND_BIAS_STATES,
         zaru_gate_nis=np.inf,
         bias_model="random_walk" if states == NAV_AND_BIAS_STATES else "none",
-        acc_bias_noise=floor, gyro_bias_noise=max(noise.gyro_rrw_radps_per_sqrt_s, floor),
-        init_acc_bias_sigma=max(noise.acc_bias_mps2, 1e-4),
-        init_gyro_bias_sigma=max(noise.gyro_bias_radps, 1e-5))
+        acc_bias_noise_mps2_per_sqrt_s=floor,
+        gyro_bias_noise_radps_per_sqrt_s=max(noise.gyro_rrw_radps_per_sqrt_s, floor),
+        init_acc_bias_sigma_mps2=max(noise.acc_bias_mps2, 1e-4),
+        init_gyro_bias_sigma_radps=max(noise.gyro_bias_radps, 1e-5))
 
 
 @njit(cache=True, parallel=True)

@@ -46,8 +46,8 @@ BASELINE = {"arw": 0.21, "vrw": 0.14, "rrw": 48.0}
 RANGES = {"arw": (0.01, 10.0), "vrw": (0.01, 10.0), "rrw": (0.6, 600.0)}
 UNITS = {"arw": "°/√h", "vrw": "mg/√Hz", "rrw": "mdeg/s/√h"}
 # the model assumes a known start: no initial heading or bias uncertainty
-KNOWN_START = {"init_yaw_sigma_rad": 1e-6, "init_acc_bias_sigma": 1e-6,
-               "init_gyro_bias_sigma": 1e-7}
+KNOWN_START = {"init_yaw_sigma_rad": 1e-6, "init_acc_bias_sigma_mps2": 1e-6,
+               "init_gyro_bias_sigma_radps": 1e-7}
 QUANTITIES = ("sigma_v_mps", "sigma_theta_rad", "sigma_par_m", "sigma_perp_m")
 
 

@@ -101,9 +101,10 @@ class PocketPdrNode(Node):
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
-        self.imu_sub = self.create_subscription(Imu, "imu/data", self.on_imu, qos, raw=True)
-        self.mag_sub = self.create_subscription(MagneticField, "imu/mag", self.on_mag, qos,
-                                                raw=True)
+        self.imu_sub = self.create_subscription(Imu, graph_name(topics.IMU_DATA), self.on_imu,
+                                                qos, raw=True)
+        self.mag_sub = self.create_subscription(MagneticField, graph_name(topics.IMU_MAG),
+                                                self.on_mag, qos, raw=True)
         self.mag_topic = self.mag_sub.topic_name
         out = QoSProfile(depth=HISTORY, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
