@@ -39,7 +39,7 @@ def test_the_wrap_is_idempotent(a):
 def test_the_wrap_of_numbers_it_leaves_alone_and_of_the_half_turn():
     np.testing.assert_allclose(wrap_angle(np.array([0.0, 1.0, -3.0, 3.0])),
                                [0.0, 1.0, -3.0, 3.0], atol=1e-15)
-    assert wrap_angle(np.pi) == -np.pi and wrap_angle(-np.pi) == -np.pi
+    assert wrap_angle(np.pi) == np.pi and wrap_angle(-np.pi) == np.pi
     assert wrap_angle(2.5 * np.pi) == pytest.approx(0.5 * np.pi)
 
 

@@ -103,8 +103,9 @@ def euler(c: np.ndarray) -> np.ndarray:
 
 
 def wrap(a):
-    """Angles to [−π, π)."""
-    return (a + np.pi) % (2.0 * np.pi) - np.pi
+    """Angles to (−π, π]."""
+    w = (a + np.pi) % (2.0 * np.pi) - np.pi
+    return np.where(w == -np.pi, np.pi, w)
 
 
 def body_rate(gyro, c, b, earth_n) -> np.ndarray:
