@@ -54,10 +54,12 @@ def deviation(association: Association) -> tuple[float, int]:
     return float(np.mean(deltas)), 2
 
 
-def drift_of(association: Association) -> DriftEstimate:
-    """ε = −δ/Δt with its variance (module docstring)."""
+def drift_of(association: Association, since_s: float = -np.inf) -> DriftEstimate:
+    """ε = −δ/Δt with its variance (module docstring); Δt from the first visit, or from
+    ``since_s`` [s] when later (the last correction of a hypothesis whose landmarks were
+    corrected with it, pdr_drift.hypotheses)."""
     delta, pairs = deviation(association)
-    elapsed = association.revisit.t - association.first.t
+    elapsed = association.revisit.t - max(association.first.t, since_s)
     delta_var = 2 * YAW_SIGMA_RAD**2 / pairs
     return DriftEstimate(association.first.id, association.revisit.id, delta, elapsed,
                          -delta / elapsed, delta_var / elapsed**2, delta_var)

@@ -9,6 +9,13 @@ visit's again (direction-adjusted), with the variance of one landmark yaw; the d
 add to the z gyro bias with its variance; and the first visit's position with its
 covariance (Eq. (6.3)), carried forward by the steps walked since the revisit's landmark.
 It imports no navigator: the pocket and the foot alike can feed it.
+
+The association is the thesis' nearest one (``association: nearest``, the default) or
+the multi-hypothesis one of pdr_drift.hypotheses (``multi_hypothesis``), whose
+associations, drifts and one correction come when a hypothesis dominates, possibly
+steps after the landmarks, the correction then expressed as of the step that commits it.
+``feedback`` says whether the corrections reach the navigator (the live loop) or not
+(a walk only analysed).
 """
 from __future__ import annotations
 
@@ -19,6 +26,7 @@ import numpy as np
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetector
 from pdr_drift.drift import YAW_SIGMA_RAD, DriftEstimate, drift_of
+from pdr_drift.hypotheses import Commit, HypothesisSet
 from pdr_drift.landmarks import Association, Landmark, LandmarkDatabase, StairsTracker, from_corner
 
 
@@ -52,13 +60,19 @@ def corner_detector(config: DriftConfig):
 
 
 class DriftEstimator:
-    def __init__(self, config: DriftConfig | None = None) -> None:
+    def __init__(self, config: DriftConfig | None = None, feedback: bool = True) -> None:
         self.config = config or DriftConfig()
         self.corners = corner_detector(self.config)
         self.stairs = StairsTracker()
         self.database = LandmarkDatabase(self.config.gate_probability, self.config.gate_dof,
                                          self.config.min_revisit_s)
+        self.hypotheses = None if self.config.association == "nearest" else HypothesisSet(
+            self.database, self.config.hypotheses_k, self.config.commit_margin,
+            np.radians(self.config.drift_sigma_deg_per_s), self.config.turn_scale_sigma,
+            self.config.place_sigma_m,
+            self.config.places_per_km2, feedback)
         self.next_id = 0
+        self.last: StepSample | None = None
 
     def push(self, step: StepSample) -> StepResult:
         result = StepResult()
@@ -68,8 +82,11 @@ class DriftEstimator:
         if flight is not None:
             self._id()
             found.append(flight)
+        result.landmarks += found
+        self.last = step
+        if self.hypotheses is not None:
+            return _with_commit(result, self.hypotheses.push(step, found))
         for landmark in found:
-            result.landmarks.append(landmark)
             association = self.database.associate(landmark)
             if association is None:
                 continue
@@ -86,6 +103,25 @@ class DriftEstimator:
                 np.asarray(association.first.covariance, float)))
         return result
 
+    def finish(self) -> StepResult:
+        """The end of the walk: the best hypothesis' associations not yet committed (none
+        with the nearest association)."""
+        if self.hypotheses is None or self.last is None:
+            return StepResult()
+        return _with_commit(StepResult(), self.hypotheses.finish(self.last))
+
     def _id(self) -> int:
         self.next_id += 1
         return self.next_id - 1
+
+
+def _with_commit(result: StepResult, commit: Commit | None) -> StepResult:
+    """``result`` with what a hypothesis committed."""
+    if commit is None:
+        return result
+    result.associations += commit.associations
+    result.drifts += commit.drifts
+    result.corrections.append(Correction(commit.yaw_rad, commit.yaw_variance,
+                                         commit.drift_radps, commit.drift_variance,
+                                         commit.position, commit.position_covariance))
+    return result

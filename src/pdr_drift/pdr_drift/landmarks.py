@@ -100,30 +100,41 @@ class LandmarkDatabase:
     def kappa(self) -> float:
         return float(np.sqrt(chi2.ppf(self.gate_probability, self.gate_dof)))
 
-    def associate(self, landmark: Landmark) -> Association | None:
-        """The association of ``landmark`` (the database then cleared), or None (it is
-        stored)."""
-        best = None
+    def candidates(self, landmark: Landmark) -> list[Association]:
+        """Every stored landmark ``landmark`` may revisit: of its type and floor, at least
+        ``min_revisit_s`` older, within the gate; in the order stored."""
+        out = []
         for old in self.stored:
             if old.type != landmark.type or old.key_floor != landmark.key_floor:
                 continue
             if landmark.t - old.t < self.min_revisit_s:
                 continue
             distance = mahalanobis(old, landmark)
-            if distance < self.kappa and (best is None or distance < best.distance):
-                best = Association(old, landmark, distance)
-        if best is None:
+            if distance < self.kappa:
+                out.append(Association(old, landmark, distance))
+        return out
+
+    def associate(self, landmark: Landmark) -> Association | None:
+        """The association of ``landmark`` with the nearest candidate (the database then
+        cleared), or None (it is stored)."""
+        gated = self.candidates(landmark)
+        if not gated:
             self.stored.append(landmark)
             return None
         self.stored.clear()
-        return best
+        return min(gated, key=lambda a: a.distance)
 
 
 def mahalanobis(a: Landmark, b: Landmark) -> float:
-    """Δ of Eq. (5.4) [dimensionless]; dimensions without any variance (a level walk's
-    height) must agree exactly and are left out."""
-    d = np.asarray(a.position, float) - np.asarray(b.position, float)
-    p = np.asarray(a.covariance, float) + np.asarray(b.covariance, float)
+    """Δ of Eq. (5.4) [dimensionless], with both covariances (module docstring)."""
+    return distance(np.asarray(a.position, float) - np.asarray(b.position, float),
+                    np.asarray(a.covariance, float) + np.asarray(b.covariance, float))
+
+
+def distance(d: np.ndarray, p: np.ndarray) -> float:
+    """√(dᵀ p⁻¹ d) [dimensionless] of a difference d (3,) [m] with covariance p (3, 3)
+    [m²]; dimensions without any variance (a level walk's height) must agree exactly and
+    are left out."""
     keep = np.diag(p) > 1e-12
     if not np.all(np.abs(d[~keep]) < 1e-6):
         return float("inf")

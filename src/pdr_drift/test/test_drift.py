@@ -11,10 +11,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from drift_walks import LEVEL, SIDES, walk
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from pdr_core.angles import wrap_angle
 from pdr_core.vocabulary import LandmarkType
 from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetector
 from pdr_drift.drift import DriftEstimate, deviation, drift_of, offline_drift
@@ -23,32 +23,10 @@ from pdr_drift.landmarks import Association, Landmark, LandmarkDatabase
 from pdr_drift.streaming import StreamingDrift
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "landmark_drift.yaml"
-LEVEL, UP, DOWN = 1, 2, 3
 BASE = 1_700_000_000_000_000_000
 
 
-def walk(legs, drift_radps=0.0, sway_deg=1.0, seed=0, period_s=1.1, stride_m=1.3):
-    """Steps along ``legs``: (heading change at its start [deg], steps, activity);
-    turns spread over 2 steps; the heading drifts by ``drift_radps``; the covariance grows
-    as 0.02 m² per step."""
-    rng = np.random.default_rng(seed)
-    steps, heading, position, t = [], 0.0, np.zeros(3), 0.0
-    for turn_deg, count, activity in legs:
-        for k in range(count):
-            if k < 2:
-                heading += np.radians(turn_deg) / 2
-            t += period_s
-            position = position + [stride_m * np.cos(heading), stride_m * np.sin(heading),
-                                   0.34 if activity == UP else -0.34 if activity == DOWN
-                                   else 0.0]
-            estimated = heading + drift_radps * t + np.radians(sway_deg) * rng.standard_normal()
-            steps.append(StepSample(t, float(wrap_angle(estimated)), activity, position.copy(),
-                                    np.diag([0.02, 0.02, 0.001]) * len(steps), 0))
-    return steps
-
-
 # Two laps of a block, its corners revisited, the heading drifting.
-SIDES = [(90, 30, LEVEL), (90, 45, LEVEL), (90, 30, LEVEL)]
 BLOCK = walk([(0, 45, LEVEL), *SIDES, (90, 45, LEVEL), *SIDES], drift_radps=np.radians(0.05))
 
 

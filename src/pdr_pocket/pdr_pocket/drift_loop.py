@@ -59,7 +59,7 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
                     apply: bool = True) -> tuple[PocketNavigator, NavigatorOutput, DriftLog]:
     """The online loop (module docstring); ``apply=False`` only records."""
     navigator = PocketNavigator(config)
-    estimator = DriftEstimator(drift)
+    estimator = DriftEstimator(drift, feedback=apply)
     log = DriftLog()
     # the navigator before the chunk; the chunk is the record's, so no inputs are recorded
     before: Checkpoints[PocketNavigator, None] = Checkpoints(
@@ -74,6 +74,7 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
         out = run(0, len(t))
         for step in out.steps:
             _record(estimator.push(step_sample(step)), log)
+        _record(estimator.finish(), log)
         return navigator, out, log
     outputs, start = [], 0
     for end in np.searchsorted(t, np.arange(t[0], t[-1] + CHUNK_S, CHUNK_S)[1:], "left"):

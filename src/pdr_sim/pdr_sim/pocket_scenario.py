@@ -50,10 +50,11 @@ from pdr_sim.scenario import (
 )
 
 # Built-in pocket scenarios (pdr_sim/scenarios/pocket/<name>.yaml), named after what they
-# reproduce in Muñoz Díaz 2016.
+# reproduce in Muñoz Díaz 2016 (corridor_grid: the street grid of its warning after
+# Table 5.8, for the multi-hypothesis association).
 POCKET_BUILTIN = ("h1_rectangle", "h2_rectangle_speeds", "h3_museum", "up_dw",
                   "sit_stand", "theresienhoehe", "building", "out_and_back_39min",
-                  "block_two_laps")
+                  "block_two_laps", "corridor_grid")
 
 SEGMENT_TYPES = ("standing", "sitting", "walk", "turn", "stairs", "platform")
 # Human range checked on the scenario (beyond it the key is refused).
