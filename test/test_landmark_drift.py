@@ -53,25 +53,7 @@ def test_landmark_drift_corrects_pocket_pdr_over_the_service(procs, tmp_path, wa
     assert drift["corrections_accepted"] == 1
     corrected = drift["corrected"]["final_position_error_m"]
     assert corrected <= 2.0 and corrected <= drift["uncorrected"]["final_position_error_m"] / 10
-    expected = report["steps"] + drift["landmarks"] + drift["associations"]
-    recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
-                           "topics:=[pdr/pocket/pose, pdr/landmarks, pdr/drift]", "-p",
-                           f"max_messages:={expected}", name="record")
-    navigator = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
-                            "-p", f"config:={NO_MAG}", name="pocket_pdr")
-    estimator = procs.start("landmark_drift", name="landmark_drift")
-    wait_for_log(recorder, "recording /pdr/pocket/pose", "recording /pdr/landmarks",
-                 "recording /pdr/drift")
-    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={walk}", "-p",
-                       "topics:=[/imu/data, /imu/mag]", "-p", f"rate:={LOOP_RATE}", "-p",
-                       "wait_for_subscribers:=1", timeout=300)
-    assert played.returncode == 0, played.stderr
-    assert recorder.wait(timeout=180) == 0, log_text(recorder) + log_text(estimator)
-    assert "correction accepted" in log_text(navigator), log_text(navigator)
-    assert "correction accepted" in log_text(estimator), log_text(estimator)
-    assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
-    assert procs.stop(navigator, signal.SIGINT) == 0, log_text(navigator)
-    live = BagReader(tmp_path / "live")
+    live = run_graph(procs, tmp_path, walk, report)
     landmarks = live.read("/pdr/landmarks")
     assert len(landmarks) == drift["landmarks"]
     estimates = live.read("/pdr/drift")
@@ -86,6 +68,56 @@ def test_landmark_drift_corrects_pocket_pdr_over_the_service(procs, tmp_path, wa
     # measured on the last pose, rounding in the replay); every pose within 1e-8 m
     assert len(poses) == len(offline_poses)
     np.testing.assert_allclose(poses, offline_poses, rtol=0, atol=1e-8)
+
+
+def run_graph(procs, tmp_path, walk, report: dict, *estimator_args: str) -> BagReader:
+    """bag_play → pocket_pdr ⇄ landmark_drift (``estimator_args``: its ROS arguments) →
+    bag_record on ``walk``, until the recorder has the poses, landmarks and drift
+    estimates of the in-process ``report``; the recording, both nodes stopped cleanly."""
+    drift = report["drift"]
+    expected = report["steps"] + drift["landmarks"] + drift["associations"]
+    recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
+                           "topics:=[pdr/pocket/pose, pdr/landmarks, pdr/drift]", "-p",
+                           f"max_messages:={expected}", name="record")
+    navigator = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
+                            "-p", f"config:={NO_MAG}", name="pocket_pdr")
+    estimator = procs.start("landmark_drift", *estimator_args, name="landmark_drift")
+    wait_for_log(recorder, "recording /pdr/pocket/pose", "recording /pdr/landmarks",
+                 "recording /pdr/drift")
+    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={walk}", "-p",
+                       "topics:=[/imu/data, /imu/mag]", "-p", f"rate:={LOOP_RATE}", "-p",
+                       "wait_for_subscribers:=1", timeout=300)
+    assert played.returncode == 0, played.stderr
+    assert recorder.wait(timeout=180) == 0, log_text(recorder) + log_text(estimator)
+    assert "correction accepted" in log_text(navigator), log_text(navigator)
+    assert "correction accepted" in log_text(estimator), log_text(estimator)
+    assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
+    assert procs.stop(navigator, signal.SIGINT) == 0, log_text(navigator)
+    return BagReader(tmp_path / "live")
+
+
+def test_late_commits_live_equal_the_in_process_loop(procs, tmp_path, walk):
+    """Issue 32, acceptance 3: the multi-hypothesis association
+    (config/landmark_drift_multi_hypothesis.yaml) commits the walk's first revisit only
+    when the second confirms it, a correction expressed from the committing step
+    (pdr_drift.hypotheses); the live graph's poses equal ``pdr-pocket run --drift online``'s
+    to 1e-6 m, as with the nearest association's corrections at their own step."""
+    multi = str(ROOT / "src" / "pdr_drift" / "config" / "landmark_drift_multi_hypothesis.yaml")
+    offline = procs.run("pdr-pocket", "run", str(walk), "--config", NO_MAG, "--out",
+                        str(tmp_path / "offline"), "--drift", "online", "--drift-config", multi)
+    assert offline.returncode == 0, offline.stderr
+    report = json.loads((tmp_path / "offline" / "report.json").read_text())
+    drift = report["drift"]
+    # docs/pocket.md: 3 associations, all right, in 2 corrections (the first two together)
+    assert drift["associations"] == drift["associations_correct"] == 3
+    assert drift["corrections_accepted"] == 2
+    live = run_graph(procs, tmp_path, walk, report, "--ros-args", "-p", f"config:={multi}")
+    np.testing.assert_allclose(np.degrees(live.read("/pdr/drift")["drift"]),
+                               drift["drift_deg_per_s"], rtol=1e-6)
+    poses = live.read("/pdr/pocket/pose")["pose.pose.position"]
+    offline_poses = BagReader(tmp_path / "offline").read("/pdr/pocket/pose")["pose.pose.position"]
+    assert len(poses) == len(offline_poses)
+    np.testing.assert_allclose(poses, offline_poses, rtol=0, atol=1e-6)
 
 
 def test_pdr_drift_run_corrects_an_output_bag_offline(procs, tmp_path, walk):
@@ -226,21 +258,25 @@ def test_a_correction_without_a_service_is_dropped_after_the_retries(procs, navi
     assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
 
 
+def split_laps(walk, folder) -> None:
+    """``walk``'s IMU and magnetometer data as two bags, ``folder``/lap1 up to 5 s before
+    the second lap's first corner and ``folder``/lap2 from there."""
+    reader = BagReader(walk)
+    corners = reader.read("/ground_truth/landmarks")
+    cut = int(np.sort(corners.stamp_ns[corners["type"] == 0])[3]) - 5_000_000_000
+    batches = reader.read_batches(["/imu/data", "/imu/mag"])
+    for name, keep in (("lap1", lambda s: s < cut), ("lap2", lambda s: s >= cut)):
+        write_batches(folder / name,
+                      {t: b.take(np.flatnonzero(keep(b.stamp_ns))) for t, b in batches.items()})
+
+
 def test_pocket_pdr_killed_and_restarted_mid_walk(procs, tmp_path, walk):
     """Issue 18, acceptance 5: pocket_pdr is killed at the end of the first lap and
     started again for the second; landmark_drift keeps running, and the correction of the
     second lap's revisit reaches the new pocket_pdr, which answers it. The new pocket_pdr
     counts its position from where it started, so the revisit's position fix is 35 m off
     in its frame and its χ² gate refuses it."""
-    from pdr_core.bag import write_batches
-
-    reader = BagReader(walk)
-    corners = reader.read("/ground_truth/landmarks")
-    cut = int(np.sort(corners.stamp_ns[corners["type"] == 0])[3]) - 5_000_000_000
-    batches = reader.read_batches(["/imu/data", "/imu/mag"])
-    for name, keep in (("lap1", lambda s: s < cut), ("lap2", lambda s: s >= cut)):
-        write_batches(tmp_path / name,
-                      {t: b.take(np.flatnonzero(keep(b.stamp_ns))) for t, b in batches.items()})
+    split_laps(walk, tmp_path)
     estimator = procs.start("landmark_drift", name="landmark_drift")
     first = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
                         "-p", f"config:={NO_MAG}", name="pocket_pdr_1")
@@ -276,6 +312,45 @@ def test_pocket_pdr_killed_and_restarted_mid_walk(procs, tmp_path, walk):
         in answer, answer
     assert procs.stop(second, signal.SIGINT) == 0, log_text(second)
     assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
+
+
+def test_landmark_drift_killed_and_restarted_keeps_its_landmarks(procs, tmp_path, walk):
+    """Issue 32, acceptance 5: landmark_drift, with a ``state_file``, is killed (SIGKILL)
+    at the end of the first lap and started again for the second; pocket_pdr keeps
+    running. The restarted node restores the first lap's landmarks, recognises the steps
+    pocket_pdr's transient-local history sends again, and associates and corrects the
+    second lap's revisit with the drift the uninterrupted in-process loop finds."""
+    whole = procs.run("pdr-pocket", "run", str(walk), "--config", NO_MAG, "--out",
+                      str(tmp_path / "whole"), "--drift", "online")
+    assert whole.returncode == 0, whole.stderr
+    drift = json.loads((tmp_path / "whole" / "report.json").read_text())["drift"]
+    assert drift["associations"] == 1
+    split_laps(walk, tmp_path)
+    state = ["--ros-args", "-p", f"state_file:={tmp_path / 'drift.state'}"]
+    first = procs.start("landmark_drift", *state, name="landmark_drift_1")
+    navigator = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
+                            "-p", f"config:={NO_MAG}", name="pocket_pdr")
+    wait_for_log(first, "configuration")
+    wait_for_log(navigator, "configuration")
+    play = ["--ros-args", "-p", "topics:=[/imu/data, /imu/mag]", "-p", "wait_for_subscribers:=1"]
+    assert procs.run("bag_play", *play, "-p", f"bag:={tmp_path / 'lap1'}", "-p",
+                     "rate:=0.0").returncode == 0
+    wait_for_log(first, *(f"new landmark {i}:" for i in range(3)))
+    first.send_signal(signal.SIGKILL)
+    first.wait(timeout=30)
+    second = procs.start("landmark_drift", *state, name="landmark_drift_2")
+    wait_for_log(second, "restored from")
+    assert procs.run("bag_play", *play, "-p", f"bag:={tmp_path / 'lap2'}", "-p",
+                     f"rate:={LOOP_RATE}", timeout=300).returncode == 0
+    wait_for_log(second, "revisit of landmark", timeout=120)
+    wait_for_log(second, "correction accepted", timeout=60)
+    text = log_text(second)
+    assert "steps and poses from before the restart: known, dropped" in text, text
+    revisit = text.split("revisit of landmark")[1]
+    found = float(revisit.split("drift ")[1].split(" deg/s")[0])
+    assert found == pytest.approx(drift["drift_deg_per_s"][0], abs=5e-5)
+    assert procs.stop(second, signal.SIGINT) == 0, text
+    assert procs.stop(navigator, signal.SIGINT) == 0, log_text(navigator)
 
 
 def test_two_people_in_one_domain_keep_their_own_frames(procs, tmp_path, walk):

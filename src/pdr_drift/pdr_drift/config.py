@@ -35,6 +35,7 @@ class DriftConfig:
     commit_margin: float = 6.0              # ... committed when the next is this much worse
     drift_sigma_deg_per_s: float = 0.1      # ... drift plausible between corrections
     turn_scale_sigma: float = 0.01          # ... heading error per angle turned
+    heading_wander_deg_per_sqrt_s: float = 0.5   # ... heading random walk
     place_sigma_m: float = 1.5              # ... two visits of one place this far apart
     places_per_km2: float = 300.0           # ... how densely corners and stairs lie
     max_drift_deg_per_s: float = 0.5        # offline: a drift beyond this is an outlier
@@ -50,6 +51,7 @@ class DriftConfig:
         for name in ("q_steps", "m_steps", "r1_deg", "r2_deg", "turn_rate_min_deg_per_step",
                      "turn_tolerance_deg", "gate_probability", "gate_dof", "min_revisit_s",
                      "hypotheses_k", "commit_margin", "drift_sigma_deg_per_s", "turn_scale_sigma",
+                     "heading_wander_deg_per_sqrt_s",
                      "place_sigma_m", "places_per_km2",
                      "max_drift_deg_per_s", "outlier_spread"):
             if not getattr(self, name) > 0:

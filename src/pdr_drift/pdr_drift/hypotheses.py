@@ -28,8 +28,9 @@ all, summed over the landmarks:
 
 - an association: Δ² + log det(2π S) with S what can open the loop between the two
   visits (:meth:`HypothesisSet._association_cost`: the drift the hypothesis still
-  allows and a heading error in proportion to the angle turned, each times the walked
-  path's spread, pdr_drift.walked_path, and ``place_sigma_m`` per visit), plus
+  allows, a heading error in proportion to the angle turned and a heading random walk,
+  each through the walked path, pdr_drift.walked_path, and ``place_sigma_m`` per visit),
+  plus
   δ²/(σ_δ² + (σ_ε·Δt)²), the deviation against that drift over the time since the last
   correction and the yaw noise of Section 5.3;
 - a new place: −2 log λ, λ = ``places_per_km2`` the density of corners and stairs.
@@ -153,9 +154,11 @@ class HypothesisSet:
     landmarks it ended, :meth:`finish` at the end offline."""
 
     def __init__(self, database: LandmarkDatabase, k: int, commit_margin: float,
-                 drift_sigma_radps: float, turn_scale_sigma: float, place_sigma_m: float,
-                 places_per_km2: float, feedback: bool) -> None:
+                 drift_sigma_radps: float, turn_scale_sigma: float,
+                 wander_radps_per_sqrt_s: float, place_sigma_m: float, places_per_km2: float,
+                 feedback: bool) -> None:
         self.k, self.commit_margin = k, commit_margin
+        self.wander_variance = wander_radps_per_sqrt_s ** 2
         self.turn_scale_variance = turn_scale_sigma ** 2
         self.place_variance = place_sigma_m ** 2
         self.new_place_cost = -2.0 * np.log(places_per_km2 * 1e-6)
@@ -232,7 +235,8 @@ class HypothesisSet:
         the first visit's place: Δ² + log det(2π S) over the horizontal axes, where S is
         what can open the loop between the two visits: the drift ``h`` still allows
         (its variance) times the path's spread v vᵀ, the heading error in proportion to
-        the angle turned (``turn_scale_sigma``) times w wᵀ (pdr_drift.walked_path), and
+        the angle turned (``turn_scale_sigma``) times w wᵀ, the heading's random walk
+        (``heading_wander_deg_per_sqrt_s``) through the path (pdr_drift.walked_path), and
         ``place_sigma_m`` for each visit on each horizontal axis; the height's, the
         difference of the two visits' variances. Eq. (5.4) adds both visits' absolute
         covariances instead, counting twice the error they share (the heading's at the
@@ -242,8 +246,11 @@ class HypothesisSet:
         yaw = h.frame.yaw_at(revisit.t)
         v, w = (rotate_z(np.r_[x, 0.0], yaw)[:2] for x in self.path.spreads(first.t, revisit.t))
         spread = np.zeros((3, 3))
+        turn = np.array([[np.cos(yaw), -np.sin(yaw)], [np.sin(yaw), np.cos(yaw)]])
+        wander = turn @ self.path.wander(first.t, revisit.t) @ turn.T
         spread[:2, :2] = h.frame.drift_variance * np.outer(v, v) \
-            + self.turn_scale_variance * np.outer(w, w) + 2 * self.place_variance * np.eye(2)
+            + self.turn_scale_variance * np.outer(w, w) + self.wander_variance * wander \
+            + 2 * self.place_variance * np.eye(2)
         spread[2, 2] = abs(revisit.covariance[2, 2] - first.covariance[2, 2])
         d = np.asarray(revisit.position, float) - np.asarray(first.position, float)
         return distance(d, spread) ** 2 + float(np.linalg.slogdet(2 * np.pi * spread[:2, :2])[1])

@@ -6,7 +6,10 @@ same stamp (they travel separately and either may come first), and feeds the pai
 ``floor_height_m``. A message that cannot be used (not finite, a covariance that is not
 symmetric positive semi-definite, a stamp older than the last step) is dropped and
 counted, so one bad message never stops it. Unpaired messages are kept for at most
-:data:`MAX_UNPAIRED`.
+:data:`MAX_UNPAIRED`. A state restored from a file (pdr_drift.state_file) counts the
+messages stamped at or before its last step as ``before_restart`` (a navigator's
+transient-local history sent again to the restarted node) and drops them: they were
+taken into account before.
 """
 from __future__ import annotations
 
@@ -38,7 +41,9 @@ class StreamingDrift:
         self.poses: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
         self.last_stamp_ns: int | None = None
         self.t0_ns: int | None = None
-        self.counts = {"bad_step": 0, "bad_pose": 0, "old_stamp": 0, "unpaired": 0}
+        self.restored_until_ns: int | None = None
+        self.counts = {"bad_step": 0, "bad_pose": 0, "old_stamp": 0, "unpaired": 0,
+                       "before_restart": 0}
 
     def push_step(self, stamp_ns: int, heading: float, activity: int) -> StepResult | None:
         if not np.isfinite(heading) or not 0 <= activity <= 4:
@@ -56,6 +61,9 @@ class StreamingDrift:
         return self._add(self.poses, stamp_ns, (p, c))
 
     def _add(self, book: OrderedDict, stamp_ns: int, value) -> StepResult | None:
+        if self.restored_until_ns is not None and stamp_ns <= self.restored_until_ns:
+            self.counts["before_restart"] += 1
+            return None
         if self.last_stamp_ns is not None and stamp_ns <= self.last_stamp_ns:
             self.counts["old_stamp"] += 1
             return None

@@ -17,6 +17,12 @@ keeps cumulative sums, so that v(A, B) and w(A, B) are O(1) for any pair:
 
     v = R₉₀ [(T_B − T_A) − t_A (P_B − P_A)],   P = Σ Δp_j,  T = Σ t_j Δp_j,
     w = R₉₀ [(H_B − H_A) − ψ_A (P_B − P_A)],   H = Σ ψ_j Δp_j.
+
+A heading that wanders as a random walk of σ_w² [rad²/s] (what a navigator's heading does
+between corners beyond a drift: the hip's sway left in its step headings, the filter's
+updates) turns everything walked after each step's instant: e has the covariance
+σ_w² R₉₀ M R₉₀ᵀ, M = Σ_j Δt_j (P_B − P_j)(P_B − P_j)ᵀ over the steps after A, which the
+sums of Δt_j, Δt_j P_j and Δt_j P_j P_jᵀ give in O(1) as well.
 """
 from __future__ import annotations
 
@@ -37,6 +43,9 @@ class WalkedPath:
         self.moved: list[np.ndarray] = []        # P: Σ Δp_j up to each step (2,)
         self.timed: list[np.ndarray] = []        # T: Σ t_j Δp_j ...
         self.turned: list[np.ndarray] = []       # H: Σ ψ_j Δp_j ...
+        self.elapsed: list[float] = []           # Σ Δt_j ...
+        self.first: list[np.ndarray] = []        # Σ Δt_j P_j ...
+        self.second: list[np.ndarray] = []       # Σ Δt_j P_j P_jᵀ ...
 
     def __len__(self) -> int:
         return len(self.t)
@@ -51,13 +60,35 @@ class WalkedPath:
         self.moved.append((self.moved[-1] if self.moved else zero) + move)
         self.timed.append((self.timed[-1] if self.timed else zero) + t_s * move)
         self.turned.append((self.turned[-1] if self.turned else zero) + heading * move)
+        dt = t_s - self.t[-1] if self.t else 0.0
+        p = self.moved[-1]
+        self.elapsed.append((self.elapsed[-1] if self.elapsed else 0.0) + dt)
+        self.first.append((self.first[-1] if self.first else zero) + dt * p)
+        self.second.append((self.second[-1] if self.second else np.zeros((2, 2)))
+                           + dt * np.outer(p, p))
         self.t.append(float(t_s))
         self.heading.append(heading)
 
     def spreads(self, t_a_s: float, t_b_s: float) -> tuple[np.ndarray, np.ndarray]:
         """v(A, B) [m per rad/s] and w(A, B) [m per unit scale], (2,) each, of the module
         docstring, between the steps at or just before ``t_a_s`` and ``t_b_s`` [s]."""
-        a, b = (max(int(np.searchsorted(self.t, t, "right")) - 1, 0) for t in (t_a_s, t_b_s))
+        a, b = self._indices(t_a_s, t_b_s)
         moved = self.moved[b] - self.moved[a]
         return (QUARTER_TURN @ (self.timed[b] - self.timed[a] - self.t[a] * moved),
                 QUARTER_TURN @ (self.turned[b] - self.turned[a] - self.heading[a] * moved))
+
+    def wander(self, t_a_s: float, t_b_s: float) -> np.ndarray:
+        """R₉₀ M R₉₀ᵀ [m² s] (2, 2) of the module docstring: the covariance of the gap a
+        heading random walk of 1 rad²/s opens between the two steps."""
+        a, b = self._indices(t_a_s, t_b_s)
+        end = self.moved[b]
+        s0 = self.elapsed[b] - self.elapsed[a]
+        s1 = self.first[b] - self.first[a]
+        m = s0 * np.outer(end, end) - np.outer(end, s1) - np.outer(s1, end) \
+            + self.second[b] - self.second[a]
+        return QUARTER_TURN @ m @ QUARTER_TURN.T
+
+    def _indices(self, t_a_s: float, t_b_s: float) -> tuple[int, int]:
+        """The steps at or just before the two instants [s]."""
+        a, b = (max(int(np.searchsorted(self.t, t, "right")) - 1, 0) for t in (t_a_s, t_b_s))
+        return a, b

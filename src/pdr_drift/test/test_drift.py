@@ -155,7 +155,8 @@ def test_streaming_pairs_steps_and_poses_and_drops_bad_messages():
     assert live.push_pose(4_000, (1.0, 0.0, 0.0), np.zeros((3, 3))) is None   # zero: usable
     assert live.push_step(4_000, 0.2, 9) is None                          # no such activity
     assert live.push_step(1_000, 0.2, LEVEL) is None                      # from the past
-    assert live.counts == {"bad_step": 2, "bad_pose": 2, "old_stamp": 1, "unpaired": 0}
+    assert live.counts == {"bad_step": 2, "bad_pose": 2, "old_stamp": 1, "unpaired": 0,
+                           "before_restart": 0}
     assert live.push_step(4_000, 0.2, LEVEL) is not None
 
 
@@ -234,4 +235,4 @@ def test_garbage_in_a_walk_changes_no_correction():
     assert [len(r.landmarks) for r in mixed] == [len(r.landmarks) for r in clean]
     garbage = sum(1 for k in range(len(BLOCK)) if k % 3 == 1)
     assert live.counts == {"bad_step": garbage, "bad_pose": garbage, "old_stamp": garbage,
-                           "unpaired": 0}
+                           "unpaired": 0, "before_restart": 0}

@@ -20,8 +20,9 @@ MULTI = DriftConfig(association="multi_hypothesis")
 @given(st.lists(st.tuples(st.floats(0.5, 2.0), st.floats(-np.pi, np.pi), st.floats(0.0, 2.0)),
                 min_size=3, max_size=40), st.data())
 def test_spreads_are_the_sums_they_stand_for(steps, data):
-    """v = Σ (t_j − t_A) R₉₀ Δp_j and w = Σ (ψ_j − ψ_A) R₉₀ Δp_j over the steps after A up
-    to B (walked_path's docstring), for any pair of steps."""
+    """v = Σ (t_j − t_A) R₉₀ Δp_j, w = Σ (ψ_j − ψ_A) R₉₀ Δp_j and the wander's
+    Σ Δt_j R₉₀ (P_B − P_j)(P_B − P_j)ᵀ R₉₀ᵀ over the steps after A up to B (walked_path's
+    docstring), for any pair of steps."""
     path, t = WalkedPath(), 0.0
     moves = []
     for dt, psi, length in steps:
@@ -36,6 +37,12 @@ def test_spreads_are_the_sums_they_stand_for(steps, data):
                       for j in range(a + 1, b + 1)), np.zeros(2))
     expected_w = sum(((headings[j] - headings[a]) * QUARTER_TURN @ moves[j]
                       for j in range(a + 1, b + 1)), np.zeros(2))
+    positions = np.cumsum(moves, axis=0)
+    expected_m = sum(((times[j] - times[j - 1]) * QUARTER_TURN
+                      @ np.outer(positions[b] - positions[j], positions[b] - positions[j])
+                      @ QUARTER_TURN.T for j in range(a + 1, b + 1)), np.zeros((2, 2)))
+    assert np.allclose(path.wander(times[a], times[b]), expected_m,
+                       atol=1e-6 * (1 + np.abs(expected_m).max()))
     v, w = path.spreads(times[a], times[b])
     assert np.allclose(v, expected_v, atol=1e-6 * (1 + np.abs(expected_v).max()))
     assert np.allclose(w, expected_w, atol=1e-6 * (1 + np.abs(expected_w).max()))

@@ -181,7 +181,7 @@ def test_corridor_grid_nearest_goes_wrong_multi_hypothesis_does_not():
     corridors 10 m apart, three laps), xsens_mtw with a 0.05 °/s z gyro bias, seed 1,
     config/pocket_pdr_no_mag.yaml: every nearest association is wrong (3 of 3) and the
     corrections take the end from 9.1 m to 23.7 m off; the multi-hypothesis association
-    makes 15, none wrong, and ends 3.2 m off (docs/pocket.md)."""
+    makes 10, none wrong, in 4 corrections, and ends 2.9 m off (docs/pocket.md)."""
     _, data = load_pocket_scenario("corridor_grid")
     sim = simulate(SimulationConfig(
         pocket_scenario_from_dict(data, "corridor_grid"), data, "xsens_mtw",
@@ -193,6 +193,6 @@ def test_corridor_grid_nearest_goes_wrong_multi_hypothesis_does_not():
     _, multi, multi_log = navigate_online(thesis_setting(), MULTI, *inputs)
     assert truth_of(nearest_log, sim)["associations_wrong"] >= 1
     report = truth_of(multi_log, sim)
-    assert report["associations_wrong"] == 0 and report["associations_correct"] >= 12
+    assert report["associations_wrong"] == 0 and report["associations_correct"] >= 10
     assert end_error_m(sim, multi) < end_error_m(sim, nearest)
     assert end_error_m(sim, multi) < 0.5 * end_error_m(sim, alone)

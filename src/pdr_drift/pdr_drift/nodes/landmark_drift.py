@@ -11,8 +11,16 @@ service is not there the correction waits and is retried every ``retry_period_s`
 ``max_retries`` tries in all, so a restarting ``pocket_pdr`` is caught up with and a refused
 correction blocks nothing. What happens to each correction is logged.
 
+With ``state_file`` set, the estimator's whole state (landmarks, hypotheses, the walk's
+start and last step) is written there after every step (pdr_drift.state_file) and read
+back at start: killed and started again mid-walk, the node goes on where it was, and the
+steps and poses the navigator's transient-local history sends again are recognised as
+taken into account (counted as ``before_restart``, not warned of). A state file it cannot
+use (unreadable, another configuration) is set aside as ``<file>.refused`` and the node
+starts afresh, saying why.
+
 Parameters (docs/nodes.md): ``config`` (YAML of pdr_drift.config; default the installed
-config/landmark_drift.yaml), ``floor_height_m``, ``correction_timeout_s``,
+config/landmark_drift.yaml), ``state_file``, ``floor_height_m``, ``correction_timeout_s``,
 ``retry_period_s``, ``max_retries``, ``map_frame`` (the frame of the poses it reads and of
 the landmarks and drift estimates it publishes: REP-105's map, pdr_core.frames; steps and
 poses stamped in another frame are dropped and counted, a graph wired to another
@@ -20,12 +28,15 @@ person's navigator). The start-up line names the resolved topics and services.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from pdr_core import topics
+from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME
 from pdr_core.headers import set_header, stamp_ns
 from pdr_core.node_main import spin_node
@@ -34,6 +45,7 @@ from pdr_core.node_wiring import wiring
 from pdr_core.topics import graph_name
 from pdr_core.vocabulary import FLOOR_HEIGHT_M, LandmarkType
 from pdr_drift.config import default_config_path, load_drift_config
+from pdr_drift.state_file import load_state, save_state
 from pdr_drift.streaming import StreamingDrift
 from pdr_msgs.msg import DriftEstimate, Landmark, Step
 from pdr_msgs.srv import ApplyCorrection
@@ -57,8 +69,10 @@ class LandmarkDriftNode(Node):
                                    "for the service is dropped [tries]")
         self.map_frame = declare(self, "map_frame", MAP_FRAME, "frame of the poses read and "
                                  "of the landmarks and drift estimates published")
-        self.drift = StreamingDrift(load_drift_config(path or default_config_path()),
-                                    floor_height)
+        self.state_file = declare(self, "state_file", "", "where the estimator's state is kept "
+                                  "across restarts; empty: in memory only")
+        self.drift = self.restored(load_drift_config(path or default_config_path()),
+                                   floor_height)
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.create_subscription(Step, graph_name(topics.POCKET_STEP), self.on_step, qos)
@@ -77,6 +91,37 @@ class LandmarkDriftNode(Node):
         self.other_frame = 0
         self.get_logger().info(f"landmark_drift: configuration {path or 'default'}; map "
                                f"frame {self.map_frame}; {wiring(self)}")
+
+    def restored(self, config, floor_height: float) -> StreamingDrift:
+        """The estimator as ``state_file`` holds it, or a new one (module docstring)."""
+        fresh = StreamingDrift(config, floor_height)
+        if not self.state_file or not Path(self.state_file).exists():
+            return fresh
+        try:
+            stream = load_state(self.state_file, config)
+        except InputError as exc:
+            aside = Path(self.state_file + ".refused")
+            Path(self.state_file).replace(aside)
+            self.get_logger().error(f"{exc}; set aside as {aside}, starting afresh")
+            return fresh
+        stream.floor_height_m = floor_height
+        estimator = stream.estimator
+        places = (estimator.database.stored if estimator.hypotheses is None
+                  else estimator.hypotheses.hypotheses[0].database.stored)
+        self.get_logger().info(
+            f"restored from {self.state_file}: {estimator.next_id} landmarks seen, {len(places)} "
+            f"stored, the walk up to {stream.last_stamp_ns} ns")
+        return stream
+
+    def save(self) -> None:
+        """The estimator's state to ``state_file`` (a failure is logged, nothing stops)."""
+        if not self.state_file:
+            return
+        try:
+            save_state(self.state_file, self.drift)
+        except OSError as exc:
+            self.get_logger().error(f"state not saved to {self.state_file}: {exc}",
+                                    throttle_duration_sec=5.0)
 
     def on_step(self, msg: Step) -> None:
         if self.in_other_frame(msg):
@@ -107,6 +152,7 @@ class LandmarkDriftNode(Node):
         self.report_problems()
         if result is None:
             return
+        self.save()
         for landmark in result.landmarks:
             self.landmark_pub.publish(self.landmark_message(stamp, landmark))
             x, y, z = landmark.position
@@ -188,6 +234,12 @@ class LandmarkDriftNode(Node):
 
     def report_problems(self) -> None:
         for key, count in self.drift.counts.items():
+            if key == "before_restart":
+                if count and not self.reported.get(key):
+                    self.get_logger().info("steps and poses from before the restart: known, "
+                                           "dropped")
+                    self.reported[key] = count
+                continue
             if count > self.reported.get(key, 0):
                 self.get_logger().warning(f"{count} messages dropped: {key}",
                                           throttle_duration_sec=5.0)

@@ -1,0 +1,139 @@
+"""Benchmark: the nearest against the multi-hypothesis association of revisits (issue 32).
+
+Run on purpose (``make bench``, or ``python test/benchmarks/bench_association.py
+[--seeds N]``), not in CI. Prints two tables:
+
+1. Seeds: the Theresienhöhe walk (Muñoz Díaz 2016, Fig. 5.7) and the corridor grid
+   (pdr_sim's ``corridor_grid``), a phone in the pocket with ``xsens_mtw`` errors and a
+   0.05 °/s z gyro bias, config/pocket_pdr_no_mag.yaml, over seeds 1 to N: per seed, the
+   final position error without corrections, with the nearest association's
+   (``pdr-pocket run --drift online``'s loop, in process) and with the multi-hypothesis
+   one's, each with its associations right and wrong against the simulator's truth;
+   then the totals and the medians of the final errors and of the ratios.
+2. Speed: the time per landmark of the multi-hypothesis association against the number
+   of hypotheses kept, k, on the corridor grid's steps (seed 1, no corrections fed back),
+   with what it associated.
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
+
+import numpy as np
+
+SCENARIOS = ("theresienhoehe", "corridor_grid")
+BIAS = {"gyro": {"bias_deg_per_s": [-0.1, 0.1, 0.05]}}
+K_VALUES = (1, 2, 4, 8, 16, 32)
+
+
+def simulated(scenario: str, seed: int):
+    from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
+    from pdr_sim.simulation import SimulationConfig, simulate
+
+    _, data = load_pocket_scenario(scenario)
+    return simulate(SimulationConfig(pocket_scenario_from_dict(data, scenario), data,
+                                     "xsens_mtw", BIAS, 100.0, seed, placement="pocket"))
+
+
+def navigator_config():
+    from pdr_pocket.config import default_config_path, load_pocket_config
+
+    return load_pocket_config(default_config_path().with_name("pocket_pdr_no_mag.yaml"))
+
+
+def truth_of(sim, log) -> dict:
+    from pdr_drift.drift_report import truth_report
+
+    record = [{"id": m.id, "revisit_of": m.revisit_of} for m in sim.model.landmarks]
+    return truth_report(log, sim.truth["/ground_truth/landmarks"], record,
+                        int(sim.imu.stamp_ns[0]))
+
+
+def one_seed(job: tuple[str, int]) -> tuple[str, int, list]:
+    """(scenario, seed, [(final error [m], right, wrong) alone, nearest, multi])."""
+    from pdr_drift.config import DriftConfig
+    from pdr_pocket.drift_loop import navigate_online
+
+    scenario, seed = job
+    sim = simulated(scenario, seed)
+    steps = sim.model.true_steps
+    end = np.array([np.sum(steps.length * np.cos(steps.heading)),
+                    np.sum(steps.length * np.sin(steps.heading))])
+    inputs = (sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
+              sim.mag["magnetic_field"])
+    row = []
+    for association, apply in (("nearest", False), ("nearest", True),
+                               ("multi_hypothesis", True)):
+        _, out, log = navigate_online(navigator_config(), DriftConfig(association=association),
+                                      *inputs, apply=apply)
+        report = truth_of(sim, log)
+        row.append((float(np.linalg.norm(out.steps[-1].position[:2] - end)),
+                    report["associations_correct"] if apply else 0,
+                    report["associations_wrong"] if apply else 0))
+    return scenario, seed, row
+
+
+def seeds_table(seeds: int) -> None:
+    jobs = [(scenario, seed) for scenario in SCENARIOS for seed in range(1, seeds + 1)]
+    with ProcessPoolExecutor(2) as pool:
+        results = list(pool.map(one_seed, jobs))
+    for scenario in SCENARIOS:
+        rows = [(seed, row) for s, seed, row in results if s == scenario]
+        print(f"\n{scenario}: final position error [m] (associations right/wrong)")
+        print("| seed | uncorrected | nearest | multi-hypothesis |\n|---:|---:|---:|---:|")
+        for seed, ((alone, _, _), (near, nr, nw), (multi, mr, mw)) in rows:
+            print(f"| {seed} | {alone:.1f} | {near:.1f} ({nr}/{nw}) | {multi:.1f} ({mr}/{mw}) |")
+        table = np.array([[r[0][0], r[1][0], r[2][0], r[1][1], r[1][2], r[2][1], r[2][2]]
+                          for _, r in rows])
+        print(f"| all | median {np.median(table[:, 0]):.1f} | median {np.median(table[:, 1]):.1f}"
+              f" ({table[:, 3].sum():.0f}/{table[:, 4].sum():.0f}) | median "
+              f"{np.median(table[:, 2]):.1f} ({table[:, 5].sum():.0f}/{table[:, 6].sum():.0f}) |")
+        print(f"median of uncorrected/corrected: nearest "
+              f"{np.median(table[:, 0] / table[:, 1]):.2f}, multi-hypothesis "
+              f"{np.median(table[:, 0] / table[:, 2]):.2f}")
+
+
+def speed_table() -> None:
+    from pdr_drift.config import DriftConfig
+    from pdr_drift.drift_log import DriftLog
+    from pdr_drift.estimator import DriftEstimator
+    from pdr_pocket.drift_loop import navigate_online, step_sample
+
+    sim = simulated("corridor_grid", 1)
+    _, out, _ = navigate_online(navigator_config(), DriftConfig(), sim.trajectory.t,
+                                sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
+                                sim.mag["magnetic_field"], apply=False)
+    steps = [step_sample(s) for s in out.steps]
+    base = DriftConfig(association="multi_hypothesis")
+    print("\nmulti-hypothesis association on the corridor grid's steps (seed 1, "
+          f"{len(steps)} steps)")
+    print("| k | landmarks | ms per landmark | µs per step without one | right/wrong |\n"
+          "|---:|---:|---:|---:|---:|")
+    for k in K_VALUES:
+        estimator = DriftEstimator(replace(base, hypotheses_k=k), feedback=False)
+        log, with_mark, without = DriftLog(), [], []
+        for step in steps:
+            start = time.perf_counter()
+            result = estimator.push(step)
+            (with_mark if result.landmarks else without).append(time.perf_counter() - start)
+            log.landmarks += result.landmarks
+            log.drifts += result.drifts
+        log.drifts += estimator.finish().drifts
+        report = truth_of(sim, log)
+        print(f"| {k} | {len(with_mark)} | {1e3 * np.mean(with_mark):.2f} | "
+              f"{1e6 * np.median(without):.0f} | {report['associations_correct']}/"
+              f"{report['associations_wrong']} |")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=20, help="seeds 1 to N per scenario")
+    args = parser.parse_args()
+    speed_table()
+    seeds_table(args.seeds)
+
+
+if __name__ == "__main__":
+    main()
