@@ -67,10 +67,7 @@ class DriftEstimator:
         self.database = LandmarkDatabase(self.config.gate_probability, self.config.gate_dof,
                                          self.config.min_revisit_s)
         self.hypotheses = None if self.config.association == "nearest" else HypothesisSet(
-            self.database, self.config.hypotheses_k, self.config.commit_margin,
-            np.radians(self.config.drift_sigma_deg_per_s), self.config.turn_scale_sigma,
-            np.radians(self.config.heading_wander_deg_per_sqrt_s), self.config.place_sigma_m,
-            self.config.places_per_km2, feedback)
+            self.database, self.config, feedback)
         self.next_id = 0
         self.last: StepSample | None = None
 

@@ -16,8 +16,8 @@ of its type and floor that passes the thesis' gate (:meth:`LandmarkDatabase.cand
 Eq. (5.4), κ = √χ²(p, n)); each gives a child hypothesis, and one more child stores it
 as a new place. A child that associates takes the correction of Section 6.1 (yaw δ of
 Eqs. (5.5)/(5.6), the first visit's position) into its frame, and its drift ε
-(Eq. (5.8), from its last correction on) as a Kalman update of the drift it holds (prior
-σ ``drift_sigma_deg_per_s``), and spreads the correction over the landmarks it stored
+(Eq. (5.8), from its last correction on) as a Kalman update of the drift it holds (prior σ
+``drift_sigma_deg_per_s``), and spreads the correction over the landmarks it stored
 since the first visit or its last correction, in proportion to time (the heading error
 grew from there; the loop closure's usual linear distribution), so that its database
 stays in its corrected frame and is never cleared: later laps revisit the first one's
@@ -31,8 +31,9 @@ all, summed over the landmarks:
   allows, a heading error in proportion to the angle turned and a heading random walk,
   each through the walked path, pdr_drift.walked_path, and ``place_sigma_m`` per visit),
   plus
-  δ²/(σ_δ² + (σ_ε·Δt)²), the deviation against that drift over the time since the last
-  correction and the yaw noise of Section 5.3;
+  δ²/(σ_δ² + (σ_ε·Δt)²), the deviation against the drift's prior σ_ε
+  (``drift_sigma_deg_per_s``) over the time since the last correction and the yaw noise
+  of Section 5.3;
 - a new place: −2 log λ, λ = ``places_per_km2`` the density of corners and stairs.
   Every hypothesis pays it for the same first visits; a wrong one, whose corrections
   put the later revisits in the wrong place, pays it again for each revisit it can no
@@ -66,6 +67,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from pdr_core.angles import wrap_angle
+from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.drift import YAW_SIGMA_RAD, DriftEstimate, drift_of
 from pdr_drift.landmarks import Association, Landmark, LandmarkDatabase, distance
@@ -107,8 +109,9 @@ class Hypothesis:
 
 @dataclass(frozen=True)
 class Commit:
-    """What a hypothesis that dominates commits: its associations and drift estimates in
-    its frame, and the one correction (None: nothing to correct) as of ``step``."""
+    """What a hypothesis that dominates commits: its associations and drift estimates, and
+    its one correction as of the committing step: the yaw [rad] and z gyro bias [rad/s]
+    to add with their variances, the position [m] (3,) with its covariance (3, 3)."""
 
     associations: list[Association]
     drifts: list[DriftEstimate]
@@ -153,17 +156,16 @@ class HypothesisSet:
     """The hypotheses of a walk (module docstring): :meth:`push` every step with the
     landmarks it ended, :meth:`finish` at the end offline."""
 
-    def __init__(self, database: LandmarkDatabase, k: int, commit_margin: float,
-                 drift_sigma_radps: float, turn_scale_sigma: float,
-                 wander_radps_per_sqrt_s: float, place_sigma_m: float, places_per_km2: float,
-                 feedback: bool) -> None:
-        self.k, self.commit_margin = k, commit_margin
-        self.wander_variance = wander_radps_per_sqrt_s ** 2
-        self.turn_scale_variance = turn_scale_sigma ** 2
-        self.place_variance = place_sigma_m ** 2
-        self.new_place_cost = -2.0 * np.log(places_per_km2 * 1e-6)
-        self.drift_sigma_radps, self.feedback = drift_sigma_radps, feedback
-        self.hypotheses = [Hypothesis(database, Frame(drift_variance=drift_sigma_radps ** 2))]
+    def __init__(self, database: LandmarkDatabase, config: DriftConfig, feedback: bool
+                 ) -> None:
+        self.k, self.commit_margin = config.hypotheses_k, config.commit_margin
+        self.wander_variance = np.radians(config.heading_wander_deg_per_sqrt_s) ** 2
+        self.turn_scale_variance = config.turn_scale_sigma ** 2
+        self.place_variance = config.place_sigma_m ** 2
+        self.new_place_cost = -2.0 * np.log(config.places_per_km2 * 1e-6)
+        self.feedback = feedback
+        self.drift_sigma_radps = np.radians(config.drift_sigma_deg_per_s)
+        self.hypotheses = [Hypothesis(database, Frame(drift_variance=self.drift_sigma_radps ** 2))]
         self.detected: dict[int, Landmark] = {}     # as the navigator saw them, by id
         self.last: StepSample | None = None
         self.path = WalkedPath()     # the navigator's steps, without the fixes' jumps
@@ -186,10 +188,6 @@ class HypothesisSet:
         """The best hypothesis committed, whatever the others (the end of a walk)."""
         self.hypotheses = self.hypotheses[:1]
         return self._commit(step) if self.hypotheses[0].pending else None
-
-    @property
-    def costs(self) -> list[float]:
-        return [h.cost for h in self.hypotheses]
 
     # --- each step ------------------------------------------------------------------
     def _move(self, step: StepSample) -> None:
