@@ -1,11 +1,12 @@
 """Benchmark: the nearest against the multi-hypothesis association of revisits (issue 32).
 
 Run on purpose (``make bench``, or ``python test/benchmarks/bench_association.py
-[--seeds N]``), not in CI. Prints two tables:
+[--seeds N] [--imu PROFILE]``), not in CI. Prints two tables:
 
 1. Seeds: the Theresienhöhe walk (Muñoz Díaz 2016, Fig. 5.7) and the corridor grid
-   (pdr_sim's ``corridor_grid``), a phone in the pocket with ``xsens_mtw`` errors and a
-   0.05 °/s z gyro bias, config/pocket_pdr_no_mag.yaml, over seeds 1 to N: per seed, the
+   (pdr_sim's ``corridor_grid``), a phone in the pocket with ``xsens_mtw`` errors (or
+   ``--imu``'s profile) and the gyro biases of Muñoz Díaz 2016, Table 6.1 (a 0.05 °/s z
+   bias), config/pocket_pdr_no_mag.yaml, over seeds 1 to N: per seed, the
    final position error without corrections, with the nearest association's
    (``pdr-pocket run --drift online``'s loop, in process) and with the multi-hypothesis
    one's, each with its associations right and wrong against the simulator's truth;
@@ -28,13 +29,13 @@ BIAS = {"gyro": {"bias_deg_per_s": [-0.1, 0.1, 0.05]}}
 K_VALUES = (1, 2, 4, 8, 16, 32)
 
 
-def simulated(scenario: str, seed: int):
+def simulated(scenario: str, seed: int, imu: str = "xsens_mtw"):
     from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
     from pdr_sim.simulation import SimulationConfig, simulate
 
     _, data = load_pocket_scenario(scenario)
     return simulate(SimulationConfig(pocket_scenario_from_dict(data, scenario), data,
-                                     "xsens_mtw", BIAS, 100.0, seed, placement="pocket"))
+                                     imu, BIAS, 100.0, seed, placement="pocket"))
 
 
 def navigator_config():
@@ -51,13 +52,13 @@ def truth_of(sim, log) -> dict:
                         int(sim.imu.stamp_ns[0]))
 
 
-def one_seed(job: tuple[str, int]) -> tuple[str, int, list]:
+def one_seed(job: tuple[str, int, str]) -> tuple[str, int, list]:
     """(scenario, seed, [(final error [m], right, wrong) alone, nearest, multi])."""
     from pdr_drift.config import DriftConfig
     from pdr_pocket.drift_loop import navigate_online
 
-    scenario, seed = job
-    sim = simulated(scenario, seed)
+    scenario, seed, imu = job
+    sim = simulated(scenario, seed, imu)
     steps = sim.model.true_steps
     end = np.array([np.sum(steps.length * np.cos(steps.heading)),
                     np.sum(steps.length * np.sin(steps.heading))])
@@ -75,13 +76,13 @@ def one_seed(job: tuple[str, int]) -> tuple[str, int, list]:
     return scenario, seed, row
 
 
-def seeds_table(seeds: int) -> None:
-    jobs = [(scenario, seed) for scenario in SCENARIOS for seed in range(1, seeds + 1)]
+def seeds_table(seeds: int, imu: str) -> None:
+    jobs = [(scenario, seed, imu) for scenario in SCENARIOS for seed in range(1, seeds + 1)]
     with ProcessPoolExecutor(2) as pool:
         results = list(pool.map(one_seed, jobs))
     for scenario in SCENARIOS:
         rows = [(seed, row) for s, seed, row in results if s == scenario]
-        print(f"\n{scenario}: final position error [m] (associations right/wrong)")
+        print(f"\n{scenario}, {imu}: final position error [m] (associations right/wrong)")
         print("| seed | uncorrected | nearest | multi-hypothesis |\n|---:|---:|---:|---:|")
         for seed, ((alone, _, _), (near, nr, nw), (multi, mr, mw)) in rows:
             print(f"| {seed} | {alone:.1f} | {near:.1f} ({nr}/{nw}) | {multi:.1f} ({mr}/{mw}) |")
@@ -130,9 +131,12 @@ def speed_table() -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=20, help="seeds 1 to N per scenario")
+    parser.add_argument("--imu", default="xsens_mtw",
+                        help="the IMU error profile (pdr_core.imu_profiles), with the biases "
+                             "of Table 6.1")
     args = parser.parse_args()
     speed_table()
-    seeds_table(args.seeds)
+    seeds_table(args.seeds, args.imu)
 
 
 if __name__ == "__main__":
