@@ -91,6 +91,7 @@ def allan_deviation_model(taus: np.ndarray, white_density: float = 0.0, gm_sigma
     x = taus / gm_tau_s
     gm = (2 * gm_sigma**2 * gm_tau_s / taus) * (
         1 - (3 - 4 * np.exp(-x) + np.exp(-2 * x)) / (2 * x))
+    gm = np.maximum(gm, 0.0)          # its rounding at τ ≪ T (the bracket is x²/3 there)
     return np.sqrt(white_density**2 / taus + random_walk_density**2 * taus / 3 + gm)
 
 
@@ -101,9 +102,14 @@ def gm_sigma_for_bias_instability(bias_instability: float, gm_tau_s: float,
     minimum of the modelled Allan deviation (white + GM + RW) equals ``bias_instability``.
 
     A dip of depth β needs β > N·√(2/T_c): the white noise N must give way to the bias
-    before the bias's own Allan bump. Raises ValueError when it cannot, or when the white
-    noise and random walk alone already put the minimum above β.
+    before the bias's own Allan bump. Raises ValueError when it cannot, when the white
+    noise and random walk alone already put the minimum above β, or when there is no
+    white noise (the curve then rises from zero: it has no first minimum to set).
     """
+    if not white_density > 0:
+        raise ValueError("a bias instability is the dip of the Allan deviation below the "
+                         "white noise, and there is none: give the white noise too, or the "
+                         "Gauss-Markov sigma directly")
     taus = np.logspace(-3, 5, 1600)
 
     def excess(sigma: float) -> float:

@@ -19,11 +19,13 @@ mag:   noise_ut_per_sqrt_hz, bias_ut, bias_sigma_ut, scale_factor_ppm, misalignm
 The Gauss–Markov (AR(1)) bias of Muñoz Díaz 2016, Eqs. (3.8)–(3.9) is given
 either directly, by its σ (``gauss_markov_sigma_*``) and correlation time τ, or by a bias
 instability β: then σ is chosen so that the first minimum of the modelled Allan deviation
-equals β
-(:func:`pdr_core.allan.gm_sigma_for_bias_instability`), so ``pdr-sim allan`` on static
-data reads β back. Misalignment is given as the three small angles (about x, y, z) of a
-non-orthogonality that couples the axes: M = [[0, −γz, γy], [γz, 0, −γx], [−γy, γx, 0]]
-plus its symmetric part (each axis tilted towards the next), i.e. M_ij = γ for i ≠ j.
+equals β (:func:`pdr_core.allan.gm_sigma_for_bias_instability`), so ``pdr-sim allan`` on
+static data reads β back. β needs the white noise of its triad: without it the curve
+rises from zero and has no first minimum, and the profile is refused.
+
+Misalignment is given as the three small angles (about x, y, z) of a non-orthogonality
+that couples the axes: M = [[0, −γz, γy], [γz, 0, −γx], [−γy, γx, 0]] plus its symmetric
+part (each axis tilted towards the next), i.e. M_ij = γ for i ≠ j.
 """
 from __future__ import annotations
 

@@ -26,6 +26,7 @@ import itertools
 import numpy as np
 
 from pdr_core.batch import MessageBatch
+from pdr_core.rotations import about_vertical
 
 ALIGN_DISTANCE_M = 0.8
 
@@ -41,13 +42,6 @@ def aligned(estimate: np.ndarray, truth: np.ndarray, distance_m: float = ALIGN_D
         return est
     k = far[0]
     return about_vertical(est, np.arctan2(ref[k, 1], ref[k, 0]) - np.arctan2(est[k, 1], est[k, 0]))
-
-
-def about_vertical(points: np.ndarray, angle_rad: float) -> np.ndarray:
-    """Points (N, 3) rotated by ``angle_rad`` about the vertical (z) axis."""
-    c, s = np.cos(angle_rad), np.sin(angle_rad)
-    return np.column_stack([c * points[:, 0] - s * points[:, 1],
-                            s * points[:, 0] + c * points[:, 1], points[:, 2]])
 
 
 def path_length(position: np.ndarray) -> float:

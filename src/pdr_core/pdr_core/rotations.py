@@ -59,6 +59,15 @@ def body_rate_from_matrix_log(attitude: Rotation, dt: float) -> np.ndarray:
     return (attitude[:-1].inv() * attitude[1:]).as_rotvec() / dt
 
 
+def about_vertical(points: np.ndarray, angle_rad: float) -> np.ndarray:
+    """Points (..., 3) ENU turned by ``angle_rad`` about the up (z) axis, counter-clockwise
+    positive; z is kept."""
+    points = np.asarray(points, float)
+    c, s = np.cos(angle_rad), np.sin(angle_rad)
+    x, y = points[..., 0], points[..., 1]
+    return np.stack([c * x - s * y, s * x + c * y, points[..., 2]], axis=-1)
+
+
 def skew(v: np.ndarray) -> np.ndarray:
     """Skew-symmetric matrices [v×], (..., 3, 3), of vectors (..., 3)."""
     v = np.asarray(v)

@@ -1,5 +1,5 @@
-"""pdr_core.angles and the tilt of pdr_core.rotations: the wrap, the axial wrap, the
-circular mean and the roll and pitch that level a specific force."""
+"""pdr_core.angles and the tilt and turn of pdr_core.rotations: the wrap, the axial wrap, the
+circular mean, the roll and pitch that level a specific force, the turn about the vertical."""
 from __future__ import annotations
 
 import numpy as np
@@ -8,7 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from pdr_core.angles import circular_mean, wrap_angle, wrap_angle_jit, wrap_axial
-from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
+from pdr_core.rotations import about_vertical, rotation_from_euler, tilt_from_specific_force
 
 ROUNDING = 1e-12            # [rad]: the wrap's rounding grows with |angle| (1e3 rad: 2e-13)
 angles = st.floats(-1e3, 1e3)
@@ -86,3 +86,19 @@ def test_the_tilt_of_many_forces_is_per_force():
     roll, pitch = tilt_from_specific_force(forces)
     np.testing.assert_allclose(roll, [[0.0, np.pi / 2], [0.0, np.pi]])
     np.testing.assert_allclose(pitch, [[0.0, 0.0], [np.pi / 2, 0.0]])
+
+
+@given(directions, st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3))
+def test_the_turn_about_the_vertical_is_scipys_yaw_and_keeps_the_height(angle, point):
+    turned = about_vertical(np.array(point), angle)
+    np.testing.assert_allclose(turned, rotation_from_euler(0.0, 0.0, angle).apply(point),
+                               atol=1e-9)
+    assert turned[2] == point[2]
+    np.testing.assert_allclose(about_vertical(turned, -angle), point, atol=1e-9)
+
+
+def test_the_turn_about_the_vertical_takes_any_leading_shape():
+    points = np.arange(24.0).reshape(2, 4, 3)
+    turned = about_vertical(points, np.pi / 2)
+    assert turned.shape == points.shape
+    np.testing.assert_allclose(turned[1, 2], [-points[1, 2, 1], points[1, 2, 0], points[1, 2, 2]])

@@ -78,8 +78,16 @@ def test_gauss_markov_sigma_and_tau_directly():
     ({"accel": {"gauss_markov_sigma_mg": 0.1}}, "p.accel.bias_correlation_time_s"),
     ({"gyro": {"gauss_markov_sigma_deg_per_s": 0.1, "bias_instability_deg_per_h": 5,
                "bias_correlation_time_s": 100}}, "p.gyro.gauss_markov_sigma_deg_per_s"),
+    ({"gyro": {"bias_instability_deg_per_h": 10, "bias_correlation_time_s": 200}},
+     "p.gyro.bias_instability_deg_per_h"),
 ])
 def test_bad_profile_configuration_names_the_key(config, key):
     with pytest.raises(InputError) as err:
         imu_errors(config, "p")
     assert str(err.value).startswith(key + ":")
+
+
+def test_the_allan_model_is_finite_where_the_bias_term_rounds():
+    taus = np.logspace(-3, 5, 1600)
+    curve = allan_deviation_model(taus, 0.0, 1e-4, 200.0)
+    assert np.all(np.isfinite(curve)) and np.all(curve >= 0)

@@ -67,6 +67,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from pdr_core.angles import wrap_angle
+from pdr_core.rotations import about_vertical
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.drift import YAW_SIGMA_RAD, DriftEstimate, drift_of
@@ -123,33 +124,29 @@ class Commit:
     position_covariance: np.ndarray
 
 
-def rotate_z(vector: np.ndarray, angle_rad: float) -> np.ndarray:
-    """``vector`` (3,) turned by ``angle_rad`` about the ENU up axis."""
-    c, s = np.cos(angle_rad), np.sin(angle_rad)
-    x, y, z = vector
-    return np.array([c * x - s * y, s * x + c * y, z])
-
-
 def psd(matrix: np.ndarray) -> np.ndarray:
     """The nearest symmetric positive semi-definite matrix (negative eigenvalues to 0)."""
     values, vectors = np.linalg.eigh(0.5 * (matrix + matrix.T))
     return (vectors * np.maximum(values, 0.0)) @ vectors.T
 
 
-def _spread(mark: Landmark, association: Association, delta: float, last_fix_s: float
-            ) -> Landmark:
-    """A stored landmark with its share of an association's correction: none before the
-    first visit or the hypothesis' last correction, whichever is later (the error grew
-    from there), all of it at the revisit, in proportion to time in between: the yaw δ
-    [rad] and the position shift from the revisit to the first visit [m]."""
+def _spread(stored: list[Landmark], association: Association, delta: float,
+            last_fix_s: float) -> list[Landmark]:
+    """The stored landmarks, each with its share of an association's correction: none
+    before the first visit or the hypothesis' last correction, whichever is later (the
+    error grew from there), all of it at the revisit, in proportion to time in between:
+    the yaw δ [rad] and the position shift from the revisit to the first visit [m]."""
     start = max(association.first.t, last_fix_s)
-    if mark.t <= start:
-        return mark
-    share = (mark.t - start) / (association.revisit.t - start)
     shift = np.asarray(association.first.position, float) - association.revisit.position
-    return replace(mark, position=mark.position + share * shift,
-                   yaw_before=float(wrap_angle(mark.yaw_before + share * delta)),
-                   yaw_after=float(wrap_angle(mark.yaw_after + share * delta)))
+    duration = association.revisit.t - start
+
+    def corrected(mark: Landmark) -> Landmark:
+        share = (mark.t - start) / duration
+        return replace(mark, position=mark.position + share * shift,
+                       yaw_before=float(wrap_angle(mark.yaw_before + share * delta)),
+                       yaw_after=float(wrap_angle(mark.yaw_after + share * delta)))
+
+    return [corrected(m) if m.t > start else m for m in stored]
 
 
 class HypothesisSet:
@@ -203,7 +200,7 @@ class HypothesisSet:
                 h.covariance_shift = np.zeros((3, 3))
             else:
                 move = position - np.asarray(self.last.position, float)
-                h.position = h.position + rotate_z(move, h.frame.yaw_at(step.t))
+                h.position = h.position + about_vertical(move, h.frame.yaw_at(step.t))
         self.rebase = False
         self.last = step
 
@@ -211,7 +208,8 @@ class HypothesisSet:
         """``landmark`` (a few steps before ``step``) where ``h``'s corrections put it."""
         offset = np.asarray(landmark.position, float) - np.asarray(step.position, float)
         yaw = h.frame.yaw_at(landmark.t)
-        return replace(landmark, position=h.position + rotate_z(offset, h.frame.yaw_at(step.t)),
+        turned = about_vertical(offset, h.frame.yaw_at(step.t))
+        return replace(landmark, position=h.position + turned,
                        covariance=psd(np.asarray(landmark.covariance, float) + h.covariance_shift),
                        yaw_before=float(wrap_angle(landmark.yaw_before + yaw)),
                        yaw_after=float(wrap_angle(landmark.yaw_after + yaw)))
@@ -242,7 +240,8 @@ class HypothesisSet:
         cheap in Δ² but dear in log det: a place found anywhere in it says little."""
         first, revisit = association.first, association.revisit
         yaw = h.frame.yaw_at(revisit.t)
-        v, w = (rotate_z(np.r_[x, 0.0], yaw)[:2] for x in self.path.spreads(first.t, revisit.t))
+        spreads = np.column_stack([np.array(self.path.spreads(first.t, revisit.t)), np.zeros(2)])
+        v, w = about_vertical(spreads, yaw)[:, :2]     # rows: v and w turned by the frame
         spread = np.zeros((3, 3))
         turn = np.array([[np.cos(yaw), -np.sin(yaw)], [np.sin(yaw), np.cos(yaw)]])
         wander = turn @ self.path.wander(first.t, revisit.t) @ turn.T
@@ -262,10 +261,9 @@ class HypothesisSet:
         delta = estimate.deviation
         allowed = estimate.deviation_variance + (self.drift_sigma_radps * estimate.elapsed) ** 2
         h.cost += cost + delta ** 2 / allowed
-        h.database.stored = [_spread(m, association, delta, h.last_fix_s)
-                             for m in h.database.stored]
-        h.position = np.asarray(first.position, float) + rotate_z(h.position - revisit.position,
-                                                                  delta)
+        h.database.stored = _spread(h.database.stored, association, delta, h.last_fix_s)
+        h.position = np.asarray(first.position, float) + about_vertical(
+            h.position - revisit.position, delta)
         h.covariance_shift = np.asarray(first.covariance, float) - np.asarray(step.covariance,
                                                                               float)
         gain = h.frame.drift_variance / (h.frame.drift_variance + estimate.drift_variance)

@@ -30,6 +30,7 @@ from scipy.optimize import least_squares
 
 from pdr_core.config_files import parse_yaml
 from pdr_core.errors import InputError
+from pdr_core.rotations import about_vertical
 from pdr_sim.step_pattern import FittedPattern, RaisedCosines
 
 
@@ -88,10 +89,7 @@ def cut_steps(t: np.ndarray, position: np.ndarray, limits: StepFilter = StepFilt
             steps.rejected.append(f"swing at {t[start]:.2f} s: {reason}")
             continue
         heading = np.arctan2(disp[1], disp[0])
-        c, s = np.cos(-heading), np.sin(-heading)
-        rel = seg - seg[0]
-        aligned = np.column_stack([c * rel[:, 0] - s * rel[:, 1], s * rel[:, 0] + c * rel[:, 1],
-                                   rel[:, 2]])
+        aligned = about_vertical(seg - seg[0], -heading)
         steps.t.append(t[start:stop + 1] - t[start])
         steps.xyz.append(aligned)
     return steps
