@@ -240,11 +240,10 @@ class HypothesisSet:
         cheap in Δ² but dear in log det: a place found anywhere in it says little."""
         first, revisit = association.first, association.revisit
         yaw = h.frame.yaw_at(revisit.t)
-        spreads = np.column_stack([np.array(self.path.spreads(first.t, revisit.t)), np.zeros(2)])
-        v, w = about_vertical(spreads, yaw)[:, :2]     # rows: v and w turned by the frame
-        spread = np.zeros((3, 3))
         turn = np.array([[np.cos(yaw), -np.sin(yaw)], [np.sin(yaw), np.cos(yaw)]])
+        v, w = (turn @ x for x in self.path.spreads(first.t, revisit.t))
         wander = turn @ self.path.wander(first.t, revisit.t) @ turn.T
+        spread = np.zeros((3, 3))
         spread[:2, :2] = h.frame.drift_variance * np.outer(v, v) \
             + self.turn_scale_variance * np.outer(w, w) + self.wander_variance * wander \
             + 2 * self.place_variance * np.eye(2)
