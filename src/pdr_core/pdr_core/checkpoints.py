@@ -36,18 +36,21 @@ kept (the oldest go first).
 
 **Late corrections.** A correction at an instant no checkpoint serves (before the oldest
 one kept: beyond the window, or before the first) is late: :meth:`Checkpoints.revert_to`
-returns None, and the correction is expressed from the current state with the drift's
-effect since its instant carried forward, as position fixes are: the fix is the position
-then plus what was walked since (pdr_drift.estimator's fixes are carried so already, from
-the revisit's landmark to the step that found it). A yaw change δ [rad] with a drift ε
-[rad/s] added to the z gyro bias at ``t_c_s`` stands for δ − ε·(t_now − t_c_s) of yaw at
-``t_now``, as far as the sensor's z axis is vertical (the bias is subtracted from the
-measured rate, so the heading would have turned by −ε per second since). The live pocket
-navigator applies a late correction as it is given (pdr_pocket.streaming: one that comes
-more than ``replay_max_s`` after the last step): its producer, ``landmark_drift``, commits
-each correction at the step that found its landmark, so what that leaves out is the drift
-over the service call's delay. A producer that commits later (a multi-hypothesis
-association waiting for one hypothesis to dominate) carries the yaw forward itself.
+returns None. Its caller either refuses it by name (the live pocket navigator,
+pdr_pocket.streaming: a stamp older than its ``correction_window_s``) or expresses it from
+the current state with the drift's effect since its instant carried forward, as position
+fixes are: the fix is the position then plus what was walked since (pdr_drift.estimator's
+fixes are carried so already, from the revisit's landmark to the step that found it). A
+yaw change δ [rad] with a drift ε [rad/s] added to the z gyro bias at ``t_c_s`` stands for
+δ − ε·(t_now − t_c_s) of yaw at ``t_now``, as far as the sensor's z axis is vertical (the
+bias is subtracted from the measured rate, so the heading would have turned by −ε per
+second since). A producer that commits later than its landmark (a multi-hypothesis
+association waiting for one hypothesis to dominate) carries the yaw forward itself, to
+the step that commits it, and stamps the correction with that step.
+
+**Trying before committing.** :meth:`Checkpoints.look_back` gives the same as
+:meth:`revert_to` with a copy of the state and the history left as it is: a correction
+tried there and refused by its gate leaves nothing changed.
 """
 from __future__ import annotations
 
@@ -118,6 +121,16 @@ class Checkpoints(Generic[State, Inputs]):
         while old < len(self._t) and t_end_s - self._t[old] > self.window_s:
             old += 1
         self._drop(old)
+
+    def look_back(self, t_s: float) -> Reverted[State, Inputs] | None:
+        """The latest checkpoint at or before ``t_s`` [s] as :meth:`revert_to` gives it,
+        but a copy of its state, the history left as it is: to try a correction there and
+        keep the history when it is refused. None when no checkpoint serves ``t_s``."""
+        index = bisect_right(self._t, t_s) - 1
+        if index < 0:
+            return None
+        return Reverted(self._t[index], self.copy(self._states[index]),
+                        self._inputs[self._first[index]:])
 
     def revert_to(self, t_s: float | None = None) -> Reverted[State, Inputs] | None:
         """The latest checkpoint at or before ``t_s`` [s] (None: the latest one), taken

@@ -100,6 +100,27 @@ def test_correcting_the_reverted_state_is_the_run_corrected_at_the_checkpoint(in
     assert again.t_s == reverted.t_s and again.inputs == reverted.inputs
 
 
+@settings(max_examples=100, deadline=None)
+@given(walks, st.data())
+def test_looking_back_gives_what_reverting_gives_and_keeps_the_history(inputs, data):
+    marks = set(data.draw(st.lists(st.integers(0, len(inputs) - 1), max_size=8)))
+    kept = history(data.draw(st.sampled_from([float("inf"), 1.0, 5.0])))
+    run(inputs, marks, kept)
+    query = data.draw(st.floats(-1.0, inputs[-1][0] + 1.0))
+    instants = kept.instants
+    looked = kept.look_back(query)
+    assert kept.instants == instants
+    as_looked = None if looked is None else copy.deepcopy(looked.state)
+    if looked is not None:
+        looked.state.apply_correction(1.0)         # a copy: the kept state stays
+    reverted = kept.revert_to(query)
+    if reverted is None:
+        assert looked is None
+        return
+    assert (looked.t_s, looked.inputs) == (reverted.t_s, reverted.inputs)
+    assert reverted.state == as_looked
+
+
 def test_a_snapshot_is_a_copy():
     kept, toy = history(), Toy()
     kept.remember(0.0, toy)

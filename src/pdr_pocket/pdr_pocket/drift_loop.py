@@ -5,10 +5,11 @@
   :class:`pdr_drift.estimator.DriftEstimator`, and each correction it returns goes to the
   navigator through :meth:`PocketNavigator.apply_correction`, the code the
   ``pocket_pdr`` node's service runs (Section 6.1). A correction is applied right after
-  the sample that confirmed its step, as the live graph applies it as soon as the service
-  call comes (a few samples later): the chunk is run again from a copy of the navigator
-  taken before it (a checkpoint, pdr_core.checkpoints), up to that sample. Applied at the
-  end of the chunk instead, the poses ended 0.13 m from the live graph's.
+  the sample that confirmed its step, where the live graph applies it too, whenever the
+  call comes: the request carries that step's stamp (pdr_pocket.streaming). Here the
+  chunk is run again from a copy of the navigator taken before it (a checkpoint,
+  pdr_core.checkpoints), up to that sample. Applied at the end of the chunk instead, the
+  poses ended 0.13 m from the live graph's.
 - :func:`navigate_offline`: a first pass collects every association's drift, ε₀ of
   Eq. (6.5) (outliers rejected), and a second pass takes ε₀·t off every step's heading
   and applies no correction: the path has no jumps (Section 6.2). The thesis reprocesses
@@ -31,7 +32,6 @@ from pdr_drift.drift_log import DriftLog
 from pdr_drift.estimator import DriftEstimator, StepResult
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
-from pdr_pocket.orientation import AttitudeEstimate
 
 CHUNK_S = 30.0
 
@@ -42,17 +42,6 @@ def step_sample(step: StepRecord) -> StepSample:
     are the same numbers."""
     return StepSample(step.t_confirm, step.heading, step.activity, step.position,
                       step.covariance, step.floor)
-
-
-def concatenate(outputs: list[NavigatorOutput]) -> NavigatorOutput:
-    """One output of the chunks' outputs."""
-    a = [o.attitude for o in outputs]
-    attitude = AttitudeEstimate(*(np.concatenate([getattr(x, f) for x in a]) for f in
-                                  ("t", "attitude", "bias", "covariance", "detected", "ran")))
-    return NavigatorOutput(attitude, np.concatenate([o.pitch for o in outputs]),
-                           np.concatenate([o.heading for o in outputs]),
-                           np.concatenate([o.activity for o in outputs]),
-                           [s for o in outputs for s in o.steps])
 
 
 def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, mag,
@@ -95,7 +84,7 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
                     c.position_covariance)
                 log.corrections.append((step.t, ok, message))
             start = stop
-    return navigator, concatenate(outputs), log
+    return navigator, NavigatorOutput.concatenate(outputs), log
 
 
 def _estimate(estimator: DriftEstimator, steps: list[StepRecord], log: DriftLog):

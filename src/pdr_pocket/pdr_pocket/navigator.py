@@ -99,6 +99,18 @@ class NavigatorOutput:
     activity: np.ndarray
     steps: list[StepRecord] = field(default_factory=list)
 
+    @staticmethod
+    def concatenate(outputs: list[NavigatorOutput]) -> NavigatorOutput:
+        """One output of consecutive chunks' outputs."""
+        a = [o.attitude for o in outputs]
+        attitude = AttitudeEstimate(*(np.concatenate([getattr(x, f) for x in a]) for f in
+                                      ("t", "attitude", "bias", "covariance", "detected",
+                                       "ran")))
+        return NavigatorOutput(attitude, np.concatenate([o.pitch for o in outputs]),
+                               np.concatenate([o.heading for o in outputs]),
+                               np.concatenate([o.activity for o in outputs]),
+                               [s for o in outputs for s in o.steps])
+
 
 def mounting_params(config: PocketConfig) -> MountingParams:
     m = config.mounting

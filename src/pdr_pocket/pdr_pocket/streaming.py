@@ -21,17 +21,19 @@ result whatever the chunks, pdr_pocket.navigator):
   deg/s is refused (nothing is navigated until :meth:`reset`), a magnetometer in µT or
   gauss is switched off (:attr:`mag_error`);
 - gaps longer than ``max_gap_s`` are propagated over and counted by the filter;
-- a correction (:meth:`StreamingPocket.apply_correction`, the node's service) counts from
-  the last step, the one whose landmark it comes from: the navigator as it was right
-  after that step's sample takes it, and the samples since are run again. The service
-  call comes some samples after the step, more or fewer by how busy the graph is, and
-  an update of the orientation filter in between (a mean gravity window closing) turns
-  out differently with the yaw corrected or not: 2.3 m at the end of a two-lap walk
-  without magnetometer updates between 0 and 2 samples late. ``pdr-pocket run --drift
-  online`` applies it at that same point (pdr_pocket.drift_loop), so the two agree. The
-  state right after the last step and the samples since are a checkpoint
-  (pdr_core.checkpoints, which also says how a correction later than it is expressed).
-  After more than ``replay_max_s`` without a step the correction applies from now.
+- a correction (:meth:`StreamingPocket.apply_correction`, the node's service) names
+  the step it belongs to by its stamp: the navigator goes back to its state at that
+  instant, right after the step's sample, takes the correction there and runs the
+  samples since again (robot_localization's ``revertTo``), so the steps after it do not
+  depend on when the call came. ``pdr-pocket run --drift online`` applies it at that same
+  point (pdr_pocket.drift_loop), so the two agree at any replay speed. The navigator's
+  state is kept at most every :data:`CHECKPOINT_EVERY_S` with the inputs processed since
+  (pdr_core.checkpoints), for ``correction_window_s`` of IMU data; the corrections taken
+  are inputs too, so one that reaches further back runs them again in their place. A
+  stamp older than the window, or later than the last sample processed, is refused by
+  name; a zero stamp applies the correction now, to the current state. The steps run
+  again come back with the answer (:class:`CorrectionResult`): they replace the ones
+  given out before the call came.
 """
 from __future__ import annotations
 
@@ -45,16 +47,22 @@ from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.navigator import NavigatorOutput, PocketNavigator
+from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
 
 UNIT_CHECK_SAMPLES = 50
 MAG_BEFORE_IMU_NS = 60_000_000_000   # readings kept before the first IMU sample [ns]
 MAG_WAIT_S = 1.0
 """Default wait for a late magnetometer reading [s of IMU data]: playback at full speed
 acknowledges every 100 messages, so the topics drift at most that far apart."""
-REPLAY_MAX_S = 5.0
-"""A correction counts from the last step when it comes within this of the step [s of
-IMU data]: two gait cycles at the slowest walk."""
+CORRECTION_WINDOW_S = 60.0
+"""How far back a stamped correction may reach [s of IMU data]: ``landmark_drift``'s
+answer comes within a step live, but a bag played as fast as acknowledged runs the
+navigator ahead of it, and a correction held back 20 steps on purpose (its
+``correction_delay_steps``, 25 s of walking) came 32 s of data late in one run. A
+minute costs 60 checkpoints of the navigator's state and a minute of samples."""
+CHECKPOINT_EVERY_S = 1.0
+"""The navigator's state is kept at most this often [s of IMU data]: a correction runs
+again at most this much besides the samples since its step."""
 
 
 @dataclass(frozen=True)
@@ -68,7 +76,52 @@ class Processed:
 
     def stamp_of(self, t_s: float) -> int:
         """The stamp [ns] of the navigator time ``t_s`` (a step's confirmation)."""
-        return self.t0_ns + round(t_s * 1e9)
+        return stamp_of(self.t0_ns, t_s)
+
+
+def stamp_of(t0_ns: int, t_s: float) -> int:
+    """The stamp [ns] of the navigator time ``t_s`` [s], its time 0 stamped ``t0_ns``."""
+    return t0_ns + round(t_s * 1e9)
+
+
+def attitude_at(output: NavigatorOutput, step: StepRecord) -> np.ndarray:
+    """C_b^n (3, 3) of ``output`` at the step's confirmation (the pose's orientation)."""
+    a = output.attitude
+    return a.attitude[min(int(np.searchsorted(a.t, step.t_confirm)), len(a.t) - 1)]
+
+
+@dataclass(frozen=True)
+class Revised:
+    """A step run again with a correction: its stamp [ns], the step and C_b^n (3, 3) at
+    its confirmation."""
+
+    stamp_ns: int
+    step: StepRecord
+    attitude: np.ndarray
+
+
+@dataclass(frozen=True)
+class CorrectionResult:
+    """What became of a correction: accepted, what was done or why not, and the steps
+    after its stamp run again with it (stamped and accepted only)."""
+
+    accepted: bool
+    message: str
+    revised: list[Revised] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class TakenCorrection:
+    """A correction the navigator took at ``t_s`` [s of its time], kept among its inputs
+    so that a correction reaching further back runs it again in its place: the values of
+    :meth:`PocketNavigator.apply_correction`."""
+
+    t_s: float
+    values: tuple
+
+
+Chunk = tuple       # (t [s], gyro [rad/s] or None, accel [m/s²], mag [T]): process()'s
+Input = Chunk | TakenCorrection
 
 
 @dataclass
@@ -79,7 +132,7 @@ class StreamingPocket:
     config: PocketConfig
     calibration: MagCalibration | None = None
     mag_wait_s: float = MAG_WAIT_S
-    replay_max_s: float = REPLAY_MAX_S
+    correction_window_s: float = CORRECTION_WINDOW_S
     counts: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -87,9 +140,10 @@ class StreamingPocket:
 
     def reset(self) -> None:
         self.navigator = PocketNavigator(self.config)
-        # right after the last step (its confirmation [s]) and the inputs processed since
-        self.at_step: Checkpoints[PocketNavigator, tuple] = Checkpoints(
-            PocketNavigator.copy_state, self.replay_max_s, capacity=1)
+        # the navigator's state at past instants [s] and the inputs taken since
+        self.history: Checkpoints[PocketNavigator, Input] = Checkpoints(
+            PocketNavigator.copy_state, self.correction_window_s)
+        self.corrections = {"accepted": 0, "refused": 0}
         self.last_stamp_ns: int | None = None
         # the readings a sample not yet processed may pair with: from the last one at or
         # before the last processed sample on (stamps [ns] ascending, values [T])
@@ -251,47 +305,111 @@ class StreamingPocket:
         gyro = np.array([h[2] for h in held])
         inputs = ((stamps - self.t0_ns) * 1e-9, None if np.isnan(gyro).all() else gyro,
                   np.array([h[1] for h in held]), mag)
-        before = self.navigator.copy_state() if count > 1 else None
-        out = self.navigator.process(*inputs)
-        self._remember(inputs, out, before)
+        out = self._run_kept(self.navigator, inputs)
         return [Processed(stamps, out, self.t0_ns)]
 
-    # --- corrections from the last step --------------------------------------------
-    def apply_correction(self, *correction) -> tuple[bool, str]:
-        """:meth:`PocketNavigator.apply_correction` as of right after the last step (the
-        module docstring), the samples since run again; from now when there is none."""
-        reverted = self.at_step.revert_to()
-        if reverted is None:
-            return self.navigator.apply_correction(*correction)
-        navigator = reverted.state
-        result = navigator.apply_correction(*correction)
-        self.at_step.remember(reverted.t_s, navigator)
-        for inputs in reverted.inputs:
-            navigator.process(*inputs)
-            self.at_step.record(inputs, inputs[0][-1])
-        navigator.steps = self.navigator.steps
+    def _run_kept(self, navigator: PocketNavigator, inputs: Chunk) -> NavigatorOutput:
+        """``navigator`` on a chunk of samples, kept in the history: the chunk in parts
+        with a checkpoint before each, :data:`CHECKPOINT_EVERY_S` apart at least."""
+        t, outputs, start = inputs[0], [], 0
+        while start < len(t):
+            instants = self.history.instants
+            if not instants or t[start] - instants[-1] >= CHECKPOINT_EVERY_S:
+                self.history.remember(float(t[start]), navigator)
+                instants = self.history.instants
+            end = int(np.searchsorted(t, instants[-1] + CHECKPOINT_EVERY_S, side="left"))
+            end = max(end, start + 1)
+            part = tuple(None if x is None else x[start:end] for x in inputs)
+            outputs.append(navigator.process(*part))
+            self.history.record(part, float(t[end - 1]))
+            start = end
+        return outputs[0] if len(outputs) == 1 else NavigatorOutput.concatenate(outputs)
+
+    # --- corrections at their step's stamp ------------------------------------------
+    def apply_correction(self, *correction, stamp_ns: int = 0) -> CorrectionResult:
+        """:meth:`PocketNavigator.apply_correction` (its arguments) as of the sample
+        stamped ``stamp_ns`` [ns], the samples since run again; now when the stamp is 0
+        (the module docstring)."""
+        if stamp_ns == 0:
+            accepted, message = self.navigator.apply_correction(*correction)
+            if accepted and self.processed_ns is not None:
+                t_now = (self.processed_ns - self.t0_ns) * 1e-9
+                self.history.record(TakenCorrection(t_now, correction), t_now)
+            return self._counted(CorrectionResult(accepted, message))
+        problem = self._stamp_problem(stamp_ns)
+        if problem is not None:
+            return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
+        t_c = (stamp_ns - self.t0_ns) * 1e-9
+        looked = self.history.look_back(t_c)
+        navigator = looked.state
+        before, after = _split(looked.inputs, t_c)
+        for item in before:
+            _run(navigator, item)
+        accepted, message = navigator.apply_correction(*correction)
+        if not accepted:
+            return self._counted(CorrectionResult(False, message))
+        reverted = self.history.revert_to(looked.t_s)
+        self.history.remember(reverted.t_s, reverted.state)
+        for item in [*before, TakenCorrection(t_c, correction)]:
+            self.history.record(item, _end_s(item))
+        revised = []
+        for item in after:
+            if isinstance(item, TakenCorrection):
+                navigator.apply_correction(*item.values)
+                self.history.record(item, item.t_s)
+                continue
+            out = self._run_kept(navigator, item)
+            revised += [Revised(stamp_of(self.t0_ns, s.t_confirm), s, attitude_at(out, s))
+                        for s in out.steps]
         self.navigator = navigator
+        return self._counted(CorrectionResult(True, message, revised))
+
+    def _stamp_problem(self, stamp_ns: int) -> str | None:
+        """Why no kept state serves a correction stamped ``stamp_ns`` [ns] (None: one
+        does)."""
+        if self.processed_ns is None:
+            return "the navigator has not started (no IMU sample processed yet)"
+        if stamp_ns > self.processed_ns:
+            return (f"stamp {stamp_ns} ns is after the last sample processed "
+                    f"({self.processed_ns} ns): no step of this navigator")
+        instants = self.history.instants
+        t_c = (stamp_ns - self.t0_ns) * 1e-9
+        if not instants or t_c < instants[0]:
+            oldest = "nothing kept" if not instants else \
+                f"kept back to {stamp_of(self.t0_ns, instants[0])} ns"
+            return (f"stamp {stamp_ns} ns is older than the correction window "
+                    f"(correction_window_s {self.correction_window_s:g} s of IMU data, "
+                    f"{oldest}; the last sample processed {self.processed_ns} ns)")
+        return None
+
+    def _counted(self, result: CorrectionResult) -> CorrectionResult:
+        self.corrections["accepted" if result.accepted else "refused"] += 1
         return result
 
-    def _remember(self, inputs: tuple, out: NavigatorOutput, before) -> None:
-        """Keep the state right after the last step and the inputs since (the module
-        docstring)."""
-        t = inputs[0]
-        if not out.steps:       # the samples since the step, while within replay_max_s
-            self.at_step.record(inputs, t[-1])
-            return
-        confirm = out.steps[-1].t_confirm
-        cut = max(int(np.searchsorted(t, confirm, side="right")), 1)
-        if cut >= len(t):
-            self.at_step.remember(confirm, self.navigator)
-            return
-        # the chunk went on past the step: run it again from before, up to the step
-        steps = self.navigator.steps
-        before.process(*(x[:cut] for x in inputs))
-        self.at_step.remember(confirm, before)
-        since = tuple(x[cut:] for x in inputs)
-        before.process(*since)
-        before.steps = steps
-        self.navigator = before
-        self.at_step.record(since, t[-1])
 
+def _run(navigator: PocketNavigator, item: Input) -> NavigatorOutput | None:
+    """One kept input run again: a chunk of samples, or a correction taken."""
+    if isinstance(item, TakenCorrection):
+        navigator.apply_correction(*item.values)
+        return None
+    return navigator.process(*item)
+
+
+def _end_s(item: Input) -> float:
+    """The instant of an input's last sample, or of a correction [s]."""
+    return item.t_s if isinstance(item, TakenCorrection) else float(item[0][-1])
+
+
+def _split(items: list[Input], t_s: float) -> tuple[list[Input], list[Input]]:
+    """The inputs at or before ``t_s`` [s] and those after it, a chunk cut in two at it."""
+    before, after = [], []
+    for item in items:
+        if isinstance(item, TakenCorrection):
+            (before if item.t_s <= t_s else after).append(item)
+            continue
+        cut = int(np.searchsorted(item[0], t_s, side="right"))
+        if cut > 0:
+            before.append(tuple(None if x is None else x[:cut] for x in item))
+        if cut < len(item[0]):
+            after.append(tuple(None if x is None else x[cut:] for x in item))
+    return before, after

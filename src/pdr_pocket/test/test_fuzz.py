@@ -57,9 +57,11 @@ def test_pocket_pdr_adapter_survives_garbage(events):
             assert sum(live.counts.values()) == 0
             chunks = []
         else:
-            with np.errstate(all="ignore"):
-                ok, message = live.apply_correction(
-                    c[0], c[1], c[2], c[3], b, np.eye(3).ravel() * c[0])
+            with np.errstate(all="ignore"):     # stamped at a step, any stamp, or now
+                result = live.apply_correction(
+                    c[0], c[1], c[2], c[3], b, np.eye(3).ravel() * c[0],
+                    stamp_ns=0 if offset % 3 == 0 else BASE + offset)
+            ok, message = result.accepted, result.message
             assert isinstance(ok, bool) and message
             if not np.isfinite([*c, *b]).all() or min(c[0], c[1], c[3]) < 0:
                 assert not ok, message     # docs/nodes.md: the whole request is refused

@@ -384,46 +384,128 @@ def test_walking_label_for_level_steps_at_any_speed():
 
 
 
-# --- corrections over the service, some samples after their step -----------------------
-def late_correction(delay: int, replay_max_s: float = 5.0) -> list:
-    """sit_stand through the live navigator, sample by sample (no magnetometer), with a
-    yaw, z bias and position correction ``delay`` samples after its 20th step; the 15
-    steps after it."""
+# --- corrections over the service, stamped with their step ----------------------------
+CORRECTION = (np.radians(5.0), np.radians(2.0) ** 2, np.radians(0.01), np.radians(0.005) ** 2)
+
+
+def late_correction(delay: int, stamped: bool = True, window_s: float = 30.0,
+                    chunk: int = 1) -> tuple[list, object]:
+    """sit_stand through the live navigator, ``chunk`` samples at a time (no
+    magnetometer), with a yaw, z bias and position correction stamped with its 20th step
+    (``stamped`` False: stamp 0, now), called ``delay`` samples after that step; the 15
+    steps after it as the navigator finally has them, and the correction's result."""
     from pdr_pocket.streaming import StreamingPocket
 
     sim = simulated("sit_stand")
-    live = StreamingPocket(PocketConfig(), replay_max_s=replay_max_s)
+    live = StreamingPocket(PocketConfig(), correction_window_s=window_s)
     stamps = (sim.trajectory.t * 1e9).astype(np.int64)
-    steps, due = [], None
-    for i, stamp in enumerate(stamps.tolist()):
-        for chunk in live.push_imu(stamp, sim.imu["linear_acceleration"][i],
-                                   sim.imu["angular_velocity"][i]):
-            steps += chunk.output.steps
-        if due is None and len(steps) == 20:
-            due = i + delay
-        if i == due:
-            position = steps[-1].position + np.array([0.5, -0.3, 0.0])
-            ok, message = live.apply_correction(np.radians(5.0), np.radians(2.0) ** 2,
-                                                np.radians(0.01), np.radians(0.005) ** 2,
-                                                position, np.eye(3).ravel() * 0.5)
-            assert ok, message
-        if len(steps) == 35:
-            return steps[20:]
+    steps, due, result = [], None, None
+    for i in range(0, len(stamps), chunk):
+        part = slice(i, i + chunk)
+        for out in live.push_imus(stamps[part], sim.imu["linear_acceleration"][part],
+                                  sim.imu["angular_velocity"][part]):
+            steps += [(out.stamp_of(s.t_confirm), s) for s in out.output.steps]
+        if due is None and len(steps) >= 20:
+            due, (stamp, step) = i + delay, steps[19]
+        if due is not None and result is None and i >= due:
+            position = step.position + np.array([0.5, -0.3, 0.0])
+            result = live.apply_correction(*CORRECTION, position, np.eye(3).ravel() * 0.5,
+                                           stamp_ns=stamp if stamped else 0)
+            assert result.accepted, result.message
+            steps = steps[:20] + [(r.stamp_ns, r.step) for r in result.revised]
+        if len(steps) >= 35:
+            for (_, a), b in zip(steps, live.navigator.steps, strict=False):
+                assert a.t == b.t
+                np.testing.assert_allclose(a.position, b.position, rtol=0, atol=1e-9)
+            return [s for _, s in steps[20:35]], result
     raise AssertionError("sit_stand has fewer than 35 steps")
 
 
-def test_a_correction_counts_from_its_step_however_late_it_comes():
+def test_a_stamped_correction_counts_from_its_step_however_late_it_comes():
     """pocket_pdr's service call comes some samples after the step that found the
-    landmark; the navigator takes it as of right after that step, as ``pdr-pocket run
-    --drift online`` does, so the steps after it do not depend on the delay."""
-    right_after, late = late_correction(0), late_correction(60)
-    for a, b in zip(right_after, late, strict=True):
-        assert a.t == b.t
-        assert a.heading == pytest.approx(b.heading, abs=1e-9)
-        np.testing.assert_allclose(a.position, b.position, atol=1e-9)
-    # and the correction did move them: a 0.5 m fix and a 5° turn (no correction: 1e9 s late)
-    never = late_correction(10**9)
+    landmark; stamped with that step, the navigator takes it as of right after it, as
+    ``pdr-pocket run --drift online`` does, so the steps after it do not depend on the
+    delay nor on how the samples came in chunks; the steps it ran again are given back."""
+    right_after, _ = late_correction(0, chunk=5)
+    for delay, chunk in ((60, 13), (1500, 37)):
+        late, result = late_correction(delay, chunk=chunk)
+        revised = [r.stamp_ns for r in result.revised]
+        assert revised == sorted(revised)
+        assert all(r.step.t_confirm >= right_after[0].t_confirm for r in result.revised)
+        assert len(revised) >= (8 if delay == 1500 else 0)     # 15 s: 9 steps run again
+        for a, b in zip(right_after, late, strict=True):
+            assert a.t == b.t
+            assert a.heading == pytest.approx(b.heading, abs=1e-9)
+            np.testing.assert_allclose(a.position, b.position, atol=1e-9)
+    # and the correction did move them: a 0.5 m fix and a 5° turn (no correction: one
+    # due after the walk)
+    never, result = late_correction(10**9, chunk=37)
+    assert result is None
     assert np.linalg.norm(never[-1].position - late[-1].position) > 0.3
+    # stamp 0: applied now, to the current state, nothing run again
+    _, now = late_correction(0, stamped=False, chunk=37)
+    assert now.accepted and now.revised == []
+
+
+def test_a_stamp_outside_the_window_is_refused_by_name():
+    """docs/nodes.md: a stamp older than ``correction_window_s`` of IMU data, or after
+    the last sample processed, is refused with a message naming the stamp and the window;
+    nothing changes."""
+    from pdr_pocket.streaming import StreamingPocket
+
+    sim = simulated("sit_stand")
+    live = StreamingPocket(PocketConfig(), correction_window_s=10.0)
+    stamps = (sim.trajectory.t * 1e9).astype(np.int64)
+    n = 3000                                          # 30 s at 100 Hz
+    live.push_imus(stamps[:n], sim.imu["linear_acceleration"][:n],
+                   sim.imu["angular_velocity"][:n])
+    before = live.navigator.copy_state()
+    old = int(stamps[n - 1500])                       # 15 s back
+    result = live.apply_correction(*CORRECTION, stamp_ns=old)
+    assert not result.accepted and result.revised == []
+    assert f"stamp {old} ns is older than the correction window" in result.message
+    assert "correction_window_s 10 s of IMU data" in result.message
+    ahead = int(stamps[n]) + 1
+    result = live.apply_correction(*CORRECTION, stamp_ns=ahead)
+    assert not result.accepted and f"stamp {ahead} ns is after the last sample" in result.message
+    assert live.corrections == {"accepted": 0, "refused": 2}
+    assert live.navigator.orientation.yaw == before.orientation.yaw
+    within = live.apply_correction(*CORRECTION, stamp_ns=int(stamps[n - 500]))
+    assert within.accepted, within.message
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.lists(st.integers(300, 2900), min_size=1, max_size=3), st.integers(5, 60))
+def test_corrections_reaching_back_replay_the_ones_taken_since(instants, chunk):
+    """Corrections stamped in any order equal the same corrections applied in time order
+    at their instants (a later-stamped one taken first is run again in its place), and
+    the live navigator equals the in-process one to rounding."""
+    from pdr_pocket.streaming import StreamingPocket
+
+    sim = simulated("sit_stand")
+    stamps = (sim.trajectory.t * 1e9).astype(np.int64)
+    a, w = sim.imu["linear_acceleration"], sim.imu["angular_velocity"]
+    n = 3000
+    live = StreamingPocket(PocketConfig())
+    for i in range(0, n, chunk):
+        live.push_imus(stamps[i:min(i + chunk, n)], a[i:min(i + chunk, n)],
+                       w[i:min(i + chunk, n)])
+    yaw = (np.radians(1.0), np.radians(3.0) ** 2, 0.0, 0.0)
+    for k in instants:
+        assert live.apply_correction(*yaw, stamp_ns=int(stamps[k])).accepted
+    straight = PocketNavigator(PocketConfig())
+    t = (stamps - stamps[0]) * 1e-9
+    start = 0
+    for k in sorted(instants):
+        straight.process(t[start:k + 1], w[start:k + 1], a[start:k + 1])
+        ok, message = straight.apply_correction(*yaw)
+        assert ok, message
+        start = k + 1
+    straight.process(t[start:n], w[start:n], a[start:n])
+    assert live.navigator.orientation.yaw == pytest.approx(straight.orientation.yaw, abs=1e-9)
+    assert len(live.navigator.steps) == len(straight.steps)
+    for x, y in zip(live.navigator.steps, straight.steps, strict=True):
+        np.testing.assert_allclose(x.position, y.position, atol=1e-9)
 
 
 # --- real recorders, other placements -----------------------------------------------

@@ -11,6 +11,18 @@ service is not there the correction waits and is retried every ``retry_period_s`
 ``max_retries`` tries in all, so a restarting ``pocket_pdr`` is caught up with and a refused
 correction blocks nothing. What happens to each correction is logged.
 
+Each correction carries the stamp of the step it was computed from, and the navigator
+takes it there, running the samples since again (pdr_pocket.streaming): the steps it had
+published in between are replaced by those of its answer (``revised_steps``,
+``revised_poses``). So that the estimator sees the walk as the navigator finally has it,
+whatever the answer's delay, the steps and poses that come while a correction is
+outstanding are held (the corrections go one at a time); once answered, the revised ones
+are taken in their place, then those held that come after them, and any copy of a
+replaced one that comes late is dropped (counted). The result equals the in-process loop
+(``pdr-pocket run --drift online``) at any replay speed. ``correction_delay_steps`` holds
+each correction back until that many more steps have come (or ``max_retries`` retry
+periods without them), to test a late answer.
+
 With ``state_file`` set, the estimator's whole state (landmarks, hypotheses, the walk's
 start and last step) is written there after every step (pdr_drift.state_file) and read
 back at start: killed and started again mid-walk, the node goes on where it was, and the
@@ -21,10 +33,11 @@ starts afresh, saying why.
 
 Parameters (docs/nodes.md): ``config`` (YAML of pdr_drift.config; default the installed
 config/landmark_drift.yaml), ``state_file``, ``floor_height_m``, ``correction_timeout_s``,
-``retry_period_s``, ``max_retries``, ``map_frame`` (the frame of the poses it reads and of
-the landmarks and drift estimates it publishes: REP-105's map, pdr_core.frames; steps and
-poses stamped in another frame are dropped and counted, a graph wired to another
-person's navigator). The start-up line names the resolved topics and services.
+``retry_period_s``, ``max_retries``, ``correction_delay_steps``, ``map_frame`` (the frame
+of the poses it reads and of the landmarks and drift estimates it publishes: REP-105's
+map, pdr_core.frames; steps and poses stamped in another frame are dropped and counted,
+a graph wired to another person's navigator). The start-up line names the resolved
+topics and services.
 """
 from __future__ import annotations
 
@@ -38,7 +51,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from pdr_core import topics
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME
-from pdr_core.headers import set_header, stamp_ns
+from pdr_core.headers import NS_PER_S, set_header, stamp_ns
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
@@ -84,9 +97,17 @@ class LandmarkDriftNode(Node):
         self.drift_pub = self.create_publisher(DriftEstimate, graph_name(topics.DRIFT), out)
         self.client = self.create_client(ApplyCorrection,
                                          graph_name(topics.POCKET_APPLY_CORRECTION))
-        self.waiting: list[list] = []        # [request, tries]
+        self.delay_steps = declare(self, "correction_delay_steps", 0, "hold each correction "
+                                   "until this many later steps have come (to test a late "
+                                   "answer) [steps]")
+        self.waiting: list[list] = []        # [request, tries], sent one at a time
         self.in_flight: list[list] = []      # [future, sent at (s), request, tries]
-        self.create_timer(retry_period, self.service_corrections)
+        self.held: list = []                 # steps and poses come while one is outstanding
+        self.held_steps = self.delay_ticks = 0
+        self.revision = None                 # the last accepted answer not yet taken
+        self.superseded_until: int | None = None
+        self.superseded = 0
+        self.create_timer(retry_period, self.on_timer)
         self.reported: dict[str, int] = {}
         self.other_frame = 0
         self.get_logger().info(f"landmark_drift: configuration {path or 'default'}; map "
@@ -124,17 +145,36 @@ class LandmarkDriftNode(Node):
                                     throttle_duration_sec=5.0)
 
     def on_step(self, msg: Step) -> None:
-        if self.in_other_frame(msg):
-            return
-        self.on_result(stamp_ns(msg), self.drift.push_step(stamp_ns(msg), msg.heading,
-                                                        msg.activity))
+        self.on_message(msg)
 
     def on_pose(self, msg: PoseWithCovarianceStamped) -> None:
+        self.on_message(msg)
+
+    def on_message(self, msg) -> None:
+        """A step or a pose from the navigator: taken now, or held while a correction is
+        outstanding (module docstring); one the last revision replaced is dropped."""
         if self.in_other_frame(msg):
             return
-        p = msg.pose.pose.position
-        cov = np.asarray(msg.pose.covariance, float).reshape(6, 6)[:3, :3]
-        self.on_result(stamp_ns(msg), self.drift.push_pose(stamp_ns(msg), (p.x, p.y, p.z), cov))
+        if self.superseded_until is not None and stamp_ns(msg) <= self.superseded_until:
+            self.superseded += 1
+            return
+        if self.waiting or self.in_flight:
+            self.held.append(msg)
+            self.held_steps += isinstance(msg, Step)
+            self.service_corrections()
+            return
+        self.take(msg)
+
+    def take(self, msg) -> None:
+        """A step or a pose to the estimator, and what comes of it."""
+        stamp = stamp_ns(msg)
+        if isinstance(msg, Step):
+            result = self.drift.push_step(stamp, msg.heading, msg.activity)
+        else:
+            p = msg.pose.pose.position
+            cov = np.asarray(msg.pose.covariance, float).reshape(6, 6)[:3, :3]
+            result = self.drift.push_pose(stamp, (p.x, p.y, p.z), cov)
+        self.on_result(stamp, result)
 
     def in_other_frame(self, msg) -> bool:
         """A step or pose stamped in another frame than ``map_frame``: dropped, counted
@@ -171,16 +211,20 @@ class LandmarkDriftNode(Node):
                 gyro_bias_z=float(correction.gyro_bias_z),
                 gyro_bias_z_variance=float(correction.gyro_bias_z_variance),
                 has_position=True)
+            request.stamp.sec, request.stamp.nanosec = divmod(stamp, NS_PER_S)
             request.position.x, request.position.y, request.position.z = map(
                 float, correction.position)
             request.position_covariance = [float(v) for v in correction.position_covariance.ravel()]
             self.waiting.append([request, 0])
+            self.held_steps = self.delay_ticks = 0
         self.service_corrections()
 
     def service_corrections(self) -> None:
-        """Send what waits when the service is there, send again calls past the timeout
-        (a pocket_pdr just started may be slow to answer), give up on corrections past
-        ``max_retries`` tries."""
+        """Send the next waiting correction when the service is there and none is in
+        flight (after ``correction_delay_steps`` held steps), send again a call past the
+        timeout (a pocket_pdr just started may be slow to answer), give up on a
+        correction past ``max_retries`` tries; when none is outstanding any more, take
+        the messages held meanwhile (module docstring)."""
         now = self.get_clock().now().nanoseconds * 1e-9
         for item in list(self.in_flight):
             future, sent, request, tries = item
@@ -191,17 +235,52 @@ class LandmarkDriftNode(Node):
                 self.in_flight.remove(item)
                 future.cancel()
                 self.get_logger().warning("correction not answered in time, sent again")
-                self.waiting.append([request, tries + 1])
-        for item in list(self.waiting):
+                self.waiting.insert(0, [request, tries + 1])
+        if self.waiting and not self.in_flight and self.delay_done():
+            item = self.waiting[0]
             if self.client.service_is_ready() and item[1] <= self.max_retries:
-                self.waiting.remove(item)
+                self.waiting.pop(0)
                 self.in_flight.append([self.client.call_async(item[0]), now, *item])
-                continue
-            item[1] += 1
-            if item[1] > self.max_retries:
-                self.waiting.remove(item)
-                self.get_logger().error(f"{graph_name(topics.POCKET_APPLY_CORRECTION)} absent: "
-                                        f"correction dropped after {self.max_retries} retries")
+            else:
+                item[1] += 1
+                if item[1] > self.max_retries:
+                    self.waiting.pop(0)
+                    self.get_logger().error(
+                        f"{graph_name(topics.POCKET_APPLY_CORRECTION)} absent: correction "
+                        f"dropped after {self.max_retries} retries")
+        if not self.waiting and not self.in_flight and (self.held or self.revision):
+            self.release()
+
+    def delay_done(self) -> bool:
+        """``correction_delay_steps`` held steps since the correction came (or as many
+        retry periods without them: the end of a walk)."""
+        return self.held_steps >= self.delay_steps or self.delay_ticks >= self.max_retries
+
+    def on_timer(self) -> None:
+        self.delay_ticks += 1
+        self.service_corrections()
+
+    def release(self) -> None:
+        """The last accepted answer's revised steps and poses, then the messages held
+        meanwhile that they do not replace, to the estimator: until one of them brings
+        a correction again, which holds the rest."""
+        revision, self.revision = self.revision, None
+        queue: list = []
+        if revision is not None and revision.revised_poses:
+            queue = [m for pair in zip(revision.revised_steps, revision.revised_poses,
+                                       strict=True) for m in pair]
+            self.superseded_until = stamp_ns(revision.revised_poses[-1])
+        for msg in self.held:
+            if self.superseded_until is not None and stamp_ns(msg) <= self.superseded_until:
+                self.superseded += 1
+            else:
+                queue.append(msg)
+        self.held = []
+        for i, msg in enumerate(queue):
+            if self.waiting or self.in_flight:
+                self.held = queue[i:]
+                return
+            self.take(msg)
 
     def log_response(self, future) -> None:
         try:
@@ -210,7 +289,9 @@ class LandmarkDriftNode(Node):
             self.get_logger().warning(f"correction call failed: {exc}")
             return
         if response.accepted:
-            self.get_logger().info(f"correction accepted: {response.message}")
+            self.revision = response
+            self.get_logger().info(f"correction accepted, {len(response.revised_steps)} steps "
+                                   f"revised: {response.message}")
         else:
             self.get_logger().warning(f"correction refused: {response.message}")
 

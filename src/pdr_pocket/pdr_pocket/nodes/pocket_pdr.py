@@ -10,14 +10,18 @@ confirmed the step. Serves ``~/reset`` (std_srvs/Trigger) and
 ``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection: yaw and z gyro bias added
 as Kalman updates, Eq. (6.2), and the position fix, Eq. (6.3); all or nothing, every part
 gated against the covariance before any is applied, a refusal naming each failing part:
-pdr_pocket.navigator.PocketNavigator.apply_correction).
+pdr_pocket.navigator.PocketNavigator.apply_correction). A correction is taken at its
+stamp, the step it belongs to, the samples since run again (pdr_pocket.streaming); the
+steps run again go back in the response and replace theirs in ``pdr/pocket/path``,
+published again.
 
 Parameters (docs/nodes.md): ``config`` (the navigator YAML, pdr_pocket.config; default
 the installed config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket
 calibrate-mag; overrides the configuration's), ``map_frame`` (the frame of the steps,
 poses and path: REP-105's map, pdr_core.frames), ``sensor_frame`` (the frame of the
 attitude's rates and of the gyro bias: the IMU's), ``imu_durability`` (volatile or
-transient_local, to match the publisher), ``mag_wait_s`` (1.0: how long a sample waits
+transient_local, to match the publisher), ``correction_window_s`` (60.0: how far back a
+stamped correction may reach, in seconds of IMU data), ``mag_wait_s`` (1.0: how long a sample waits
 for a late magnetometer reading, in seconds of IMU data). The start-up line names the
 resolved topics and services.
 
@@ -47,7 +51,7 @@ from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
-from pdr_core.headers import set_header
+from pdr_core.headers import NS_PER_S, set_header, stamp_ns
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
@@ -59,7 +63,13 @@ from pdr_pocket.config import load_pocket_config
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.messages import attitude_batches, pose_fields, step_fields
-from pdr_pocket.streaming import MAG_WAIT_S, StreamingPocket
+from pdr_pocket.streaming import (
+    CORRECTION_WINDOW_S,
+    MAG_WAIT_S,
+    CorrectionResult,
+    StreamingPocket,
+    attitude_at,
+)
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
 DURABILITIES = ("volatile", "transient_local")
@@ -92,11 +102,13 @@ class PocketPdrNode(Node):
                              DURABILITIES)
         mag_wait_s = declare(self, "mag_wait_s", MAG_WAIT_S, "how long a sample waits for a "
                              "late magnetometer reading [s of IMU data]")
+        window_s = declare(self, "correction_window_s", CORRECTION_WINDOW_S, "how far back a "
+                           "stamped correction may reach [s of IMU data]")
         config = load_pocket_config(path or None)
         self.mag_updates = config.orientation.updates.magnetic
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
-        self.navigator = StreamingPocket(config, calibration, mag_wait_s)
+        self.navigator = StreamingPocket(config, calibration, mag_wait_s, window_s)
         self.gyro_noise_var = self.navigator.navigator.orientation.params.gyro_noise_var
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
@@ -180,13 +192,20 @@ class PocketPdrNode(Node):
                            (self.bias_pub, batches[topics.POCKET_GYRO_BIAS])], HISTORY // 2,
                           ACK_TIMEOUT)
             for step in out.steps:
-                self.publish_step(chunk.stamp_of(step.t_confirm), step,
-                                  out.attitude.attitude[
-                                      min(np.searchsorted(out.attitude.t, step.t_confirm),
-                                          len(out.attitude.t) - 1)])
+                self.publish_step(chunk.stamp_of(step.t_confirm), step, attitude_at(out, step))
 
     def publish_step(self, stamp: int, step, attitude: np.ndarray) -> None:
         """Step, pose and path of one step (fields packed as pdr-pocket run packs them)."""
+        msg, pose = self.step_messages(stamp, step, attitude)
+        self.step_pub.publish(msg)
+        self.pose_pub.publish(pose)
+        self.path.poses.append(path_pose(pose, step.heading))
+        self.path.header.stamp = pose.header.stamp
+        self.path_pub.publish(self.path)
+
+    def step_messages(self, stamp: int, step, attitude: np.ndarray
+                      ) -> tuple[Step, PoseWithCovarianceStamped]:
+        """The Step and the pose of one step, stamped ``stamp`` [ns] in the map frame."""
         fields = {k: v[0] for k, v in step_fields([step]).items()}
         msg = Step()
         set_header(msg.header, stamp, self.map_frame)
@@ -194,7 +213,6 @@ class PocketPdrNode(Node):
         msg.activity = int(fields.pop("activity"))
         for key, value in fields.items():
             setattr(msg, key, float(value))
-        self.step_pub.publish(msg)
         pose_values = {k: v[0] for k, v in pose_fields([step], attitude[None]).items()}
         pose = PoseWithCovarianceStamped()
         set_header(pose.header, stamp, self.map_frame)
@@ -203,36 +221,50 @@ class PocketPdrNode(Node):
         q = pose.pose.pose.orientation
         q.x, q.y, q.z, q.w = map(float, pose_values["pose.pose.orientation"])
         pose.pose.covariance = [float(v) for v in pose_values["pose.covariance"]]
-        self.pose_pub.publish(pose)
-        stamped = PoseStamped()
-        stamped.header = pose.header
-        stamped.pose.position = pose.pose.pose.position
-        stamped.pose.orientation.z = float(np.sin(step.heading / 2))
-        stamped.pose.orientation.w = float(np.cos(step.heading / 2))
-        self.path.header.stamp = pose.header.stamp
-        self.path.poses.append(stamped)
-        self.path_pub.publish(self.path)
+        return msg, pose
 
     def on_correction(self, request, response):
-        """pdr/pocket/apply_correction: the navigator decides; logged and counted."""
+        """pdr/pocket/apply_correction: the navigator decides, at the request's stamp
+        (pdr_pocket.streaming); logged and counted. The steps it ran again go back in the
+        response and replace theirs in the path, published again."""
         position = (request.position.x, request.position.y, request.position.z) \
             if request.has_position else None
         covariance = list(request.position_covariance) if request.has_position else None
+        stamp = request.stamp.sec * NS_PER_S + request.stamp.nanosec
         try:
-            accepted, message = self.navigator.apply_correction(
+            result = self.navigator.apply_correction(
                 request.yaw, request.yaw_variance, request.gyro_bias_z,
-                request.gyro_bias_z_variance, position, covariance)
+                request.gyro_bias_z_variance, position, covariance, stamp_ns=stamp)
         except (ValueError, np.linalg.LinAlgError) as exc:
-            accepted, message = False, f"correction not usable: {exc}"
-            self.navigator.navigator.corrections["refused"] += 1
-        counts = self.navigator.navigator.corrections
+            result = CorrectionResult(False, f"correction not usable: {exc}")
+            self.navigator.corrections["refused"] += 1
+        counts = self.navigator.corrections
         tally = f"({counts['accepted']} accepted, {counts['refused']} refused so far)"
-        if accepted:    # one severity per call site: rclpy refuses a logger that changes it
-            self.get_logger().info(f"correction accepted {tally}: {message}")
+        at = f" at stamp {stamp} ns" if stamp else " now"
+        if result.accepted:    # one severity per call site: rclpy refuses a logger that changes it
+            self.get_logger().info(f"correction accepted{at} {tally}, {len(result.revised)} "
+                                   f"steps run again: {result.message}")
+            self.revise(stamp, result.revised, response)
         else:
-            self.get_logger().warning(f"correction refused {tally}: {message}")
-        response.accepted, response.message = bool(accepted), message
+            self.get_logger().warning(f"correction refused{at} {tally}: {result.message}")
+        response.accepted, response.message = bool(result.accepted), result.message
         return response
+
+    def revise(self, stamp: int, revised, response) -> None:
+        """The steps run again after a correction stamped ``stamp`` [ns]: in the response,
+        and in place of theirs in the path, published again."""
+        for item in revised:
+            msg, pose = self.step_messages(item.stamp_ns, item.step, item.attitude)
+            response.revised_steps.append(msg)
+            response.revised_poses.append(pose)
+        if not self.path.poses:
+            return
+        stamps = [stamp_ns(p) for p in self.path.poses]
+        keep = int(np.searchsorted(stamps, stamp, side="right")) if stamp else len(stamps)
+        self.path.poses = self.path.poses[:keep] + [
+            path_pose(pose, item.step.heading)
+            for item, pose in zip(revised, response.revised_poses, strict=True)]
+        self.path_pub.publish(self.path)
 
     def report_problems(self) -> None:
         nav = self.navigator
@@ -279,6 +311,17 @@ class PocketPdrNode(Node):
         self.path.poses = []
         response.success, response.message = True, "navigator reset"
         return response
+
+
+def path_pose(pose: PoseWithCovarianceStamped, heading: float) -> PoseStamped:
+    """A step's entry of ``pdr/pocket/path``: its pose's header and position, oriented by
+    the step's heading [rad] (ENU yaw)."""
+    stamped = PoseStamped()
+    stamped.header = pose.header
+    stamped.pose.position = pose.pose.pose.position
+    stamped.pose.orientation.z = float(np.sin(heading / 2))
+    stamped.pose.orientation.w = float(np.cos(heading / 2))
+    return stamped
 
 
 class _Sources:
