@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import itertools
 import os
+import shutil
+import tempfile
 
 import pytest
 
-from wstest import REQUIRE_SHARED_DATA, Processes, missing_shared
+from wstest import IMPORTS_ENV, REQUIRE_SHARED_DATA, Processes, missing_shared
 
 DOMAIN_IDS = 100                    # 1..100: ids every RMW accepts on one machine
 
@@ -36,6 +38,21 @@ def domain_ids():
 
 
 _domains = domain_ids()
+
+
+def pytest_configure(config):
+    """The session's folder of imported recordings (wstest.imported), made by the main
+    process before the xdist workers start, so they inherit it."""
+    if IMPORTS_ENV not in os.environ:
+        os.environ[IMPORTS_ENV] = tempfile.mkdtemp(prefix="pdr-test-imports-")
+        config._pdr_imports = os.environ[IMPORTS_ENV]
+
+
+def pytest_unconfigure(config):
+    folder = getattr(config, "_pdr_imports", None)
+    if folder is not None:
+        shutil.rmtree(folder, ignore_errors=True)
+        del os.environ[IMPORTS_ENV]
 
 
 def pytest_collection_modifyitems(items):
@@ -65,6 +82,15 @@ def domain_id() -> int:
 @pytest.fixture
 def procs(domain_id, tmp_path):
     processes = Processes(domain_id, tmp_path)
+    yield processes
+    processes.cleanup()
+
+
+@pytest.fixture(scope="module")
+def module_procs(tmp_path_factory):
+    """Processes in a ROS domain of their own for a module's shared runs (one graph run
+    that several tests assert on), their logs in a folder of the module's."""
+    processes = Processes(next(_domains), tmp_path_factory.mktemp("graph"))
     yield processes
     processes.cleanup()
 

@@ -25,6 +25,8 @@ def run_script(name: str, domain_id: int) -> str:
     return result.stdout
 
 
+@pytest.mark.slow("make demo as a user runs it: two simulated walks, the foot and the pocket "
+                  "live graphs and their reports, one after the other (about 35 s alone)")
 def test_make_demo(domain_id):
     out = run_script("demo.sh", domain_id)
     for stage in ("== 1.", "== 2.", "== 3.", "== 4."):

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from wstest import PYSHOE, PYSHOE_NAV_ARGS, ROOT, XIO, XIO_ARGS, needs_shared
+from wstest import PYSHOE, PYSHOE_NAV_ARGS, ROOT, XIO, XIO_ARGS, imported, needs_shared
 
 # ARMSE 3D per VICON trial, docs/foot_ins.md (measured 0.0948, 0.1256, 0.0833, 0.1159,
 # 0.1227, 0.2043, 0.0469 m; mean 0.1134 m)
@@ -22,9 +22,9 @@ PYSHOE_ARMSE_M = {"2017-11-22-11-22-03": 0.095, "2017-11-22-11-30-14": 0.126,
 
 
 def run_report(procs, tmp_path, csv, import_args, *run_args) -> dict:
-    bag, out = tmp_path / f"{csv.stem}_bag", tmp_path / f"{csv.stem}_out"
-    imported = procs.run("pdr-sim", "import-csv", str(csv), "--out", str(bag), *import_args)
-    assert imported.returncode == 0, imported.stderr
+    """``pdr-ekf run`` on the recording imported by ``pdr-sim import-csv`` (once per
+    session, wstest.imported): its report."""
+    bag, out = imported(csv, import_args), tmp_path / f"{csv.stem}_out"
     result = procs.run("pdr-ekf", "run", str(bag), "--out", str(out), *run_args)
     assert result.returncode == 0, result.stderr
     return json.loads((out / "report.json").read_text())

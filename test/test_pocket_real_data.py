@@ -11,6 +11,8 @@ per gait cycle. The board's level walks also go without their gyroscope, as the 
 phone does."""
 from __future__ import annotations
 
+import contextlib
+import io
 import itertools
 import json
 
@@ -45,9 +47,12 @@ def truth_footfalls(name: str) -> int:
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """Each recording imported with pdr-sim import-csv and navigated by pdr-pocket run:
-    its report and its step poses (N, 3)."""
-    from wstest import Processes
+    """Each recording imported with pdr-sim import-csv (once per session, wstest.imported)
+    and navigated by pdr-pocket run (its ``main``, in this process: ten interpreter starts
+    spared): its report, its step poses (N, 3) and its bag; the processes and the module's
+    folder for the tests that write."""
+    from pdr_pocket.cli import main
+    from wstest import Processes, imported
     folder = tmp_path_factory.mktemp("pocket_real")
     procs = Processes(0, folder)
     sources = {name: (THIGH / name / "imu.csv", IMPORT) for name in BOARD}
@@ -56,16 +61,14 @@ def runs(tmp_path_factory):
     sources["oxford"] = (OXFORD, OXFORD_ARGS)
     out = {}
     for name, (csv, args) in sources.items():
-        imported = procs.run("pdr-sim", "import-csv", str(csv), "--out",
-                             str(folder / f"{name}_bag"), *args)
-        assert imported.returncode == 0, imported.stderr
-        ran = procs.run("pdr-pocket", "run", str(folder / f"{name}_bag"), "--out",
-                        str(folder / name))
-        assert ran.returncode == 0, ran.stderr
+        bag = imported(csv, args)
+        with pytest.raises(SystemExit) as ran, contextlib.redirect_stdout(io.StringIO()):
+            main(["run", str(bag), "--out", str(folder / name)])
+        assert ran.value.code == 0, name
         report = json.loads((folder / name / "report.json").read_text())
         poses = BagReader(folder / name).read("/pdr/pocket/pose")["pose.pose.position"]
-        out[name] = (report, poses.reshape(-1, 3), folder / f"{name}_bag")
-    return out, procs
+        out[name] = (report, poses.reshape(-1, 3), bag)
+    return out, procs, folder
 
 
 @pytest.mark.parametrize("name", [*BOARD, "norm_thigh_1_no_gyro", "fast_thigh_1_no_gyro",
@@ -130,9 +133,9 @@ def test_the_report_says_what_counted_the_steps(runs):
 
 @pytest.mark.parametrize("name", ["norm_thigh_1", "s_both_thigh_1"])
 def test_attitude_runs_through_without_nans_and_flags_saturation(runs, name):
-    _, procs = runs
+    _, procs, folder = runs
     bag = runs[0][name][2]
-    out = bag.parent / f"{name}_attitude"
+    out = folder / f"{name}_attitude"
     result = procs.run("pdr-pocket", "attitude", str(bag), "--out", str(out))
     assert result.returncode == 0, result.stderr
     report = json.loads((out / "report.json").read_text())
@@ -164,12 +167,12 @@ def test_pitch_swings_once_per_gait_cycle(runs, name):
 
 
 def test_calibrate_mag_reports_the_coverage_of_a_walk(runs):
-    _, procs = runs
+    _, procs, folder = runs
     bag = runs[0]["norm_thigh_1"][2]
     refused = procs.run("pdr-pocket", "calibrate-mag", str(bag), "--out",
-                        str(bag.parent / "mag.yaml"))
+                        str(folder / "mag.yaml"))
     assert refused.returncode == 2 and "% of the sphere of directions" in refused.stderr
     forced = procs.run("pdr-pocket", "calibrate-mag", str(bag), "--out",
-                       str(bag.parent / "mag.yaml"), "--min-coverage", "0")
+                       str(folder / "mag.yaml"), "--min-coverage", "0")
     assert forced.returncode == 0, forced.stderr
     assert "% of the sphere" in forced.stdout

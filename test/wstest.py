@@ -1,7 +1,12 @@
 """Helpers for the cross-package tests: paths, and ``./ws`` processes in one ROS domain."""
 from __future__ import annotations
 
+import contextlib
+import fcntl
+import hashlib
+import io
 import os
+import shutil
 import signal
 import subprocess
 import time
@@ -94,6 +99,36 @@ class Processes:
             if proc.poll() is None:
                 proc.kill()
                 proc.wait()
+
+
+IMPORTS_ENV = "PDR_TEST_IMPORTS"    # the session's folder of imported recordings
+
+
+def imported(csv: Path, import_args: list[str]) -> Path:
+    """The bag ``pdr-sim import-csv CSV --out BAG IMPORT_ARGS`` writes (its ``main``, in
+    this process), imported once per test session: kept in the session's folder
+    (``$PDR_TEST_IMPORTS``, a temporary directory test/conftest.py makes and removes,
+    shared by the xdist workers; never in the repository) under a key of the file's path,
+    size, time and the arguments. A worker that finds another importing the same file
+    waits for it. Read it, do not write to it."""
+    stat = csv.stat()
+    key = hashlib.sha256(repr((str(csv), stat.st_size, stat.st_mtime_ns,
+                               import_args)).encode()).hexdigest()[:16]
+    folder = Path(os.environ[IMPORTS_ENV])
+    bag = folder / f"{csv.stem}_{key}"
+    with open(folder / f"{key}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not bag.exists():
+            partial = folder / f"{csv.stem}_{key}.partial"
+            shutil.rmtree(partial, ignore_errors=True)
+            from pdr_sim.cli import main  # in this process: no interpreter to start
+
+            with pytest.raises(SystemExit) as imported_csv, \
+                    contextlib.redirect_stdout(io.StringIO()):
+                main(["import-csv", str(csv), "--out", str(partial), *import_args])
+            assert imported_csv.value.code == 0, f"{csv}: import-csv failed"
+            partial.rename(bag)
+    return bag
 
 
 def wait_for_log(proc: subprocess.Popen, *texts: str, timeout: float = 60.0) -> None:

@@ -49,10 +49,12 @@ no_mag="$root/src/pdr_pocket/config/pocket_pdr_no_mag.yaml"
   > /dev/null
 "$root/ws" pdr-pocket run "$pocket/simulated" --config "$no_mag" --out "$pocket/offline" \
   --drift online > "$pocket/report.json"
+# a path per step and one again per accepted correction (its steps run again)
 expected=$(python -c "import json,sys; r=json.load(open(sys.argv[1])); d=r['drift']
-print(r['steps'] + d['landmarks'] + d['associations'])" "$pocket/report.json")
+print(2 * r['steps'] + d['landmarks'] + d['associations'] + d['corrections_accepted'])" \
+  "$pocket/report.json")
 live_graph "$pocket" "$pocket/simulated" "[/imu/data, /imu/mag]" \
-  "[pdr/pocket/pose, pdr/landmarks, pdr/drift]" "$expected" 10.0 \
+  "[pdr/pocket/pose, pdr/pocket/path, pdr/landmarks, pdr/drift]" "$expected" 0.0 \
   "pocket_pdr --ros-args -p imu_durability:=transient_local -p config:=$no_mag" \
   "landmark_drift"
 grep -h "correction accepted\|correction refused" "$pocket/landmark_drift.log" | tail -n 3
@@ -61,6 +63,7 @@ import sys
 from pathlib import Path
 import numpy as np
 from pdr_core.bag import BagReader
+from pdr_core.msgtypes import typestore
 from pdr_drift.plots import paths_png
 folder = Path(sys.argv[1])
 sim = BagReader(folder / "simulated")
@@ -69,7 +72,10 @@ truth = np.c_[np.cumsum(steps["length"] * np.cos(steps["heading"])),
               np.cumsum(steps["length"] * np.sin(steps["heading"]))]
 alone = BagReader(folder / "alone").read("/pdr/pocket/pose")["pose.pose.position"][:, :2]
 live = BagReader(folder / "live")
-corrected = live.read("/pdr/pocket/pose")["pose.pose.position"][:, :2]
+# the navigator's last path: the steps a correction ran again in their final place
+*_, last = live.raw_messages(["/pdr/pocket/path"])
+path = typestore().deserialize_cdr(last.data, last.msgtype)
+corrected = np.array([[p.pose.position.x, p.pose.position.y] for p in path.poses])
 marks = live.read("/pdr/landmarks")["position"][:, :2]
 drift = live.read("/pdr/drift")
 start = np.zeros((1, 2))

@@ -22,9 +22,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.stats import chi2
 
 from pdr_core.angles import circular_mean
+from pdr_core.chi2 import chi2_quantile
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, LandmarkType
 from pdr_drift.corners import Corner, StepSample
 
@@ -98,7 +98,7 @@ class LandmarkDatabase:
 
     @property
     def kappa(self) -> float:
-        return float(np.sqrt(chi2.ppf(self.gate_probability, self.gate_dof)))
+        return float(np.sqrt(chi2_quantile(self.gate_probability, self.gate_dof)))
 
     def candidates(self, landmark: Landmark) -> list[Association]:
         """Every stored landmark ``landmark`` may revisit: of its type and floor, at least

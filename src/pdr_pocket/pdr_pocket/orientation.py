@@ -18,9 +18,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.stats import chi2
 
 from pdr_core.angles import wrap_angle
+from pdr_core.chi2 import chi2_quantile
 from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_pocket import compiled_orientation as kernel
 from pdr_pocket.compiled_orientation import (
@@ -191,7 +191,7 @@ class OrientationFilter:
             return (f"{what}: value {value!r} with variance {variance!r} is not usable "
                     "(finite, variance > 0)"), np.nan
         nis, innovation, predicted = self._nis(kind, value, variance)
-        limit = chi2.ppf(GATE_PROBABILITY, 1)
+        limit = chi2_quantile(GATE_PROBABILITY, 1)
         if nis > limit:
             return (f"{what} refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} (the "
                     f"change {innovation:+.4g} {unit} against the predicted variance "

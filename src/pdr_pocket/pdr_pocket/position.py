@@ -31,9 +31,9 @@ correlation with the heading is kept honest).
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import chi2
 
 from pdr_core.angles import wrap_angle
+from pdr_core.chi2 import chi2_quantile
 from pdr_pocket.config import PositionConfig
 
 X, Y, Z, PSI, EPS = range(5)
@@ -102,7 +102,7 @@ class PositionFilter:
             return "position fix: both covariances zero", np.nan
         s = (self.p[:3, :3] + r)[np.ix_(keep, keep)]
         nis = float(innovation[keep] @ np.linalg.solve(s, innovation[keep]))
-        limit = float(chi2.ppf(self.config.correction_gate_probability, int(keep.sum())))
+        limit = float(chi2_quantile(self.config.correction_gate_probability, int(keep.sum())))
         if nis > limit:
             return (f"position fix refused by the χ² gate: NIS {nis:.1f} > {limit:.1f} "
                     f"({int(keep.sum())} dof, the change {_xyz(innovation)} m)"), nis

@@ -23,7 +23,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import butter, sosfilt, sosfilt_zi
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_pocket.compiled_peaks import (
@@ -141,6 +140,8 @@ class FootfallDetector:
                 return np.empty((0, N_EVENT_COLUMNS))
             self.waiting = None
             self._design(float(np.median(np.diff(t[:RATE_SAMPLES + 1]))), force[0])
+        from scipy.signal import sosfilt  # 1 s to import: only without a gyroscope
+
         low, self.zi = sosfilt(self.sos, force, zi=self.zi)
         events = np.empty((len(t) // 2 + 1, N_EVENT_COLUMNS))
         c = self.config
@@ -149,6 +150,8 @@ class FootfallDetector:
         return events[:count]
 
     def _design(self, period_s: float, first: float) -> None:
+        from scipy.signal import butter, sosfilt_zi
+
         nyquist = 0.5 / period_s
         cutoff = min(self.config.footfall_cutoff_hz, 0.8 * nyquist)
         self.sos = butter(4, cutoff / nyquist, output="sos")

@@ -38,7 +38,6 @@ from pdr_core.csv_import import (
 )
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
-from pdr_sim import plots
 from pdr_sim.allan_report import allan_report
 from pdr_sim.foot_trajectory import level_walk_like
 from pdr_sim.overrides import with_overrides
@@ -127,6 +126,8 @@ def _run_generate(args: argparse.Namespace) -> int:
           f"({sim.trajectory.t[-1]:.1f} s), {_route_summary(sim)}, imu {args.imu}, "
           f"seed {args.seed}")
     if args.plot:
+        from pdr_sim import plots  # Matplotlib: only for the plots
+
         args.plot.mkdir(parents=True, exist_ok=True)
         title = f"{scenario.name}, {args.imu}, {args.rate:g} Hz"
         plots.trajectory_png(sim.trajectory, args.plot / "trajectory.png", title,
@@ -218,6 +219,8 @@ def _run_fit_steps(args: argparse.Namespace) -> int:
           f"{pattern.swing_s:.3f} s; RMS residual along-track {rms_along:.3f} m, height "
           f"{rms_up:.3f} m; wrote {args.out}")
     if args.plot:
+        from pdr_sim import plots  # Matplotlib: only for the plots
+
         plots.step_fit_png(steps.t, steps.xyz, pattern.s, pattern.z, args.plot, str(args.bag))
         print(f"plot: {args.plot}")
     return 0

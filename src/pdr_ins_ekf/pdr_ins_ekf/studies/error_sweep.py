@@ -30,9 +30,9 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.stats import chi2
 
 from pdr_core import units
+from pdr_core.chi2 import chi2_quantile
 from pdr_ins_ekf.studies.ekf_montecarlo import filter_for, run_batch
 from pdr_ins_ekf.studies.montecarlo import NoiseLevels, Walk, noisy_signals, straight_walk
 from pdr_ins_ekf.studies.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
@@ -152,8 +152,8 @@ def _spread(error: np.ndarray) -> tuple[float, float, float]:
     error on this walk is not noise) and its 90 % interval from len(error) runs."""
     n = len(error)
     std = float(np.std(error, ddof=1))
-    return (std, std * float(np.sqrt((n - 1) / chi2.ppf(0.95, n - 1))),
-            std * float(np.sqrt((n - 1) / chi2.ppf(0.05, n - 1))))
+    return (std, std * float(np.sqrt((n - 1) / chi2_quantile(0.95, n - 1))),
+            std * float(np.sqrt((n - 1) / chi2_quantile(0.05, n - 1))))
 
 
 def sweep_values(parameter: str, points: int) -> np.ndarray:

@@ -17,7 +17,6 @@ Messages go out as raw CDR, so subscribers receive them bit for bit.
 """
 from __future__ import annotations
 
-import os
 import sys
 import time
 from collections.abc import Callable, Iterable
@@ -30,9 +29,8 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 
 from pdr_core import topics as bag_topics
 from pdr_core.bag import RawMessage
-from pdr_core.config_files import shipped_config_dir
 from pdr_core.errors import InputError
-from pdr_core.node_main import check_params_files
+from pdr_core.node_main import check_params_files, use_fast_acks
 from pdr_core.node_params import declare
 from pdr_sim.nodes.ros_types import message_class
 
@@ -42,17 +40,10 @@ RELIABLE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
 _NS = 1_000_000_000
 
 
-def use_fast_heartbeats() -> None:
-    """Point Fast DDS at the players' profile (5 ms heartbeats, so acknowledgements come
-    quickly) unless the user chose a profile already. Call before ``rclpy.init``."""
-    profile = shipped_config_dir("pdr_sim") / "bag_play_fastdds.xml"
-    os.environ.setdefault("FASTRTPS_DEFAULT_PROFILES_FILE", str(profile))
-
-
 def run_player(name: str, make_node: Callable[[], Node], args: list[str] | None) -> None:
-    """``main`` of a player node: fast heartbeats, init, ``node.run()`` as exit status
+    """``main`` of a player node: fast acknowledgements, init, ``node.run()`` as exit status
     (2 for bad parameters, 130 on interrupt), clean shutdown."""
-    use_fast_heartbeats()
+    use_fast_acks()
     status = 1
     node = None
     try:
