@@ -406,6 +406,8 @@ def test_landmark_drift_killed_and_restarted_keeps_its_landmarks(procs, tmp_path
     assert procs.stop(navigator, signal.SIGINT) == 0, log_text(navigator)
 
 
+@pytest.mark.slow("two whole graphs (eight processes) play two walks at once in one "
+                  "domain, and bob's walk is simulated and navigated in process first")
 def test_two_people_in_one_domain_keep_their_own_frames(procs, tmp_path, walk, online):
     """Issue 29, acceptance 2: two namespaced pocket graphs (/alice and /bob, each a
     bag_play, a pocket_pdr, a landmark_drift and a recorder) in one ROS domain, each with
