@@ -25,6 +25,7 @@ def cli(prog: str, *args: str, cwd=None) -> subprocess.CompletedProcess:
                           text=True, timeout=120, cwd=cwd)
 
 
+LOG = "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z\n0.00,0,0,9.8,0,0,0\n0.01,0,0,9.8,0,0,0\n"
 # Every subcommand that reads a bag, with its other required options
 READS_A_BAG = [("pdr-pocket", "run", "--out", "o"), ("pdr-pocket", "attitude", "--out", "o"),
                ("pdr-pocket", "calibrate-step", "--distance-m", "10", "--out", "o.yaml"),
@@ -38,18 +39,29 @@ READS_A_BAG = [("pdr-pocket", "run", "--out", "o"), ("pdr-pocket", "attitude", "
 @pytest.mark.parametrize("command", READS_A_BAG, ids=[" ".join(c[:2]) for c in READS_A_BAG])
 def test_a_csv_log_for_a_bag_points_to_import_csv(tmp_path, command, suffix):
     log = tmp_path / f"walk{suffix}"
-    log.write_text("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z\n0.00,0,0,9.8,0,0,0\n"
-                   "0.01,0,0,9.8,0,0,0\n")
+    log.write_text(LOG)
     prog, sub, *options = command
     result = cli(prog, sub, str(log), *options, cwd=tmp_path)
     assert result.returncode == 2, result.stdout
     [line] = result.stderr.splitlines()
     assert line.startswith(f"{prog}: error: {log}: a CSV log, not a bag")
     assert "MCAP file" not in line
-    example = line.split("`")[1]
-    assert example == (f"pdr-sim import-csv {log} --out walk_bag --time-col t "
-                       "--acc-cols acc_x,acc_y,acc_z --gyro-cols gyr_x,gyr_y,gyr_z")
-    ran = cli("pdr-sim", *shlex.split(example)[1:], cwd=tmp_path)
+    assert line.split("`")[1] == suggested_import(log)
+
+
+def suggested_import(log) -> str:
+    """The command every refusal of ``log`` suggests: the same for every subcommand."""
+    return (f"pdr-sim import-csv {log} --out walk_bag --time-col t "
+            "--acc-cols acc_x,acc_y,acc_z --gyro-cols gyr_x,gyr_y,gyr_z")
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".txt"])
+def test_the_suggested_import_command_runs(tmp_path, suffix):
+    """The command the refusals above suggest, run as given, writes the log's two samples
+    (run once per suffix: the refusals all suggest this one)."""
+    log = tmp_path / f"walk{suffix}"
+    log.write_text(LOG)
+    ran = cli("pdr-sim", *shlex.split(suggested_import(log))[1:], cwd=tmp_path)
     assert ran.returncode == 0, ran.stderr
     assert len(BagReader(tmp_path / "walk_bag").read("/imu/data")) == 2
 
