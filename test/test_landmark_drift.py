@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader, write_batches
-from pdr_core.msgtypes import typestore
+from pdr_core.nav_path import last_path
 from wstest import ROOT, log_text, wait_for_log
 
 pytestmark = pytest.mark.ros
@@ -96,10 +96,7 @@ def run_graph(procs, folder, walk, report: dict, rate: float = 0.0,
 
 def final_path(live: BagReader) -> np.ndarray:
     """The positions of the last ``pdr/pocket/path`` recorded (N, 3) [m]."""
-    *_, last = live.raw_messages(["/pdr/pocket/path"])
-    path = typestore().deserialize_cdr(last.data, last.msgtype)
-    return np.array([[p.pose.position.x, p.pose.position.y, p.pose.position.z]
-                     for p in path.poses])
+    return last_path(live, "/pdr/pocket/path")["pose.position"]
 
 
 def assert_equals_in_process(run: GraphRun, offline, report: dict, atol: float) -> None:

@@ -63,7 +63,7 @@ import sys
 from pathlib import Path
 import numpy as np
 from pdr_core.bag import BagReader
-from pdr_core.msgtypes import typestore
+from pdr_core.nav_path import last_path
 from pdr_drift.plots import paths_png
 folder = Path(sys.argv[1])
 sim = BagReader(folder / "simulated")
@@ -73,9 +73,7 @@ truth = np.c_[np.cumsum(steps["length"] * np.cos(steps["heading"])),
 alone = BagReader(folder / "alone").read("/pdr/pocket/pose")["pose.pose.position"][:, :2]
 live = BagReader(folder / "live")
 # the navigator's last path: the steps a correction ran again in their final place
-*_, last = live.raw_messages(["/pdr/pocket/path"])
-path = typestore().deserialize_cdr(last.data, last.msgtype)
-corrected = np.array([[p.pose.position.x, p.pose.position.y] for p in path.poses])
+corrected = last_path(live, "/pdr/pocket/path")["pose.position"][:, :2]
 marks = live.read("/pdr/landmarks")["position"][:, :2]
 drift = live.read("/pdr/drift")
 start = np.zeros((1, 2))

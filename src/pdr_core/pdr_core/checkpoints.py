@@ -98,6 +98,11 @@ class Checkpoints(Generic[State, Inputs]):
         """The checkpoints' instants [s], oldest first."""
         return tuple(self._t)
 
+    @property
+    def latest_s(self) -> float | None:
+        """The latest checkpoint's instant [s] (None: none kept)."""
+        return self._t[-1] if self._t else None
+
     def remember(self, t_s: float, state: State) -> None:
         """A copy of ``state`` as the checkpoint at ``t_s`` [s], the latest one (instants
         increase: one before the latest is refused with ValueError)."""

@@ -78,3 +78,11 @@ def path_poses(msg: Any) -> MessageBatch:
          "pose.orientation": np.array([[p.pose.orientation.x, p.pose.orientation.y,
                                         p.pose.orientation.z, p.pose.orientation.w]
                                        for p in poses], float).reshape(-1, 4)})
+
+
+def last_path(reader, topic: str) -> MessageBatch:
+    """The poses of the last ``nav_msgs/Path`` on ``topic`` of a bag
+    (:class:`pdr_core.bag.BagReader`): a navigator's path as it finally had it, the steps
+    a correction ran again in their place (pocket_pdr publishes its path again then)."""
+    *_, last = reader.raw_messages([topic])
+    return path_poses(typestore().deserialize_cdr(last.data, last.msgtype))

@@ -14,7 +14,7 @@ from pdr_core.bag import BagReader, BagWriter, merged_messages, readable_extent,
 from pdr_core.batch import LazyBatch
 from pdr_core.errors import InputError, InputWarning
 from pdr_core.msgtypes import PATH, typestore
-from pdr_core.nav_path import path_message, path_poses
+from pdr_core.nav_path import last_path, path_message, path_poses
 
 
 def assert_same(a, b):
@@ -64,6 +64,16 @@ def test_path_roundtrip(tmp_path, pose):
     [(t, back)] = BagReader(out).read_messages("/pdr/foot/path")
     assert t == pose.stamp_ns[-1]
     assert_same(path_poses(back), pose)
+
+
+def test_last_path_is_the_latest_of_the_topic(tmp_path, pose):
+    """pocket_pdr publishes its path again after a correction: the last one is read."""
+    end = int(pose.stamp_ns[-1])
+    first = path_message(pose.take(slice(0, 10)), end - 1, "map")
+    last = path_message(pose, end, "map")
+    write_batches(tmp_path / "bag", {}, {"/pdr/foot/path": (PATH, [(end - 1, first),
+                                                                   (end, last)])})
+    assert_same(last_path(BagReader(tmp_path / "bag"), "/pdr/foot/path"), pose)
 
 
 def test_missing_bag(tmp_path):

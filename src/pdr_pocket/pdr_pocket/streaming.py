@@ -303,7 +303,7 @@ class StreamingPocket:
         if not missing.all():
             self.paired_ns = int(stamps[~missing][-1])
         gyro = np.array([h[2] for h in held])
-        inputs = ((stamps - self.t0_ns) * 1e-9, None if np.isnan(gyro).all() else gyro,
+        inputs = (self._time_s(stamps), None if np.isnan(gyro).all() else gyro,
                   np.array([h[1] for h in held]), mag)
         out = self._run_kept(self.navigator, inputs)
         return [Processed(stamps, out, self.t0_ns)]
@@ -313,11 +313,11 @@ class StreamingPocket:
         with a checkpoint before each, :data:`CHECKPOINT_EVERY_S` apart at least."""
         t, outputs, start = inputs[0], [], 0
         while start < len(t):
-            instants = self.history.instants
-            if not instants or t[start] - instants[-1] >= CHECKPOINT_EVERY_S:
-                self.history.remember(float(t[start]), navigator)
-                instants = self.history.instants
-            end = int(np.searchsorted(t, instants[-1] + CHECKPOINT_EVERY_S, side="left"))
+            latest = self.history.latest_s
+            if latest is None or t[start] - latest >= CHECKPOINT_EVERY_S:
+                latest = float(t[start])
+                self.history.remember(latest, navigator)
+            end = int(np.searchsorted(t, latest + CHECKPOINT_EVERY_S, side="left"))
             end = max(end, start + 1)
             part = tuple(None if x is None else x[start:end] for x in inputs)
             outputs.append(navigator.process(*part))
@@ -333,13 +333,13 @@ class StreamingPocket:
         if stamp_ns == 0:
             accepted, message = self.navigator.apply_correction(*correction)
             if accepted and self.processed_ns is not None:
-                t_now = (self.processed_ns - self.t0_ns) * 1e-9
+                t_now = self._time_s(self.processed_ns)
                 self.history.record(TakenCorrection(t_now, correction), t_now)
             return self._counted(CorrectionResult(accepted, message))
         problem = self._stamp_problem(stamp_ns)
         if problem is not None:
             return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
-        t_c = (stamp_ns - self.t0_ns) * 1e-9
+        t_c = self._time_s(stamp_ns)
         looked = self.history.look_back(t_c)
         navigator = looked.state
         before, after = _split(looked.inputs, t_c)
@@ -355,7 +355,7 @@ class StreamingPocket:
         revised = []
         for item in after:
             if isinstance(item, TakenCorrection):
-                navigator.apply_correction(*item.values)
+                _run(navigator, item)
                 self.history.record(item, item.t_s)
                 continue
             out = self._run_kept(navigator, item)
@@ -373,7 +373,7 @@ class StreamingPocket:
             return (f"stamp {stamp_ns} ns is after the last sample processed "
                     f"({self.processed_ns} ns): no step of this navigator")
         instants = self.history.instants
-        t_c = (stamp_ns - self.t0_ns) * 1e-9
+        t_c = self._time_s(stamp_ns)
         if not instants or t_c < instants[0]:
             oldest = "nothing kept" if not instants else \
                 f"kept back to {stamp_of(self.t0_ns, instants[0])} ns"
@@ -381,6 +381,11 @@ class StreamingPocket:
                     f"(correction_window_s {self.correction_window_s:g} s of IMU data, "
                     f"{oldest}; the last sample processed {self.processed_ns} ns)")
         return None
+
+    def _time_s(self, stamp_ns):
+        """The navigator's time [s] of stamps [ns], one or an array (:func:`stamp_of`'s
+        inverse)."""
+        return (stamp_ns - self.t0_ns) * 1e-9
 
     def _counted(self, result: CorrectionResult) -> CorrectionResult:
         self.corrections["accepted" if result.accepted else "refused"] += 1

@@ -18,7 +18,7 @@ published in between are replaced by those of its answer (``revised_steps``,
 whatever the answer's delay, the steps and poses that come while a correction is
 outstanding are held (the corrections go one at a time); once answered, the revised ones
 are taken in their place, then those held that come after them, and any copy of a
-replaced one that comes late is dropped (counted). The result equals the in-process loop
+replaced one that comes late is dropped. The result equals the in-process loop
 (``pdr-pocket run --drift online``) at any replay speed. ``correction_delay_steps`` holds
 each correction back until that many more steps have come (or ``max_retries`` retry
 periods without them), to test a late answer.
@@ -51,7 +51,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from pdr_core import topics
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME
-from pdr_core.headers import NS_PER_S, set_header, stamp_ns
+from pdr_core.headers import set_header, set_time, stamp_ns
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
@@ -105,8 +105,7 @@ class LandmarkDriftNode(Node):
         self.held: list = []                 # steps and poses come while one is outstanding
         self.held_steps = self.delay_ticks = 0
         self.revision = None                 # the last accepted answer not yet taken
-        self.superseded_until: int | None = None
-        self.superseded = 0
+        self.superseded_until: int | None = None   # the last revised step's stamp [ns]
         self.create_timer(retry_period, self.on_timer)
         self.reported: dict[str, int] = {}
         self.other_frame = 0
@@ -155,8 +154,7 @@ class LandmarkDriftNode(Node):
         outstanding (module docstring); one the last revision replaced is dropped."""
         if self.in_other_frame(msg):
             return
-        if self.superseded_until is not None and stamp_ns(msg) <= self.superseded_until:
-            self.superseded += 1
+        if self.replaced(msg):
             return
         if self.waiting or self.in_flight:
             self.held.append(msg)
@@ -164,6 +162,11 @@ class LandmarkDriftNode(Node):
             self.service_corrections()
             return
         self.take(msg)
+
+    def replaced(self, msg) -> bool:
+        """A step or pose the last revision replaced (a copy of one published before the
+        correction came): dropped without a warning."""
+        return self.superseded_until is not None and stamp_ns(msg) <= self.superseded_until
 
     def take(self, msg) -> None:
         """A step or a pose to the estimator, and what comes of it."""
@@ -211,7 +214,7 @@ class LandmarkDriftNode(Node):
                 gyro_bias_z=float(correction.gyro_bias_z),
                 gyro_bias_z_variance=float(correction.gyro_bias_z_variance),
                 has_position=True)
-            request.stamp.sec, request.stamp.nanosec = divmod(stamp, NS_PER_S)
+            set_time(request.stamp, stamp)
             request.position.x, request.position.y, request.position.z = map(
                 float, correction.position)
             request.position_covariance = [float(v) for v in correction.position_covariance.ravel()]
@@ -270,11 +273,7 @@ class LandmarkDriftNode(Node):
             queue = [m for pair in zip(revision.revised_steps, revision.revised_poses,
                                        strict=True) for m in pair]
             self.superseded_until = stamp_ns(revision.revised_poses[-1])
-        for msg in self.held:
-            if self.superseded_until is not None and stamp_ns(msg) <= self.superseded_until:
-                self.superseded += 1
-            else:
-                queue.append(msg)
+        queue += [msg for msg in self.held if not self.replaced(msg)]
         self.held = []
         for i, msg in enumerate(queue):
             if self.waiting or self.in_flight:

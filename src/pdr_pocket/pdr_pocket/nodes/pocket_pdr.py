@@ -21,8 +21,8 @@ calibrate-mag; overrides the configuration's), ``map_frame`` (the frame of the s
 poses and path: REP-105's map, pdr_core.frames), ``sensor_frame`` (the frame of the
 attitude's rates and of the gyro bias: the IMU's), ``imu_durability`` (volatile or
 transient_local, to match the publisher), ``correction_window_s`` (60.0: how far back a
-stamped correction may reach, in seconds of IMU data), ``mag_wait_s`` (1.0: how long a sample waits
-for a late magnetometer reading, in seconds of IMU data). The start-up line names the
+stamped correction may reach, in seconds of IMU data), ``mag_wait_s`` (1.0: how long a
+sample waits for a late magnetometer reading, in seconds of IMU data). The start-up line names the
 resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
@@ -51,7 +51,7 @@ from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
-from pdr_core.headers import NS_PER_S, set_header, stamp_ns
+from pdr_core.headers import set_header, stamp_ns, time_ns
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
@@ -230,7 +230,7 @@ class PocketPdrNode(Node):
         position = (request.position.x, request.position.y, request.position.z) \
             if request.has_position else None
         covariance = list(request.position_covariance) if request.has_position else None
-        stamp = request.stamp.sec * NS_PER_S + request.stamp.nanosec
+        stamp = time_ns(request.stamp)
         try:
             result = self.navigator.apply_correction(
                 request.yaw, request.yaw_variance, request.gyro_bias_z,
