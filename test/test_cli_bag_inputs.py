@@ -5,24 +5,15 @@ from __future__ import annotations
 
 import json
 import shlex
-import subprocess
-import sys
 
 import pytest
 
 from pdr_core.bag import BagReader, write_batches
-from wstest import ROOT
+from wstest import ROOT, cli
 
-MODULES = {"pdr-sim": "pdr_sim.cli", "pdr-pocket": "pdr_pocket.cli",
-           "pdr-ekf": "pdr_ins_ekf.cli", "pdr-drift": "pdr_drift.cli"}
 POCKET_WALK = ROOT / "bags" / "pocket_walk"
 REPORT_KEYS = ("duration_s", "distance_m", "final_error_m", "final_error_pct",
                "mean_error_3d_m", "armse_3d_m", "armse_2d_m")
-
-
-def cli(prog: str, *args: str, cwd=None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", MODULES[prog], *args], capture_output=True,
-                          text=True, timeout=120, cwd=cwd)
 
 
 LOG = "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z\n0.00,0,0,9.8,0,0,0\n0.01,0,0,9.8,0,0,0\n"

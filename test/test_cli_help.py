@@ -4,7 +4,8 @@ a file the repository does not hold.
 
 The subcommands are found from each CLI's own parser, so a new one is tested too. The
 top-level commands run as the installed executables (install/PKG/lib/PKG/PROG, what
-``./ws pdr-pocket --help`` runs once built), the subcommands as ``python -m <module>``.
+``./ws pdr-pocket --help`` runs once built), the subcommands by their CLI's ``main`` in
+the test's process (wstest.cli).
 """
 from __future__ import annotations
 
@@ -12,14 +13,11 @@ import argparse
 import importlib
 import re
 import subprocess
-import sys
 
 import pytest
 
-from wstest import ROOT
+from wstest import CLIS, ROOT, cli
 
-CLIS = {"pdr-sim": "pdr_sim.cli", "pdr-pocket": "pdr_pocket.cli",
-        "pdr-ekf": "pdr_ins_ekf.cli", "pdr-drift": "pdr_drift.cli"}
 RST_MARKUP = re.compile(r"``|`|:(class|func|meth|data|mod|attr):")
 # Option names that carry their unit (--rest-s, --floor-height-m, --field-norm-ut)
 UNIT_SUFFIX = re.compile(r"-(s|m|hz|ut|mps|ns|deg)$")
@@ -45,9 +43,10 @@ def installed(prog: str) -> str:
 
 
 def run_help(prog: str, path: tuple[str, ...]) -> subprocess.CompletedProcess:
-    command = [installed(prog)] if not path else [sys.executable, "-m", CLIS[prog], *path]
-    return subprocess.run([*command, "--help"], capture_output=True, text=True, timeout=120,
-                          cwd=ROOT)
+    if path:
+        return cli(prog, *path, "--help")
+    return subprocess.run([installed(prog), "--help"], capture_output=True, text=True,
+                          timeout=120, cwd=ROOT)
 
 
 def entries(text: str) -> dict[str, str]:

@@ -4,22 +4,15 @@ it; ``--force`` imports them as read with a warning, and then the navigators ref
 naming the topic, the value with its unit and the same fix."""
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
 from pdr_core.bag import BagReader
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from wstest import cli
 
 COLUMNS = ["--time-col", "t", "--acc-cols", "ax,ay,az", "--gyro-cols", "gx,gy,gz",
            "--mag-cols", "mx,my,mz"]
-
-
-def cli(module: str, *args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", module, *args], capture_output=True,
-                          text=True, timeout=120)
 
 
 def write_walk(path, *, t_scale=1.0, acc_scale=1.0, gyro_scale=1.0, mag_scale=1.0, n=500):
@@ -62,7 +55,7 @@ def import_walk(tmp_path, mistake: str, *options: str, unit_options: bool = True
     options (unless not ``unit_options``) and ``options``: the CSV and the result."""
     scales, units, _ = MISTAKES[mistake]
     csv = write_walk(tmp_path / "walk.csv", **scales)
-    return csv, cli("pdr_sim.cli", "import-csv", str(csv), "--out", str(tmp_path / "bag"),
+    return csv, cli("pdr-sim", "import-csv", str(csv), "--out", str(tmp_path / "bag"),
                     *COLUMNS, *(units if unit_options else ()), *options)
 
 
@@ -104,41 +97,39 @@ def test_the_named_fix_imports_the_file(tmp_path, mistake):
 
 # A bag imported with --force, then navigated: (mistake, CLI, what its one line must say)
 LATER = [
-    ("acc_in_g_read_as_mps2", "pdr_pocket.cli", ["imu/data: median |f| 1.00", "m/s²",
+    ("acc_in_g_read_as_mps2", "pdr-pocket", ["imu/data: median |f| 1.00", "m/s²",
                                                  "the accelerometer looks like it is in g",
                                                  "re-import with pdr-sim import-csv "
                                                  "--acc-unit g"]),
-    ("time_in_ms_read_as_s", "pdr_pocket.cli", ["/imu/data: median sample interval 10 s",
+    ("time_in_ms_read_as_s", "pdr-pocket", ["/imu/data: median sample interval 10 s",
                                                 "re-import with pdr-sim import-csv "
                                                 "--time-unit ms"]),
-    ("mag_in_t_read_as_ut", "pdr_pocket.cli", ["/imu/mag: median |B| 4.472e-11 T",
+    ("mag_in_t_read_as_ut", "pdr-pocket", ["/imu/mag: median |B| 4.472e-11 T",
                                                "a column in T imported as µT",
                                                "re-import with pdr-sim import-csv "
                                                "--mag-unit t"]),
-    ("mag_in_ut_read_as_t", "pdr_pocket.cli", ["/imu/mag: median |B| 44.72 T",
+    ("mag_in_ut_read_as_t", "pdr-pocket", ["/imu/mag: median |B| 44.72 T",
                                                "the magnetometer looks like it is in µT",
                                                "re-import with pdr-sim import-csv "
                                                "--mag-unit ut"]),
-    ("acc_in_g_read_as_mps2", "pdr_ins_ekf.cli", ["imu/data: median |f| 1.00", "m/s²",
+    ("acc_in_g_read_as_mps2", "pdr-ekf", ["imu/data: median |f| 1.00", "m/s²",
                                                   "re-import with pdr-sim import-csv "
                                                   "--acc-unit g"]),
-    ("gyro_in_degps_read_as_radps", "pdr_ins_ekf.cli", [
+    ("gyro_in_degps_read_as_radps", "pdr-ekf", [
         "imu/data: 99th percentile of |ω|", "rad/s (expected at most 50 rad/s)",
         "the gyroscope looks like it is in deg/s",
         "re-import with pdr-sim import-csv --gyro-unit degps"]),
 ]
 
 
-@pytest.mark.parametrize("mistake, module, said", LATER,
-                         ids=[f"{m}-{c.split('.')[0]}" for m, c, _ in LATER])
+@pytest.mark.parametrize("mistake, prog, said", LATER, ids=[f"{m}-{c}" for m, c, _ in LATER])
 def test_navigators_refuse_a_forced_mistake_naming_topic_value_unit_and_fix(
-        tmp_path, mistake, module, said):
+        tmp_path, mistake, prog, said):
     _, imported = import_walk(tmp_path, mistake, "--force")
     assert imported.returncode == 0, imported.stderr
-    result = cli(module, "run", str(tmp_path / "bag"), "--out", str(tmp_path / "out"))
+    result = cli(prog, "run", str(tmp_path / "bag"), "--out", str(tmp_path / "out"))
     assert result.returncode == 2, result.stdout
     [line] = result.stderr.splitlines()
-    prog = "pdr-pocket" if module.startswith("pdr_pocket") else "pdr-ekf"
     assert line.startswith(f"{prog}: error: ")
     for words in said:
         assert words in line, (words, line)
@@ -153,15 +144,15 @@ def test_calibrate_mag_refuses_a_csv_in_t_read_as_ut_unless_forced(tmp_path):
     csv = tmp_path / "cal.csv"
     np.savetxt(csv, field_t, delimiter=",", header="mag_x,mag_y,mag_z", comments="")
     out = str(tmp_path / "mag.yaml")
-    result = cli("pdr_pocket.cli", "calibrate-mag", str(csv), "--out", out)
+    result = cli("pdr-pocket", "calibrate-mag", str(csv), "--out", out)
     assert result.returncode == 2
     assert result.stderr == (f"pdr-pocket: error: {csv}: columns mag_x,mag_y,mag_z: median "
                              "|B| 4.8e-05 µT = 4.8e-11 T, read in µT (--mag-unit ut); "
                              "expected 1-1000 µT: the data look like T: pass --mag-unit t "
                              "(or --force to accept them as read)\n")
-    forced = cli("pdr_pocket.cli", "calibrate-mag", str(csv), "--out", out, "--force")
+    forced = cli("pdr-pocket", "calibrate-mag", str(csv), "--out", out, "--force")
     assert forced.returncode == 0, forced.stderr
     assert forced.stderr.endswith("accepted as read (--force)\n")
-    fixed = cli("pdr_pocket.cli", "calibrate-mag", str(csv), "--out", out, "--mag-unit", "t")
+    fixed = cli("pdr-pocket", "calibrate-mag", str(csv), "--out", out, "--mag-unit", "t")
     assert fixed.returncode == 0 and fixed.stderr == "", fixed.stderr
     assert "|H| 48.00 µT" in fixed.stdout

@@ -1,11 +1,9 @@
 """The mechanization study reproduces the ranking of Zampella et al. 2011, Fig. 6:
 Padé [1,1] clearly worst; Padé [2,2], [3,3], Eq. (12) and expm close to each other."""
-import subprocess
-import sys
-
 import numpy as np
 
 from pdr_ins_ekf.studies.mechanization_study import run_study
+from wstest import cli
 
 
 def test_ranking_matches_the_paper():
@@ -20,7 +18,6 @@ def test_ranking_matches_the_paper():
 
 
 def test_cli_refuses_rates_outside_the_simulator_range(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "pdr_ins_ekf.cli", "study", "mechanization",
-                             "--rates", "10,100"], capture_output=True, text=True, timeout=120)
+    result = cli("pdr-ekf", "study", "mechanization", "--rates", "10,100")
     assert result.returncode == 2
     assert result.stderr == "pdr-ekf: error: --rates: 10 Hz is outside 50-1000 Hz\n"

@@ -200,7 +200,7 @@ class PocketNavigator:
         mounting_loop(self.mounting, params, MountingInputs(
             t, np.ascontiguousarray(rate), accel, attitude.attitude), thigh)
         self._count_motion(t, rate)
-        self.remounts_t.extend(t[np.flatnonzero(np.diff(np.r_[self.changes_seen, changes]))])
+        self.remounts_t.extend(t[np.flatnonzero(np.diff(changes, prepend=self.changes_seen))])
         self.changes_seen = changes[-1] if n else self.changes_seen
         # the vertical specific force (the stride model's range) and the norm (footfalls)
         forces = np.column_stack([np.einsum("nj,nj->n", attitude.attitude[:, 2, :], accel),
@@ -223,7 +223,7 @@ class PocketNavigator:
         gyroscope the accelerometer's motion measure, above ``moving_rate_deg_per_s``)."""
         if not len(t):
             return
-        dt = np.diff(np.r_[t[0] if self.last_t is None else self.last_t, t])
+        dt = np.diff(t, prepend=t[0] if self.last_t is None else self.last_t)
         self.last_t = float(t[-1])
         self.seen_s += float(dt.sum())
         self.moving_s += float(dt[rate > np.radians(
@@ -305,7 +305,7 @@ class PocketNavigator:
         known and unknown samples are taken whole."""
         change = np.flatnonzero(np.diff(known.astype(np.int8))) + 1
         segments = []
-        for a, b in zip(np.r_[0, change], np.r_[change, len(t)], strict=True):
+        for a, b in zip([0, *change], [*change, len(t)], strict=True):
             if a == b:
                 continue
             if not known[a]:

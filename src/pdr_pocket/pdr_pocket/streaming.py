@@ -79,6 +79,12 @@ class Processed:
         return stamp_of(self.t0_ns, t_s)
 
 
+def latest_before(stamps: np.ndarray, usable: np.ndarray, start: int) -> np.ndarray:
+    """For each of ``stamps`` [ns], the latest usable stamp before it, or ``start`` (the
+    last one kept before the block) when none is later."""
+    return np.maximum.accumulate(np.concatenate(([start], np.where(usable, stamps, start))))[:-1]
+
+
 def stamp_of(t0_ns: int, t_s: float) -> int:
     """The stamp [ns] of the navigator time ``t_s`` [s], its time 0 stamped ``t0_ns``."""
     return t0_ns + round(t_s * 1e9)
@@ -195,9 +201,9 @@ class StreamingPocket:
             values[finite] = self.calibration.apply(values[finite])
         stamps = np.asarray(stamp_ns, np.int64)
         start = self.mag_stamps[-1] if len(self.mag_stamps) else np.iinfo(np.int64).min
-        before = np.maximum.accumulate(np.r_[start, np.where(finite, stamps, start)])[:-1]
+        before = latest_before(stamps, finite, start)
         kept = finite & (stamps >= before)
-        self.mag_stamps = np.r_[self.mag_stamps, stamps[kept]]
+        self.mag_stamps = np.concatenate((self.mag_stamps, stamps[kept]))
         self.mag_values = np.vstack([self.mag_values, values[kept]])
         if self.last_stamp_ns is None and len(self.mag_stamps):   # no IMU yet: the last minute
             first = np.searchsorted(self.mag_stamps, self.mag_stamps[-1] - MAG_BEFORE_IMU_NS)
@@ -229,7 +235,7 @@ class StreamingPocket:
         self.counts["non_finite"] += int((~finite).sum())
         self.counts["implausible"] += int((finite & ~valid).sum())
         start = np.iinfo(np.int64).min if self.last_stamp_ns is None else self.last_stamp_ns
-        before = np.maximum.accumulate(np.r_[start, np.where(valid, stamps, start)])[:-1]
+        before = latest_before(stamps, valid, start)
         kept = valid & (stamps > before)
         self.counts["stamp_not_increasing"] += int((valid & ~kept).sum())
         if not kept.any():

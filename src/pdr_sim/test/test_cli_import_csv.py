@@ -1,17 +1,15 @@
-"""``pdr-sim import-csv`` as a process: bad input gives exit 2, one line, no output."""
-import subprocess
-import sys
-
+"""``pdr-sim import-csv`` as its console script runs it (its ``main``, in the test's process:
+wstest.cli): bad input gives exit 2, one line, no output."""
 import pytest
 
 from pdr_core.bag import BagReader
+from wstest import cli
 
 GOOD = "t,ax,ay,az\n0.00,0,0,9.8\n0.01,0,0,9.8\n0.02,0,0,9.8\n"
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "pdr_sim.cli", "import-csv", *args],
-                          capture_output=True, text=True, timeout=60)
+    return cli("pdr-sim", "import-csv", *args)
 
 
 def import_args(csv, out):
