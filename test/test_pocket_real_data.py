@@ -128,7 +128,8 @@ def test_the_report_says_what_counted_the_steps(runs):
     assert "no gyroscope" in without["detection"]["pitch_from"]
     assert without["detection"]["activities"].startswith("level only")
     assert with_gyro["step_length"] == {"model": "pitch", "calibrated": False,
-                                        "height_m": None, "scale": 1.0}
+                                        "height_m": None, "scale": 1.0,
+                                        "bounded_steps": 0}
 
 
 @pytest.mark.parametrize("name", ["norm_thigh_1", "s_both_thigh_1"])
@@ -176,3 +177,39 @@ def test_calibrate_mag_reports_the_coverage_of_a_walk(runs):
                        str(folder / "mag.yaml"), "--min-coverage", "0")
     assert forced.returncode == 0, forced.stderr
     assert "% of the sphere" in forced.stdout
+
+
+BACK_POCKET = OXFORD.parent / "opt_Samsung_Dario_Hard_BackPocket_1"
+
+
+def foot_switch_footfalls(csv) -> int:
+    """Footfalls of a foot-switch log (t_ns, left, right): the 0→1 edges of either."""
+    switches = np.loadtxt(csv, delimiter=",", usecols=(1, 2))
+    return int((np.diff(switches, axis=0) > 0).sum())
+
+
+@needs_shared(BACK_POCKET)
+def test_a_back_pocket_phone_walks_strides_a_person_walks():
+    """Issue 40: the phone on the buttock, no gyroscope, put in the pocket while walking.
+    Its first sample's specific force is not the thigh's; the mean walking pitch moves the
+    axes, so θ never jumps through ±180° but at a change of axes, every stride is within
+    the bound (the few cut to it said in a warning), and a footfall is 0.5-0.9 m (it was
+    4.4 m, from 360° swings). The footfalls, 205 for the foot switches' 198 (+3.5 %), are
+    not yet within issue 40's 3 % (docs/pocket.md)."""
+    from pdr_core.gait import stride_bound_m
+    from wstest import imported
+
+    bag = imported(BACK_POCKET / "accelerometer.csv",
+                   ["--no-header", "--time-col", "0", "--time-unit", "ns",
+                    "--acc-cols", "2,3,4"])
+    _, _, inputs = read_pocket_bag(bag)
+    navigator = PocketNavigator(PocketConfig())
+    out = navigator.process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
+    per_footfall = sum(s.length for s in out.steps) / foot_switch_footfalls(
+        BACK_POCKET / "stepcounter.csv")
+    assert 0.5 <= per_footfall <= 0.9, per_footfall
+    assert all(s.length <= stride_bound_m(s.duration) + 1e-12 for s in out.steps)
+    jumps = int((np.abs(np.diff(out.pitch)) > np.pi).sum())
+    assert jumps <= int(navigator.mounting.scalars["changes"]), jumps
+    assert navigator.bounded_steps <= 3, "only while the axes were being learned"
+    assert navigator.bound_warning().startswith(f"{navigator.bounded_steps} of 102 strides")

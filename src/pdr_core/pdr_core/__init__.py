@@ -56,6 +56,8 @@ Modules:
                               since: a late correction taken there and the inputs run
                               again (robot_localization's revertTo).
   Evaluation and figures
+    gait                      What a person can walk: the stride bound at a cadence, the
+                              walking speed limit.
     metrics                   Trajectory error metrics: the report.json fields
                               (docs/reports.md).
     plot_layout               Titles, top views and height axes shared by every PNG.

@@ -93,6 +93,7 @@ MOUNTING_SCALARS = np.dtype([
     ("seated_s", np.float64),       # the walking pitch beyond turned_pitch_angle this long [s]
     ("rate2", np.float64),          # the pitch rate's weighted second moment [rad²/s²]
     ("rate3", np.float64),          # ... and third [rad³/s³]
+    ("last_pitch", np.float64),     # the last θ given, NaN before any and after new axes [rad]
 ], align=True)
 CHANGES = "changes"                 # the field counting the mounting changes
 
@@ -162,6 +163,7 @@ def new_mounting_state(up=None, flexion=None) -> MountingState:
     """A fresh state; with ``up`` and ``flexion`` (a configured mounting) they are used."""
     scalars = np.zeros((), MOUNTING_SCALARS)
     scalars["flex_sign"] = 1.0
+    scalars["last_pitch"] = np.nan
     state = MountingState(scalars, np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((3, 3)),
                           np.zeros(3), np.zeros((3, 3)), np.zeros(3),
                           np.zeros((ANCHOR_RING, 3)), np.eye(3))
@@ -171,6 +173,16 @@ def new_mounting_state(up=None, flexion=None) -> MountingState:
         scalars["flex_known"] = True
         scalars["started"] = True
     return state
+
+
+@njit(cache=True)
+def _continued(last, angle):
+    """``angle`` [rad] taken 2π at a time to the nearest of ``last`` (NaN: as it is), so
+    that θ runs on through ±180° instead of jumping by 360° (a stride of 9 m from one
+    flip of a thigh frame still being learned)."""
+    if np.isnan(last) or np.isnan(angle):
+        return angle
+    return last + wrap_angle_jit(angle - last)
 
 
 @njit(cache=True)
@@ -209,6 +221,7 @@ def mounting_loop(state, params, inputs, out):
         w, a = rate[k], accel[k]
         dt = t[k] - s.last_t if s.started else 0.0
         s.last_t = t[k]
+        changes = s.changes
         if not params.fixed:
             if not s.started:
                 state.up[:] = _unit(a)
@@ -219,6 +232,8 @@ def mounting_loop(state, params, inputs, out):
                           _sample_turn(state.last_attitude, attitude[k]))
             state.last_attitude[:, :] = attitude[k]
             _motion(state, params, w, dt, attitude[k])
+        if s.changes != changes:            # new axes: θ starts afresh from them
+            s.last_pitch = np.nan
         known = s.flex_known
         up, flex = _thigh_axes(state.up, state.flex_raw, s.flex_sign)
         out.up[k] = up
@@ -226,7 +241,9 @@ def mounting_loop(state, params, inputs, out):
         out.known[k] = known
         out.changes[k] = s.changes
         if known:
-            out.pitch[k], out.heading[k] = thigh_angles(attitude[k], up, flex)
+            pitch, out.heading[k] = thigh_angles(attitude[k], up, flex)
+            out.pitch[k] = _continued(s.last_pitch, pitch)
+            s.last_pitch = out.pitch[k]
         else:
             out.pitch[k], out.heading[k] = np.nan, np.nan
 

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.angles import wrap_angle
+from pdr_core.gait import WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
 from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
 from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
@@ -148,6 +149,7 @@ class PocketNavigator:
         self.detector = PitchMaximumDetector(c.steps)
         self.classifier = activity_classifier(c.activity)
         self.stride = stride_model(c.step_length, c.person.height_m)
+        self.bounded_steps = 0                  # strides cut to what a person walks
         self.staircases = Staircases(c.stairs)
         self.position = PositionFilter(c.position)
         self.steps: list[StepRecord] = []
@@ -196,7 +198,9 @@ class PocketNavigator:
         # pitch's mean are off: the gravity direction's pitch is too rough for them
         params = self.mounting_params if gyro is not None else \
             self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf,
-                                          turned_pitch_angle=np.inf, skew_check=False)
+                                          skew_check=False)
+        # (the mean walking pitch's check stays: a phone put in the pocket while walking
+        # leaves u at the first sample's specific force, and the walking mean moves it)
         mounting_loop(self.mounting, params, MountingInputs(
             t, np.ascontiguousarray(rate), accel, attitude.attitude), thigh)
         self._count_motion(t, rate)
@@ -392,7 +396,7 @@ class PocketNavigator:
             float(event[EV_MAX]), float(event[EV_MIN]), float(wrap_angle(turn)),
             duration, float(np.sqrt(self.tilt_var_max))))
         vertical_range = self.vz_max - self.vz_min
-        length = self.stride.length(StrideInputs(amplitude_deg, duration, vertical_range)) \
+        length = self._walked(StrideInputs(amplitude_deg, duration, vertical_range)) \
             if activity == Activity.WALKING else c.step_length.stairs_stride_m
         vertical = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
@@ -413,6 +417,26 @@ class PocketNavigator:
         self.last_confirm = t_confirm
         self.last_activity = activity
         return record
+
+    def bound_warning(self) -> str | None:
+        """What to say when strides needed the bound (None otherwise)."""
+        if not self.bounded_steps:
+            return None
+        return (f"{self.bounded_steps} of {len(self.steps)} strides were longer than a "
+                f"person walks at their cadence and were cut to it (walk ratio "
+                f"{WALK_RATIO_MAX_M_PER_SPM} m per step/min): the stride model "
+                f"({self.config.step_length.model}) does not hold for this placement or "
+                f"sensor; calibrate it (pdr-pocket calibrate-step) or choose another")
+
+    def _walked(self, x: StrideInputs) -> float:
+        """The model's stride [m], at most what a person walks at the cycle's cadence
+        (pdr_core.gait.stride_bound_m); a stride cut to it is counted."""
+        length = self.stride.length(x)
+        bound = stride_bound_m(x.duration_s, self.config.person.height_m)
+        if length <= bound:
+            return length
+        self.bounded_steps += 1
+        return bound
 
     def _duration(self, t_max: float) -> float:
         """The cycle's duration [s]: since the last step's maximum, or after a stop the

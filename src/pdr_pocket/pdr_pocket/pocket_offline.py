@@ -128,8 +128,10 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                "step_length": {"model": config.step_length.model,
                                "calibrated": config.step_length.calibrated,
                                "height_m": config.person.height_m,
-                               "scale": height_scale(config.step_length, config.person.height_m)},
-               "warnings": [w for w in (navigator.no_step_reason(),) if w is not None]}
+                               "scale": height_scale(config.step_length, config.person.height_m),
+                               "bounded_steps": navigator.bounded_steps},
+               "warnings": [w for w in (navigator.no_step_reason(),
+                                        navigator.bound_warning()) if w is not None]}
     if drift_log is not None:
         report["drift"] = {"mode": drift, **drift_log.summary()}
         if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in batches:

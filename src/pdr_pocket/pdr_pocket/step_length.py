@@ -22,7 +22,7 @@ which puts a thigh swing of Δθ ≈ 41° at a stride of 1.45 m, the mean of adu
 (1.58 m) and women (1.32 m) walking at their free speed (Murray, Drought and Kory 1964;
 Murray, Kory and Sepic 1970). People's own lines lie up to 14 cm per step from it
 (Section 4.2.3), so an uncalibrated distance is good to about ±10 % (the report says it is
-uncalibrated). ``person.height_m`` scales the line by height/:data:`POPULATION_HEIGHT_M`:
+uncalibrated). ``person.height_m`` scales the line by height/``POPULATION_HEIGHT_M``:
 walkers of one build at equal angles differ in stride as in leg length (geometric
 similarity, as in Alexander's dynamic similarity of gaits, "Stride length and speed for
 adults, children, and fossil hominids", 1984). A calibrated line is the person's and is
@@ -36,12 +36,12 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from pdr_core.errors import InputError
+from pdr_core.gait import POPULATION_HEIGHT_M
 
 if TYPE_CHECKING:   # pdr_pocket.config checks step_length.model against STRIDE_MODELS
     from pdr_pocket.config import StepLengthConfig
 
 MIN_CALIBRATION_STEPS = 20
-POPULATION_HEIGHT_M = 1.70          # the adult the population line stands for
 MIN_AMPLITUDE_SPREAD_DEG = 3.0      # a slope needs Δθ spread over at least this (1σ)
 
 
@@ -116,8 +116,8 @@ class Scaled:
 
 
 def height_scale(config: StepLengthConfig, height_m: float | None) -> float:
-    """The factor on an uncalibrated line's strides: height / :data:`POPULATION_HEIGHT_M`
-    (1 for a calibrated line or an unknown height)."""
+    """The factor on an uncalibrated line's strides: height / POPULATION_HEIGHT_M
+    (:mod:`pdr_core.gait`; 1 for a calibrated line or an unknown height)."""
     return 1.0 if config.calibrated or height_m is None else height_m / POPULATION_HEIGHT_M
 
 
