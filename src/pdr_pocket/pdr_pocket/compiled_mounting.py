@@ -331,7 +331,8 @@ def _check_turned(state, params, c):
     walking pitch that stays negative, or a pitch rate skewed the wrong way, for FLIP_MIN_S
     turns f or u round (:func:`_reorient`). A mean walking pitch beyond
     ``turned_pitch_angle`` for SEATED_MIN_S (the first rest was sitting, not standing: a
-    walk that starts from a chair, or the phone turned about f while standing) puts u
+    walk that starts from a chair, the phone turned about f while standing, or without a
+    gyroscope a phone put in the pocket while walking) puts u
     where level walking has its mean pitch ``walking_pitch``. Checked every
     CHECK_PERIOD_S."""
     s = state.scalars[()]

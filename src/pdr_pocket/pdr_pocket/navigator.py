@@ -194,13 +194,12 @@ class PocketNavigator:
         n = len(t)
         thigh = MountingOutputs.empty(n)
         pitch, heading, known, up, flex, changes = thigh
-        # without a gyroscope the checks that read the phone's turns and the walking
-        # pitch's mean are off: the gravity direction's pitch is too rough for them
+        # without a gyroscope the checks that read the phone's turns are off (the gravity
+        # direction's pitch is too rough for them); the mean walking pitch's stays on: a
+        # phone put in the pocket while walking leaves u at the first sample's force
         params = self.mounting_params if gyro is not None else \
             self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf,
                                           skew_check=False)
-        # (the mean walking pitch's check stays: a phone put in the pocket while walking
-        # leaves u at the first sample's specific force, and the walking mean moves it)
         mounting_loop(self.mounting, params, MountingInputs(
             t, np.ascontiguousarray(rate), accel, attitude.attitude), thigh)
         self._count_motion(t, rate)
