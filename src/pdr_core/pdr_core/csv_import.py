@@ -16,6 +16,11 @@ a sample rate beyond 5-10000 Hz, a 99th percentile of |ω| above 50 rad/s, a med
 beyond 1-1000 µT: pdr_core.imu_checks) are refused naming the file, the columns, the
 value in the unit read and the unit option that fixes them (:func:`implausible_columns`),
 unless ``accept_implausible`` is set (``--force``): then each is an InputWarning.
+
+An accelerometer column that holds one value in every kept row, over at least
+:data:`MIN_ROWS_CONSTANT_AXIS` rows, is refused whatever ``accept_implausible`` says
+(:func:`constant_columns`): it is another column (a sensor's accuracy, a status), never
+an axis of an accelerometer.
 """
 from __future__ import annotations
 
@@ -50,6 +55,12 @@ from pdr_core.units import (
     UNIT_SYMBOLS,
 )
 
+# A real accelerometer axis is never exactly constant over this many rows (10 s at
+# 100 Hz): its noise, walking or at rest, spans more than one step of its resolution. A
+# coarse one (8-10 bits, tens of mg a step) may hold one value while it rests for a few
+# seconds, and a short synthetic file may be constant: fewer rows are left alone.
+MIN_ROWS_CONSTANT_AXIS = 1000
+
 
 @dataclass(frozen=True)
 class CsvImuFormat:
@@ -74,7 +85,8 @@ class CsvImuFormat:
         drop_invalid: drop NaN/Inf rows and non-increasing stamps instead of failing.
         drop_duplicates: drop rows that repeat the previous row exactly instead of failing.
         accept_implausible: import data that fail a plausibility check of their units
-            (``--force``), each with an InputWarning, instead of failing.
+            (``--force``), each with an InputWarning, instead of failing; an accelerometer
+            column constant over the whole recording is refused even so.
     """
 
     time_col: str
@@ -178,6 +190,32 @@ def read_columns(path: str | Path, columns: tuple[str, ...], header: bool = True
     path = Path(path)
     names, table = _read_table(path, header)
     return _select(path, names, table, tuple(columns))
+
+
+def constant_columns(values: np.ndarray) -> np.ndarray:
+    """The indices of the columns of the (N, M) ``values`` that hold one value in all N
+    rows (peak-to-peak 0), when N >= :data:`MIN_ROWS_CONSTANT_AXIS`; else none."""
+    if len(values) < MIN_ROWS_CONSTANT_AXIS:
+        return np.array([], dtype=int)
+    return np.flatnonzero(np.ptp(values, axis=0) == 0)
+
+
+def _refuse_constant_axis(path: Path, names: list[str] | None, acc_cols: tuple[str, ...],
+                          acc_read: np.ndarray) -> None:
+    """Refuse ``path`` when one of the accelerometer columns ``acc_cols`` is constant
+    (:func:`constant_columns` of ``acc_read``, the kept rows as read, (N, 3)), naming it by
+    its header name (by its index without a header); ``--force`` does not accept it."""
+    constant = constant_columns(acc_read)
+    if not len(constant):
+        return
+    i = int(constant[0])
+    index = _column_index(path, names, acc_cols[i])
+    raise InputError(path, f"column {names[index] if names else index}, the "
+                           f"{('first', 'second', 'third')[i]} of --acc-cols, is "
+                           f"{acc_read[0, i]:g} in all {len(acc_read)} rows: constant over "
+                           "the whole recording, so it cannot be an accelerometer axis (a "
+                           "sensor's accuracy or status column?); check --acc-cols (--force "
+                           "does not accept a constant axis)")
 
 
 def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str) -> None:
@@ -301,7 +339,8 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
         return _select(path, names, table, cols)
 
     t_s = columns((fmt.time_col,))[:, 0] * time_scale + fmt.time_offset_s
-    acc = columns(fmt.acc_cols) * acc_scale @ acc_remap.T
+    acc_read = columns(fmt.acc_cols)
+    acc = acc_read * acc_scale @ acc_remap.T
     gyro = (columns(fmt.gyro_cols) * gyro_scale @ gyro_remap.T if fmt.gyro_cols
             else np.zeros_like(acc))
     pos = columns(fmt.pos_cols) * pos_scale @ axis_matrix(fmt.pos_axes).T if fmt.pos_cols \
@@ -311,6 +350,7 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
         if fmt.mag_cols else None
     values = np.hstack([acc, gyro] + [v for v in (pos, mag) if v is not None])
     keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)
+    _refuse_constant_axis(path, names, fmt.acc_cols, acc_read[keep])
     refuse_implausible(path, implausible_columns(fmt, t_s[keep], acc[keep],
                                                  gyro[keep] if fmt.gyro_cols else None,
                                                  None if mag is None else mag[keep]),

@@ -3,7 +3,13 @@ import numpy as np
 import pytest
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.csv_import import CsvImuFormat, axis_matrix, import_csv
+from pdr_core.csv_import import (
+    MIN_ROWS_CONSTANT_AXIS,
+    CsvImuFormat,
+    axis_matrix,
+    constant_columns,
+    import_csv,
+)
 from pdr_core.errors import InputError
 
 HEADER = "time,ax,ay,az,gx,gy,gz,px,py,pz\n"
@@ -132,3 +138,46 @@ def test_position_remap(tmp_path):
                        pos_cols=("px", "py", "pz"), pos_axes=("-x", "y", "z"))
     result = import_csv(write_csv(tmp_path / "m.csv", rows()), fmt)
     np.testing.assert_array_equal(result.pose["pose.position"][:, 0], -np.arange(5))
+
+
+def phone_log(path, n, header=True, seed=0):
+    """``n`` rows of a phone's log at 200 Hz: t_ns, accuracy (always 3), ax, ay, az [m/s²]
+    (noise about g), gx, gy, gz [rad/s] (all 0: a gyroscope quantised at rest)."""
+    rng = np.random.default_rng(seed)
+    data = np.column_stack([np.arange(n) * 5_000_000, np.full(n, 3.0),
+                            rng.normal([0.0, 0.0, 9.81], 0.02, (n, 3)), np.zeros((n, 3))])
+    np.savetxt(path, data, delimiter=",", comments="",
+               header="t_ns,accuracy,ax,ay,az,gx,gy,gz" if header else "")
+    return path
+
+
+@pytest.mark.parametrize("header, acc_cols, named", [
+    (True, ("accuracy", "ay", "az"), "accuracy"),
+    (True, ("1", "3", "4"), "accuracy"),        # by index, named by its header
+    (False, ("2", "3", "1"), "1"),              # no header: by its index
+])
+@pytest.mark.parametrize("force", [False, True])
+def test_a_constant_accelerometer_column_is_refused_even_with_force(tmp_path, header, acc_cols,
+                                                                    named, force):
+    path = phone_log(tmp_path / "phone.csv", MIN_ROWS_CONSTANT_AXIS, header)
+    which = "third" if acc_cols[2] == named else "first"
+    fmt = CsvImuFormat(time_col="0", time_unit="ns", acc_cols=acc_cols, header=header,
+                       accept_implausible=force)
+    with pytest.raises(InputError) as refused:
+        import_csv(path, fmt)
+    assert str(refused.value) == (
+        f"{path}: column {named}, the {which} of --acc-cols, is 3 in all 1000 rows: constant "
+        "over the whole recording, so it cannot be an accelerometer axis (a sensor's accuracy "
+        "or status column?); check --acc-cols (--force does not accept a constant axis)")
+
+
+def test_a_short_constant_column_and_a_constant_gyroscope_are_imported(tmp_path):
+    short = phone_log(tmp_path / "short.csv", MIN_ROWS_CONSTANT_AXIS - 1)
+    fmt = CsvImuFormat(time_col="t_ns", time_unit="ns", acc_cols=("accuracy", "ay", "az"))
+    assert len(import_csv(short, fmt).imu) == MIN_ROWS_CONSTANT_AXIS - 1
+    still = phone_log(tmp_path / "still.csv", 2 * MIN_ROWS_CONSTANT_AXIS)
+    fmt = CsvImuFormat(time_col="t_ns", time_unit="ns", acc_cols=("ax", "ay", "az"),
+                       gyro_cols=("gx", "gy", "gz"))
+    assert not import_csv(still, fmt).imu["angular_velocity"].any()
+    # one value that differs makes a column no longer constant
+    assert list(constant_columns(np.c_[np.ones(1000), np.r_[np.ones(999), 1.0001]])) == [0]

@@ -262,7 +262,8 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
                    help="import data that fail a plausibility check of their units (a "
                         "median |f| beyond 0.5-5 g, a rate beyond 5-10000 Hz, a 99th "
                         "percentile of |ω| above 50 rad/s, a median |B| beyond 1-1000 µT), "
-                        "each with a warning, instead of refusing them")
+                        "each with a warning, instead of refusing them (an accelerometer "
+                        "column constant over the whole recording is refused even so)")
 
 
 def _csv_format(args: argparse.Namespace) -> CsvImuFormat:

@@ -3,6 +3,7 @@ wstest.cli): bad input gives exit 2, one line, no output."""
 import pytest
 
 from pdr_core.bag import BagReader
+from pdr_core.csv_import import MIN_ROWS_CONSTANT_AXIS
 from wstest import cli
 
 GOOD = "t,ax,ay,az\n0.00,0,0,9.8\n0.01,0,0,9.8\n0.02,0,0,9.8\n"
@@ -52,3 +53,25 @@ def test_existing_output_is_kept(tmp_path):
     result = run(*import_args(csv, tmp_path / "bag"))
     assert result.returncode == 2 and "output exists already" in result.stderr
     assert list((tmp_path / "bag").iterdir()) == []
+
+
+@pytest.mark.parametrize("force", [(), ("--force",)])
+def test_a_constant_accelerometer_column_is_refused(tmp_path, force):
+    """A phone's accuracy column (always 3) mapped as the accelerometer's x: exit 2, one
+    line naming the file and the column, --force or not."""
+    csv = tmp_path / "phone.csv"
+    rows = [f"{5_000_000 * i},3,{0.01 * (i % 7)},{0.02 * (i % 5)},{9.8 + 0.01 * (i % 3):.2f}\n"
+            for i in range(MIN_ROWS_CONSTANT_AXIS)]
+    csv.write_text("t_ns,accuracy,ax,ay,az\n" + "".join(rows))
+    result = run(csv, "--out", tmp_path / "bag", "--time-col", "t_ns", "--time-unit", "ns",
+                 "--acc-cols", "accuracy,ay,az", *force)
+    assert result.returncode == 2
+    [line] = result.stderr.splitlines()
+    assert line.startswith(f"pdr-sim: error: {csv}: column accuracy, the first of --acc-cols, "
+                           "is 3 in all 1000 rows: constant over the whole recording, so it "
+                           "cannot be an accelerometer axis")
+    assert line.endswith("(--force does not accept a constant axis)")
+    assert list(tmp_path.iterdir()) == [csv], "no output"
+    kept = run(csv, "--out", tmp_path / "bag", "--time-col", "t_ns", "--time-unit", "ns",
+               "--acc-cols", "ax,ay,az", *force)
+    assert kept.returncode == 0, kept.stderr
