@@ -154,6 +154,9 @@ def _print_report(report: dict, source: str = "") -> None:
 
 
 def _add_evaluate(sub: argparse._SubParsersAction) -> None:
+    from pdr_core.units import TIME_UNITS_S
+    from pdr_pocket.evaluation import TRUTH_STEPS_FORMATS, TRUTH_STEPS_TIMES
+
     p = sub.add_parser(
         "evaluate", help="the report of a run's output against a truth",
         description="The report of a pdr-pocket run output against a truth given "
@@ -162,19 +165,39 @@ def _add_evaluate(sub: argparse._SubParsersAction) -> None:
                     "distance and riser errors: the figures pdr-pocket run gives when its "
                     "input holds that truth) and ground_truth/pose (the trajectory errors), "
                     "timed from each bag's first imu/data message; with --truth-steps, a "
-                    "CSV of true times [s] in its first column (header optional), one row "
-                    "per footfall of either foot (or per gait cycle of the sensor leg with "
-                    "--truth-steps-per cycle), compared by count with the run's footfalls "
-                    "(or steps); with --distance-m, the distance walked against a known "
-                    "one. Prints the report; --out writes it too.")
+                    "CSV (header optional) of true times, one row per footfall of either "
+                    "foot (or per gait cycle of the sensor leg with --truth-steps-per "
+                    "cycle), or a foot switch's log (time, left, right: each 0→1 edge a "
+                    "footfall, --truth-steps-format foot-switch), "
+                    "compared by count with the run's footfalls (or steps), its times "
+                    "from the input's first imu/data message or on its stamps "
+                    "(--truth-steps-time); with --distance-m, the distance walked against "
+                    "a known one. Prints the report; --out writes it too.")
     p.add_argument("run_out", type=Path, metavar="RUN_OUT",
                    help="the output directory of pdr-pocket run")
     p.add_argument("--truth", type=Path, metavar="BAG",
                    help="bag with ground_truth/step and/or ground_truth/pose (a simulated "
                         "walk, or a CSV log imported with --pos-cols)")
     p.add_argument("--truth-steps", type=Path, metavar="CSV",
-                   help="CSV of the true step times [s] on the log's time axis, first "
-                        "column, header optional")
+                   help="CSV of the true step times (--truth-steps-format times) or a foot "
+                        "switch's log (foot-switch), header optional")
+    p.add_argument("--truth-steps-format", choices=TRUTH_STEPS_FORMATS, default="times",
+                   help="what --truth-steps holds: times, one true time a row (of what: "
+                        "--truth-steps-per); foot-switch, the columns time, left and right, "
+                        "each foot's contact 0 or 1, every 0→1 edge of either a footfall")
+    p.add_argument("--truth-steps-time", choices=TRUTH_STEPS_TIMES, default="from-start",
+                   help="the time axis of --truth-steps: from-start, from the input bag's "
+                        "first imu/data message (the t_s of pdr-sim export-csv, the shared "
+                        "thigh recordings' step_times.csv); stamps, on the input bag's "
+                        "message stamps, where pdr-sim import-csv put the CSV log's time "
+                        "column (read in its --time-unit, plus its --time-offset-s)")
+    p.add_argument("--truth-steps-unit", choices=sorted(TIME_UNITS_S), default="s",
+                   help="unit of the --truth-steps times: s, ms, us (µs) or ns, as "
+                        "pdr-sim import-csv --time-unit")
+    p.add_argument("--truth-steps-cols", metavar="COLS",
+                   help="the columns of --truth-steps, header names or 0-based indices: "
+                        "the time (default 0); with foot-switch time,left,right (default "
+                        "0,1,2)")
     p.add_argument("--truth-steps-per", choices=STEPS_PER, default="footfall",
                    help="what one row of --truth-steps is: a footfall of either foot (a "
                         "foot switch, the shared thigh recordings' step_times.csv) or a "
@@ -189,12 +212,16 @@ def _add_evaluate(sub: argparse._SubParsersAction) -> None:
 
 
 def _run_evaluate(args: argparse.Namespace) -> int:
-    from pdr_pocket.evaluation import evaluate
+    from pdr_pocket.evaluation import TruthStepsFormat, evaluate
 
     if args.out is not None and args.out.exists() and not args.overwrite:
         raise InputError(args.out, "output exists already (remove it or pass --overwrite)")
+    cols = () if args.truth_steps_cols is None else tuple(
+        c.strip() for c in args.truth_steps_cols.split(","))
+    steps_format = TruthStepsFormat(args.truth_steps_format, args.truth_steps_time,
+                                    args.truth_steps_unit, cols)
     report = evaluate(args.run_out, args.truth, args.truth_steps, args.truth_steps_per,
-                      args.distance_m, strict=args.strict)
+                      args.distance_m, steps_format=steps_format, strict=args.strict)
     if args.out is not None:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         write_report_file(args.out, report)

@@ -1,6 +1,6 @@
 """``pdr-pocket evaluate``: the report of a ``pdr-pocket run`` output against a truth given
 afterwards: a bag's ``ground_truth/step`` and ``ground_truth/pose``, a CSV of true
-footfall (or gait cycle) times, a known walked distance.
+footfall (or gait cycle) times or a foot switch's contacts, a known walked distance.
 
 The figures against a bag are :func:`pdr_pocket.run_report.navigation_report`'s, on
 the steps as the run made them: the same numbers ``pdr-pocket run`` reports when its input
@@ -13,6 +13,8 @@ holds that truth. Every field: docs/reports.md.
   each bag's first ``imu/data`` message, so the truth of a simulated bag applies to a run
   on its ``pdr-sim export-csv`` log imported again; a truth bag without ``imu/data`` is
   taken to share the run's clock;
+- :class:`TruthStepsFormat`, :func:`read_truth_steps`: the true times of a CSV, one a row
+  or a foot switch's 0→1 edges, on the time axis it names (:func:`recording_span_s`);
 - :func:`step_count_report`: true footfall or gait cycle times against the run's count;
 - :func:`known_distance_report`: the distance walked against a known one;
 - :func:`evaluate`: the report.
@@ -28,6 +30,7 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
+from pdr_core.units import TIME_UNITS_S
 from pdr_pocket.config import StairsConfig
 from pdr_pocket.navigator import StepRecord
 from pdr_pocket.pocket_offline import RUN_RECORD
@@ -36,6 +39,14 @@ from pdr_pocket.stairs import Staircases
 
 # --truth-steps: what one row of the CSV is
 STEPS_PER = ("footfall", "cycle")
+# --truth-steps-format: what the CSV holds: a true time a row, or a foot switch's contact
+# signals (time, left, right), whose 0→1 edges are the footfalls
+TRUTH_STEPS_FORMATS = ("times", "foot-switch")
+# --truth-steps-time: the time axis of its times: from the input's first imu/data message,
+# or the input's message stamps (recording_span_s)
+TRUTH_STEPS_TIMES = ("from-start", "stamps")
+# The columns each format reads (--truth-steps-cols), by default the first ones in order
+TRUTH_STEPS_COLUMNS = {"times": ("time",), "foot-switch": ("time", "left", "right")}
 # How far [s] true step times may lie outside the run's samples before a warning
 TIME_SPAN_MARGIN_S = 1.0
 
@@ -141,18 +152,85 @@ def read_truth_bag(path: Path, run: RunOutput, *, strict: bool = False) -> Truth
                     true_floors(reader.custom_data("pdr.simulation") or {}), offset)
 
 
-def read_step_times(path: Path) -> np.ndarray:
-    """The first column of a CSV of times [s], with or without a header row, (N,)."""
+@dataclass(frozen=True)
+class TruthStepsFormat:
+    """How to read ``--truth-steps``, a CSV with or without a header row. Columns are
+    header names or 0-based indices (as str).
+
+    Attributes:
+        format: ``times``, one true time a row (a footfall, or a gait cycle: ``per`` of
+            :func:`evaluate`); or ``foot-switch``, a foot switch's log with the columns
+            time, left and right (contact 0 or 1), each 0→1 edge of either a footfall.
+        time: the axis of the times: ``from-start``, from the input's first ``imu/data``
+            message; ``stamps``, on the input bag's message stamps, where ``pdr-sim
+            import-csv`` puts a CSV log's time column (plus its ``--time-offset-s``).
+        unit: of the time column: s, ms, us or ns (pdr_core.units.TIME_UNITS_S).
+        cols: the columns of :data:`TRUTH_STEPS_COLUMNS` (the time, and for
+            ``foot-switch`` the left and right switches); () for the first ones in order.
+    """
+
+    format: str = "times"
+    time: str = "from-start"
+    unit: str = "s"
+    cols: tuple[str, ...] = ()
+
+
+def _checked(fmt: TruthStepsFormat) -> tuple[str, ...]:
+    """The columns ``fmt`` reads; InputError naming the option of a value it cannot take."""
+    for option, value, choices in (("--truth-steps-format", fmt.format, TRUTH_STEPS_FORMATS),
+                                   ("--truth-steps-time", fmt.time, TRUTH_STEPS_TIMES),
+                                   ("--truth-steps-unit", fmt.unit, tuple(TIME_UNITS_S))):
+        if value not in choices:
+            raise InputError(option, f"one of {', '.join(choices)}, got {value!r}")
+    wanted = TRUTH_STEPS_COLUMNS[fmt.format]
+    cols = fmt.cols or tuple(str(i) for i in range(len(wanted)))
+    if len(cols) != len(wanted):
+        raise InputError("--truth-steps-cols", f"--truth-steps-format {fmt.format} reads "
+                                               f"{len(wanted)} column(s) ({','.join(wanted)}),"
+                                               f" got {','.join(cols)}")
+    return cols
+
+
+def read_truth_steps(path: Path, fmt: TruthStepsFormat = TruthStepsFormat()) -> np.ndarray:
+    """The true times [s] of ``path`` on ``fmt.time``'s axis (:class:`TruthStepsFormat`),
+    (N,): each row's, or each 0→1 edge's of a foot switch (in the order of the rows, the
+    left's before the right's in a row; a foot down in the first row is no footfall, its
+    edge came before). InputError for a time that is not a number, a switch that reads
+    other than 0 or 1, or a foot switch without a footfall."""
     from pdr_core.csv_import import read_columns
 
+    cols = _checked(fmt)
     try:
-        times = read_columns(path, ("0",), header=False)[:, 0]
+        table, first_row = read_columns(path, cols, header=False), 1
     except InputError:
-        times = read_columns(path, ("0",), header=True)[:, 0]
+        table, first_row = read_columns(path, cols, header=True), 2
+    times = table[:, 0] * TIME_UNITS_S[fmt.unit]
     if not np.isfinite(times).all():
         row = int(np.flatnonzero(~np.isfinite(times))[0])
-        raise InputError(path, f"step time {times[row]} is not a number of seconds")
-    return times
+        raise InputError(path, f"row {row + first_row}: step time {table[row, 0]} is not a "
+                               "number")
+    if fmt.format == "times":
+        return times
+    switches = table[:, 1:]
+    bad = ~np.isin(switches, (0.0, 1.0))
+    if bad.any():
+        row, col = (int(i[0]) for i in np.nonzero(bad))
+        raise InputError(path, f"row {row + first_row}: foot switch column {cols[1 + col]} "
+                               f"reads {switches[row, col]:g}, not 0 or 1 (contact): check "
+                               "--truth-steps-cols (time,left,right)")
+    rows, _ = np.nonzero(np.diff(switches, axis=0) > 0)
+    if not len(rows):
+        raise InputError(path, f"no footfall: no 0→1 edge in the foot switch columns "
+                               f"{cols[1]}, {cols[2]}")
+    return times[rows + 1]
+
+
+def recording_span_s(run: RunOutput, time: str) -> tuple[float, float]:
+    """The input's first and last ``imu/data`` message [s] on the axis ``time`` of
+    :data:`TRUTH_STEPS_TIMES`: from the first (0 to the duration), or as stamped."""
+    if time == "stamps":
+        return run.input_first_ns * 1e-9, run.end_ns * 1e-9
+    return 0.0, (run.end_ns - run.input_first_ns) * 1e-9
 
 
 def step_count_report(path: Path, times: np.ndarray, per: str, run: RunOutput) -> dict:
@@ -164,15 +242,28 @@ def step_count_report(path: Path, times: np.ndarray, per: str, run: RunOutput) -
             "error_pct": 100.0 * (counted - len(times)) / len(times)}
 
 
-def step_times_warning(path: Path, times: np.ndarray, run: RunOutput) -> str | None:
-    """A warning when the true times lie outside the run's samples (another unit or
-    another time axis), None otherwise."""
-    span = (run.end_ns - run.input_first_ns) * 1e-9
-    if times.min() >= -TIME_SPAN_MARGIN_S and times.max() <= span + TIME_SPAN_MARGIN_S:
+def _within(times: np.ndarray, span: tuple[float, float]) -> bool:
+    return bool(times.min() >= span[0] - TIME_SPAN_MARGIN_S
+                and times.max() <= span[1] + TIME_SPAN_MARGIN_S)
+
+
+def step_times_warning(path: Path, times: np.ndarray, run: RunOutput,
+                       fmt: TruthStepsFormat = TruthStepsFormat()) -> str | None:
+    """A warning when the true ``times`` [s], on ``fmt.time``'s axis, lie outside the run's
+    samples (another unit or another time axis; it names the options under which they
+    would fit, if any), None otherwise."""
+    span = recording_span_s(run, fmt.time)
+    if _within(times, span):
         return None
+    read = times / TIME_UNITS_S[fmt.unit]
+    fits = [f"--truth-steps-time {time} --truth-steps-unit {unit}"
+            for time in TRUTH_STEPS_TIMES for unit in TIME_UNITS_S
+            if _within(read * TIME_UNITS_S[unit], recording_span_s(run, time))]
+    axis = "its stamps" if fmt.time == "stamps" else "from its first imu/data message"
+    fit = f"they fit with {fits[0]}; " if fits else ""
     return (f"{path}: the step times span {times.min():.3f}-{times.max():.3f} s, the "
-            f"recording 0-{span:.3f} s: in another unit, or on another time axis? (only "
-            "their count is compared)")
+            f"recording {span[0]:.3f}-{span[1]:.3f} s ({axis}): in another unit, or on "
+            f"another time axis? ({fit}only their count is compared)")
 
 
 def known_distance_report(step_distance_m: float, distance_m: float) -> dict:
@@ -184,8 +275,10 @@ def known_distance_report(step_distance_m: float, distance_m: float) -> dict:
 
 def evaluate(run_out: Path, truth: Path | None = None, truth_steps: Path | None = None,
              steps_per: str = "footfall", distance_m: float | None = None, *,
+             steps_format: TruthStepsFormat = TruthStepsFormat(),
              strict: bool = False) -> dict:
-    """The report of ``run_out`` against what is given (module docstring)."""
+    """The report of ``run_out`` against what is given (module docstring); ``truth_steps``
+    read as ``steps_format`` says."""
     from pdr_core.metrics import truth_at
 
     if truth is None and truth_steps is None and distance_m is None:
@@ -196,8 +289,11 @@ def evaluate(run_out: Path, truth: Path | None = None, truth_steps: Path | None 
     if steps_per not in STEPS_PER:
         raise InputError("--truth-steps-per", f"one of {', '.join(STEPS_PER)}, got "
                                               f"{steps_per!r}")
+    if steps_format.format == "foot-switch" and steps_per != "footfall":
+        raise InputError("--truth-steps-per", "a foot switch gives footfalls of either foot: "
+                                              "footfall, not cycle")
     run = read_run(run_out, strict=strict)
-    times = None if truth_steps is None else read_step_times(truth_steps)
+    times = None if truth_steps is None else read_truth_steps(truth_steps, steps_format)
     bag = None if truth is None else read_truth_bag(truth, run, strict=strict)
     truth_positions = None
     if bag is not None and bag.pose is not None:
@@ -210,7 +306,7 @@ def evaluate(run_out: Path, truth: Path | None = None, truth_steps: Path | None 
         report |= {"truth_bag": str(truth), "truth_time_offset_s": bag.offset_ns * 1e-9}
     if times is not None:
         report["truth_steps"] = step_count_report(truth_steps, times, steps_per, run)
-        warnings.append(step_times_warning(truth_steps, times, run))
+        warnings.append(step_times_warning(truth_steps, times, run, steps_format))
     if distance_m is not None:
         report |= known_distance_report(report["step_distance_m"], distance_m)
     report["warnings"] = [w for w in warnings if w is not None]
