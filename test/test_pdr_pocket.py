@@ -133,6 +133,13 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                                rtol=0, atol=1e-9)
     np.testing.assert_allclose(poses["pose.covariance"], ref_poses["pose.covariance"], rtol=0,
                                atol=1e-9)
+    # the start-up log says how strides are chosen, and the log the placement found
+    log = log_text(node)
+    assert "strides: auto: the pitch line on a thigh's swing (front pocket)" in log
+    placement = json.loads((tmp_path / "offline" / "report.json").read_text())["placement"]
+    assert placement["placement"] == "front pocket"
+    assert "placement: front pocket (the pitch swing is " in log
+    assert "); strides from the pitch model" in log
 
 
 def test_run_writes_steps_poses_path_and_report_on_the_sample_bag(procs, tmp_path):

@@ -3,7 +3,8 @@
 #   1. pdr-sim generate simulates UP/DW of Muñoz Díaz 2016 (40 m, four floors up a
 #      staircase and down again, a phone in the front pocket, Xsens MTw errors);
 #   2. bag_play publishes its imu/data and imu/mag as fast as the subscribers keep up;
-#      pocket_pdr navigates; bag_record records pdr/pocket/step and pdr/pocket/pose
+#      pocket_pdr navigates with the filter for that sensor (config/pocket_pdr_xsens_mtw.yaml);
+#      bag_record records pdr/pocket/step and pdr/pocket/pose
 #      (three processes);
 #   3. pdr-pocket run navigates the same bag offline for the report against the truth
 #      (steps, activities, distance and riser errors, floors) and its PNG, and the live
@@ -22,12 +23,14 @@ echo "== 1. simulate UP/DW with a phone in the front pocket"
   --out "$out/simulated"
 
 echo "== 2. bag_play -> pocket_pdr -> bag_record over ROS 2 (domain $ROS_DOMAIN_ID)"
-"$root/ws" pdr-pocket run "$out/simulated" --out "$out/offline" --plot > "$out/report.json"
+config="$root/src/pdr_pocket/config/pocket_pdr_xsens_mtw.yaml"
+"$root/ws" pdr-pocket run "$out/simulated" --out "$out/offline" --config "$config" --plot \
+  > "$out/report.json"
 steps=$(python -c "import json,sys; print(json.load(open(sys.argv[1]))['steps'])" \
   "$out/report.json")
 live_graph "$out" "$out/simulated" "[/imu/data, /imu/mag]" \
   "[pdr/pocket/step, pdr/pocket/pose]" "$((2 * steps))" 0.0 \
-  "pocket_pdr --ros-args -p imu_durability:=transient_local"
+  "pocket_pdr --ros-args -p imu_durability:=transient_local -p config:=$config"
 
 echo "== 3. report against the ground truth"
 python - "$out" <<'PY'

@@ -20,7 +20,9 @@ Per sample k, with δt from the stamps (:func:`filter_loop`):
 - detectors on trailing windows (causal, so the live node gives the offline result):
   zero acceleration (max |‖α‖ − g| ≤ threshold, and max ‖ω‖ ≤ a rate limit: a thigh
   turning at its hip puts ω × (ω × r) and ω̇ × r into the accelerometer at the lever arm
-  r, which the norm alone does not see), zero angular rate (max ‖ω‖ ≤ threshold),
+  r, which the norm alone does not see), zero angular rate (every ω of the window within
+  a threshold of the window's mean rate ω̄: rest, whatever the gyroscope's bias, as VQF's
+  rest detector (Laidig and Seel 2023) reads the rate's deviation from its low-pass),
   magnetic disturbance (‖C·μ‖ spread and angle to the window's mean direction, both
   ≤ thresholds);
 - updates, each switched on or off, applied in turn where its detector holds, each a
@@ -47,7 +49,16 @@ Per sample k, with δt from the stamps (:func:`filter_loop`):
      the real ``thigh_revalew`` walk, |‖α‖ − g| ≤ 0.4 m/s² and ‖ω‖ ≤ 40 °/s over 0.1 s
      never hold while walking, so without it roll and pitch drift through a long walk
      without stops;
-  7. ZARU ω − b = 0 (Eq. (3.22)), at zero angular rate (:func:`zaru`).
+  7. ZARU ω − b = 0 (Eq. (3.22)), at zero angular rate (:func:`rest_zaru`): ω is the
+     mean rate ω̄ of the window's older half (the white noise and the sway averaged, as
+     VQF's rest bias estimate reads its low-passed rate; the newest half, where a thigh
+     starting to move is still below the threshold, left out), R grows by the rate's
+     variance over that half (a thigh settling into the stop sways), and a χ² gate on the
+     innovation ω̄ − b − Cᵀ·ω_ie^n against P_bb + R (:func:`zaru_nis`) refuses a slow
+     steady turn. (At the instantaneous ω behind max ‖ω‖ ≤ 3 °/s, a phone's 1 °/s
+     turn-on bias kept the detector off, and with the AR(1) of a phone (220 °/h) the
+     stops' edges, the thigh settling and starting at up to 3 °/s, taught the bias that
+     rate: 89° of yaw after 22 min with ideal sensors.)
 - external corrections between samples (Eq. (6.2), :func:`correct`): the yaw ψ_L or the
   z gyro bias, as the same unscented update (:func:`external_correction`).
 
@@ -126,7 +137,8 @@ class FilterParams(NamedTuple):
     zero_acc_threshold: float       # [m/s²]
     zero_acc_max_rate: float        # [rad/s] and the thigh turning no faster than this
     zero_rate_window_s: float
-    zero_rate_threshold: float      # [rad/s]
+    zero_rate_threshold: float      # [rad/s] of ‖ω − ω̄‖ over the window
+    zaru_gate_nis: float            # the ZARU is refused beyond this NIS (3 dof)
     mag_window_s: float
     mag_norm_threshold: float       # [T]
     mag_direction_threshold: float  # [rad]
@@ -152,6 +164,9 @@ class FilterState(NamedTuple):
     ring_acc: np.ndarray            # (RING,) |‖α‖ − g|
     ring_rate: np.ndarray           # (RING,) ‖ω‖
     ring_mag: np.ndarray            # (RING, 3) C·μ (NaN: no reading)
+    ring_gyro: np.ndarray           # (RING, 3) ω
+    rest_rate: np.ndarray           # (2, 3) ω̄, the mean rate over the zero-rate window's
+                                    # older half, and the variance of ω over it per axis
     swing: np.ndarray               # (3, 3) E[ω·ωᵀ], exponentially weighted
     swing_axis: np.ndarray          # (3,) its principal axis (the thigh's flexion axis)
 
@@ -180,6 +195,7 @@ def initial_state(attitude: np.ndarray, covariance: np.ndarray) -> FilterState:
         previous_accel=np.zeros(3), previous_mag=np.full(3, np.nan),
         mag_reference=np.zeros(3), ring_t=np.zeros(RING), ring_acc=np.zeros(RING),
         ring_rate=np.zeros(RING), ring_mag=np.full((RING, 3), np.nan),
+        ring_gyro=np.zeros((RING, 3)), rest_rate=np.zeros((2, 3)),
         swing=np.zeros((3, 3)), swing_axis=np.full(3, 1.0 / np.sqrt(3.0)))
 
 
@@ -218,7 +234,7 @@ class Detected(NamedTuple):
     """The detectors at one sample (Muñoz Díaz 2016, Section 3.2)."""
 
     zero_acc: bool                  # zero acceleration: the gravity updates may run
-    zero_rate: bool                 # zero angular rate: the ZARU may run
+    zero_rate: bool                 # zero angular rate: the ZARU may run (at ω̄)
     mag_steady: bool                # a quasi-constant field: the magnetic updates may run
     mag_anchored: bool              # ... and its reference μ̄_r taken with the tilt known:
                                     # the absolute magnetic update may run
@@ -638,6 +654,35 @@ def mean_gravity(params, attitude, force_sum, window_s, cycles):
 
 
 @njit(cache=True)
+def rest_zaru(state, params):
+    """The ZARU at rest (:func:`zaru`) with the variance of ω over the window's older half
+    (:class:`FilterState` ``rest_rate[1]``) added to R per axis: the white noise, and the
+    sway of a thigh settling, that its mean ω̄ is read through."""
+    measurement = zaru(params)
+    for m in range(3):
+        measurement.r[m, m] += state.rest_rate[1, m]
+    return measurement
+
+
+@njit(cache=True)
+def zaru_nis(state, params, r):
+    """The ZARU's normalised innovation squared before it is applied: ν = ω̄ − b − Cᵀ·ω_ie^n
+    (the window's mean rate, :class:`FilterState` ``rest_rate[0]``) against S = P_bb + R
+    (h(x) is linear in b; the Earth rate's dependence on the attitude is left out)."""
+    c, e, w, b = state.attitude, params.earth_rate_n, state.rest_rate[0], state.bias
+    nu = np.empty(3)
+    for m in range(3):
+        nu[m] = w[m] - b[m] - (c[0, m] * e[0] + c[1, m] * e[1] + c[2, m] * e[2])
+    s = r.copy()
+    for row in range(3):
+        for col in range(3):
+            s[row, col] += state.covariance[BIAS + row, BIAS + col]
+    s_inv = np.empty((3, 3))
+    _inverse_spd(s, s_inv)
+    return nu @ (s_inv @ nu)
+
+
+@njit(cache=True)
 def zaru(params):
     """z = [0, 0, 0] against h(x) = ω − b − Cᵀ·ω_ie^n (Muñoz Díaz 2016, Eq. (3.22))."""
     return Measurement(ZARU, np.zeros(3), _diagonal(3, params.zaru_var), np.zeros((2, 3)))
@@ -666,6 +711,8 @@ def _push_ring(state, params, t, sample):
     state.ring_t[head] = t
     state.ring_acc[head] = abs(np.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2) - params.gravity)
     state.ring_rate[head] = np.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
+    state.ring_gyro[head, 0], state.ring_gyro[head, 1], state.ring_gyro[head, 2] = \
+        w[0], w[1], w[2]
     nav = state.ring_mag[head]
     if np.isfinite(mu[0]):
         for m in range(3):
@@ -678,42 +725,85 @@ def _push_ring(state, params, t, sample):
 
 
 @njit(cache=True)
+def _window_count(ring_t, scalars, t, window_s):
+    """How many of the ring's newest samples lie within the last ``window_s`` seconds before
+    ``t`` (−1 while the ring does not yet reach back that far)."""
+    count, head = int(scalars[RING_COUNT]), int(scalars[RING_HEAD])
+    for j in range(count):
+        if t - ring_t[(head - 1 - j) % RING] > window_s + 1e-9:
+            return j
+    return -1
+
+
+@njit(cache=True)
 def _window_max(ring_t, values, scalars, t, window_s):
     """Max of ``values`` (a ring of the state) over the samples of the last ``window_s``
     seconds (−1 when the window is not yet full)."""
-    count, head = int(scalars[RING_COUNT]), int(scalars[RING_HEAD])
+    n, head = _window_count(ring_t, scalars, t, window_s), int(scalars[RING_HEAD])
+    if n < 0:
+        return -1.0
     best = -np.inf
-    covered = False
-    for j in range(count):
+    for j in range(n):
+        best = max(best, values[(head - 1 - j) % RING])
+    return best
+
+
+@njit(cache=True)
+def _at_rest(ring_t, ring_gyro, scalars, t, window_s, threshold, out):
+    """Whether every ω of the last ``window_s`` seconds lies within ``threshold`` of their
+    mean (False while the window is not yet full); then into ``out`` (2, 3) ω̄, the mean of
+    the window's older half (a stop's last samples, the thigh starting to move below the
+    threshold, are not in it), and the variance of ω over it per axis."""
+    n, head = _window_count(ring_t, scalars, t, window_s), int(scalars[RING_HEAD])
+    if n <= 0:
+        return False
+    m0 = m1 = m2 = 0.0
+    for j in range(n):
         i = (head - 1 - j) % RING
-        if t - ring_t[i] > window_s + 1e-9:
-            covered = True
-            break
-        best = max(best, values[i])
-    return best if covered else -1.0
+        m0 += ring_gyro[i, 0]
+        m1 += ring_gyro[i, 1]
+        m2 += ring_gyro[i, 2]
+    m0, m1, m2 = m0 / n, m1 / n, m2 / n
+    limit = threshold * threshold
+    o0 = o1 = o2 = 0.0
+    older = 0
+    for j in range(n):
+        i = (head - 1 - j) % RING
+        if (ring_gyro[i, 0] - m0) ** 2 + (ring_gyro[i, 1] - m1) ** 2 + \
+                (ring_gyro[i, 2] - m2) ** 2 > limit:
+            return False
+        if t - ring_t[i] >= 0.5 * window_s:
+            o0 += ring_gyro[i, 0]
+            o1 += ring_gyro[i, 1]
+            o2 += ring_gyro[i, 2]
+            older += 1
+    if older == 0:
+        return False
+    out[0, 0], out[0, 1], out[0, 2] = o0 / older, o1 / older, o2 / older
+    out[1, :] = 0.0
+    for j in range(n - older, n):
+        i = (head - 1 - j) % RING
+        for m in range(3):
+            out[1, m] += (ring_gyro[i, m] - out[0, m]) ** 2 / older
+    return True
 
 
 @njit(cache=True)
 def _mag_steady(ring_t, ring_mag, scalars, t, params):
     """Norm spread and angle to the mean direction of C·μ over the trailing window."""
-    count, head = int(scalars[RING_COUNT]), int(scalars[RING_HEAD])
+    n, head = _window_count(ring_t, scalars, t, params.mag_window_s), int(scalars[RING_HEAD])
+    if n < 2:
+        return False
     total = np.zeros(3)
     lo, hi = np.inf, -np.inf
-    n = 0
-    covered = False
-    for j in range(count):
-        i = (head - 1 - j) % RING
-        if t - ring_t[i] > params.mag_window_s + 1e-9:
-            covered = True
-            break
-        v = ring_mag[i]
+    for j in range(n):
+        v = ring_mag[(head - 1 - j) % RING]
         if not np.isfinite(v[0]):
             return False
         norm = np.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
         lo, hi = min(lo, norm), max(hi, norm)
         total += v / max(norm, 1e-12)
-        n += 1
-    if not covered or n < 2 or hi - lo > params.mag_norm_threshold:
+    if hi - lo > params.mag_norm_threshold:
         return False
     mean = total / max(np.sqrt(total[0] ** 2 + total[1] ** 2 + total[2] ** 2), 1e-12)
     min_cos = np.cos(params.mag_direction_threshold)
@@ -735,8 +825,8 @@ def detect(state, params, t, sample):
     zero_acc = 0.0 <= _window_max(ring_t, state.ring_acc, s, t, params.zero_acc_window_s) \
         <= params.zero_acc_threshold and _window_max(
             ring_t, ring_rate, s, t, params.zero_acc_window_s) <= params.zero_acc_max_rate
-    zero_rate = 0.0 <= _window_max(ring_t, ring_rate, s, t,
-                                   params.zero_rate_window_s) <= params.zero_rate_threshold
+    zero_rate = _at_rest(ring_t, state.ring_gyro, s, t, params.zero_rate_window_s,
+                         params.zero_rate_threshold, state.rest_rate)
     steady = np.isfinite(sample.mag[0]) and _mag_steady(ring_t, state.ring_mag, s, t, params)
     # the absolute field update holds the attitude to the field's direction taken at
     # the start of the steady period: taken while the tilt is uncertain (after a gap)
@@ -906,8 +996,12 @@ def filter_loop(state, params, inputs, out):
                 ran[MEAN_GRAVITY] = True
             _restart_window(s, state.force_sum, end)
             if use[ZARU] and found.zero_rate:
-                update(state, params, zaru(params), sample, work)
-                ran[ZARU] = True
+                rest = rest_zaru(state, params)
+                if zaru_nis(state, params, rest.r) <= params.zaru_gate_nis:
+                    update(state, params, rest, Sample(
+                        dt, state.rest_rate[0], state.previous_gyro, sample.accel,
+                        sample.mag, sample.saturated), work)
+                    ran[ZARU] = True
         state.previous_gyro[:] = sample.gyro
         state.previous_accel[:] = sample.accel
         state.previous_mag[:] = sample.mag

@@ -20,7 +20,10 @@ rows of the ``EV_*`` columns. θ itself comes from :mod:`pdr_pocket.compiled_mou
   cannot raise the thresholds beyond every later step.
 - :func:`footfall_loop`, beyond the thesis: footfalls as prominent peaks of the
   low-passed specific force's norm, every second one closing a gait cycle of the sensor
-  leg with the pitch's extremes since the last.
+  leg with the pitch's extremes since the last. A gait is a rhythm: a footfall counts
+  only in a run of at least :data:`~pdr_core.gait.GAIT_MIN_FOOTFALLS`, each within
+  ``max_interval_s`` (half the longest gait cycle) of the last; the first ones of a run
+  wait for it, and a shorter run (the phone taken out, a stumble, a bump) is dropped.
 """
 from __future__ import annotations
 
@@ -28,6 +31,11 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+
+from pdr_core import gait, kernel_cache
+from pdr_core.gait import GAIT_MIN_FOOTFALLS
+
+kernel_cache.forget_if_changed(__file__, gait.__file__)
 
 # peak detector scalars (PeakState.scalars)
 SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE, LAST_STEP_T = range(7)
@@ -111,10 +119,16 @@ def peak_loop(state, params, t, signal, events):
     return count
 
 
-# footfall detector scalars (a (N_FOOTFALL_SCALARS,) array)
+# footfall detector scalars (a (N_FOOTFALL_SCALARS,) array): FF_LAST_T is the last
+# footfall, counted or waiting for its run; FF_RUN the footfalls of the run; the first
+# GAIT_MIN_FOOTFALLS − 1 of a run wait from FF_WAITING on, WAITING_FIELDS each
 (FF_SEEKING_MAX, FF_CUR_MIN, FF_CUR_MAX, FF_T_MAX, FF_HELD_T, FF_HELD_VALUE, FF_LAST_T,
- FF_COUNT, FF_PITCH_MAX, FF_PITCH_MIN, FF_T_PITCH_MIN) = range(11)
-N_FOOTFALL_SCALARS = 11
+ FF_COUNT, FF_PITCH_MAX, FF_PITCH_MIN, FF_T_PITCH_MIN, FF_RUN, FF_WAITING) = range(13)
+# a waiting footfall: its time [s], whether it closes a cycle (1/0), and if so the cycle's
+# θ_max, θ_min [rad] and the time of θ_min [s]
+W_T, W_CLOSES, W_PITCH_MAX, W_PITCH_MIN, W_T_PITCH_MIN = range(5)
+WAITING_FIELDS = 5
+N_FOOTFALL_SCALARS = FF_WAITING + WAITING_FIELDS * (GAIT_MIN_FOOTFALLS - 1)
 
 
 def new_footfall_state() -> np.ndarray:
@@ -127,32 +141,64 @@ def new_footfall_state() -> np.ndarray:
 
 
 @njit(cache=True)
-def _footfall(s, t_ff, t_now, events, count):
-    """A footfall at ``t_ff`` confirmed at ``t_now``: every second one closes a gait
-    cycle of the sensor leg, an event row (the pitch's extremes since the last one)."""
-    s[FF_COUNT] += 1.0
+def _cycle(events, count, t_ff, t_now, pitch_max, pitch_min, t_pitch_min):
+    """A gait cycle closed by the footfall at ``t_ff``, counted at ``t_now``: its row."""
+    events[count, EV_T_MAX] = t_ff
+    events[count, EV_MAX] = pitch_max
+    events[count, EV_MIN] = pitch_min
+    events[count, EV_T_MIN] = t_pitch_min
+    events[count, EV_T_CONFIRM] = t_now
+    return count + 1
+
+
+@njit(cache=True)
+def _in_rhythm(s, t_ff, t_now, max_interval_s, events, count):
+    """A footfall at ``t_ff`` found at ``t_now``, counted once its run holds
+    GAIT_MIN_FOOTFALLS (the run's waiting ones first); a footfall farther than
+    ``max_interval_s`` from the last starts a new run, dropping a shorter one. Every
+    second footfall counted closes a gait cycle of the sensor leg with the pitch's
+    extremes since the last: a waiting footfall that will close one keeps them."""
+    if t_ff - s[FF_LAST_T] > max_interval_s:
+        s[FF_RUN] = 0.0
     s[FF_LAST_T] = t_ff
-    if s[FF_COUNT] % 2 == 0.0:
-        events[count, EV_T_MAX] = t_ff
-        events[count, EV_MAX] = s[FF_PITCH_MAX]
-        events[count, EV_MIN] = s[FF_PITCH_MIN]
-        events[count, EV_T_MIN] = s[FF_T_PITCH_MIN]
-        events[count, EV_T_CONFIRM] = t_now
+    s[FF_RUN] += 1.0
+    run = int(s[FF_RUN])
+    uncounted = run if run <= GAIT_MIN_FOOTFALLS else 1     # this one and those waiting
+    closes = (s[FF_COUNT] + uncounted) % 2 == 0.0
+    if run < GAIT_MIN_FOOTFALLS:
+        w = FF_WAITING + WAITING_FIELDS * (run - 1)
+        s[w + W_T], s[w + W_CLOSES] = t_ff, 1.0 if closes else 0.0
+        if closes:
+            s[w + W_PITCH_MAX], s[w + W_PITCH_MIN] = s[FF_PITCH_MAX], s[FF_PITCH_MIN]
+            s[w + W_T_PITCH_MIN] = s[FF_T_PITCH_MIN]
+            s[FF_PITCH_MAX], s[FF_PITCH_MIN] = -np.inf, np.inf
+        return count
+    if run == GAIT_MIN_FOOTFALLS:
+        for i in range(GAIT_MIN_FOOTFALLS - 1):
+            w = FF_WAITING + WAITING_FIELDS * i
+            if s[w + W_CLOSES] > 0:
+                count = _cycle(events, count, s[w + W_T], t_now, s[w + W_PITCH_MAX],
+                               s[w + W_PITCH_MIN], s[w + W_T_PITCH_MIN])
+        s[FF_COUNT] += GAIT_MIN_FOOTFALLS - 1
+    s[FF_COUNT] += 1.0
+    if closes:
+        count = _cycle(events, count, t_ff, t_now, s[FF_PITCH_MAX], s[FF_PITCH_MIN],
+                       s[FF_T_PITCH_MIN])
         s[FF_PITCH_MAX], s[FF_PITCH_MIN] = -np.inf, np.inf
-        return count + 1
     return count
 
 
 @njit(cache=True)
-def footfall_loop(s, prominence, min_interval_s, t, force, pitch, events):
+def footfall_loop(s, prominence, min_interval_s, max_interval_s, t, force, pitch, events):
     """Footfalls in the low-passed specific force's norm ``force`` [m/s²] (N,), and the
     gait cycles they close into ``events`` (rows of EV_* columns, every second footfall;
     returns how many). A footfall is a peak standing ``prominence`` above the troughs on
     both sides (risen that much since the last trough, fallen that much since), at least
     ``min_interval_s`` from the last one: a peak is held that long, and a higher one
     within it takes its place (scipy.signal.find_peaks' ``distance``, causally, with
-    ``min_interval_s`` of latency). ``pitch`` [rad] (NaN: unknown) gives each cycle its
-    θ_max and θ_min."""
+    ``min_interval_s`` of latency), and in a run of them (:func:`_in_rhythm`, spaced at
+    most ``max_interval_s``). ``pitch`` [rad] (NaN: unknown) gives each cycle its θ_max
+    and θ_min."""
     count = 0
     for k in range(len(t)):
         x = force[k]
@@ -163,7 +209,7 @@ def footfall_loop(s, prominence, min_interval_s, t, force, pitch, events):
                 s[FF_PITCH_MIN] = pitch[k]
                 s[FF_T_PITCH_MIN] = t[k]
         if s[FF_HELD_T] > -np.inf and t[k] - s[FF_HELD_T] >= min_interval_s:
-            count = _footfall(s, s[FF_HELD_T], t[k], events, count)
+            count = _in_rhythm(s, s[FF_HELD_T], t[k], max_interval_s, events, count)
             s[FF_HELD_T] = -np.inf
         if not np.isfinite(x):
             continue

@@ -16,12 +16,15 @@ from __future__ import annotations
 
 import csv
 from dataclasses import dataclass, field, fields, replace
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from pdr_core import units
+from pdr_core.allan import gm_sigma_for_bias_instability
+from pdr_core.chi2 import chi2_quantile
 from pdr_core.config_files import (
     check_keys,
     dataclass_from_mapping,
@@ -30,9 +33,11 @@ from pdr_core.config_files import (
 )
 from pdr_core.constants import STANDARD_GRAVITY_MPS2, earth_rate_enu
 from pdr_core.errors import InputError
+from pdr_core.imu_profiles import PROFILES
+from pdr_core.stair_geometry import FLIGHT_MAX_RISERS, FLIGHT_MIN_RISERS, RISER_MAX_M, RISER_MIN_M
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_pocket.compiled_orientation import FilterParams
-from pdr_pocket.step_length import STRIDE_MODELS
+from pdr_pocket.step_length import AUTO_MODEL, STRIDE_MODELS
 
 
 @dataclass(frozen=True)
@@ -57,10 +62,55 @@ class Updates:
         return np.array([getattr(self, f.name) for f in fields(self)], dtype=bool)
 
 
+BIAS_MODELS = ("allan", "thesis")       # OrientationConfig.bias_model
+# OrientationConfig's sensor noise keys that its imu_profile fills when they are not given
+PROFILE_KEYS = ("gyro_arw_deg_per_sqrt_h", "bias_instability_deg_per_h",
+                "bias_instability_time_s", "initial_bias_sigma_deg_per_s")
+# The filter's initial gyro bias σ [°/s] for the profiles of pdr_core.imu_profiles it knows:
+# consumer_phone's turn-on σ, and for xsens_mtw twice the 0.1 °/s biases of Muñoz Díaz
+# 2016, Table 3.2 (the value shipped before the profiles).
+PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S = {"consumer_phone": 1.0, "xsens_mtw": 0.2}
+
+
+def profile_noise(name: str) -> dict[str, float]:
+    """The :data:`PROFILE_KEYS` of an IMU profile: the gyroscope's white noise, bias
+    instability β and correlation time as pdr_core.imu_profiles gives them to the simulator
+    (the correlation time is the t_β of Eq. (3.10)), and the initial bias σ."""
+    gyro = PROFILES[name]["gyro"]
+    return {"gyro_arw_deg_per_sqrt_h": float(gyro["arw_deg_per_sqrt_h"]),
+            "bias_instability_deg_per_h": float(gyro["bias_instability_deg_per_h"]),
+            "bias_instability_time_s": float(gyro["bias_correlation_time_s"]),
+            "initial_bias_sigma_deg_per_s": PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S[name]}
+
+
+@lru_cache(maxsize=64)
+def allan_bias_sigma(beta_radps: float, t_beta_s: float, arw_rad_per_sqrt_s: float) -> float:
+    """σ [rad/s] of the AR(1) gyro bias of correlation time t_β [s] whose modelled Allan
+    deviation with the white noise σ_ν [rad/√s] has its minimum β [rad/s]
+    (pdr_core.allan.gm_sigma_for_bias_instability); ValueError naming the keys when β
+    leaves no such minimum."""
+    try:
+        return gm_sigma_for_bias_instability(beta_radps, t_beta_s, arw_rad_per_sqrt_s)
+    except ValueError as exc:
+        raise ValueError(
+            f"bias_instability_deg_per_h {beta_radps / units.deg_per_h_to_si(1):g} is no "
+            f"Allan minimum over the white noise gyro_arw_deg_per_sqrt_h "
+            f"{arw_rad_per_sqrt_s / units.arw_to_si(1):g} with bias_instability_time_s "
+            f"{t_beta_s:g} (bias_model allan: {exc})") from exc
+
+
 @dataclass(frozen=True)
 class OrientationConfig:
     """The orientation filter (Muñoz Díaz 2016, chapter 3). Angles in degrees, rates in
     °/s or °/h at this edge, as the names say; SI inside (:meth:`params`).
+
+    The sensor noise. ``imu_profile`` names the gyroscope: its white noise, bias
+    instability β and correlation time t_β are those pdr_core.imu_profiles gives the
+    simulator, and its initial bias σ is in :data:`PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S`;
+    each of the four keys given (not None) overrides the profile's. The default,
+    consumer_phone, is for a phone of unknown make: 0.42 °/√h, β = 30 °/h at t_β = 100 s
+    (σ_bias = 220 °/h with the allan model) and an initial bias σ of 1 °/s; xsens_mtw is
+    the thesis' sensor (0.6 °/√h, 10 °/h at 200 s, 0.2 °/s: the values shipped before).
 
     The bias model. Eq. (3.8), b̂^k = c·b^{k−1} + n, pulls the estimate toward zero with
     the time constant t_β, and its stationary spread σ_bias = β/√τ (Eq. (3.11)) is about
@@ -68,19 +118,29 @@ class OrientationConfig:
     the filter cannot hold, and the thesis' own Figs. 3.14-3.17 (biases of ±0.1 °/s found
     over 10-30 min) could not come out of it. So the bias is carried as a random constant
     (initial σ ``initial_bias_sigma_deg_per_s``) whose variation follows the AR(1) of Eqs.
-    (3.8)-(3.10): its process noise σ_n² = σ_bias²(1 − e^{−2/τ}) (Eq. (3.9)) is added at
-    every sample. ``bias_mean_decays: true`` applies Eq. (3.8) to the estimate as
-    written."""
+    (3.8)-(3.10): its process noise σ_n² = σ_bias²(1 − e^{−2/τ}) (Eq. (3.9), τ = t_β·f_s
+    samples, Eq. (3.10)) is added at every sample. ``bias_mean_decays: true`` applies
+    Eq. (3.8) to the estimate as written. ``bias_model`` sets σ_bias:
 
-    # sensor noise, as pdr-sim allan reads it (Eqs. (3.7)-(3.11))
-    gyro_arw_deg_per_sqrt_h: float = 0.6
+    - allan (default): the σ of the Gauss-Markov bias whose modelled Allan deviation (white
+      noise σ_ν and the AR(1), pdr_core.allan.allan_deviation_model) has its minimum β
+      (pdr_core.allan.gm_sigma_for_bias_instability): what ``pdr-sim allan`` fits and the
+      simulator draws; 25 °/h for β = 10 °/h, t_β = 200 s, σ_ν = 0.6 °/√h;
+    - thesis: σ_bias = β/√τ, Eq. (3.11) as written (0.07 °/h for the same sensor at
+      100 Hz: the filter holds the bias for constant); the reproductions of the thesis'
+      figures use it."""
+
+    # sensor noise, as pdr-sim allan reads it (Eqs. (3.7)-(3.11)); None: imu_profile's
+    imu_profile: str = "consumer_phone"     # a profile of PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S
+    gyro_arw_deg_per_sqrt_h: float | None = None
     gyro_scale_sigma: float = 0.03      # sensitivity and cross-axis errors, a fraction
-    bias_instability_deg_per_h: float = 10.0
-    bias_instability_time_s: float = 200.0
+    bias_instability_deg_per_h: float | None = None
+    bias_instability_time_s: float | None = None
+    bias_model: str = "allan"           # allan | thesis: σ_bias (see the class doc)
     nominal_rate_hz: float = 100.0      # the f_s of Eq. (3.10): τ = t_β·f_s samples
     bias_mean_decays: bool = False      # True: Eq. (3.8) as written (see the class doc)
     # initial state
-    initial_bias_sigma_deg_per_s: float = 0.2
+    initial_bias_sigma_deg_per_s: float | None = None
     initial_tilt_sigma_deg: float = 2.0
     initial_yaw_sigma_deg: float = 5.0
     initial_yaw_deg: float | None = None    # None: from the compass (magnetometer), else 0
@@ -95,6 +155,7 @@ class OrientationConfig:
     magnetic_sigma_ut: float = 0.5              # absolute and differential field updates
     compass_sigma_deg: float = 5.0
     zaru_sigma_deg_per_s: float = 0.05
+    zaru_gate_probability: float = 0.999     # χ² gate of the ZARU's innovation (3 dof)
     mean_gravity_window_s: float = 10.0
     mean_gravity_velocity_sigma_mps: float = 1.0
     mean_gravity_cycle_min_s: float = 1.0       # a window of whole gait cycles: this long
@@ -106,7 +167,7 @@ class OrientationConfig:
     zero_acc_threshold_mps2: float = 0.4
     zero_acc_max_rate_deg_per_s: float = 20.0   # beyond the thesis: see compiled_orientation
     zero_rate_window_s: float = 0.5
-    zero_rate_threshold_deg_per_s: float = 3.0
+    zero_rate_threshold_deg_per_s: float = 3.0  # every ω this close to the window's mean
     mag_window_s: float = 0.5
     mag_norm_threshold_ut: float = 1.0
     mag_direction_threshold_deg: float = 3.0
@@ -116,10 +177,16 @@ class OrientationConfig:
     max_gap_s: float = 0.1
 
     def __post_init__(self) -> None:
-        positive = ("gyro_arw_deg_per_sqrt_h", "bias_instability_deg_per_h",
-                    "bias_instability_time_s", "nominal_rate_hz", "initial_bias_sigma_deg_per_s",
-                    "initial_tilt_sigma_deg", "initial_yaw_sigma_deg", "gravity_mps2",
-                    "gravity_angle_sigma_deg", "differential_gravity_sigma_mps2",
+        if self.imu_profile not in PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S:
+            raise ValueError(f"imu_profile must be one of "
+                             f"{', '.join(PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S)}, "
+                             f"got {self.imu_profile!r}")
+        if self.bias_model not in BIAS_MODELS:
+            raise ValueError(f"bias_model must be one of {', '.join(BIAS_MODELS)}, "
+                             f"got {self.bias_model!r}")
+        _positive(self, tuple(name for name in PROFILE_KEYS if getattr(self, name) is not None))
+        positive = ("nominal_rate_hz", "initial_tilt_sigma_deg", "initial_yaw_sigma_deg",
+                    "gravity_mps2", "gravity_angle_sigma_deg", "differential_gravity_sigma_mps2",
                     "magnetic_sigma_ut", "compass_sigma_deg", "zaru_sigma_deg_per_s",
                     "mean_gravity_window_s", "mean_gravity_velocity_sigma_mps",
                     "mean_gravity_cycle_min_s", "mean_gravity_cycle_velocity_sigma_mps",
@@ -130,30 +197,45 @@ class OrientationConfig:
                     "mag_direction_threshold_deg", "mag_reference_max_tilt_sigma_deg",
                     "max_gap_s")
         _positive(self, positive)
+        if not 0 < self.zaru_gate_probability < 1:
+            raise ValueError(f"zaru_gate_probability must be within (0, 1), got "
+                             f"{self.zaru_gate_probability}")
         if not self.gyro_scale_sigma >= 0:
             raise ValueError(f"gyro_scale_sigma must be >= 0, got {self.gyro_scale_sigma}")
         if self.latitude_deg is not None and not -90 <= self.latitude_deg <= 90:
             raise ValueError(f"latitude_deg must be within ±90, got {self.latitude_deg}")
+        _ = self.bias_sigma_radps   # allan: β must be a dip over σ_ν at t_β (named if not)
+
+    def noise(self, name: str) -> float:
+        """A sensor noise key of :data:`PROFILE_KEYS` as given, else ``imu_profile``'s."""
+        value = getattr(self, name)
+        return profile_noise(self.imu_profile)[name] if value is None else value
 
     @property
     def bias_tau_samples(self) -> float:
         """τ = t_β·f_s (Eq. (3.10))."""
-        return self.bias_instability_time_s * self.nominal_rate_hz
+        return self.noise("bias_instability_time_s") * self.nominal_rate_hz
 
     @property
     def bias_sigma_radps(self) -> float:
-        """σ_bias = β/√τ (Eq. (3.11)) [rad/s]."""
-        beta = units.deg_per_h_to_si(self.bias_instability_deg_per_h)
-        return beta / np.sqrt(self.bias_tau_samples)
+        """σ_bias [rad/s] of the AR(1) bias: ``bias_model`` allan, the σ of the Gauss-Markov
+        bias (correlation time t_β) whose Allan deviation with the white noise σ_ν has its
+        minimum β (pdr_core.allan.gm_sigma_for_bias_instability); thesis, β/√τ
+        (Eq. (3.11), τ of Eq. (3.10))."""
+        beta = units.deg_per_h_to_si(self.noise("bias_instability_deg_per_h"))
+        if self.bias_model == "thesis":
+            return beta / np.sqrt(self.bias_tau_samples)
+        return allan_bias_sigma(beta, self.noise("bias_instability_time_s"),
+                                units.arw_to_si(self.noise("gyro_arw_deg_per_sqrt_h")))
 
     def params(self) -> FilterParams:
         """The compiled loop's parameters, SI units."""
-        arw = units.arw_to_si(self.gyro_arw_deg_per_sqrt_h)       # rad/√s
+        arw = units.arw_to_si(self.noise("gyro_arw_deg_per_sqrt_h"))       # rad/√s
         earth = (np.zeros(3) if self.latitude_deg is None
                  else earth_rate_enu(self.latitude_deg))
         return FilterParams(
             gyro_noise_var=arw**2 * self.nominal_rate_hz,        # σ_ν² per sample
-            bias_tau_s=self.bias_instability_time_s, bias_sigma=self.bias_sigma_radps,
+            bias_tau_s=self.noise("bias_instability_time_s"), bias_sigma=self.bias_sigma_radps,
             bias_mean_decays=self.bias_mean_decays,
             earth_rate_n=earth, gravity=self.gravity_mps2, use=self.updates.mask(),
             gravity_angle_var=np.radians(self.gravity_angle_sigma_deg) ** 2,
@@ -161,6 +243,7 @@ class OrientationConfig:
             mag_var=(self.magnetic_sigma_ut * 1e-6) ** 2,
             compass_var=np.radians(self.compass_sigma_deg) ** 2,
             zaru_var=np.radians(self.zaru_sigma_deg_per_s) ** 2,
+            zaru_gate_nis=chi2_quantile(self.zaru_gate_probability, 3),
             mean_gravity_window_s=self.mean_gravity_window_s,
             mean_gravity_velocity_var=self.mean_gravity_velocity_sigma_mps**2,
             cycle_window_min_s=self.mean_gravity_cycle_min_s,
@@ -324,12 +407,13 @@ class ActivityConfig:
 
 @dataclass(frozen=True)
 class StepLengthConfig:
-    """Stride (one gait cycle) models. ``model``: pitch (Eq. (4.2), the thesis'),
-    frequency (Eq. (4.3)) or weinberg (Eq. (2.3), ζ·(α_z,max − α_z,min)^¼). The shipped
-    a_H, b_H are a population's line (pdr_pocket.step_length); ``calibrated`` true (what
-    ``pdr-pocket calibrate-step`` writes) says they are the person's."""
+    """Stride (one gait cycle) models. ``model``: auto (the placement's: the pitch line on a
+    thigh's swing, the frequency line otherwise, pdr_pocket.placement), pitch (Eq. (4.2),
+    the thesis'), frequency (Eq. (4.3)) or weinberg (Eq. (2.3), ζ·(α_z,max − α_z,min)^¼).
+    The shipped a_H, b_H are a population's line (pdr_pocket.step_length); ``calibrated``
+    true (what ``pdr-pocket calibrate-step`` writes) says they are the person's."""
 
-    model: str = "pitch"
+    model: str = AUTO_MODEL
     a_h_m_per_deg: float = 0.025        # universal slope a_H
     b_h_m: float = 0.42                 # offset b_H: a population's, or the person's
     calibrated: bool = False            # the line fitted to this person's walks
@@ -340,8 +424,8 @@ class StepLengthConfig:
     length_sigma_m: float = 0.03        # 1σ of one stride about the line
 
     def __post_init__(self) -> None:
-        if self.model not in STRIDE_MODELS:
-            raise ValueError(f"model must be one of {', '.join(STRIDE_MODELS)}, "
+        if self.model not in (AUTO_MODEL, *STRIDE_MODELS):
+            raise ValueError(f"model must be one of {AUTO_MODEL}, {', '.join(STRIDE_MODELS)}, "
                              f"got {self.model!r}")
         _positive(self, ("a_h_m_per_deg", "weinberg_zeta", "stairs_stride_m",
                          "length_sigma_m"))
@@ -350,7 +434,11 @@ class StepLengthConfig:
 @dataclass(frozen=True)
 class StairsConfig:
     """Vertical displacement per step (Muñoz Díaz 2016, Eqs. (4.4)-(4.5)), v in cm and Δθ
-    in degrees as there, and floors."""
+    in degrees as there, and floors; and what makes a run of stairs steps a staircase
+    (pdr_pocket.stairs.FlightCheck, beyond the thesis): its mean riser [m] within the
+    building codes' span (pdr_core.stair_geometry), each step a whole number of its risers
+    (one or two) within ``riser_count_tolerance`` (relative), at most ``flight_max_risers``
+    risers without a landing."""
 
     a_u_cm_per_deg: float = 0.8
     b_u_cm: float = -8.456
@@ -358,10 +446,24 @@ class StairsConfig:
     b_d_cm: float = -19.24
     floor_height_m: float = FLOOR_HEIGHT_M
     vertical_sigma_m: float = 0.02      # 1σ of one step's v
+    check_flights: bool = True          # false: every stairs step of the pitch climbs
+    riser_min_m: float = RISER_MIN_M
+    riser_max_m: float = RISER_MAX_M
+    riser_count_tolerance: float = 0.5  # ±50 % of the whole number
+    flight_max_risers: int = FLIGHT_MAX_RISERS
 
     def __post_init__(self) -> None:
         _positive(self, ("a_u_cm_per_deg", "a_d_cm_per_deg", "floor_height_m",
-                         "vertical_sigma_m"))
+                         "vertical_sigma_m", "riser_min_m", "riser_count_tolerance"))
+        if not self.riser_max_m > self.riser_min_m:
+            raise ValueError(f"riser_max_m must be above riser_min_m, got {self.riser_max_m} "
+                             f"and {self.riser_min_m}")
+        if not self.riser_count_tolerance < 1.0:
+            raise ValueError(f"riser_count_tolerance must be below 1 (a step of no riser is "
+                             f"no stairs step), got {self.riser_count_tolerance}")
+        if not self.flight_max_risers >= FLIGHT_MIN_RISERS:
+            raise ValueError(f"flight_max_risers must be at least {FLIGHT_MIN_RISERS} (a "
+                             f"flight, DIN 18065), got {self.flight_max_risers}")
 
 
 @dataclass(frozen=True)
@@ -467,7 +569,13 @@ def load_pocket_config(path: str | Path | None = None) -> PocketConfig:
 def orientation_from_allan(csv_path: str | Path,
                            base: OrientationConfig | None = None) -> OrientationConfig:
     """The orientation section with the gyroscope's noise read by ``pdr-sim allan``
-    (its allan.csv): the mean over the axes of ARW, β and t_β."""
+    (its allan.csv): the mean over the axes of ARW, β and t_β (the minimum's τ, taken as
+    the AR(1)'s time constant as Eq. (3.10) takes it). With ``bias_model: allan`` a t_β
+    too short for a Gauss-Markov bias to dip to β over that white noise (t_β below
+    2.2·(σ_ν/β)²) is refused by name: the curve's minimum lies at about the same τ for any
+    correlation time from t_β to 100·t_β, so it cannot tell the correlation time; give
+    ``bias_instability_time_s`` (the sensor's correlation time) after it, or
+    ``bias_model: thesis``."""
     path = Path(csv_path)
     try:
         with path.open() as stream:
@@ -478,7 +586,10 @@ def orientation_from_allan(csv_path: str | Path,
         raise InputError(path, f"not an allan.csv of pdr-sim allan ({exc})") from exc
     if not rows:
         raise InputError(path, "no gyroscope rows (axis gyro_x, ...)")
-    return replace(base or OrientationConfig(),
-                   gyro_arw_deg_per_sqrt_h=values["arw_deg_per_sqrt_h"],
-                   bias_instability_deg_per_h=values["bias_instability_deg_per_h"],
-                   bias_instability_time_s=values["t_beta_s"])
+    try:
+        return replace(base or OrientationConfig(),
+                       gyro_arw_deg_per_sqrt_h=values["arw_deg_per_sqrt_h"],
+                       bias_instability_deg_per_h=values["bias_instability_deg_per_h"],
+                       bias_instability_time_s=values["t_beta_s"])
+    except ValueError as exc:
+        raise InputError(path, str(exc)) from exc

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.angles import wrap_angle
-from pdr_core.gait import WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
+from pdr_core.gait import MAX_WALKING_SPEED_MPS, WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
 from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
 from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
@@ -49,9 +49,10 @@ from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, N_UPDATES, YAW_CO
 from pdr_pocket.compiled_peaks import EV_MAX, EV_MIN, EV_T_CONFIRM, EV_T_MAX
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.orientation import CORRECTION_NAMES, AttitudeEstimate, OrientationFilter
+from pdr_pocket.placement import PlacementClassifier
 from pdr_pocket.position import PSI, PositionFilter
 from pdr_pocket.stairs import Staircases, vertical_displacement_m
-from pdr_pocket.step_length import StrideInputs, stride_model
+from pdr_pocket.step_length import STRIDE_MODELS, StrideInputs, stride_model
 from pdr_pocket.steps import FootfallDetector, PitchMaximumDetector
 
 THIGH_UP, THIGH_FLEXION = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
@@ -148,8 +149,11 @@ class PocketNavigator:
         self.gyroscope: bool | None = None      # known from the first samples
         self.detector = PitchMaximumDetector(c.steps)
         self.classifier = activity_classifier(c.activity)
-        self.stride = stride_model(c.step_length, c.person.height_m)
+        self.strides = {name: stride_model(c.step_length, c.person.height_m, name)
+                        for name in STRIDE_MODELS}
+        self.placement = PlacementClassifier(c.step_length)
         self.bounded_steps = 0                  # strides cut to what a person walks
+        self.bounded_models: set[str] = set()   # ... by the models that gave them
         self.staircases = Staircases(c.stairs)
         self.position = PositionFilter(c.position)
         self.steps: list[StepRecord] = []
@@ -399,7 +403,7 @@ class PocketNavigator:
             if activity == Activity.WALKING else c.step_length.stairs_stride_m
         vertical = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
-        self.staircases.add(index, t_max, activity, vertical)
+        activity, vertical = self.staircases.admit(index, t_max, activity, vertical, heading)
         on_stairs = activity in STAIRS_ACTIVITIES
         self.position.step(length, vertical, heading, yaw_var, c.step_length.length_sigma_m**2,
                            c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2,
@@ -424,17 +428,41 @@ class PocketNavigator:
         return (f"{self.bounded_steps} of {len(self.steps)} strides were longer than a "
                 f"person walks at their cadence and were cut to it (walk ratio "
                 f"{WALK_RATIO_MAX_M_PER_SPM} m per step/min): the stride model "
-                f"({self.config.step_length.model}) does not hold for this placement or "
-                f"sensor; calibrate it (pdr-pocket calibrate-step) or choose another")
+                f"({', '.join(sorted(self.bounded_models))}) does not hold for this "
+                f"placement or sensor; calibrate it (pdr-pocket calibrate-step) or choose "
+                f"another")
+
+    def speed_warning(self) -> str | None:
+        """What to say when the level steps, taken together, walk faster than a person
+        walks (pdr_core.gait.MAX_WALKING_SPEED_MPS; None otherwise)."""
+        level = [s for s in self.steps if s.activity == Activity.WALKING]
+        walked_s = sum(s.duration for s in level)
+        if not walked_s:
+            return None
+        speed = sum(s.length for s in level) / walked_s
+        if speed <= MAX_WALKING_SPEED_MPS:
+            return None
+        return (f"the level steps walk {speed:.1f} m/s, faster than a person walks "
+                f"({MAX_WALKING_SPEED_MPS:g} m/s): the strides or the step times are wrong "
+                f"(stamps in another unit, a run, or a stride model that does not hold)")
+
+    def warnings(self) -> list[str]:
+        """What is implausible or missing in the result so far (the report's and the
+        log's warnings, the plot's title)."""
+        return [w for w in (self.no_step_reason(), self.bound_warning(), self.speed_warning())
+                if w is not None]
 
     def _walked(self, x: StrideInputs) -> float:
-        """The model's stride [m], at most what a person walks at the cycle's cadence
-        (pdr_core.gait.stride_bound_m); a stride cut to it is counted."""
-        length = self.stride.length(x)
+        """The stride [m] of the placement's model (pdr_pocket.placement), at most what a
+        person walks at the cycle's cadence (pdr_core.gait.stride_bound_m); a stride cut to
+        it is counted."""
+        model = self.placement.add(x).model
+        length = self.strides[model].length(x)
         bound = stride_bound_m(x.duration_s, self.config.person.height_m)
         if length <= bound:
             return length
         self.bounded_steps += 1
+        self.bounded_models.add(model)
         return bound
 
     def _duration(self, t_max: float) -> float:

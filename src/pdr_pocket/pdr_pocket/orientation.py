@@ -136,7 +136,7 @@ class OrientationFilter:
         variances = np.zeros(N_STATE)
         variances[[ATT_EAST, ATT_NORTH]] = np.radians(c.initial_tilt_sigma_deg) ** 2
         variances[ATT_UP] = np.radians(c.initial_yaw_sigma_deg) ** 2
-        variances[BIAS_ROWS] = np.radians(c.initial_bias_sigma_deg_per_s) ** 2
+        variances[BIAS_ROWS] = np.radians(c.noise("initial_bias_sigma_deg_per_s")) ** 2
         return initial_state(attitude, np.diag(variances))
 
     def reset(self) -> None:

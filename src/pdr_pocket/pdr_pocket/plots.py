@@ -4,12 +4,14 @@ raw cloud and the fitted sphere, as Fig. 3.20."""
 from __future__ import annotations
 
 from pathlib import Path
+from textwrap import shorten
 
 import matplotlib
 import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from matplotlib.collections import LineCollection
 
 from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
 from pdr_core.vocabulary import Activity
@@ -82,6 +84,7 @@ ACTIVITY_COLOURS = ("tab:gray", "tab:blue", "tab:green", "tab:orange", "tab:purp
 ELLIPSE_EVERY_STEPS = 20
 ZOOM_ABOVE_S = 60.0     # a longer pitch trace gets a zoom on a few gait cycles
 ZOOM_CYCLES = 4         # gait cycles (the sensor leg's steps) in the zoom
+TITLE_WARNING_CHARS = 120   # a warning in the title, shortened to a line
 
 
 def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.ndarray,
@@ -89,19 +92,22 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
                    step_t: np.ndarray, true_step_t: np.ndarray | None, path: Path,
                    source: str | Path, landmarks: np.ndarray | None = None,
                    associations: list[tuple[np.ndarray, np.ndarray]] = (), *,
-                   final_error_m: float | None = None, loop_gap_m: float | None = None
-                   ) -> None:
+                   final_error_m: float | None = None, loop_gap_m: float | None = None,
+                   warnings: list[str] = ()) -> None:
     """The 3D path (``positions`` (N + 1, 3) [m] from the start, one point per step,
     coloured by activity: level blue, up green, down orange; the height axis a floor at
     least, pdr_core.plot_layout), the top view with the 1σ position ellipse every
     :data:`ELLIPSE_EVERY_STEPS` steps (to scale unless it is a strip, then stretched and
-    labelled so), and the thigh pitch [deg] against ``t_s`` [s] with the detected steps
-    (``step_t``) and the true ones, and beyond :data:`ZOOM_ABOVE_S` a zoom on
+    labelled so; the limits are the path's and the truth's, so ellipses wider than the walk
+    are cut at the frame rather than shrinking the path to a line), and the thigh pitch
+    [deg] against ``t_s`` [s] with the detected steps (``step_t``) and the true ones, and
+    beyond :data:`ZOOM_ABOVE_S` a zoom on
     :data:`ZOOM_CYCLES` gait cycles in the middle. Decimated to at most 20,000 points per
     line, so an hour plots in seconds. With the drift estimator's ``landmarks`` (N, 3)
     and ``associations`` (pairs of positions), the top view marks them, as Muñoz Díaz
     2016, Figs. 6.8-6.9. The title: ``source``'s name, the steps and ``final_error_m``
-    (against a truth) or ``loop_gap_m`` (the report's)."""
+    (against a truth) or ``loop_gap_m`` (the report's), and the report's ``warnings``, each
+    shortened to a line."""
     fig = plt.figure(figsize=(15, 10))
     grid = fig.add_gridspec(2, 4)
     ax3 = fig.add_subplot(grid[0, :2], projection="3d")
@@ -119,12 +125,8 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     height_axis(ax3, positions[:, 2] if truth is None else np.r_[positions[:, 2], truth[:, 2]])
     ax3.legend(loc="upper left", fontsize=8)
     top.plot(positions[:, 0], positions[:, 1], color="tab:blue", lw=1, label="estimate")
-    angles = np.linspace(0, 2 * np.pi, 60)
-    circle = np.stack([np.cos(angles), np.sin(angles)])
-    for k in range(0, len(positions), ELLIPSE_EVERY_STEPS):
-        values, vectors = np.linalg.eigh(covariances[k][:2, :2])
-        ring = vectors @ (np.sqrt(np.maximum(values, 0))[:, None] * circle)
-        top.plot(positions[k, 0] + ring[0], positions[k, 1] + ring[1], color="tab:red", lw=0.6)
+    top.add_collection(LineCollection(_ellipses(positions, covariances), colors="tab:red",
+                                      linewidths=0.6), autolim=False)
     if landmarks is not None and len(landmarks):
         top.plot(landmarks[:, 0], landmarks[:, 1], "o", mfc="none", color="tab:green", ms=8,
                  label="landmarks")
@@ -142,12 +144,26 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     if zoom:
         _pitch_zoom(fig.add_subplot(grid[1, 3]), pitch_ax, t_s, pitch_deg, step_t, true_step_t)
     steps = len(positions) - 1
+    summary = "\n".join([walk_summary(steps, final_error_m, loop_gap_m),
+                         *(f"warning: {shorten(w, TITLE_WARNING_CHARS)}" for w in warnings)])
     fig.suptitle(figure_title(source, "the pocket navigator" + (
-        ", landmarks and associations" if landmarks is not None else ""),
-        walk_summary(steps, final_error_m, loop_gap_m)))
+        ", landmarks and associations" if landmarks is not None else ""), summary))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _ellipses(positions: np.ndarray, covariances: np.ndarray) -> list[np.ndarray]:
+    """The 1σ horizontal ellipse (60, 2) [m] about every :data:`ELLIPSE_EVERY_STEPS`-th
+    position, from its covariance's upper 2×2."""
+    angles = np.linspace(0, 2 * np.pi, 60)
+    circle = np.stack([np.cos(angles), np.sin(angles)])
+    rings = []
+    for k in range(0, len(positions), ELLIPSE_EVERY_STEPS):
+        values, vectors = np.linalg.eigh(covariances[k][:2, :2])
+        ring = vectors @ (np.sqrt(np.maximum(values, 0))[:, None] * circle)
+        rings.append((positions[k, :2, None] + ring).T)
+    return rings
 
 
 def _steps_on_pitch(ax, t_s: np.ndarray, pitch_deg: np.ndarray, step_t: np.ndarray,

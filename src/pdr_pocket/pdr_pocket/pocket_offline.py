@@ -125,13 +125,14 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     report |= {"samples": len(inputs.t), "dropped": inputs.counts,
                "mounting_changes": int(navigator.mounting.scalars[CHANGES]),
                "detection": navigator.detection(),
+               "placement": navigator.placement.summary(),
+               "stairs_refused": dict(navigator.staircases.check.refused),
                "step_length": {"model": config.step_length.model,
                                "calibrated": config.step_length.calibrated,
                                "height_m": config.person.height_m,
                                "scale": height_scale(config.step_length, config.person.height_m),
                                "bounded_steps": navigator.bounded_steps},
-               "warnings": [w for w in (navigator.no_step_reason(),
-                                        navigator.bound_warning()) if w is not None]}
+               "warnings": navigator.warnings()}
     if drift_log is not None:
         report["drift"] = {"mode": drift, **drift_log.summary()}
         if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in batches:
@@ -167,5 +168,6 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                                  np.array([s.t for s in steps]), true_t,
                                  writer.staging / "path.png", bag, *_drift_marks(drift_log),
                                  final_error_m=report.get("final_error_m"),
-                                 loop_gap_m=report.get("loop_gap_m"))
+                                 loop_gap_m=report.get("loop_gap_m"),
+                                 warnings=report["warnings"])
     return report

@@ -7,7 +7,8 @@
   in the navigation frame over the cycle.
 
 Each is built from the configuration (``from_config``) and takes a :class:`StrideInputs`
-to return metres. :data:`STRIDE_MODELS` names them for ``step_length.model``, as
+to return metres. :data:`STRIDE_MODELS` names them for ``step_length.model`` (or
+``auto``, the default: the model of the placement found, pdr_pocket.placement), as
 pdr_ins_ekf.config.DETECTORS names the stance detectors: a new model is a class here with
 those two methods and an entry there (its parameters, if any, keys of
 :class:`~pdr_pocket.config.StepLengthConfig`). Stairs steps are not walked at the level
@@ -103,6 +104,8 @@ class Weinberg:
 STRIDE_MODELS: dict[str, type[StrideModel]] = {
     "pitch": PitchLine, "frequency": FrequencyLine, "weinberg": Weinberg}
 """``step_length.model`` → its class (module docstring)."""
+AUTO_MODEL = "auto"
+"""``step_length.model``: the model of the placement found (pdr_pocket.placement)."""
 
 
 class Scaled:
@@ -121,10 +124,11 @@ def height_scale(config: StepLengthConfig, height_m: float | None) -> float:
     return 1.0 if config.calibrated or height_m is None else height_m / POPULATION_HEIGHT_M
 
 
-def stride_model(config: StepLengthConfig, height_m: float | None = None):
-    """The configured model (:data:`STRIDE_MODELS`), scaled to the person's height when
-    uncalibrated."""
-    model = STRIDE_MODELS[config.model].from_config(config)
+def stride_model(config: StepLengthConfig, height_m: float | None = None,
+                 name: str | None = None):
+    """The model ``name`` (:data:`STRIDE_MODELS`; the configured one by default), scaled to
+    the person's height when uncalibrated."""
+    model = STRIDE_MODELS[name or config.model].from_config(config)
     factor = height_scale(config, height_m)
     return model if factor == 1.0 else Scaled(model, factor)
 

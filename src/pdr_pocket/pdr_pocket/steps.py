@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from pdr_core.gait import GAIT_MIN_FOOTFALLS
 from pdr_pocket.compiled_peaks import (
     EV_MAX,
     EV_MIN,
@@ -89,7 +90,8 @@ class PitchMaximumDetector:
         """Samples in order; the confirmed maxima, rows of compiled_peaks.EV_* columns
         (``force``, the specific force's norm, is not used)."""
         t = np.ascontiguousarray(t, dtype=float)
-        events = np.empty((len(t) // 2 + 1, N_EVENT_COLUMNS))
+        # a footfall per sample at most, and the waiting ones of a run released with one
+        events = np.empty(((len(t) + GAIT_MIN_FOOTFALLS) // 2 + 1, N_EVENT_COLUMNS))
         count = peak_loop(self.state, self.params, t,
                           np.ascontiguousarray(pitch, dtype=float), events)
         return events[:count]
@@ -143,10 +145,12 @@ class FootfallDetector:
         from scipy.signal import sosfilt  # 1 s to import: only without a gyroscope
 
         low, self.zi = sosfilt(self.sos, force, zi=self.zi)
-        events = np.empty((len(t) // 2 + 1, N_EVENT_COLUMNS))
+        # a footfall per sample at most, and the waiting ones of a run released with one
+        events = np.empty(((len(t) + GAIT_MIN_FOOTFALLS) // 2 + 1, N_EVENT_COLUMNS))
         c = self.config
         count = footfall_loop(self.state, c.footfall_prominence_mps2, c.footfall_min_interval_s,
-                              t, np.ascontiguousarray(low), pitch, events)
+                              0.5 * c.max_step_period_s, t, np.ascontiguousarray(low), pitch,
+                              events)
         return events[:count]
 
     def _design(self, period_s: float, first: float) -> None:

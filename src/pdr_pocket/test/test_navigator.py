@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import warnings
+from dataclasses import replace
 from functools import cache
 
 import numpy as np
@@ -13,10 +14,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pdr_core.errors import InputError
+from pdr_core.gait import PLACEMENT_WINDOW_STEPS
 from pdr_core.vocabulary import Activity
 from pdr_pocket.compiled_mounting import CHANGES
 from pdr_pocket.config import (
     MountingConfig,
+    OrientationConfig,
     PersonConfig,
     PocketConfig,
     PositionConfig,
@@ -29,6 +32,9 @@ from pdr_pocket.step_length import fit_line, fit_offset
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
+# The filter matched to the simulated sensor (config/pocket_pdr_xsens_mtw.yaml): the walks
+# here carry the xsens_mtw errors the thesis's tables were measured with
+MTW = PocketConfig(orientation=OrientationConfig(imu_profile="xsens_mtw"))
 
 @cache
 def simulated(name: str, mounting=None, seed: int = 0, carried: str = "front_pocket"):
@@ -113,7 +119,7 @@ def test_riser_heights_and_floors():
     """Every flight found; risers within 0.4 % up and down (Table 4.5; 0.29 % measured);
     floors exact."""
     sim = simulated("up_dw")
-    nav = PocketNavigator(PocketConfig())
+    nav = PocketNavigator(MTW)
     out = nav.process(sim.trajectory.t, sim.imu["angular_velocity"],
                       sim.imu["linear_acceleration"], sim.mag["magnetic_field"])
     truth = sim.truth["/ground_truth/step"]
@@ -523,9 +529,9 @@ def with_gaps(sim, count: int = 40, seed: int = 4):
 def test_packets_dropped_lose_and_invent_no_step(name):
     """40 gaps of 0.11–0.27 s (one every 10 s; the TUG recording has one a second): the
     attitude is propagated over each gap with its uncertainty grown, no step is lost or
-    invented, and the stairs are still found: UP/DW 13 of 176 steps labelled wrong, the
-    first flight's start after a gap (12 before the level gait was scaled to the step's
-    amplitude), H1 2 of 294."""
+    invented, and the stairs are still found: UP/DW 12 of 176 steps labelled wrong, the
+    first flight's start after a gap (13 before the flight check, 15 with it when it
+    refused the landings the gaps turned into stairs), H1 2 of 294."""
     sim = simulated(name)
     keep = with_gaps(sim)
     out = PocketNavigator(PocketConfig()).process(
@@ -556,16 +562,41 @@ def test_a_walk_from_a_chair_finds_its_standing_axis():
     assert all(s.activity == Activity.WALKING for s in out.steps)
 
 
-def test_a_back_pocket_finds_every_step():
+@pytest.mark.parametrize("gyroscope", [True, False], ids=["gyroscope", "accelerometer only"])
+def test_a_back_pocket_is_named_and_walks_its_distance(gyroscope):
     """On the buttock the phone follows 40 % of the thigh's pitch (pdr_sim's back_pocket):
-    the steps are all found; the distance, by the front pocket's line, comes out short by
-    the pitch's attenuation (docs/pocket.md)."""
-    sim, out = navigated("h1_rectangle", seed=0, carried="back_pocket")
+    the steps are all found, the swing is named a back pocket's (pdr_pocket.placement) and
+    the strides come from the cadence: H1's distance within 5 % (issue 40; by the front
+    pocket's pitch line it was −39 %). Without a gyroscope the first footfall pair may
+    start a cycle late."""
+    sim = simulated("h1_rectangle", None, 0, "back_pocket")
+    navigator = PocketNavigator(PocketConfig())
+    out = navigator.process(sim.trajectory.t,
+                            sim.imu["angular_velocity"] if gyroscope else None,
+                            sim.imu["linear_acceleration"])
     match = matched(sim, out)
-    assert (match >= 0).all() and len(out.steps) == len(match)
+    assert (match < 0).sum() <= (0 if gyroscope else 1) and len(out.steps) == len(match)
     assert all(s.activity == Activity.WALKING for s in out.steps)
     error = sum(s.length for s in out.steps) / sim.model.true_steps.length.sum() - 1
-    assert -0.45 < error < -0.30
+    assert abs(error) < 0.05
+    summary = navigator.placement.summary()
+    assert summary["placement"] == "back pocket" and summary["stride_model"] == "frequency"
+    assert summary["cycles"]["back pocket"] == len(out.steps) - PLACEMENT_WINDOW_STEPS + 1
+
+
+def test_a_walk_faster_than_a_person_walks_is_a_warning():
+    """The level steps of H1 are walked at 3.5 km/h (0.97 m/s): no warning. The same
+    strides in a quarter of the time (stamps in another unit, say) walk 3.9 m/s: said,
+    with the figure."""
+    sim = simulated("h1_rectangle")
+    navigator = PocketNavigator(PocketConfig())
+    navigator.process(sim.trajectory.t, sim.imu["angular_velocity"],
+                      sim.imu["linear_acceleration"])
+    assert navigator.speed_warning() is None and navigator.warnings() == []
+    navigator.steps = [replace(s, duration=s.duration / 4) for s in navigator.steps]
+    warning = navigator.speed_warning()
+    assert warning.startswith("the level steps walk 3.9 m/s") and "(2.5 m/s)" in warning
+    assert navigator.warnings() == [warning]
 
 
 def test_a_phone_in_the_hand_makes_no_step_and_says_why():

@@ -97,7 +97,8 @@ def test_each_update_reduces_the_bias_error_on_the_axes_it_observes(updates, axe
 def test_compass_update_fixes_the_yaw():
     sim = walk("xsens_mtw")
     wrong = OrientationConfig(updates=replace(NONE, absolute_gravity=True),
-                              initial_yaw_deg=20.0, initial_yaw_sigma_deg=25.0)
+                              initial_yaw_deg=20.0, initial_yaw_sigma_deg=25.0,
+                              imu_profile="xsens_mtw")
     without = np.abs(errors_deg(sim, run(sim, wrong))[-1, 2])
     compass = replace(wrong, updates=replace(wrong.updates, compass=True))
     assert without > 15 and np.abs(errors_deg(sim, run(sim, compass))[-1, 2]) < 3

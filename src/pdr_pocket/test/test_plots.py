@@ -99,3 +99,25 @@ def test_the_attitude_figure_is_titled_by_name_and_final_error(figures, tmp_path
     title = figures[0]._suptitle.get_text()
     assert title.startswith("walk: ") and str(tmp_path) not in title
     assert "final error roll +0.10°, pitch -0.20°, yaw +1.50°" in title
+
+
+def test_wide_ellipses_leave_the_path_its_extent(figures, tmp_path):
+    """Issue 40: a heading σ that grows makes ellipses far wider than the walk; the top
+    view keeps the path's (and the truth's) extent and cuts them at the frame."""
+    walk = strip_walk(2)
+    walk["covariances"] = np.tile(np.diag([400.0, 400.0, 0.01]), (len(walk["positions"]), 1, 1))
+    _, axes = draw(figures, tmp_path, walk)
+    top = axes["top view, 1σ ellipses every 20 steps"]
+    left, right = top.get_xlim()
+    assert right - left < 1.5 * 80.2            # the strip's length, not the 40 m ellipses
+    [rings] = top.collections
+    assert len(rings.get_segments()) == len(range(0, len(walk["positions"]), 20))
+
+
+def test_the_warnings_are_in_the_title(figures, tmp_path):
+    long = "2 of 102 strides were longer than a person walks at their cadence " * 4
+    fig, _ = draw(figures, tmp_path, strip_walk(2), warnings=[long, "walks 8.2 m/s"])
+    lines = fig._suptitle.get_text().split("\n")
+    assert lines[-2].startswith("warning: 2 of 102 strides") and lines[-2].endswith("[...]")
+    assert len(lines[-2]) <= len("warning: ") + plots.TITLE_WARNING_CHARS
+    assert lines[-1] == "warning: walks 8.2 m/s"

@@ -10,6 +10,7 @@ from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_pocket.compiled_peaks import (
     EV_MAX,
     EV_MIN,
+    EV_T_CONFIRM,
     EV_T_MAX,
     FF_COUNT,
     N_EVENT_COLUMNS,
@@ -67,15 +68,35 @@ def test_the_sample_rate_is_read_off_the_stamps(rate_hz):
 
 def test_a_higher_peak_within_the_interval_takes_the_place_of_the_first():
     """find_peaks' ``distance`` rule, causally: two peaks 0.2 s apart (under
-    min_interval_s) are one footfall, at the higher; one 0.5 s later is another."""
-    t = np.arange(0.0, 2.0, 0.01)
+    min_interval_s) are one footfall, at the higher; ones 0.5 s and 1.0 s later are two
+    more (three in a row: a gait)."""
+    t = np.arange(0.0, 2.5, 0.01)
     force = np.full(len(t), STANDARD_GRAVITY_MPS2)
-    for at, height in ((0.3, 3.0), (0.5, 4.0), (1.0, 3.0)):
+    for at, height in ((0.3, 3.0), (0.5, 4.0), (1.0, 3.0), (1.5, 3.0)):
         force += height * np.exp(-0.5 * ((t - at) / 0.03) ** 2)
     state, events = new_footfall_state(), np.empty((4, N_EVENT_COLUMNS))
-    count = footfall_loop(state, 1.5, 0.3, t, force, np.zeros(len(t)), events)
-    assert state[FF_COUNT] == 2 and count == 1
+    count = footfall_loop(state, 1.5, 0.3, 1.25, t, force, np.zeros(len(t)), events)
+    assert state[FF_COUNT] == 3 and count == 1
     assert events[0, EV_T_MAX] == pytest.approx(1.0)      # the second footfall closes it
+
+
+@pytest.mark.parametrize(("gap_s", "counted"), [(1.2, 5), (1.3, 3)])
+def test_footfalls_count_in_a_run_of_three(gap_s, counted):
+    """A gait is a rhythm (pdr_core.gait.GAIT_MIN_FOOTFALLS): a footfall farther than half
+    the longest gait cycle (1.25 s) from the last starts a new run, and a run of two is
+    dropped: a bump, or the phone taken out of the pocket. The run's first footfalls wait
+    for the third, and the cycles keep the pitch of their own stretch."""
+    at = np.r_[1.0, 1.5, 2.0, 2.0 + gap_s, 2.5 + gap_s]
+    t = np.arange(0.0, at[-1] + 1.0, 0.01)
+    force = np.full(len(t), STANDARD_GRAVITY_MPS2)
+    for peak in at:
+        force += 3.0 * np.exp(-0.5 * ((t - peak) / 0.03) ** 2)
+    pitch = np.where(t < 1.2, 0.1, 0.3)
+    state, events = new_footfall_state(), np.empty((4, N_EVENT_COLUMNS))
+    count = footfall_loop(state, 1.5, 0.3, 1.25, t, force, pitch, events)
+    assert state[FF_COUNT] == counted and count == counted // 2
+    assert events[0, EV_T_MAX] == pytest.approx(1.5) and events[0, EV_T_CONFIRM] > 2.0
+    assert events[0, EV_MIN] == 0.1 and events[0, EV_MAX] == 0.3
 
 
 def test_a_still_signal_has_no_footfall():

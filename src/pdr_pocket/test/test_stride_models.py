@@ -9,7 +9,8 @@ from dataclasses import replace
 import pytest
 
 from pdr_pocket.config import StepLengthConfig
-from pdr_pocket.step_length import STRIDE_MODELS, Scaled, StrideInputs, stride_model
+from pdr_pocket.placement import MODEL_AT
+from pdr_pocket.step_length import AUTO_MODEL, STRIDE_MODELS, Scaled, StrideInputs, stride_model
 
 WALKING_STRIDE = StrideInputs(amplitude_deg=40.0, duration_s=1.1, vertical_range_mps2=8.0)
 
@@ -27,9 +28,10 @@ def test_every_registered_model_builds_from_the_configuration(name):
     assert scaled.length(WALKING_STRIDE) == pytest.approx(1.1 * length)
 
 
-def test_the_thesis_models_are_registered():
+def test_the_thesis_models_are_registered_and_auto_chooses_among_them():
     assert {"pitch", "frequency", "weinberg"} <= set(STRIDE_MODELS)
-    assert StepLengthConfig().model in STRIDE_MODELS
+    assert StepLengthConfig().model == AUTO_MODEL
+    assert set(MODEL_AT.values()) <= set(STRIDE_MODELS)
 
 
 def test_an_unknown_model_is_refused_naming_the_known_ones():

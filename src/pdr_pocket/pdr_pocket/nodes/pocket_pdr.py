@@ -63,6 +63,7 @@ from pdr_pocket.config import load_pocket_config
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.messages import attitude_batches, pose_fields, step_fields
+from pdr_pocket.placement import UNKNOWN, stride_choice
 from pdr_pocket.streaming import (
     CORRECTION_WINDOW_S,
     MAG_WAIT_S,
@@ -72,6 +73,7 @@ from pdr_pocket.streaming import (
 )
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
+IMPLAUSIBLE_WARN_S = 30.0   # implausible strides or speed: said at most this often
 DURABILITIES = ("volatile", "transient_local")
 # messages taken from a subscription's queue per callback (pdr_core.backlog): 4 s at
 # 100 Hz, so a backlog is worked off in large blocks while the services get their turn
@@ -137,11 +139,13 @@ class PocketPdrNode(Node):
         self.reported: dict[str, int] = {}
         self.mag_was_paused = False
         self.detection_told = self.no_gait_told = False
+        self.placement_told = UNKNOWN
         magnetometer = "magnetic updates" if self.mag_updates else \
             "the first reading's heading only (no magnetic update configured)"
         self.get_logger().info(
             f"pocket_pdr: configuration {path or 'default'}; map frame {self.map_frame}, "
             f"sensor frame {self.sensor_frame}; {self.mag_topic}: {magnetometer}; "
+            f"strides: {stride_choice(self.navigator.navigator.config.step_length)}; "
             f"{wiring(self)}")
 
     def on_imu(self, raw: bytes) -> None:
@@ -288,7 +292,24 @@ class PocketPdrNode(Node):
                 navigator.no_step_reason() is not None:
             self.get_logger().warning(navigator.no_step_reason())
             self.no_gait_told = True
+        self.report_strides()
         self.report_magnetometer()
+
+    def report_strides(self) -> None:
+        """The placement found, once each time it changes, with its stride model and why;
+        strides cut to the bound and a walk faster than a person's (throttled: each says
+        its count so far)."""
+        navigator = self.navigator.navigator
+        bound, speed = navigator.bound_warning(), navigator.speed_warning()
+        if bound is not None:
+            self.get_logger().warning(bound, throttle_duration_sec=IMPLAUSIBLE_WARN_S)
+        if speed is not None:
+            self.get_logger().warning(speed, throttle_duration_sec=IMPLAUSIBLE_WARN_S)
+        found = navigator.placement.current
+        if found.placement != self.placement_told:
+            self.get_logger().info(f"placement: {found.placement} ({found.why}); strides "
+                                   f"from the {found.model} model")
+            self.placement_told = found.placement
 
     def report_magnetometer(self) -> None:
         """With magnetic updates configured: the magnetometer going quiet (paused) and
