@@ -1,13 +1,17 @@
 """Benchmark: the nearest against the multi-hypothesis association of revisits (issue 32).
 
 Run on purpose (``make bench``, or ``python test/benchmarks/bench_association.py
-[--seeds N] [--imu PROFILE] [--zaru]``), not in CI. Prints two tables:
+[--seeds N] [--imu PROFILE] [--zaru] [--bias-model allan|thesis] [--no-speed]``), not in
+CI. Prints two tables:
 
 1. Seeds: the Theresienhöhe walk (Muñoz Díaz 2016, Fig. 5.7) and the corridor grid
    (pdr_sim's ``corridor_grid``), a phone in the pocket with ``xsens_mtw`` errors (or
    ``--imu``'s profile) and the gyro biases of Muñoz Díaz 2016, Table 6.1 (a 0.05 °/s z
    bias), config/pocket_pdr_no_mag.yaml (``--zaru``: with the zero-rate update on, as in
-   the default config), over seeds 1 to N: per seed, the
+   the default config) with the orientation filter's noise of the sensor's profile
+   (``imu_profile``: xsens_mtw for the Xsens and the thesis' tables) and the allan bias
+   model (``--bias-model thesis``: Eq. (3.11) as written, the file's own setting, issue
+   40), over seeds 1 to N: per seed, the
    final position error without corrections, with the nearest association's
    (``pdr-pocket run --drift online``'s loop, in process) and with the multi-hypothesis
    one's, each with its associations right and wrong against the simulator's truth;
@@ -39,13 +43,15 @@ def simulated(scenario: str, seed: int, imu: str = "xsens_mtw"):
                                      imu, BIAS, 100.0, seed, placement="pocket"))
 
 
-def navigator_config(zaru: bool = False):
+def navigator_config(zaru: bool = False, imu: str = "xsens_mtw", bias_model: str = "allan"):
     from pdr_pocket.config import default_config_path, load_pocket_config
 
     config = load_pocket_config(default_config_path().with_name("pocket_pdr_no_mag.yaml"))
     orientation = config.orientation
     return replace(config, orientation=replace(
-        orientation, updates=replace(orientation.updates, zaru=zaru)))
+        orientation, updates=replace(orientation.updates, zaru=zaru),
+        imu_profile="consumer_phone" if imu == "consumer_phone" else "xsens_mtw",
+        bias_model=bias_model))
 
 
 def truth_of(sim, log) -> dict:
@@ -56,12 +62,12 @@ def truth_of(sim, log) -> dict:
                         int(sim.imu.stamp_ns[0]))
 
 
-def one_seed(job: tuple[str, int, str, bool]) -> tuple[str, int, list]:
+def one_seed(job: tuple[str, int, str, bool, str]) -> tuple[str, int, list]:
     """(scenario, seed, [(final error [m], right, wrong) alone, nearest, multi])."""
     from pdr_drift.config import DriftConfig
     from pdr_pocket.drift_loop import navigate_online
 
-    scenario, seed, imu, zaru = job
+    scenario, seed, imu, zaru, bias_model = job
     sim = simulated(scenario, seed, imu)
     steps = sim.model.true_steps
     end = np.array([np.sum(steps.length * np.cos(steps.heading)),
@@ -71,7 +77,7 @@ def one_seed(job: tuple[str, int, str, bool]) -> tuple[str, int, list]:
     row = []
     for association, apply in (("nearest", False), ("nearest", True),
                                ("multi_hypothesis", True)):
-        _, out, log = navigate_online(navigator_config(zaru),
+        _, out, log = navigate_online(navigator_config(zaru, imu, bias_model),
                                       DriftConfig(association=association),
                                       *inputs, apply=apply)
         report = truth_of(sim, log)
@@ -81,14 +87,15 @@ def one_seed(job: tuple[str, int, str, bool]) -> tuple[str, int, list]:
     return scenario, seed, row
 
 
-def seeds_table(seeds: int, imu: str, zaru: bool) -> None:
-    jobs = [(scenario, seed, imu, zaru) for scenario in SCENARIOS
+def seeds_table(seeds: int, imu: str, zaru: bool, bias_model: str = "allan") -> None:
+    jobs = [(scenario, seed, imu, zaru, bias_model) for scenario in SCENARIOS
             for seed in range(1, seeds + 1)]
     with ProcessPoolExecutor(2) as pool:
         results = list(pool.map(one_seed, jobs))
     for scenario in SCENARIOS:
         rows = [(seed, row) for s, seed, row in results if s == scenario]
-        print(f"\n{scenario}, {imu}{', ZARU' if zaru else ''}: final position error [m] "
+        print(f"\n{scenario}, {imu}{', ZARU' if zaru else ''}, bias model {bias_model}: "
+              "final position error [m] "
               "(associations right/wrong)")
         print("| seed | uncorrected | nearest | multi-hypothesis |\n|---:|---:|---:|---:|")
         for seed, ((alone, _, _), (near, nr, nw), (multi, mr, mw)) in rows:
@@ -143,9 +150,14 @@ def main() -> None:
                              "of Table 6.1")
     parser.add_argument("--zaru", action="store_true",
                         help="the navigator's zero-rate update on (pocket_pdr.yaml's default)")
+    parser.add_argument("--bias-model", default="allan", choices=("allan", "thesis"),
+                        help="the orientation filter's bias model (default allan; thesis: "
+                             "Eq. (3.11) as written, pocket_pdr_no_mag.yaml's own)")
+    parser.add_argument("--no-speed", action="store_true", help="the seeds table only")
     args = parser.parse_args()
-    speed_table()
-    seeds_table(args.seeds, args.imu, args.zaru)
+    if not args.no_speed:
+        speed_table()
+    seeds_table(args.seeds, args.imu, args.zaru, args.bias_model)
 
 
 if __name__ == "__main__":

@@ -3,8 +3,9 @@
 Run on purpose (``make bench``, which installs the peers of tools/requirements-bench.in),
 not in CI. On the same simulated pocket walks, in one run:
 
-- ours: pdr_pocket's UKF (Muñoz Díaz 2016, chapter 3) with its shipped configuration
-  (absolute gravity, differential magnetic field, ZARU, mean gravity);
+- ours: pdr_pocket's UKF (Muñoz Díaz 2016, chapter 3) with its shipped updates
+  (absolute gravity, differential magnetic field, ZARU, mean gravity) and the noise of
+  the simulated sensor (config/pocket_pdr_xsens_mtw.yaml's ``imu_profile: xsens_mtw``);
 - VQF (``vqf``, 9D, its rest and motion bias estimation), x-io Fusion (``imufusion``:
   AHRS with magnetometer, and its gyroscope bias algorithm), ``ahrs``' Madgwick and
   Mahony with magnetometer, and ``ahrs``' UKF (for its speed).
@@ -19,6 +20,7 @@ the rotation differences); what is left is the error that changes over the walk.
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -30,14 +32,7 @@ from pdr_sim.simulation import SimulationConfig, simulate
 
 RATE_HZ = 100.0
 G = 9.80665
-NO_STOP = {  # 20 minutes of walking with turns, never standing still (the thigh frame)
-    "name": "twenty_minutes_no_stop", "seed": 9, "mounting": "thigh_frame",
-    "environment": {"magnetic_field": {"preset": "munich"}},
-    "segments": [{"type": "walk", "distance_m": 120, "speed_kmh": 4.0},
-                 {"type": "turn", "angle_deg": 90, "steps": 2},
-                 {"type": "walk", "distance_m": 60},
-                 {"type": "turn", "angle_deg": 90, "steps": 2}] * 6,
-}
+NO_STOP = load_pocket_scenario(Path(__file__).with_name("no_stop_walk.yaml"))[1]
 
 
 def walks() -> dict:
@@ -51,7 +46,7 @@ def walks() -> dict:
 
 
 def ours(gyr, acc, mag):
-    f = OrientationFilter(OrientationConfig())
+    f = OrientationFilter(OrientationConfig(imu_profile="xsens_mtw"))
     est = f.run(np.arange(len(gyr)) / RATE_HZ, gyr, acc, mag)
     return Rotation.from_matrix(est.attitude), est.bias[-1, 2]
 

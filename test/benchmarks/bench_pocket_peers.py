@@ -18,23 +18,43 @@ footfall error, the steps labelled stairs on level walks, the final floor, and w
 is a position truth (the simulated walks) the 2D ARMSE and the final error [m] of the
 report (heading aligned on the first 0.8 m). Prints a Markdown table (docs/pocket.md has
 it).
+
+``--heading [--seeds N]`` (issue 40) prints instead the heading of the orientation filter
+beside VQF's 6D heading on simulated walks without a magnetometer, per IMU profile
+(``xsens_mtw``, ``consumer_phone``): Theresienhöhe (Muñoz Díaz 2016, Fig. 5.7, 22 min,
+three laps with stops) and 20 minutes of walking without a stop, front pocket, seeds 1 to
+N (default 5). The heading error δψ is the vertical component of the attitude error
+(the navigation-frame rotation C·C_trueᵀ, what the filter's P[ATT_UP, ATT_UP] describes);
+every filter starts from the true yaw (ours drawn about it with σ 1°, VQF's frame turned
+onto the truth over the first second). Columns: median over seeds of the final |δψ| and
+of its RMS over the walk [°], and for ours the mean NEES δψ²/σ_ψ² against its 95 %
+interval for N walks. Rows: ours with the thesis' bias model and the shipped values
+before issue 40 (``imu_profile: xsens_mtw``, ``bias_model: thesis``: "today"), ours
+with the allan bias model and the profile's noise (``imu_profile`` = the sensor's), the
+same without ZARU (config/pocket_pdr_no_mag.yaml's updates), and VQF 6D (its rest and
+motion bias estimation on).
 """
 from __future__ import annotations
 
+import argparse
 import itertools
 import os
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 from scipy.signal import butter, filtfilt, find_peaks
 from scipy.spatial.transform import Rotation
 
+from pdr_core.chi2 import chi2_quantile
 from pdr_core.csv_import import CsvImuFormat, import_csv
 from pdr_core.metrics import error_report, truth_at
-from pdr_pocket.config import PocketConfig
+from pdr_pocket.compiled_orientation import ATT_UP
+from pdr_pocket.config import OrientationConfig, PocketConfig, Updates
 from pdr_pocket.inputs import pocket_inputs
 from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.orientation import OrientationFilter
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
@@ -128,7 +148,84 @@ def row(name, truth_footfalls, ours_run, book, truth_positions=None, level=True)
     return "| " + " | ".join(cells) + " |"
 
 
+NO_STOP = load_pocket_scenario(Path(__file__).with_name("no_stop_walk.yaml"))[1]
+HEADING_PROFILES = ("xsens_mtw", "consumer_phone")
+NO_MAG = Updates(absolute_magnetic=False, differential_magnetic=False, compass=False)
+INITIAL_YAW_SIGMA_DEG = 1.0
+
+
+def heading_filters(profile: str) -> dict[str, OrientationConfig | None]:
+    """The filters of the heading table for a sensor of ``profile`` (None: VQF 6D)."""
+    return {"ours, thesis (today)": OrientationConfig(imu_profile="xsens_mtw",
+                                                      bias_model="thesis", updates=NO_MAG),
+            "ours, allan": OrientationConfig(imu_profile=profile, updates=NO_MAG),
+            "ours, allan, no ZARU": OrientationConfig(imu_profile=profile,
+                                                      updates=replace(NO_MAG, zaru=False)),
+            "VQF 6D": None}
+
+
+def heading_walk(name: str, profile: str, seed: int):
+    data = NO_STOP if name == "no stop" else load_pocket_scenario("theresienhoehe")[1]
+    data = {**data, "carried": "front_pocket"}
+    return simulate(SimulationConfig(pocket_scenario_from_dict(data, name), data, profile, {},
+                                     100.0, seed, placement="pocket"))
+
+
+def heading_error(sim, config: OrientationConfig | None, seed: int
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+    """δψ [rad] per sample (N,) and its variance σ_ψ² (N,) (None for VQF)."""
+    gyro = np.ascontiguousarray(sim.imu["angular_velocity"])
+    accel = np.ascontiguousarray(sim.imu["linear_acceleration"])
+    truth = sim.trajectory.attitude
+    if config is None:
+        from vqf import VQF
+
+        quat = VQF(1.0 / 100.0).updateBatch(gyro, accel)["quat6D"]
+        estimate = Rotation.from_quat(quat[:, [1, 2, 3, 0]])
+        offset = np.mean((estimate[:100] * truth[:100].inv()).as_rotvec()[:, 2])
+        estimate = Rotation.from_rotvec([0.0, 0.0, -offset]) * estimate
+        return (estimate * truth.inv()).as_rotvec()[:, 2], None
+    drawn = np.random.default_rng(seed).standard_normal() * INITIAL_YAW_SIGMA_DEG
+    start = float(np.degrees(truth[0].as_euler("ZYX")[0]) + drawn)
+    est = OrientationFilter(replace(config, initial_yaw_deg=start,
+                                    initial_yaw_sigma_deg=INITIAL_YAW_SIGMA_DEG)).run(
+        sim.trajectory.t, gyro, accel)
+    error = (Rotation.from_matrix(est.attitude) * truth.inv()).as_rotvec()[:, 2]
+    return error, est.covariance[:, ATT_UP, ATT_UP]
+
+
+def heading_table(seeds: int) -> None:
+    tail = chi2_quantile(0.025, seeds) / seeds, chi2_quantile(0.975, seeds) / seeds
+    print(f"Heading without a magnetometer, seeds 1-{seeds}: median final |δψ| and RMS [°], "
+          f"mean NEES (95 % interval {tail[0]:.2f}-{tail[1]:.2f})\n")
+    print("| walk | IMU | filter | final [°] | RMS [°] | NEES |\n|---|---|---|---:|---:|---:|")
+    for walk, profile in itertools.product(("Theresienhöhe", "no stop"), HEADING_PROFILES):
+        filters = heading_filters(profile)
+        figures = {name: [] for name in filters}
+        for seed in range(1, seeds + 1):
+            sim = heading_walk(walk, profile, seed)
+            for name, config in filters.items():
+                error, variance = heading_error(sim, config, seed)
+                figures[name].append((abs(np.degrees(error[-1])),
+                                      np.degrees(np.sqrt(np.mean(error**2))),
+                                      np.nan if variance is None else
+                                      np.mean(error**2 / variance)))
+        for name, rows in figures.items():
+            rows = np.array(rows)
+            nees = "—" if np.isnan(rows[0, 2]) else f"{rows[:, 2].mean():.2f}"
+            print(f"| {walk} | {profile} | {name} | {np.median(rows[:, 0]):.1f} | "
+                  f"{np.median(rows[:, 1]):.1f} | {nees} |", flush=True)
+
+
 def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--heading", action="store_true",
+                        help="the heading table against VQF 6D instead (issue 40)")
+    parser.add_argument("--seeds", type=int, default=5, help="--heading: seeds 1 to N")
+    args = parser.parse_args()
+    if args.heading:
+        heading_table(args.seeds)
+        return 0
     print("| walk | footfalls, ours | textbook | stairs steps on a level walk, ours | "
           "textbook | final floor, ours | textbook | ARMSE 2D [m], ours | final error [m], "
           "ours | ARMSE, textbook | final error, textbook |")
