@@ -178,18 +178,18 @@ def halves(tmp_path):
 def offline_with_correction(inputs, middle, correction):
     """The navigator on A, the correction (None: none), then B: the steps pocket_pdr must
     publish, and how many came before the correction."""
+    from pdr_core.correction import Correction
     from pdr_pocket.config import PocketConfig
     from pdr_pocket.navigator import PocketNavigator
 
     nav = PocketNavigator(PocketConfig())
     steps = []
     for part in (slice(0, middle), slice(middle, None)):
-        steps += nav.process(inputs.t[part], inputs.gyro[part], inputs.accel[part],
-                             inputs.mag[part]).steps
+        steps += nav.process(inputs.samples[part]).steps
         if part.start == 0:
             before = len(steps)
             if correction is not None:
-                accepted, message = nav.apply_correction(*correction(nav))
+                accepted, message = nav.apply_correction(Correction(*correction(nav)))
                 assert accepted, message
     return steps, before
 

@@ -40,7 +40,7 @@ def navigated(name: str, config: PocketConfig, chunk_s: float | None = None
     cuts = [0, len(inputs.t)] if chunk_s is None else \
         [*np.searchsorted(inputs.t, np.arange(0.0, inputs.t[-1], chunk_s)), len(inputs.t)]
     for a, b in itertools.pairwise(cuts):
-        navigator.process(inputs.t[a:b], inputs.gyro[a:b], inputs.accel[a:b], inputs.mag[a:b])
+        navigator.process(inputs.samples[a:b])
     return navigator
 
 

@@ -25,6 +25,7 @@ from pdr_pocket.config import PocketConfig
 from pdr_pocket.evaluation import TruthStepsFormat, read_truth_steps
 from pdr_pocket.inputs import read_pocket_bag
 from pdr_pocket.navigator import NavigatorOutput, PocketNavigator
+from pdr_pocket.samples import Samples
 from wstest import OXFORD, OXFORD_ARGS, THIGH, needs_shared
 
 IMPORT = ["--time-col", "time", "--acc-cols", "accel_x,accel_y,accel_z",
@@ -94,7 +95,7 @@ def test_oxford_phone_footfalls_in_any_orientation(runs):
         turn[range(3), perm] = signs
         if np.linalg.det(turn) > 0:
             navigator.reset()
-            navigator.process(inputs.t, None, inputs.accel @ turn.T)
+            navigator.process(Samples(inputs.t, inputs.accel @ turn.T, None))
             counts.add(navigator.footfalls)
     assert counts == {report["footfalls"]}
 
@@ -166,8 +167,7 @@ def navigated(runs, name: str) -> tuple[PocketNavigator, NavigatorOutput]:
     if name not in NAVIGATED:
         _, _, inputs = read_pocket_bag(runs[0][name][2], None)
         navigator = PocketNavigator(PocketConfig())
-        NAVIGATED[name] = navigator, navigator.process(inputs.t, inputs.gyro_or_none,
-                                                        inputs.accel, inputs.mag)
+        NAVIGATED[name] = navigator, navigator.process(inputs.samples)
     return NAVIGATED[name]
 
 
@@ -230,7 +230,7 @@ def test_a_back_pocket_phone_walks_strides_a_person_walks():
                     "--acc-cols", "2,3,4"])
     _, _, inputs = read_pocket_bag(bag)
     navigator = PocketNavigator(PocketConfig())
-    out = navigator.process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
+    out = navigator.process(inputs.samples)
     footfalls = read_truth_steps(BACK_POCKET / "stepcounter.csv",
                                  TruthStepsFormat("foot-switch"))
     assert abs(navigator.footfalls - len(footfalls)) <= 0.03 * len(footfalls)

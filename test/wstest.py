@@ -239,3 +239,15 @@ def drop_reason(stamp_ns: int, last_kept_ns: int | None, accel, gyro) -> str | N
     if last_kept_ns is not None and stamp_ns <= last_kept_ns:
         return "stamp_not_increasing"
     return None
+
+
+def samples_of(sim, gyro: bool = True, mag: bool = True):
+    """A pdr_sim simulation's IMU (and magnetometer) samples by name
+    (pdr_pocket.samples.Samples) on its own time axis [s]: without the gyroscope or the
+    magnetometer when told."""
+    from pdr_pocket.samples import Samples
+
+    return Samples(sim.trajectory.t, sim.imu["linear_acceleration"],
+                   sim.imu["angular_velocity"] if gyro else None,
+                   sim.mag["magnetic_field"] if mag else None)
+

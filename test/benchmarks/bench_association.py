@@ -29,6 +29,8 @@ from dataclasses import replace
 
 import numpy as np
 
+from pdr_pocket.samples import Samples
+
 SCENARIOS = ("theresienhoehe", "corridor_grid")
 BIAS = {"gyro": {"bias_deg_per_s": [-0.1, 0.1, 0.05]}}
 K_VALUES = (1, 2, 4, 8, 16, 32)
@@ -72,14 +74,14 @@ def one_seed(job: tuple[str, int, str, bool, str]) -> tuple[str, int, list]:
     steps = sim.model.true_steps
     end = np.array([np.sum(steps.length * np.cos(steps.heading)),
                     np.sum(steps.length * np.sin(steps.heading))])
-    inputs = (sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-              sim.mag["magnetic_field"])
+    samples = Samples(sim.trajectory.t, sim.imu["linear_acceleration"],
+                      sim.imu["angular_velocity"], sim.mag["magnetic_field"])
     row = []
     for association, apply in (("nearest", False), ("nearest", True),
                                ("multi_hypothesis", True)):
         _, out, log = navigate_online(navigator_config(zaru, imu, bias_model),
                                       DriftConfig(association=association),
-                                      *inputs, apply=apply)
+                                      samples, apply=apply)
         report = truth_of(sim, log)
         row.append((float(np.linalg.norm(out.steps[-1].position[:2] - end)),
                     report["associations_correct"] if apply else 0,
@@ -117,9 +119,9 @@ def speed_table() -> None:
     from pdr_pocket.drift_loop import navigate_online, step_sample
 
     sim = simulated("corridor_grid", 1)
-    _, out, _ = navigate_online(navigator_config(), DriftConfig(), sim.trajectory.t,
-                                sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-                                sim.mag["magnetic_field"], apply=False)
+    _, out, _ = navigate_online(navigator_config(), DriftConfig(), Samples(
+        sim.trajectory.t, sim.imu["linear_acceleration"], sim.imu["angular_velocity"],
+        sim.mag["magnetic_field"]), apply=False)
     steps = [step_sample(s) for s in out.steps]
     base = DriftConfig(association="multi_hypothesis")
     print("\nmulti-hypothesis association on the corridor grid's steps (seed 1, "

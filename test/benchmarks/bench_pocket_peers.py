@@ -55,6 +55,7 @@ from pdr_pocket.config import OrientationConfig, PocketConfig, Updates
 from pdr_pocket.inputs import pocket_inputs
 from pdr_pocket.navigator import PocketNavigator
 from pdr_pocket.orientation import OrientationFilter
+from pdr_pocket.samples import Samples
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
@@ -124,7 +125,7 @@ def textbook(t, gyro, accel):
 def ours(t, gyro, accel, mag=None):
     """Step times [s], positions (N + 1, 3), footfalls and the navigator's steps."""
     navigator = PocketNavigator(PocketConfig())
-    out = navigator.process(t, gyro, accel, mag)
+    out = navigator.process(Samples(t, accel, gyro, mag))
     positions = np.vstack([np.zeros(3), *(s.position for s in out.steps)])
     return np.array([s.t for s in out.steps]), positions, navigator.footfalls, out.steps
 

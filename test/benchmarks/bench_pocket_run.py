@@ -29,6 +29,7 @@ from scipy.stats import chi2
 
 from pdr_core import topics
 from pdr_core.bag import write_batches
+from pdr_pocket.samples import Samples
 
 ROOT = Path(__file__).resolve().parents[2]
 HOUR_SCENARIOS = ("out_and_back_39min", "theresienhoehe")
@@ -97,9 +98,9 @@ def final_nees(seed: int) -> tuple[float, int]:
     data = {**data, "seed": seed}
     sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "h1"), data, "xsens_mtw",
                                     {}, 100.0, seed, placement="pocket"))
-    out = PocketNavigator(PocketConfig()).process(
-        sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-        sim.mag["magnetic_field"])
+    out = PocketNavigator(PocketConfig()).process(Samples(
+        sim.trajectory.t, sim.imu["linear_acceleration"], sim.imu["angular_velocity"],
+        sim.mag["magnetic_field"]))
     steps = sim.model.true_steps
     true_end = np.array([np.sum(steps.length * np.cos(steps.heading)),
                          np.sum(steps.length * np.sin(steps.heading)),

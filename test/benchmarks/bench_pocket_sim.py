@@ -17,6 +17,7 @@ import numpy as np
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import PocketNavigator
 from pdr_pocket.run_report import match_steps, riser_errors
+from pdr_pocket.samples import Samples
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
@@ -29,8 +30,8 @@ def row(name: str, seed: int) -> str:
                                     {}, 100.0, seed, placement="pocket"))
     config = PocketConfig()
     navigator = PocketNavigator(config)
-    out = navigator.process(sim.trajectory.t, sim.imu["angular_velocity"],
-                            sim.imu["linear_acceleration"], sim.mag["magnetic_field"])
+    out = navigator.process(Samples(sim.trajectory.t, sim.imu["linear_acceleration"],
+                                    sim.imu["angular_velocity"], sim.mag["magnetic_field"]))
     truth = sim.model.true_steps
     match = match_steps(np.array([s.t for s in out.steps]), truth.end_s, truth.duration)
     found = match >= 0

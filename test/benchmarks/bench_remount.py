@@ -19,6 +19,7 @@ from pdr_core.vocabulary import Activity
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.navigator import PocketNavigator
 from pdr_pocket.run_report import steps_since
+from pdr_pocket.samples import Samples
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 
@@ -33,9 +34,9 @@ def found_again_after(rpy: tuple[float, float, float]) -> tuple[float, float]:
                                   "mounting": {"rpy_deg": list(rpy)}}]}
     sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "h1"), data, "xsens_mtw",
                                     {}, 100.0, 0, placement="pocket"))
-    out = PocketNavigator(PocketConfig()).process(
-        sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-        sim.mag["magnetic_field"])
+    out = PocketNavigator(PocketConfig()).process(Samples(
+        sim.trajectory.t, sim.imu["linear_acceleration"], sim.imu["angular_velocity"],
+        sim.mag["magnetic_field"]))
     truth = sim.model.true_steps
     found = labelled = np.inf
     for wait in np.arange(0.0, LONGEST_WAIT_S, 1.0):

@@ -207,7 +207,7 @@ def test_landmark_drift_adapter_survives_garbage(events):
         if expected is None:
             assert result is not None or stamp in (live.steps if is_step else live.poses)
         for correction in [] if result is None else result.corrections:
-            assert np.isfinite([correction.yaw, correction.gyro_bias_z]).all()
+            assert np.isfinite([correction.yaw_rad, correction.gyro_bias_z_radps]).all()
 
 
 def run_block(garbage_every: int = 0) -> tuple[list, StreamingDrift]:
@@ -228,10 +228,10 @@ def run_block(garbage_every: int = 0) -> tuple[list, StreamingDrift]:
 def test_garbage_in_a_walk_changes_no_correction():
     clean, _ = run_block()
     corrections = [c for r in clean for c in r.corrections]
-    assert len(corrections) >= 1 and all(np.isfinite(c.yaw) for c in corrections)
+    assert len(corrections) >= 1 and all(np.isfinite(c.yaw_rad) for c in corrections)
     mixed, live = run_block(garbage_every=3)
-    assert [[c.yaw for c in r.corrections] for r in mixed] == \
-        [[c.yaw for c in r.corrections] for r in clean]
+    assert [[c.yaw_rad for c in r.corrections] for r in mixed] == \
+        [[c.yaw_rad for c in r.corrections] for r in clean]
     assert [len(r.landmarks) for r in mixed] == [len(r.landmarks) for r in clean]
     garbage = sum(1 for k in range(len(BLOCK)) if k % 3 == 1)
     assert live.counts == {"bad_step": garbage, "bad_pose": garbage, "old_stamp": garbage,

@@ -109,6 +109,6 @@ def test_a_correction_commits_as_of_the_step_that_commits_it():
     for step in steps:
         result = estimator.push(step)
         for c in result.corrections:
-            assert np.isfinite([c.yaw, c.gyro_bias_z, *c.position]).all()
+            assert np.isfinite([c.yaw_rad, c.gyro_bias_z_radps, *c.position_m]).all()
             frame = estimator.hypotheses.hypotheses[0].frame
             assert frame.yaw_rad == 0.0 and frame.drift_radps == 0.0 and frame.t_ref_s == step.t

@@ -27,7 +27,7 @@ def feed(stream: StreamingDrift, steps) -> list:
         out.append(None if result is None else (
             [m.id for m in result.landmarks],
             [(d.landmark_first, d.landmark_revisit, d.drift) for d in result.drifts],
-            [(c.yaw, c.gyro_bias_z, *c.position) for c in result.corrections]))
+            [(c.yaw_rad, c.gyro_bias_z_radps, *c.position_m) for c in result.corrections]))
     return out
 
 

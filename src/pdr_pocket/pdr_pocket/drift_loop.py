@@ -31,7 +31,9 @@ from pdr_drift.drift import offline_drift
 from pdr_drift.drift_log import DriftLog
 from pdr_drift.estimator import DriftEstimator, StepResult
 from pdr_pocket.config import PocketConfig
-from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
+from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.records import NavigatorOutput, StepRecord
+from pdr_pocket.samples import Samples
 
 CHUNK_S = 30.0
 
@@ -44,9 +46,11 @@ def step_sample(step: StepRecord) -> StepSample:
                       step.covariance, step.floor)
 
 
-def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, mag,
+def navigate_online(config: PocketConfig, drift: DriftConfig, samples: Samples,
                     apply: bool = True) -> tuple[PocketNavigator, NavigatorOutput, DriftLog]:
-    """The online loop (module docstring); ``apply=False`` only records."""
+    """The online loop (module docstring) over the record's samples; ``apply=False``
+    only records."""
+    t = samples.t
     navigator = PocketNavigator(config)
     estimator = DriftEstimator(drift, feedback=apply)
     log = DriftLog()
@@ -55,9 +59,7 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
         PocketNavigator.copy_state, np.inf, capacity=1)
 
     def run(start: int, stop: int) -> NavigatorOutput:
-        part = slice(start, stop)
-        return navigator.process(t[part], None if gyro is None else gyro[part], accel[part],
-                                 mag[part])
+        return navigator.process(samples.part(start, stop))
 
     if not apply:
         out = run(0, len(t))
@@ -78,10 +80,8 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, t, gyro, accel, ma
             stop = max(int(np.searchsorted(t, step.t_confirm, "right")), start + 1)
             navigator = before.revert_to(t[stop - 1]).state
             outputs.append(run(start, stop))
-            for c in corrections:
-                ok, message = navigator.apply_correction(
-                    c.yaw, c.yaw_variance, c.gyro_bias_z, c.gyro_bias_z_variance, c.position,
-                    c.position_covariance)
+            for correction in corrections:
+                ok, message = navigator.apply_correction(correction)
                 log.corrections.append((step.t, ok, message))
             start = stop
     return navigator, NavigatorOutput.concatenate(outputs), log
@@ -103,14 +103,14 @@ def _record(result: StepResult, log: DriftLog) -> StepResult:
     return result
 
 
-def navigate_offline(config: PocketConfig, drift: DriftConfig, t, gyro, accel, mag
+def navigate_offline(config: PocketConfig, drift: DriftConfig, samples: Samples
                      ) -> tuple[PocketNavigator, NavigatorOutput, DriftLog]:
-    """The two passes of Section 6.2 (module docstring)."""
-    log = navigate_online(config, drift, t, gyro, accel, mag, apply=False)[2]
+    """The two passes of Section 6.2 (module docstring) over the record's samples."""
+    log = navigate_online(config, drift, samples, apply=False)[2]
     epsilon, kept = offline_drift(log.drifts, np.radians(drift.max_drift_deg_per_s),
                                   drift.outlier_spread)
     log.offline_drift, log.kept = epsilon, kept
     position = replace(config.position, heading_drift_correction_deg_per_s=0.0
                        if epsilon is None else float(np.degrees(epsilon)))
     navigator = PocketNavigator(replace(config, position=position))
-    return navigator, navigator.process(t, gyro, accel, mag), log
+    return navigator, navigator.process(samples), log

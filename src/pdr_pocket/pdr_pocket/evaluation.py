@@ -32,8 +32,8 @@ from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.units import TIME_UNITS_S
 from pdr_pocket.config import StairsConfig
-from pdr_pocket.navigator import StepRecord
 from pdr_pocket.pocket_offline import RUN_RECORD
+from pdr_pocket.records import StepRecord
 from pdr_pocket.run_report import navigation_report, true_floors
 from pdr_pocket.stairs import Staircases
 

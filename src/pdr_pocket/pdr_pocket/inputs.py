@@ -24,6 +24,7 @@ from pdr_core.imu_checks import (
 )
 from pdr_core.magnetometer_pairing import paired_mag
 from pdr_pocket.magnetometer import MagCalibration
+from pdr_pocket.samples import Samples
 
 
 @dataclass
@@ -43,6 +44,13 @@ class PocketInputs:
     @property
     def gyro_or_none(self) -> np.ndarray | None:
         return self.gyro if self.has_gyro else None
+
+    @property
+    def samples(self) -> Samples:
+        """The navigator's inputs by name: no gyroscope or no magnetometer reading at all
+        is None."""
+        mag = self.mag if np.isfinite(self.mag).any() else None
+        return Samples(self.t, self.accel, self.gyro_or_none, mag)
 
 
 def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,

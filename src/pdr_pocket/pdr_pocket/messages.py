@@ -26,8 +26,8 @@ from pdr_core.msgtypes import (
 )
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_pocket.inputs import PocketInputs
-from pdr_pocket.navigator import NavigatorOutput, StepRecord
 from pdr_pocket.orientation import AttitudeEstimate
+from pdr_pocket.records import NavigatorOutput, StepRecord
 
 
 def step_stamps(steps: list[StepRecord], stamp_ns: np.ndarray, t: np.ndarray) -> np.ndarray:

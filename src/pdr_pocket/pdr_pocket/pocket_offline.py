@@ -23,7 +23,7 @@ from pdr_pocket.messages import (
     step_positions,
     step_stamps,
 )
-from pdr_pocket.navigator import StepRecord
+from pdr_pocket.records import StepRecord
 from pdr_pocket.run_report import navigation_report, true_floors
 from pdr_pocket.step_length import height_scale
 
@@ -103,14 +103,14 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     drift_log = None
     if drift == "none":
         navigator = PocketNavigator(config)
-        result = navigator.process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
+        result = navigator.process(inputs.samples)
     else:
         from pdr_drift.config import DriftConfig
         from pdr_pocket.drift_loop import navigate_offline, navigate_online
 
         loop = navigate_online if drift == "online" else navigate_offline
-        navigator, result, drift_log = loop(config, drift_config or DriftConfig(), inputs.t,
-                                            inputs.gyro_or_none, inputs.accel, inputs.mag)
+        navigator, result, drift_log = loop(config, drift_config or DriftConfig(),
+                                            inputs.samples)
     steps = result.steps
     stamps = step_stamps(steps, inputs.stamp_ns, inputs.t)
     truth_steps = batches.get(topics.GROUND_TRUTH_STEP)
@@ -138,8 +138,7 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
         if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in batches:
             report["drift"] |= _drift_against_truth(
                 drift_log, reader, batches, inputs, result, truth_positions,
-                PocketNavigator(config).process(inputs.t, inputs.gyro_or_none, inputs.accel,
-                                                inputs.mag))
+                PocketNavigator(config).process(inputs.samples))
     import yaml
 
     record_text = yaml.safe_dump(run_record(

@@ -27,8 +27,8 @@ from pdr_core.metrics import error_report
 from pdr_core.vocabulary import ACTIVITY_NAMES
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.messages import step_positions
-from pdr_pocket.navigator import StepRecord
 from pdr_pocket.orientation import AttitudeEstimate
+from pdr_pocket.records import StepRecord
 from pdr_pocket.stairs import Staircases
 
 

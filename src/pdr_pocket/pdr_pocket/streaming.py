@@ -42,12 +42,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.checkpoints import Checkpoints
+from pdr_core.correction import Correction
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
+from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.records import NavigatorOutput, StepRecord
+from pdr_pocket.samples import Samples
 
 UNIT_CHECK_SAMPLES = 50
 MAG_BEFORE_IMU_NS = 60_000_000_000   # readings kept before the first IMU sample [ns]
@@ -119,15 +122,13 @@ class CorrectionResult:
 @dataclass(frozen=True)
 class TakenCorrection:
     """A correction the navigator took at ``t_s`` [s of its time], kept among its inputs
-    so that a correction reaching further back runs it again in its place: the values of
-    :meth:`PocketNavigator.apply_correction`."""
+    so that a correction reaching further back runs it again in its place."""
 
     t_s: float
-    values: tuple
+    correction: Correction
 
 
-Chunk = tuple       # (t [s], gyro [rad/s] or None, accel [m/s²], mag [T]): process()'s
-Input = Chunk | TakenCorrection
+Input = Samples | TakenCorrection
 
 
 @dataclass
@@ -309,15 +310,15 @@ class StreamingPocket:
         if not missing.all():
             self.paired_ns = int(stamps[~missing][-1])
         gyro = np.array([h[2] for h in held])
-        inputs = (self._time_s(stamps), None if np.isnan(gyro).all() else gyro,
-                  np.array([h[1] for h in held]), mag)
-        out = self._run_kept(self.navigator, inputs)
+        samples = Samples(self._time_s(stamps), np.array([h[1] for h in held]),
+                          None if np.isnan(gyro).all() else gyro, mag)
+        out = self._run_kept(self.navigator, samples)
         return [Processed(stamps, out, self.t0_ns)]
 
-    def _run_kept(self, navigator: PocketNavigator, inputs: Chunk) -> NavigatorOutput:
+    def _run_kept(self, navigator: PocketNavigator, samples: Samples) -> NavigatorOutput:
         """``navigator`` on a chunk of samples, kept in the history: the chunk in parts
         with a checkpoint before each, :data:`CHECKPOINT_EVERY_S` apart at least."""
-        t, outputs, start = inputs[0], [], 0
+        t, outputs, start = samples.t, [], 0
         while start < len(t):
             latest = self.history.latest_s
             if latest is None or t[start] - latest >= CHECKPOINT_EVERY_S:
@@ -325,19 +326,20 @@ class StreamingPocket:
                 self.history.remember(latest, navigator)
             end = int(np.searchsorted(t, latest + CHECKPOINT_EVERY_S, side="left"))
             end = max(end, start + 1)
-            part = tuple(None if x is None else x[start:end] for x in inputs)
-            outputs.append(navigator.process(*part))
+            part = samples.part(start, end)
+            outputs.append(navigator.process(part))
             self.history.record(part, float(t[end - 1]))
             start = end
         return outputs[0] if len(outputs) == 1 else NavigatorOutput.concatenate(outputs)
 
     # --- corrections at their step's stamp ------------------------------------------
-    def apply_correction(self, *correction, stamp_ns: int = 0) -> CorrectionResult:
-        """:meth:`PocketNavigator.apply_correction` (its arguments) as of the sample
-        stamped ``stamp_ns`` [ns], the samples since run again; now when the stamp is 0
-        (the module docstring)."""
+    def apply_correction(self, correction: Correction) -> CorrectionResult:
+        """:meth:`PocketNavigator.apply_correction` as of the sample stamped with the
+        correction's ``stamp_ns`` [ns], the samples since run again; now when the stamp is
+        0 (the module docstring)."""
+        stamp_ns = correction.stamp_ns
         if stamp_ns == 0:
-            accepted, message = self.navigator.apply_correction(*correction)
+            accepted, message = self.navigator.apply_correction(correction)
             if accepted and self.processed_ns is not None:
                 t_now = self._time_s(self.processed_ns)
                 self.history.record(TakenCorrection(t_now, correction), t_now)
@@ -351,7 +353,7 @@ class StreamingPocket:
         before, after = _split(looked.inputs, t_c)
         for item in before:
             _run(navigator, item)
-        accepted, message = navigator.apply_correction(*correction)
+        accepted, message = navigator.apply_correction(correction)
         if not accepted:
             return self._counted(CorrectionResult(False, message))
         reverted = self.history.revert_to(looked.t_s)
@@ -401,14 +403,14 @@ class StreamingPocket:
 def _run(navigator: PocketNavigator, item: Input) -> NavigatorOutput | None:
     """One kept input run again: a chunk of samples, or a correction taken."""
     if isinstance(item, TakenCorrection):
-        navigator.apply_correction(*item.values)
+        navigator.apply_correction(item.correction)
         return None
-    return navigator.process(*item)
+    return navigator.process(item)
 
 
 def _end_s(item: Input) -> float:
     """The instant of an input's last sample, or of a correction [s]."""
-    return item.t_s if isinstance(item, TakenCorrection) else float(item[0][-1])
+    return item.t_s if isinstance(item, TakenCorrection) else item.end_s
 
 
 def _split(items: list[Input], t_s: float) -> tuple[list[Input], list[Input]]:
@@ -418,9 +420,9 @@ def _split(items: list[Input], t_s: float) -> tuple[list[Input], list[Input]]:
         if isinstance(item, TakenCorrection):
             (before if item.t_s <= t_s else after).append(item)
             continue
-        cut = int(np.searchsorted(item[0], t_s, side="right"))
-        if cut > 0:
-            before.append(tuple(None if x is None else x[:cut] for x in item))
-        if cut < len(item[0]):
-            after.append(tuple(None if x is None else x[cut:] for x in item))
+        early, late = item.split(t_s)
+        if len(early):
+            before.append(early)
+        if len(late):
+            after.append(late)
     return before, after

@@ -16,6 +16,7 @@ from pdr_pocket.config import PocketConfig, default_config_path, load_pocket_con
 from pdr_pocket.drift_loop import navigate_offline, navigate_online
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
+from wstest import samples_of
 
 
 @cache
@@ -35,9 +36,7 @@ MULTI = DriftConfig(association="multi_hypothesis")
 @cache
 def run(mode: str):
     sim = theresienhoehe()
-    args = (thesis_setting(), MULTI if mode == "multi" else DriftConfig(), sim.trajectory.t,
-            sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-            sim.mag["magnetic_field"])
+    args = (thesis_setting(), MULTI if mode == "multi" else DriftConfig(), samples_of(sim))
     if mode == "offline":
         return navigate_offline(*args)
     return navigate_online(*args, apply=mode != "none")
@@ -146,9 +145,7 @@ def test_building_associations_are_right_by_type_and_floor():
     _, data = load_pocket_scenario("building")
     sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "building"), data,
                                     "xsens_mtw", {}, 100.0, 0, placement="pocket"))
-    _, _, log = navigate_online(PocketConfig(), DriftConfig(), sim.trajectory.t,
-                                sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-                                sim.mag["magnetic_field"])
+    _, _, log = navigate_online(PocketConfig(), DriftConfig(), samples_of(sim))
     by_id = {m.id: m for m in log.landmarks}
     assert len(log.drifts) == 1
     for d in log.drifts:
@@ -186,11 +183,10 @@ def test_corridor_grid_nearest_goes_wrong_multi_hypothesis_does_not():
     sim = simulate(SimulationConfig(
         pocket_scenario_from_dict(data, "corridor_grid"), data, "xsens_mtw",
         {"gyro": {"bias_deg_per_s": [-0.1, 0.1, 0.05]}}, 100.0, 1, placement="pocket"))
-    inputs = (sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-              sim.mag["magnetic_field"])
-    _, alone, _ = navigate_online(thesis_setting(), DriftConfig(), *inputs, apply=False)
-    _, nearest, nearest_log = navigate_online(thesis_setting(), DriftConfig(), *inputs)
-    _, multi, multi_log = navigate_online(thesis_setting(), MULTI, *inputs)
+    samples = samples_of(sim)
+    _, alone, _ = navigate_online(thesis_setting(), DriftConfig(), samples, apply=False)
+    _, nearest, nearest_log = navigate_online(thesis_setting(), DriftConfig(), samples)
+    _, multi, multi_log = navigate_online(thesis_setting(), MULTI, samples)
     assert truth_of(nearest_log, sim)["associations_wrong"] >= 1
     report = truth_of(multi_log, sim)
     assert report["associations_wrong"] == 0 and report["associations_correct"] >= 10

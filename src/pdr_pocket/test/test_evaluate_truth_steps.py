@@ -19,8 +19,8 @@ from pdr_core.frames import MAP_FRAME
 from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, STEP
 from pdr_pocket.evaluation import TruthStepsFormat, read_truth_steps
 from pdr_pocket.messages import pose_fields, step_fields
-from pdr_pocket.navigator import StepRecord
 from pdr_pocket.pocket_offline import RUN_RECORD, run_record
+from pdr_pocket.records import StepRecord
 from wstest import cli
 
 # The made-up input: 20 s at 100 Hz, stamped on a phone's clock (ns since its boot)

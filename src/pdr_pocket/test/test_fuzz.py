@@ -9,12 +9,14 @@ gravity update, and a finite rate of 1e151 rad/s did too."""
 from __future__ import annotations
 
 from functools import cache
+from types import SimpleNamespace
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pdr_core.bag import BagReader
+from pdr_core.correction import from_request
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.streaming import StreamingPocket
 from wstest import ROOT, drop_reason
@@ -58,9 +60,12 @@ def test_pocket_pdr_adapter_survives_garbage(events):
             chunks = []
         else:
             with np.errstate(all="ignore"):     # stamped at a step, any stamp, or now
-                result = live.apply_correction(
-                    c[0], c[1], c[2], c[3], b, np.eye(3).ravel() * c[0],
-                    stamp_ns=0 if offset % 3 == 0 else BASE + offset)
+                request = SimpleNamespace(        # the service's fields, as pocket_pdr gets them
+                    yaw=c[0], yaw_variance=c[1], gyro_bias_z=c[2], gyro_bias_z_variance=c[3],
+                    has_position=True, position=SimpleNamespace(x=b[0], y=b[1], z=b[2]),
+                    position_covariance=np.eye(3).ravel() * c[0])
+                result = live.apply_correction(from_request(
+                    request, 0 if offset % 3 == 0 else BASE + offset))
             ok, message = result.accepted, result.message
             assert isinstance(ok, bool) and message
             if not np.isfinite([*c, *b]).all() or min(c[0], c[1], c[3]) < 0:

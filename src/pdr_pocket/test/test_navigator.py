@@ -13,6 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from pdr_core.correction import Correction
 from pdr_core.errors import InputError
 from pdr_core.gait import PLACEMENT_WINDOW_STEPS
 from pdr_core.vocabulary import Activity
@@ -28,9 +29,11 @@ from pdr_pocket.config import (
 from pdr_pocket.navigator import PocketNavigator
 from pdr_pocket.position import PositionFilter
 from pdr_pocket.run_report import match_steps, riser_errors, steps_since
+from pdr_pocket.samples import Samples
 from pdr_pocket.step_length import fit_line, fit_offset
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
+from wstest import samples_of
 
 # The filter matched to the simulated sensor (config/pocket_pdr_xsens_mtw.yaml): the walks
 # here carry the xsens_mtw errors the thesis's tables were measured with
@@ -53,9 +56,7 @@ def simulated(name: str, mounting=None, seed: int = 0, carried: str = "front_poc
 def navigated(name: str, mounting=None, seed: int = 0, config: PocketConfig | None = None,
               carried: str = "front_pocket"):
     sim = simulated(name, mounting, seed, carried)
-    out = PocketNavigator(config or PocketConfig()).process(
-        sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-        sim.mag["magnetic_field"])
+    out = PocketNavigator(config or PocketConfig()).process(samples_of(sim))
     return sim, out
 
 
@@ -120,8 +121,7 @@ def test_riser_heights_and_floors():
     floors exact."""
     sim = simulated("up_dw")
     nav = PocketNavigator(MTW)
-    out = nav.process(sim.trajectory.t, sim.imu["angular_velocity"],
-                      sim.imu["linear_acceleration"], sim.mag["magnetic_field"])
+    out = nav.process(samples_of(sim))
     truth = sim.truth["/ground_truth/step"]
     flights = riser_errors(nav.staircases, truth, sim.model.true_steps.end_s)
     assert len(flights) == 16 and all(f["riser_m"] is not None for f in flights)
@@ -195,8 +195,7 @@ def repocketed_h1(turn: tuple[float, float, float]):
     """H1 with the phone turned in the pocket mid-walk: the simulation and the steps."""
     sim = repocketed_h1_simulated(turn)
     nav = PocketNavigator(PocketConfig())
-    out = nav.process(sim.trajectory.t, sim.imu["angular_velocity"],
-                      sim.imu["linear_acceleration"], sim.mag["magnetic_field"])
+    out = nav.process(samples_of(sim))
     return sim, out
 
 
@@ -220,17 +219,17 @@ def test_without_a_gyroscope_a_phone_found_turned_at_the_last_rest_loses_no_step
     after the change (the footfall detector once stopped on that with a ValueError). Every
     step is found, whole and in chunks alike."""
     sim = repocketed_h1_simulated(REPOCKETED["mean pitch moved 40°"])
-    args = (sim.trajectory.t, None, sim.imu["linear_acceleration"])
+    samples = samples_of(sim, gyro=False, mag=False)
     navigator = PocketNavigator(PocketConfig())
-    whole = navigator.process(*args).steps
+    whole = navigator.process(samples).steps
     assert int(navigator.mounting.scalars[CHANGES]) == 1
     assert len(whole) == len(sim.model.true_steps.end_s)
     nav = PocketNavigator(PocketConfig())
     rng = np.random.default_rng(0)
-    cuts = np.unique(np.r_[0, np.cumsum(rng.integers(1, 400, 200)), len(args[0])])
-    cuts = cuts[cuts <= len(args[0])]
+    cuts = np.unique(np.r_[0, np.cumsum(rng.integers(1, 400, 200)), len(samples)])
+    cuts = cuts[cuts <= len(samples)]
     chunked = [s for i, j in itertools.pairwise(cuts)
-               for s in nav.process(args[0][i:j], None, args[2][i:j]).steps]
+               for s in nav.process(samples[i:j]).steps]
     assert [s.t for s in chunked] == [s.t for s in whole]
 
 
@@ -244,14 +243,13 @@ def test_a_configured_mounting_is_used_as_given():
 
 def test_one_sample_at_a_time_equals_the_whole_record():
     sim = simulated("sit_stand")
-    args = (sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-            sim.mag["magnetic_field"])
-    whole = PocketNavigator(PocketConfig()).process(*args).steps
+    samples = samples_of(sim)
+    whole = PocketNavigator(PocketConfig()).process(samples).steps
     nav = PocketNavigator(PocketConfig())
     rng = np.random.default_rng(0)
-    cuts = np.unique(np.r_[0, np.cumsum(rng.integers(1, 400, 200)), len(args[0])])
-    cuts = cuts[cuts <= len(args[0])]
-    pieces = [nav.process(*(a[i:j] for a in args)).steps for i, j in itertools.pairwise(cuts)]
+    cuts = np.unique(np.r_[0, np.cumsum(rng.integers(1, 400, 200)), len(samples)])
+    cuts = cuts[cuts <= len(samples)]
+    pieces = [nav.process(samples[i:j]).steps for i, j in itertools.pairwise(cuts)]
     chunked = [s for piece in pieces for s in piece]
     assert len(chunked) == len(whole)
     for a, b in zip(chunked, whole, strict=True):
@@ -288,25 +286,27 @@ def test_corrections_gated_and_refused_when_unusable():
     sim = simulated("sit_stand")
     nav = PocketNavigator(PocketConfig())
     n = 4000
-    nav.process(sim.trajectory.t[:n], sim.imu["angular_velocity"][:n],
-                sim.imu["linear_acceleration"][:n], sim.mag["magnetic_field"][:n])
+    nav.process(samples_of(sim)[:n])
     yaw = nav.orientation.yaw
-    ok, message = nav.apply_correction(np.radians(1.0), np.radians(2.0) ** 2, 0.0, 0.0)
+    ok, message = nav.apply_correction(Correction(np.radians(1.0), np.radians(2.0) ** 2))
     assert ok, message
     assert nav.orientation.yaw != yaw
     before, p = nav.position.position, nav.position.covariance
-    ok, message = nav.apply_correction(0.0, 0.0, 0.0, 0.0, before + 0.2, np.eye(3) * 0.25)
+    ok, message = nav.apply_correction(Correction(position_m=before + 0.2,
+                                                  position_covariance_m2=np.eye(3) * 0.25))
     # the fix moves the position by the Kalman gain of Eq. (6.3), K·(fix − x) with
     # K = P·(P + R)⁻¹ (the level walk's exact height stays)
     assert ok
     np.testing.assert_allclose(nav.position.position - before,
                                p @ np.linalg.solve(p + np.eye(3) * 0.25, np.full(3, 0.2)),
                                atol=1e-9)
-    for bad in [(np.nan, 0.1, 0.0, 0.0), (0.1, -1.0, 0.0, 0.0), (0.0, 0.0, 1e-4, -1e-8)]:
-        ok, message = nav.apply_correction(*bad)
+    for bad in [Correction(np.nan, 0.1), Correction(0.1, -1.0),
+                Correction(gyro_bias_z_radps=1e-4, gyro_bias_z_variance_rad2ps2=-1e-8)]:
+        ok, message = nav.apply_correction(bad)
         assert not ok and ("not finite" in message or "negative" in message)
     state = nav.position.position
-    ok, message = nav.apply_correction(0.0, 0.0, 0.0, 0.0, state + 500.0, np.eye(3) * 0.01)
+    ok, message = nav.apply_correction(Correction(position_m=state + 500.0,
+                                                  position_covariance_m2=np.eye(3) * 0.01))
     assert not ok and "χ² gate" in message
     assert np.array_equal(nav.position.position, state)
     assert nav.corrections == {"accepted": 2, "refused": 4}
@@ -334,8 +334,7 @@ def test_a_correction_is_all_or_nothing_every_part_gated_before_any_is_applied()
     nav = PocketNavigator(load_pocket_config(
         default_config_path().with_name("pocket_pdr_no_mag.yaml")))
     n = 12000
-    nav.process(sim.trajectory.t[:n], sim.imu["angular_velocity"][:n],
-                sim.imu["linear_acceleration"][:n], None)
+    nav.process(samples_of(sim, mag=False)[:n])
     p = nav.orientation.state.covariance
     yaw, yaw_var = 0.01, 0.1 * p[ATT_UP, ATT_UP]
     bias_var = 0.1 * p[BIAS_Z, BIAS_Z]
@@ -345,14 +344,14 @@ def test_a_correction_is_all_or_nothing_every_part_gated_before_any_is_applied()
     target = float(nav.orientation.state.bias[2]) + bias
     assert after_yaw.gate(BIAS_Z_CORRECTION, target, bias_var)[0] is not None  # the trap
     refused = copy.deepcopy(nav)
-    ok, message = nav.apply_correction(yaw, yaw_var, bias, bias_var)
+    ok, message = nav.apply_correction(Correction(yaw, yaw_var, bias, bias_var))
     assert ok, message
     assert message.startswith("yaw +0.01 rad (+0.57°, NIS") and "z gyro bias +" in message
     assert nav.orientation.state.bias[2] != refused.orientation.state.bias[2]
 
     state = copy.deepcopy(refused)
-    ok, message = refused.apply_correction(yaw, yaw_var, 100 * bias, bias_var,
-                                           refused.position.position, np.eye(3))
+    ok, message = refused.apply_correction(Correction(yaw, yaw_var, 100 * bias, bias_var,
+                                                      refused.position.position, np.eye(3)))
     assert not ok
     assert message.startswith("nothing applied: z gyro bias refused by the χ² gate")
     for before, after in ((state.orientation.state.attitude, refused.orientation.state.attitude),
@@ -362,8 +361,9 @@ def test_a_correction_is_all_or_nothing_every_part_gated_before_any_is_applied()
                           (state.position.x, refused.position.x),
                           (state.position.p, refused.position.p)):
         np.testing.assert_array_equal(before, after)
-    assert (refused.sum_cos, refused.sum_sin) == (state.sum_cos, state.sum_sin)
-    ok, message = refused.apply_correction(0.0, 0.0, 0.0, 0.0)
+    assert (refused.assembly.sum_cos, refused.assembly.sum_sin) == \
+        (state.assembly.sum_cos, state.assembly.sum_sin)
+    ok, message = refused.apply_correction(Correction())
     assert not ok and message.startswith("nothing to apply")
     assert refused.corrections == {"accepted": 0, "refused": 2}
 
@@ -415,8 +415,8 @@ def late_correction(delay: int, stamped: bool = True, window_s: float = 30.0,
             due, (stamp, step) = i + delay, steps[19]
         if due is not None and result is None and i >= due:
             position = step.position + np.array([0.5, -0.3, 0.0])
-            result = live.apply_correction(*CORRECTION, position, np.eye(3).ravel() * 0.5,
-                                           stamp_ns=stamp if stamped else 0)
+            result = live.apply_correction(Correction(
+                *CORRECTION, position, np.eye(3).ravel() * 0.5, stamp if stamped else 0))
             assert result.accepted, result.message
             steps = steps[:20] + [(r.stamp_ns, r.step) for r in result.revised]
         if len(steps) >= 35:
@@ -467,16 +467,16 @@ def test_a_stamp_outside_the_window_is_refused_by_name():
                    sim.imu["angular_velocity"][:n])
     before = live.navigator.copy_state()
     old = int(stamps[n - 1500])                       # 15 s back
-    result = live.apply_correction(*CORRECTION, stamp_ns=old)
+    result = live.apply_correction(Correction(*CORRECTION, stamp_ns=old))
     assert not result.accepted and result.revised == []
     assert f"stamp {old} ns is older than the correction window" in result.message
     assert "correction_window_s 10 s of IMU data" in result.message
     ahead = int(stamps[n]) + 1
-    result = live.apply_correction(*CORRECTION, stamp_ns=ahead)
+    result = live.apply_correction(Correction(*CORRECTION, stamp_ns=ahead))
     assert not result.accepted and f"stamp {ahead} ns is after the last sample" in result.message
     assert live.corrections == {"accepted": 0, "refused": 2}
     assert live.navigator.orientation.yaw == before.orientation.yaw
-    within = live.apply_correction(*CORRECTION, stamp_ns=int(stamps[n - 500]))
+    within = live.apply_correction(Correction(*CORRECTION, stamp_ns=int(stamps[n - 500])))
     assert within.accepted, within.message
 
 
@@ -496,18 +496,18 @@ def test_corrections_reaching_back_replay_the_ones_taken_since(instants, chunk):
     for i in range(0, n, chunk):
         live.push_imus(stamps[i:min(i + chunk, n)], a[i:min(i + chunk, n)],
                        w[i:min(i + chunk, n)])
-    yaw = (np.radians(1.0), np.radians(3.0) ** 2, 0.0, 0.0)
+    yaw = Correction(np.radians(1.0), np.radians(3.0) ** 2)
     for k in instants:
-        assert live.apply_correction(*yaw, stamp_ns=int(stamps[k])).accepted
+        assert live.apply_correction(replace(yaw, stamp_ns=int(stamps[k]))).accepted
     straight = PocketNavigator(PocketConfig())
     t = (stamps - stamps[0]) * 1e-9
     start = 0
     for k in sorted(instants):
-        straight.process(t[start:k + 1], w[start:k + 1], a[start:k + 1])
-        ok, message = straight.apply_correction(*yaw)
+        straight.process(Samples(t[start:k + 1], a[start:k + 1], w[start:k + 1]))
+        ok, message = straight.apply_correction(yaw)
         assert ok, message
         start = k + 1
-    straight.process(t[start:n], w[start:n], a[start:n])
+    straight.process(Samples(t[start:n], a[start:n], w[start:n]))
     assert live.navigator.orientation.yaw == pytest.approx(straight.orientation.yaw, abs=1e-9)
     assert len(live.navigator.steps) == len(straight.steps)
     for x, y in zip(live.navigator.steps, straight.steps, strict=True):
@@ -534,9 +534,7 @@ def test_packets_dropped_lose_and_invent_no_step(name):
     refused the landings the gaps turned into stairs), H1 2 of 294."""
     sim = simulated(name)
     keep = with_gaps(sim)
-    out = PocketNavigator(PocketConfig()).process(
-        sim.trajectory.t[keep], sim.imu["angular_velocity"][keep],
-        sim.imu["linear_acceleration"][keep], sim.mag["magnetic_field"][keep])
+    out = PocketNavigator(PocketConfig()).process(samples_of(sim)[keep])
     assert len(out.steps) == len(sim.model.true_steps.length)
     match = matched(sim, out)
     assert (match < 0).sum() <= 2, "a maximum inside a gap may move to the next cycle"
@@ -554,9 +552,7 @@ def test_a_walk_from_a_chair_finds_its_standing_axis():
         {"type": "walk", "steps": 30}, {"type": "standing", "duration_s": 3}]}
     sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "from_a_chair"), data,
                                     "xsens_mtw", {}, 100.0, 0, placement="pocket"))
-    out = PocketNavigator(PocketConfig()).process(
-        sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-        sim.mag["magnetic_field"])
+    out = PocketNavigator(PocketConfig()).process(samples_of(sim))
     match = matched(sim, out)
     assert (match >= 0).all() and len(out.steps) == len(match)
     assert all(s.activity == Activity.WALKING for s in out.steps)
@@ -571,9 +567,7 @@ def test_a_back_pocket_is_named_and_walks_its_distance(gyroscope):
     start a cycle late."""
     sim = simulated("h1_rectangle", None, 0, "back_pocket")
     navigator = PocketNavigator(PocketConfig())
-    out = navigator.process(sim.trajectory.t,
-                            sim.imu["angular_velocity"] if gyroscope else None,
-                            sim.imu["linear_acceleration"])
+    out = navigator.process(samples_of(sim, gyro=gyroscope, mag=False))
     match = matched(sim, out)
     assert (match < 0).sum() <= (0 if gyroscope else 1) and len(out.steps) == len(match)
     assert all(s.activity == Activity.WALKING for s in out.steps)
@@ -590,10 +584,9 @@ def test_a_walk_faster_than_a_person_walks_is_a_warning():
     with the figure."""
     sim = simulated("h1_rectangle")
     navigator = PocketNavigator(PocketConfig())
-    navigator.process(sim.trajectory.t, sim.imu["angular_velocity"],
-                      sim.imu["linear_acceleration"])
+    navigator.process(samples_of(sim, mag=False))
     assert navigator.speed_warning() is None and navigator.warnings() == []
-    navigator.steps = [replace(s, duration=s.duration / 4) for s in navigator.steps]
+    navigator.assembly.steps = [replace(s, duration=s.duration / 4) for s in navigator.steps]
     warning = navigator.speed_warning()
     assert warning.startswith("the level steps walk 3.9 m/s") and "(2.5 m/s)" in warning
     assert navigator.warnings() == [warning]
@@ -603,8 +596,7 @@ def test_a_phone_in_the_hand_makes_no_step_and_says_why():
     sim, out = navigated("h1_rectangle", seed=0, carried="hand")
     assert out.steps == []
     nav = PocketNavigator(PocketConfig())
-    nav.process(sim.trajectory.t, sim.imu["angular_velocity"], sim.imu["linear_acceleration"],
-                sim.mag["magnetic_field"])
+    nav.process(samples_of(sim))
     assert nav.no_step_reason().startswith("motion but no thigh gait")
 
 
@@ -626,8 +618,7 @@ def test_live_without_a_gyroscope_equals_the_whole_record():
     from pdr_pocket.streaming import StreamingPocket
 
     sim = simulated("sit_stand")
-    whole = PocketNavigator(PocketConfig()).process(
-        sim.trajectory.t, None, sim.imu["linear_acceleration"]).steps
+    whole = PocketNavigator(PocketConfig()).process(samples_of(sim, gyro=False, mag=False)).steps
     live, steps = StreamingPocket(PocketConfig()), []
     for stamp, accel in zip((sim.trajectory.t * 1e9).astype(np.int64).tolist(),
                             sim.imu["linear_acceleration"], strict=True):
@@ -645,7 +636,7 @@ def test_footfalls_without_a_gyroscope(name, off):
     134/132 (the sit/stand walk's standing up and sitting down shake the force too)."""
     sim = simulated(name)
     navigator = PocketNavigator(PocketConfig())
-    out = navigator.process(sim.trajectory.t, None, sim.imu["linear_acceleration"])
+    out = navigator.process(samples_of(sim, gyro=False, mag=False))
     true = 2 * len(sim.model.true_steps.end_s)
     assert abs(navigator.footfalls - true) <= off
     assert len(out.steps) == navigator.footfalls // 2

@@ -49,6 +49,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from pdr_core import topics
+from pdr_core.correction import request_fields
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME
 from pdr_core.headers import set_header, set_time, stamp_ns
@@ -209,15 +210,12 @@ class LandmarkDriftNode(Node):
                 f"{np.degrees(estimate.deviation):.2f} deg over {estimate.elapsed:.0f} s, drift "
                 f"{np.degrees(estimate.drift):.4f} deg/s")
         for correction in result.corrections:
-            request = ApplyCorrection.Request(
-                yaw=float(correction.yaw), yaw_variance=float(correction.yaw_variance),
-                gyro_bias_z=float(correction.gyro_bias_z),
-                gyro_bias_z_variance=float(correction.gyro_bias_z_variance),
-                has_position=True)
+            fields = request_fields(correction)
+            position = fields.pop("position", None)
+            request = ApplyCorrection.Request(**fields)
             set_time(request.stamp, stamp)
-            request.position.x, request.position.y, request.position.z = map(
-                float, correction.position)
-            request.position_covariance = [float(v) for v in correction.position_covariance.ravel()]
+            if position is not None:
+                request.position.x, request.position.y, request.position.z = position
             self.waiting.append([request, 0])
             self.held_steps = self.delay_ticks = 0
         self.service_corrections()

@@ -50,6 +50,7 @@ from std_srvs.srv import Trigger
 from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
+from pdr_core.correction import from_request
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.headers import set_header, stamp_ns, time_ns
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
@@ -231,14 +232,9 @@ class PocketPdrNode(Node):
         """pdr/pocket/apply_correction: the navigator decides, at the request's stamp
         (pdr_pocket.streaming); logged and counted. The steps it ran again go back in the
         response and replace theirs in the path, published again."""
-        position = (request.position.x, request.position.y, request.position.z) \
-            if request.has_position else None
-        covariance = list(request.position_covariance) if request.has_position else None
         stamp = time_ns(request.stamp)
         try:
-            result = self.navigator.apply_correction(
-                request.yaw, request.yaw_variance, request.gyro_bias_z,
-                request.gyro_bias_z_variance, position, covariance, stamp_ns=stamp)
+            result = self.navigator.apply_correction(from_request(request, stamp))
         except (ValueError, np.linalg.LinAlgError) as exc:
             result = CorrectionResult(False, f"correction not usable: {exc}")
             self.navigator.corrections["refused"] += 1

@@ -23,7 +23,8 @@ from pdr_core.errors import InputError
 from pdr_core.vocabulary import Activity
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.inputs import read_pocket_bag
-from pdr_pocket.navigator import NavigatorOutput, PocketNavigator, StepRecord
+from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.records import NavigatorOutput, StepRecord
 from pdr_pocket.run_report import match_steps
 from pdr_pocket.step_length import StrideInputs, stride_model
 from pdr_pocket.steps import table_4_1_detectors
@@ -33,7 +34,7 @@ def navigate(bag: Path, config: PocketConfig, need_truth: bool = False):
     """The navigator's output on a bag, the inputs, and its ground_truth/step (or None)."""
     _, batches, inputs = read_pocket_bag(
         bag, require=[topics.GROUND_TRUTH_STEP] if need_truth else [])
-    out = PocketNavigator(config).process(inputs.t, inputs.gyro_or_none, inputs.accel, inputs.mag)
+    out = PocketNavigator(config).process(inputs.samples)
     return out, inputs, batches.get(topics.GROUND_TRUTH_STEP)
 
 
