@@ -21,6 +21,15 @@ An accelerometer column that holds one value in every kept row, over at least
 :data:`MIN_ROWS_CONSTANT_AXIS` rows, is refused whatever ``accept_implausible`` says
 (:func:`constant_columns`): it is another column (a sensor's accuracy, a status), never
 an axis of an accelerometer.
+
+A barometer column (``pressure_col``, in hPa or Pa, :data:`PRESSURE_UNITS_PA`) becomes
+``sensor_msgs/FluidPressure`` [Pa], one message per kept row; its NaN cells are invalid
+rows like any column's. A median beyond :data:`PRESSURE_RANGE` (30-110 kPa: from the
+height of Everest to above the highest sea-level pressure ever measured) in the unit
+read is refused like the other units (hPa read as Pa is 1 kPa); a pressure column that
+holds one value over at least :data:`MIN_ROWS_CONSTANT_AXIS` rows is imported with an
+InputWarning (:func:`warn_constant_pressure`): a coarse barometer at rest may hold one
+reading, but more often it is another column.
 """
 from __future__ import annotations
 
@@ -31,6 +40,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pdr_core.atmosphere import SEA_LEVEL_PRESSURE_PA
+from pdr_core.barometry import PA_PER_HPA, PRESSURE_MAX_PA, PRESSURE_MIN_PA
 from pdr_core.batch import MessageBatch, stamp_ns_from_seconds
 from pdr_core.errors import InputError, InputWarning
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
@@ -45,7 +56,7 @@ from pdr_core.imu_checks import (
     median_interval_s,
     median_specific_force_mps2,
 )
-from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, POSE_STAMPED
+from pdr_core.msgtypes import FLUID_PRESSURE, IMU, MAGNETIC_FIELD, POSE_STAMPED
 from pdr_core.units import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
@@ -61,6 +72,14 @@ from pdr_core.units import (
 # seconds, and a short synthetic file may be constant: fewer rows are left alone.
 MIN_ROWS_CONSTANT_AXIS = 1000
 
+# A barometer's units (name -> Pa) and their symbols; the ambient pressure anywhere a
+# person walks is 30-110 kPa (Everest's summit about 34 kPa, the highest sea-level pressure
+# measured 108.4 kPa)
+PRESSURE_UNITS_PA = {"pa": 1.0, "hpa": PA_PER_HPA}
+_SYMBOLS = {**UNIT_SYMBOLS, "pa": "Pa", "hpa": "hPa"}
+PRESSURE_RANGE = PlausibleRange("median pressure", "Pa", PRESSURE_MIN_PA, PRESSURE_MAX_PA,
+                                SEA_LEVEL_PRESSURE_PA, "300-1100 hPa, 30-110 kPa")
+
 
 @dataclass(frozen=True)
 class CsvImuFormat:
@@ -74,6 +93,7 @@ class CsvImuFormat:
         pos_cols: three ground-truth position columns, or (); ``pos_unit`` m, cm or mm.
         mag_cols: three magnetometer columns, or (); ``mag_unit`` t, ut, nt or gauss;
             they take the accelerometer's axis remap unless ``mag_axes`` is given.
+        pressure_col: the barometer column, or None; ``pressure_unit`` hpa or pa.
         axes: sensor-axis remap applied to acc and gyro, e.g. ("-y", "x", "z") means
             out_x = -in_y, out_y = in_x, out_z = in_z.
         acc_axes, gyro_axes: a remap for one sensor only, replacing ``axes`` for it (for
@@ -100,6 +120,8 @@ class CsvImuFormat:
     mag_cols: tuple[str, ...] = ()
     mag_unit: str = "ut"
     mag_axes: tuple[str, str, str] | None = None
+    pressure_col: str | None = None
+    pressure_unit: str = "hpa"
     axes: tuple[str, str, str] = ("x", "y", "z")
     acc_axes: tuple[str, str, str] | None = None
     gyro_axes: tuple[str, str, str] | None = None
@@ -115,8 +137,9 @@ class CsvImuFormat:
 
 @dataclass
 class CsvImport:
-    """Result of an import: ``imu`` and optional ``pose`` and ``mag`` batches, and the
-    dropped rows (exact duplicates, and invalid rows dropped on request)."""
+    """Result of an import: ``imu`` and optional ``pose``, ``mag`` and ``pressure``
+    batches, and the dropped rows (exact duplicates, and invalid rows dropped on
+    request)."""
 
     imu: MessageBatch
     pose: MessageBatch | None
@@ -124,6 +147,7 @@ class CsvImport:
     rows_duplicate: int
     rows_invalid: int
     mag: MessageBatch | None = None
+    pressure: MessageBatch | None = None
 
 
 def _check_choice(value: str, choices: dict, what: str) -> float:
@@ -218,6 +242,19 @@ def _refuse_constant_axis(path: Path, names: list[str] | None, acc_cols: tuple[s
                            "does not accept a constant axis)")
 
 
+def warn_constant_pressure(path: Path, column: str, pressure_read: np.ndarray) -> None:
+    """An InputWarning naming ``column`` when the barometer readings ``pressure_read`` (the
+    kept rows as read, (N,)) hold one value over at least :data:`MIN_ROWS_CONSTANT_AXIS`
+    rows: a barometer's noise moves its last digit, so this is most likely another column
+    (it is imported all the same: a coarse barometer at rest may hold one reading)."""
+    if not len(constant_columns(pressure_read[:, None])):
+        return
+    warnings.warn(InputWarning(path, f"column {column} (--pressure-col) is "
+                                     f"{pressure_read[0]:g} in all {len(pressure_read)} rows: "
+                                     "constant over the whole recording, which a barometer's "
+                                     "noise rarely is; check --pressure-col"), stacklevel=3)
+
+
 def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str) -> None:
     row = int(np.flatnonzero(bad)[0])
     raise InputError(path, f"row {row + first_row}: {what} ({int(bad.sum())} such rows; "
@@ -260,11 +297,12 @@ class Implausible:
 
 
 def implausible_columns(fmt: CsvImuFormat, t_s: np.ndarray, acc: np.ndarray,
-                        gyro: np.ndarray | None, mag: np.ndarray | None) -> list[Implausible]:
+                        gyro: np.ndarray | None, mag: np.ndarray | None,
+                        pressure: np.ndarray | None = None) -> list[Implausible]:
     """What no walk or rest gives in the units the columns were read in (the ranges of
-    pdr_core.imu_checks), one per sensor. Arguments in SI, of the rows kept: stamps [s]
-    (N,), specific force [m/s²], angular rate [rad/s] or None, magnetic field [T] or
-    None, each (N, 3)."""
+    pdr_core.imu_checks and :data:`PRESSURE_RANGE`), one per sensor. Arguments in SI, of
+    the rows kept: stamps [s] (N,), specific force [m/s²], angular rate [rad/s] or None,
+    magnetic field [T] or None, each (N, 3), and pressure [Pa] (N,) or None."""
     problems = []
     if len(t_s) >= 2:
         interval = median_interval_s(t_s)
@@ -282,6 +320,10 @@ def implausible_columns(fmt: CsvImuFormat, t_s: np.ndarray, acc: np.ndarray,
     if mag is not None and len(mag):
         problems.append(implausible(",".join(fmt.mag_cols), FIELD_RANGE, median_field_t(mag),
                                     fmt.mag_unit, MAG_UNITS_T, "--mag-unit"))
+    if pressure is not None and len(pressure):
+        problems.append(implausible(str(fmt.pressure_col), PRESSURE_RANGE,
+                                    float(np.median(pressure)), fmt.pressure_unit,
+                                    PRESSURE_UNITS_PA, "--pressure-unit"))
     return [problem for problem in problems if problem is not None]
 
 
@@ -293,17 +335,17 @@ def implausible(columns: str, plausible_range: PlausibleRange, value_si: float, 
     if not plausible_range.excludes(value_si):
         return None
     factor = units[unit]
-    value = f"{value_si / factor:.4g} {UNIT_SYMBOLS[unit]}"
-    if UNIT_SYMBOLS[unit] != plausible_range.si_unit:
+    value = f"{value_si / factor:.4g} {_SYMBOLS[unit]}"
+    if _SYMBOLS[unit] != plausible_range.si_unit:
         value += f" = {value_si:.4g} {plausible_range.si_unit}"
     what = "column" if "," not in columns else "columns"
     problem = (f"{what} {columns}: {plausible_range.statistic} {value}{note}, read in "
-               f"{UNIT_SYMBOLS[unit]} ({flag} {unit}); expected {plausible_range.expected}")
+               f"{_SYMBOLS[unit]} ({flag} {unit}); expected {plausible_range.expected}")
     fix = plausible_range.unit_fix(value_si, units, read_in=factor)
     if fix is None:
         return Implausible(problem, f"no unit of {flag} makes them plausible; check {what} "
                                     f"{columns} (or pass --force to accept them as read)")
-    return Implausible(problem, f"the data look like {UNIT_SYMBOLS[fix]}: pass {flag} {fix} "
+    return Implausible(problem, f"the data look like {_SYMBOLS[fix]}: pass {flag} {fix} "
                                 "(or --force to accept them as read)")
 
 
@@ -327,6 +369,7 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     gyro_scale = _check_choice(fmt.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit")
     pos_scale = _check_choice(fmt.pos_unit, POS_UNITS_M, "--pos-unit")
     mag_scale = _check_choice(fmt.mag_unit, MAG_UNITS_T, "--mag-unit")
+    pressure_scale = _check_choice(fmt.pressure_unit, PRESSURE_UNITS_PA, "--pressure-unit")
     for option, cols in (("--acc-cols", fmt.acc_cols), ("--gyro-cols", fmt.gyro_cols),
                          ("--pos-cols", fmt.pos_cols), ("--mag-cols", fmt.mag_cols)):
         if cols and len(cols) != 3:
@@ -348,12 +391,18 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     mag = columns(fmt.mag_cols) * mag_scale @ axis_matrix(fmt.mag_axes or fmt.acc_axes
                                                             or fmt.axes).T \
         if fmt.mag_cols else None
-    values = np.hstack([acc, gyro] + [v for v in (pos, mag) if v is not None])
+    pressure_read = columns((fmt.pressure_col,))[:, 0] if fmt.pressure_col else None
+    pressure = None if pressure_read is None else pressure_read * pressure_scale
+    values = np.hstack([acc, gyro] + [v.reshape(len(t_s), -1) for v in (pos, mag, pressure)
+                                      if v is not None])
     keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)
     _refuse_constant_axis(path, names, fmt.acc_cols, acc_read[keep])
+    if pressure_read is not None:
+        warn_constant_pressure(path, str(fmt.pressure_col), pressure_read[keep])
     refuse_implausible(path, implausible_columns(fmt, t_s[keep], acc[keep],
                                                  gyro[keep] if fmt.gyro_cols else None,
-                                                 None if mag is None else mag[keep]),
+                                                 None if mag is None else mag[keep],
+                                                 None if pressure is None else pressure[keep]),
                        accept=fmt.accept_implausible)
 
     stamp_ns = stamp_ns_from_seconds(t_s[keep])
@@ -376,5 +425,10 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     if mag is not None:
         mag_batch = MessageBatch(MAGNETIC_FIELD, stamp_ns, fmt.imu_frame, {
             "magnetic_field": mag[keep], "magnetic_field_covariance": np.zeros((n, 9))})
+    pressure_batch = None
+    if pressure is not None:
+        pressure_batch = MessageBatch(FLUID_PRESSURE, stamp_ns, fmt.imu_frame, {
+            "fluid_pressure": pressure[keep], "variance": np.zeros(n)})
     return CsvImport(imu, pose, rows_read=len(t_s), rows_duplicate=int(duplicate.sum()),
-                     rows_invalid=int((~keep & ~duplicate).sum()), mag=mag_batch)
+                     rows_invalid=int((~keep & ~duplicate).sum()), mag=mag_batch,
+                     pressure=pressure_batch)

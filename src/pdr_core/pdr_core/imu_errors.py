@@ -20,12 +20,31 @@ Monte-Carlo runs (no Python loop over either):
 
 Random numbers are drawn in a fixed order from one ``numpy.random.Generator``, so a seed
 fixes every realisation.
+
+A barometer (:class:`BarometerErrors`, pressures in Pa) is one scalar channel at its own
+output rate; :func:`barometer_readings` turns the true pressure into its readings:
+
+    p̃(t) = q( p(t) + ḋ·t + Σ_k o_k·[t_k ≤ t < t_k + T_k] + w )
+
+- w: white noise of std ``noise_pa`` per reading;
+- ḋ: the weather's drift of the ambient pressure [Pa/s], ``drift_pa_per_s`` plus a per-run
+  draw with std ``drift_sigma_pa_per_s`` (like a turn-on bias);
+- o_k: sudden offsets of ``size_pa`` from ``start_s`` for ``duration_s`` (a ventilated
+  stairwell or lift lobby holding its own pressure), the ``offsets`` given plus a Poisson
+  number at ``offsets_per_s``, uniform in time, of a size uniform in ``offset_size_pa``
+  with a random sign, each lasting ``offset_duration_s``;
+- q: quantisation to multiples of ``quantum_pa``.
+
+The figures of a phone's barometer, with their sources, are in
+:data:`pdr_core.imu_profiles.PROFILES` (``consumer_phone``, section ``baro``).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from pdr_core.atmosphere import SEA_LEVEL_PRESSURE_PA
 
 Axes = tuple[float, float, float]
 ZERO3: Axes = (0.0, 0.0, 0.0)
@@ -62,12 +81,74 @@ class TriadErrors:
 
 
 @dataclass(frozen=True)
+class PressureOffset:
+    """A sudden offset of the pressure at the sensor: ``size_pa`` [Pa] (signed) from
+    ``start_s`` [s from the start of the run] for ``duration_s`` [s]."""
+
+    start_s: float
+    duration_s: float
+    size_pa: float
+
+    def __post_init__(self) -> None:
+        if self.start_s < 0 or self.duration_s <= 0:
+            raise ValueError(f"an offset starts at >= 0 s and lasts > 0 s, got {self}")
+
+
+@dataclass(frozen=True)
+class BarometerErrors:
+    """Error parameters of a barometer, SI units (module docstring for the model).
+
+    rate_hz: output rate [Hz]; noise_pa: white noise std per reading [Pa]; quantum_pa:
+    output resolution [Pa] (0: none); reference_pa: the true pressure at the map frame's
+    z = 0 when the run starts [Pa] (the standard atmosphere's sea level by default);
+    drift_pa_per_s: the weather's drift [Pa/s], signed; drift_sigma_pa_per_s: std of a
+    per-run drift rate added to it [Pa/s]; offsets: sudden offsets at given times;
+    offsets_per_s: the rate of random sudden offsets [1/s]; offset_size_pa: (least,
+    largest) size of a random one [Pa]; offset_duration_s: how long a random one lasts
+    [s]. The defaults are an ideal barometer at 25 Hz.
+    """
+
+    rate_hz: float = 25.0
+    noise_pa: float = 0.0
+    quantum_pa: float = 0.0
+    reference_pa: float = SEA_LEVEL_PRESSURE_PA
+    drift_pa_per_s: float = 0.0
+    drift_sigma_pa_per_s: float = 0.0
+    offsets: tuple[PressureOffset, ...] = ()
+    offsets_per_s: float = 0.0
+    offset_size_pa: tuple[float, float] = (0.0, 0.0)
+    offset_duration_s: float = 60.0
+
+    def __post_init__(self) -> None:
+        if self.rate_hz <= 0 or self.reference_pa <= 0 or self.offset_duration_s <= 0:
+            raise ValueError("rate_hz, reference_pa and offset_duration_s must be > 0")
+        for name in ("noise_pa", "quantum_pa", "drift_sigma_pa_per_s", "offsets_per_s"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        low, high = self.offset_size_pa
+        if not 0 <= low <= high:
+            raise ValueError(f"offset_size_pa must be 0 <= least <= largest, got "
+                             f"{self.offset_size_pa}")
+
+
+@dataclass(frozen=True)
+class BarometerRun:
+    """What one run's barometer drew: its drift rate [Pa/s] (the fixed one plus the
+    per-run draw) and every sudden offset, given or drawn, in time order."""
+
+    drift_pa_per_s: float
+    offsets: tuple[PressureOffset, ...]
+
+
+@dataclass(frozen=True)
 class ImuErrors:
-    """Errors of a full IMU: gyroscope, accelerometer and magnetometer triads."""
+    """Errors of a full IMU: gyroscope, accelerometer and magnetometer triads, and the
+    barometer beside them."""
 
     gyro: TriadErrors = field(default_factory=TriadErrors)
     accel: TriadErrors = field(default_factory=TriadErrors)
     mag: TriadErrors = field(default_factory=TriadErrors)
+    baro: BarometerErrors = field(default_factory=BarometerErrors)
 
 
 def _normal(rng: np.random.Generator, shape: tuple[int, ...]) -> np.ndarray:
@@ -139,3 +220,36 @@ def corrupt(true: np.ndarray, errors: TriadErrors, rate_hz: float, rng: np.rando
     if errors.quantum > 0:
         out = np.round(out / errors.quantum) * errors.quantum
     return out[0] if runs is None else out
+
+
+def barometer_run(errors: BarometerErrors, duration_s: float,
+                  rng: np.random.Generator) -> BarometerRun:
+    """The drift rate and the sudden offsets of one run of ``duration_s`` [s]: the drift
+    drawn first, then the number of random offsets (Poisson), their start times (uniform
+    over the run), sizes (uniform in ``offset_size_pa``) and signs, in that order."""
+    drift = errors.drift_pa_per_s + errors.drift_sigma_pa_per_s * rng.standard_normal()
+    count = rng.poisson(errors.offsets_per_s * duration_s)
+    starts = rng.uniform(0.0, duration_s, count)
+    sizes = rng.uniform(*errors.offset_size_pa, count) * rng.choice((-1.0, 1.0), count)
+    drawn = [PressureOffset(float(t), errors.offset_duration_s, float(size))
+             for t, size in zip(starts, sizes, strict=True)]
+    return BarometerRun(float(drift), tuple(sorted((*errors.offsets, *drawn),
+                                                   key=lambda o: o.start_s)))
+
+
+def barometer_readings(true_pa: np.ndarray, t_s: np.ndarray, errors: BarometerErrors,
+                       rng: np.random.Generator) -> tuple[np.ndarray, BarometerRun]:
+    """Readings [Pa] (N,) of the true pressures ``true_pa`` [Pa] (N,) at the times ``t_s``
+    [s from the start of the run] (N,), and what the run drew (:func:`barometer_run`,
+    drawn from ``rng`` before the white noise)."""
+    t_s = np.asarray(t_s, float)
+    run = barometer_run(errors, float(t_s[-1]) if len(t_s) else 0.0, rng)
+    out = np.asarray(true_pa, float) + run.drift_pa_per_s * t_s
+    for offset in run.offsets:
+        out[(t_s >= offset.start_s) & (t_s < offset.start_s + offset.duration_s)] += \
+            offset.size_pa
+    if errors.noise_pa > 0:
+        out += rng.standard_normal(len(t_s)) * errors.noise_pa
+    if errors.quantum_pa > 0:
+        out = np.round(out / errors.quantum_pa) * errors.quantum_pa
+    return out, run

@@ -1,9 +1,10 @@
 """Named IMU error profiles and their configuration format (units in the key names).
 
-A profile is a mapping with up to three sections, ``gyro``, ``accel`` and ``mag``; each
-value is a scalar (all axes) or a list of three (x, y, z). :func:`imu_errors` turns it
-into an :class:`~pdr_core.imu_errors.ImuErrors` in SI units; unknown keys and negative
-densities are refused with the key named. Keys:
+A profile is a mapping with up to three sections for the triads, ``gyro``, ``accel`` and
+``mag``, each value a scalar (all axes) or a list of three (x, y, z), and a ``baro``
+section for the barometer beside them. :func:`imu_errors` turns it into an
+:class:`~pdr_core.imu_errors.ImuErrors` in SI units; unknown keys and negative densities
+are refused with the key named. Keys:
 
 gyro:  arw_deg_per_sqrt_h, bias_deg_per_s, bias_sigma_deg_per_s,
        bias_instability_deg_per_h | gauss_markov_sigma_deg_per_s, bias_correlation_time_s,
@@ -15,6 +16,14 @@ accel: vrw_ug_per_sqrt_hz | vrw_mps_per_sqrt_h, bias_mg, bias_sigma_mg,
        resolution_mg
 mag:   noise_ut_per_sqrt_hz, bias_ut, bias_sigma_ut, scale_factor_ppm, misalignment_mrad,
        range_ut, resolution_ut
+baro:  rate_hz, noise_hpa (std per reading), resolution_hpa, reference_hpa (the true
+       pressure at the map's z = 0 at the start, default 1013.25), drift_hpa_per_h
+       (signed), drift_sigma_hpa_per_h (std of a per-run drift), offsets (a list of
+       {at_s, size_hpa, duration_s}), offsets_per_h (random offsets), offset_size_hpa
+       ([least, largest]), offset_duration_s
+
+A profile without a ``baro`` section takes :data:`PHONE_BAROMETER` (``consumer_phone``'s):
+the sources give no barometer figures for the others (``ideal`` has an ideal one).
 
 The Gauss–Markov (AR(1)) bias of Muñoz Díaz 2016, Eqs. (3.8)–(3.9) is given
 either directly, by its σ (``gauss_markov_sigma_*``) and correlation time τ, or by a bias
@@ -29,18 +38,47 @@ part (each axis tilted towards the next), i.e. M_ij = γ for i ≠ j.
 """
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from pdr_core import units
 from pdr_core.allan import gm_sigma_for_bias_instability
+from pdr_core.config_files import typed_value
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.imu_errors import ImuErrors, TriadErrors
+from pdr_core.imu_errors import BarometerErrors, ImuErrors, PressureOffset, TriadErrors
+
+# The barometer of a phone (``baro``; pdr_core.imu_errors.BarometerErrors for the model):
+# - rate_hz 25: the output rate a phone's barometer runs at for navigation. The Bosch
+#   BMP280 datasheet (BST-BMP280-DS001, 2015) gives 26.3 Hz for its "indoor navigation"
+#   setting (×16 pressure oversampling, IIR filter 16), ST's LPS25HB and LPS22HB
+#   datasheets output rates of 1-25 Hz and 1-75 Hz; the Android Compatibility
+#   Definition (section 7.3.5, Barometer) requires at least 5 Hz.
+# - noise_hpa 0.03: white noise per reading. The LPS25HB datasheet gives 0.01 hPa RMS in
+#   its high-resolution mode, the LPS22HB 0.0075 hPa RMS with its low-pass filter, the
+#   BMP280 a resolution of 0.0016 hPa at ×16 oversampling and a relative accuracy of
+#   ±0.12 hPa (as the Android Compatibility Definition asks: "0.12 hPa over 20 hPa"); a
+#   phone's reading at 25 Hz is less filtered than those figures, so the upper end of
+#   0.01-0.03 hPa is taken (0.25 m of height per reading).
+# - resolution_hpa 0.01: the step of the readings (assumed: a sensor hub reporting hPa
+#   with two decimals; the sensors' own steps are finer, 1/4096 hPa for the LPS22HB).
+# - drift_sigma_hpa_per_h 0.3: the weather moves the ambient pressure by up to about
+#   1 hPa/h (Parviainen et al. 2008; pdr_core.atmosphere), taken as three σ of a per-run
+#   drift rate; drift_hpa_per_h sets one (e.g. 1 for the worst case).
+# - offsets_per_h 0 (none unless asked for), offset_size_hpa 0.2-0.4, offset_duration_s
+#   60: a pressurised stairwell or a lift lobby holds its own pressure against the floors
+#   (IBC 2015 section 909.20.5 and NFPA 92: 0.10 inch of water, 25 Pa, at least, 87 Pa at
+#   most), about a floor's worth of pressure for as long as the walk stays there: the hard
+#   case of a barometric floor count. ``offsets`` places them.
+PHONE_BAROMETER: dict[str, Any] = {
+    "rate_hz": 25.0, "noise_hpa": 0.03, "resolution_hpa": 0.01,
+    "drift_sigma_hpa_per_h": 0.3, "offsets_per_h": 0.0, "offset_size_hpa": [0.2, 0.4],
+    "offset_duration_s": 60.0,
+}
 
 # Sources are cited per profile; "assumed" marks values the cited source does not give.
 PROFILES: dict[str, dict[str, dict[str, Any]]] = {
-    "ideal": {},
+    "ideal": {"baro": {}},
     # Xsens MTi, Zampella et al. 2011, section IV-B: 3 °/√h ARW, 122 µg/√Hz VRW,
     # constant biases drawn per axis with σ 1.23 mg (accelerometer) and 0.5 °/s (gyro).
     "xsens_mti": {
@@ -92,6 +130,7 @@ PROFILES: dict[str, dict[str, dict[str, Any]]] = {
                   "scale_factor_ppm": 10000.0, "misalignment_mrad": 17.0,
                   "range_g": 8.0, "resolution_mg": 8000.0 / 32768},
         "mag": {"noise_ut_per_sqrt_hz": 0.03, "bias_sigma_ut": 0.5},
+        "baro": PHONE_BAROMETER,
     },
 }
 
@@ -134,12 +173,17 @@ def _axes(value: Any, where: str) -> tuple[float, float, float]:
     raise InputError(where, f"expected a number or a list of 3 numbers, got {value!r}")
 
 
-def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
-    scales = {**_SCALES[sensor], **_COMMON}
-    unknown = sorted(set(config) - set(scales))
+def _refuse_unknown_keys(config: Mapping[str, Any], known: Iterable[str], where: str) -> None:
+    """Refuse the first key of ``config`` not in ``known``, naming it and the known ones."""
+    unknown = sorted(set(config) - set(known))
     if unknown:
         raise InputError(f"{where}.{unknown[0]}",
-                         f"unknown key (known: {', '.join(sorted(scales))})")
+                         f"unknown key (known: {', '.join(sorted(known))})")
+
+
+def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
+    scales = {**_SCALES[sensor], **_COMMON}
+    _refuse_unknown_keys(config, scales, where)
     values: dict[str, Any] = {}
     for key, raw in config.items():
         if key in _SCALAR_KEYS:
@@ -183,21 +227,82 @@ def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
     return TriadErrors(**fields)
 
 
+PA_PER_HPA = 100.0
+_BARO_SCALES = {"rate_hz": 1.0, "noise_hpa": PA_PER_HPA, "resolution_hpa": PA_PER_HPA,
+                "reference_hpa": PA_PER_HPA, "drift_hpa_per_h": PA_PER_HPA / 3600.0,
+                "drift_sigma_hpa_per_h": PA_PER_HPA / 3600.0, "offsets_per_h": 1 / 3600.0,
+                "offset_duration_s": 1.0}
+_BARO_FIELDS = {"rate_hz": "rate_hz", "noise_hpa": "noise_pa", "resolution_hpa": "quantum_pa",
+                "reference_hpa": "reference_pa", "drift_hpa_per_h": "drift_pa_per_s",
+                "drift_sigma_hpa_per_h": "drift_sigma_pa_per_s",
+                "offsets_per_h": "offsets_per_s", "offset_duration_s": "offset_duration_s"}
+_BARO_POSITIVE = {"rate_hz", "reference_hpa", "offset_duration_s"}
+_OFFSET_KEYS = ("at_s", "size_hpa", "duration_s")
+
+
+def _number(value: Any, where: str, low: float | None = None, strict: bool = False) -> float:
+    number = typed_value(value, "float", where)
+    if low is not None and (number <= low if strict else number < low):
+        raise InputError(where, f"must be {'>' if strict else '>='} {low:g}, got {value!r}")
+    return number
+
+
+def _pressure_offset(item: Any, where: str) -> PressureOffset:
+    if not isinstance(item, Mapping) or set(item) != set(_OFFSET_KEYS):
+        raise InputError(where, f"expected {{{', '.join(_OFFSET_KEYS)}}}, got {item!r}")
+    return PressureOffset(_number(item["at_s"], f"{where}.at_s", 0.0),
+                          _number(item["duration_s"], f"{where}.duration_s", 0.0, strict=True),
+                          _number(item["size_hpa"], f"{where}.size_hpa") * PA_PER_HPA)
+
+
+def barometer_errors(config: Mapping[str, Any], where: str = "baro") -> BarometerErrors:
+    """BarometerErrors from a ``baro`` section (module docstring); InputError names bad
+    keys."""
+    if not isinstance(config, Mapping):
+        raise InputError(where, f"expected a mapping, got {config!r}")
+    _refuse_unknown_keys(config, (*_BARO_SCALES, "offsets", "offset_size_hpa"), where)
+    fields: dict[str, Any] = {}
+    for key, scale in _BARO_SCALES.items():
+        if key in config:
+            low = None if key == "drift_hpa_per_h" else 0.0
+            fields[_BARO_FIELDS[key]] = _number(config[key], f"{where}.{key}", low,
+                                                strict=key in _BARO_POSITIVE) * scale
+    if "offset_size_hpa" in config:
+        size = config["offset_size_hpa"]
+        at = f"{where}.offset_size_hpa"
+        if not isinstance(size, list | tuple) or len(size) != 2:
+            raise InputError(at, f"expected [least, largest], got {size!r}")
+        low, high = (_number(v, at, 0.0) * PA_PER_HPA for v in size)
+        if low > high:
+            raise InputError(at, f"the least is larger than the largest: {size!r}")
+        fields["offset_size_pa"] = (low, high)
+    offsets = config.get("offsets") or []
+    if not isinstance(offsets, list):
+        raise InputError(f"{where}.offsets", f"expected a list, got {offsets!r}")
+    fields["offsets"] = tuple(_pressure_offset(item, f"{where}.offsets[{i}]")
+                              for i, item in enumerate(offsets))
+    return BarometerErrors(**fields)
+
+
 def imu_errors(config: Mapping[str, Any], where: str = "imu") -> ImuErrors:
     """ImuErrors from a profile mapping (see module docstring); InputError names bad keys."""
     if not isinstance(config, Mapping):
         raise InputError(where, f"expected a mapping, got {config!r}")
-    unknown = sorted(set(config) - {"gyro", "accel", "mag"})
+    unknown = sorted(set(config) - {"gyro", "accel", "mag", "baro"})
     if unknown:
-        raise InputError(f"{where}.{unknown[0]}", "unknown sensor (known: gyro, accel, mag)")
-    return ImuErrors(**{s: _triad(s, config[s] or {}, f"{where}.{s}") for s in config})
+        raise InputError(f"{where}.{unknown[0]}",
+                         "unknown sensor (known: gyro, accel, mag, baro)")
+    sections = {s: _triad(s, config[s] or {}, f"{where}.{s}") for s in config if s != "baro"}
+    if "baro" in config:
+        sections["baro"] = barometer_errors(config["baro"] or {}, f"{where}.baro")
+    return ImuErrors(**sections)
 
 
 def profile(name: str, overrides: Mapping[str, Any] | None = None) -> ImuErrors:
     """The named profile, with ``overrides`` ({sensor: {key: value}}) merged in."""
     if name not in PROFILES:
         raise InputError("--imu", f"unknown profile '{name}' (known: {', '.join(PROFILES)})")
-    merged = {s: dict(v) for s, v in PROFILES[name].items()}
+    merged = {"baro": dict(PHONE_BAROMETER)} | {s: dict(v) for s, v in PROFILES[name].items()}
     for sensor, values in (overrides or {}).items():
         merged.setdefault(sensor, {}).update(values or {})
     return imu_errors(merged, where=name)

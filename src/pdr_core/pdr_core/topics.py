@@ -7,6 +7,7 @@ here. See docs/nodes.md for the topics of each node.
 """
 IMU_DATA = "/imu/data"
 IMU_MAG = "/imu/mag"
+IMU_PRESSURE = "/imu/pressure"                      # sensor_msgs/FluidPressure [Pa]
 GROUND_TRUTH_POSE = "/ground_truth/pose"
 GROUND_TRUTH_STEP = "/ground_truth/step"            # pocket placement: one per true step
 GROUND_TRUTH_LANDMARKS = "/ground_truth/landmarks"  # pocket placement: corners, flights

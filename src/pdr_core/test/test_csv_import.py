@@ -1,4 +1,7 @@
 """CSV import: units, axes, columns and refused rows."""
+import warnings
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -10,7 +13,7 @@ from pdr_core.csv_import import (
     constant_columns,
     import_csv,
 )
-from pdr_core.errors import InputError
+from pdr_core.errors import InputError, InputWarning
 
 HEADER = "time,ax,ay,az,gx,gy,gz,px,py,pz\n"
 
@@ -181,3 +184,67 @@ def test_a_short_constant_column_and_a_constant_gyroscope_are_imported(tmp_path)
     assert not import_csv(still, fmt).imu["angular_velocity"].any()
     # one value that differs makes a column no longer constant
     assert list(constant_columns(np.c_[np.ones(1000), np.r_[np.ones(999), 1.0001]])) == [0]
+
+
+# --- the barometer column (issue 41) -------------------------------------------------------
+def pressure_log(path, scale=1.0, n=20, nan_row=None):
+    """A log with a barometer column ``p`` of about 1000 hPa times ``scale``."""
+    body = [[0.01 * i, 0.0, 0.0, 9.8, (1000.0 + 0.01 * (i % 3)) * scale] for i in range(n)]
+    if nan_row is not None:
+        body[nan_row][4] = "nan"
+    return write_csv(path, body, header="t,ax,ay,az,p\n")
+
+
+PRESSURE_FMT = CsvImuFormat(time_col="t", acc_cols=("ax", "ay", "az"), pressure_col="p")
+
+
+@pytest.mark.parametrize("unit, scale", [("hpa", 1.0), ("pa", 100.0)])
+def test_a_pressure_column_in_hpa_or_pa_becomes_fluid_pressure_in_pa(tmp_path, unit, scale):
+    path = pressure_log(tmp_path / "p.csv", scale)
+    result = import_csv(path, replace(PRESSURE_FMT, pressure_unit=unit))
+    pressure = result.pressure
+    assert pressure.msgtype == "sensor_msgs/msg/FluidPressure" and len(pressure) == 20
+    np.testing.assert_allclose(pressure["fluid_pressure"][:3], [100_000.0, 100_001.0, 100_002.0])
+    np.testing.assert_array_equal(pressure.stamp_ns, result.imu.stamp_ns)
+    assert list(pressure.frame_id) == list(result.imu.frame_id)
+    assert import_csv(path, replace(PRESSURE_FMT, pressure_col=None,
+                                    pressure_unit=unit)).pressure is None
+
+
+@pytest.mark.parametrize("unit, scale, read, fix", [
+    ("pa", 1.0, "1000 Pa", "hpa"),       # hPa given as Pa
+    ("hpa", 100.0, "1e+05 hPa = 1e+07 Pa", "pa"),      # Pa given as hPa
+])
+def test_a_pressure_in_the_wrong_unit_is_refused_naming_column_and_option(tmp_path, unit, scale,
+                                                                         read, fix):
+    path = pressure_log(tmp_path / "p.csv", scale)
+    with pytest.raises(InputError) as refused:
+        import_csv(path, replace(PRESSURE_FMT, pressure_unit=unit))
+    message = str(refused.value)
+    assert message.startswith(f"{path}: column p: median pressure {read}")
+    assert f"(--pressure-unit {unit}); expected 300-1100 hPa, 30-110 kPa" in message
+    assert message.endswith(f"pass --pressure-unit {fix} (or --force to accept them as read)")
+    with pytest.warns(InputWarning, match="accepted as read"):
+        import_csv(path, replace(PRESSURE_FMT, pressure_unit=unit, accept_implausible=True))
+
+
+def test_a_pressure_nan_is_an_invalid_row_like_any_column(tmp_path):
+    path = pressure_log(tmp_path / "p.csv", nan_row=4)
+    with pytest.raises(InputError, match="row 6: NaN or Inf value"):
+        import_csv(path, PRESSURE_FMT)
+    kept = import_csv(path, replace(PRESSURE_FMT, drop_invalid=True))
+    assert len(kept.pressure) == len(kept.imu) == 19 and kept.rows_invalid == 1
+
+
+def test_a_constant_pressure_column_is_imported_with_a_warning(tmp_path):
+    body = [[0.01 * i, 0.01 * (i % 2), 0.01 * (i % 3), 9.8 + 0.01 * (i % 5), 1013.25]
+            for i in range(MIN_ROWS_CONSTANT_AXIS)]
+    path = write_csv(tmp_path / "still.csv", body, header="t,ax,ay,az,p\n")
+    with pytest.warns(InputWarning, match=r"column p \(--pressure-col\) is 1013.25 in all 1000 "
+                                          "rows: constant over the whole recording"):
+        result = import_csv(path, PRESSURE_FMT)
+    assert len(result.pressure) == MIN_ROWS_CONSTANT_AXIS
+    short = write_csv(tmp_path / "short.csv", body[:-1], header="t,ax,ay,az,p\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        import_csv(short, PRESSURE_FMT)

@@ -72,7 +72,7 @@ def test_gauss_markov_sigma_and_tau_directly():
 @pytest.mark.parametrize("config, key", [
     ({"gyro": {"arw_deg_per_sqrt_h": -1}}, "p.gyro.arw_deg_per_sqrt_h"),
     ({"gyro": {"arw_deg_per_sqrt": 1}}, "p.gyro.arw_deg_per_sqrt"),
-    ({"baro": {}}, "p.baro"),
+    ({"sonar": {}}, "p.sonar"),
     ({"accel": {"bias_instability_mg": 0.1}}, "p.accel.bias_correlation_time_s"),
     ({"accel": {"bias_mg": [1, 2]}}, "p.accel.bias_mg"),
     ({"accel": {"gauss_markov_sigma_mg": 0.1}}, "p.accel.bias_correlation_time_s"),

@@ -1,10 +1,12 @@
 """``pdr-sim``: offline tools of the simulator package (no ROS graph needed).
 
 Subcommands:
-    generate     simulate a scenario -> bag (imu/data, imu/mag, ground_truth/pose).
+    generate     simulate a scenario -> bag (imu/data, imu/mag, ground_truth/pose; the
+                 barometer's imu/pressure with --pressure).
     allan        Allan deviation and noise parameters of static data (bag or CSV).
     fit-steps    fit the raised-cosine step pattern (Eqs. 3-5) to recorded foot positions.
-    import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose).
+    import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose, imu/mag,
+                 imu/pressure).
     export-csv   a bag's imu/data (with imu/mag and ground_truth/pose) -> a phone-style
                  CSV log that import-csv reads back; the true step times with --steps-out.
     info         topics, types, message counts and time span of a bag.
@@ -32,6 +34,8 @@ from pdr_core.csv_import import (
     GYRO_UNITS_RADPS,
     MAG_UNITS_T,
     POS_UNITS_M,
+    PRESSURE_RANGE,
+    PRESSURE_UNITS_PA,
     TIME_UNITS_S,
     CsvImuFormat,
     import_csv,
@@ -83,6 +87,16 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
                         "segments[1].steps=20 (YAML value; repeatable)")
     p.add_argument("--imu-set", action="append", default=[], metavar="SENSOR.KEY=VALUE",
                    help="override a profile value, e.g. gyro.arw_deg_per_sqrt_h=1.0")
+    p.add_argument("--pressure", action="store_true",
+                   help="also simulate the barometer beside the IMU and write imu/pressure "
+                        "(sensor_msgs/FluidPressure, Pa) at its own rate; off, every other "
+                        "topic is the same. Its errors are the profile's baro section "
+                        "(consumer_phone's for a profile without one: 25 Hz, 0.03 hPa noise, "
+                        "0.01 hPa steps, a random weather drift of 0.3 hPa/h std); set them "
+                        "with --imu-set, e.g. baro.drift_hpa_per_h=1.0 (a fixed weather drift), "
+                        "'baro.offsets=[{at_s: 300, size_hpa: 0.3, duration_s: 60}]' (a "
+                        "sudden offset: a ventilated stairwell), baro.reference_hpa=1013.25 "
+                        "(the pressure at z = 0), baro.noise_hpa=0.0")
     p.add_argument("--level-walk", action="store_true",
                    help="foot: instead of the scenario, a level walk of the same duration, "
                         "seed, standing at start and end, and environment (walk strides out "
@@ -117,7 +131,7 @@ def _run_generate(args: argparse.Namespace) -> int:
         scenario = scenario_of(data, data["name"], family)
     overrides = with_overrides({}, args.imu_set, "--imu-set")
     config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
-                              args.gravity, family)
+                              args.gravity, family, args.pressure)
     sim = simulate(config)
     write_batches(args.out, sim.batches, overwrite=args.overwrite, compress=args.compress,
                   custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(sim),
@@ -147,10 +161,14 @@ def _route_summary(sim) -> str:
     """One line on the route: path and heading change (foot), steps and floors (pocket)."""
     if sim.config.placement == "pocket":
         steps = sim.model.true_steps
-        floors = sorted({m.floor for m in sim.model.landmarks} | {0})
+        rides = sim.model.plan.rides
+        floors = sorted({m.floor for m in sim.model.landmarks} | {0}
+                        | set(np.cumsum([r.floors for r in rides]).tolist()))
+        lifts = f", {len(rides)} lift rides" if rides else ""
         return (f"{len(steps.length)} steps, {steps.length.sum():.1f} m, "
                 f"{np.abs(steps.vertical_displacement).sum():.1f} m climbed or descended, "
-                f"floors {floors[0]}..{floors[-1]}, {len(sim.model.landmarks)} landmarks")
+                f"floors {floors[0]}..{floors[-1]}, {len(sim.model.landmarks)} landmarks"
+                f"{lifts}")
     phases = sim.model.phases
     return (f"path {phases.path_length_m:.2f} m, heading change "
             f"{np.degrees(phases.heading_change_rad):.1f} deg")
@@ -261,7 +279,8 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
     p.add_argument("--force", action="store_true",
                    help="import data that fail a plausibility check of their units (a "
                         "median |f| beyond 0.5-5 g, a rate beyond 5-10000 Hz, a 99th "
-                        "percentile of |ω| above 50 rad/s, a median |B| beyond 1-1000 µT), "
+                        "percentile of |ω| above 50 rad/s, a median |B| beyond 1-1000 µT, a "
+                        "median pressure beyond 300-1100 hPa), "
                         "each with a warning, instead of refusing them (an accelerometer "
                         "column constant over the whole recording is refused even so)")
 
@@ -278,6 +297,8 @@ def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
         pos_axes=getattr(args, "pos_axes", ("x", "y", "z")),
         mag_cols=getattr(args, "mag_cols", ()), mag_unit=getattr(args, "mag_unit", "ut"),
         mag_axes=getattr(args, "mag_axes", None),
+        pressure_col=getattr(args, "pressure_col", None),
+        pressure_unit=getattr(args, "pressure_unit", "hpa"),
         axes=args.axes, acc_axes=args.acc_axes, gyro_axes=args.gyro_axes,
         header=args.header, time_offset_s=args.time_offset_s,
         drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates,
@@ -289,7 +310,8 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
         "import-csv", help="turn a CSV IMU log into a bag",
         description="Turn a CSV IMU log (one row per sample) into a rosbag2 MCAP bag with "
                     "imu/data (sensor_msgs/Imu, SI units) and, when their columns are given, "
-                    "imu/mag (sensor_msgs/MagneticField, tesla) and ground_truth/pose. "
+                    "imu/mag (sensor_msgs/MagneticField, tesla), imu/pressure "
+                    "(sensor_msgs/FluidPressure, pascal) and ground_truth/pose. "
                     "Columns are header names or 0-based indices. Data implausible in the "
                     "units given (a median |f| far from g, a time column in ms read as s, "
                     "a magnetometer in T read as µT) are refused, naming the unit option "
@@ -311,6 +333,13 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
                         "gauss (G)")
     p.add_argument("--mag-axes", type=_columns, default=None,
                    help="remap of the magnetometer only (default: the accelerometer's)")
+    p.add_argument("--pressure-col", default=None, metavar="NAME",
+                   help="barometer column (written to imu/pressure, one message per row; "
+                        "a row without a reading is an invalid row, as in any column)")
+    p.add_argument("--pressure-unit", default="hpa", choices=sorted(PRESSURE_UNITS_PA),
+                   help="unit of the pressure column: hpa (hPa, as Android reports it, = "
+                        f"mbar) or pa (Pa); a median beyond {PRESSURE_RANGE.expected} in "
+                        "the unit given is refused")
     p.set_defaults(func=_run_import_csv)
 
 
@@ -322,6 +351,8 @@ def _run_import_csv(args: argparse.Namespace) -> int:
         batches[topics.GROUND_TRUTH_POSE] = result.pose
     if result.mag is not None:
         batches[topics.IMU_MAG] = result.mag
+    if result.pressure is not None:
+        batches[topics.IMU_PRESSURE] = result.pressure
     command = " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
     write_batches(args.out, batches, overwrite=args.overwrite, compress=args.compress,
                   custom_data={"pdr.source": str(args.csv), "pdr.command": command})

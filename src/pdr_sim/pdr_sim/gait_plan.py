@@ -7,7 +7,9 @@ turns a :class:`~pdr_sim.pocket_scenario.PocketScenario` into
 - :class:`Cycles`: per step its start time, duration, activity, target thigh pitch
   extremes (θ_max, θ_min), risers climbed, heading change and, for stairs, the stride;
 - :class:`Rest` intervals: standing or sitting, with the thigh pitch held;
-- the landmarks the route was built with (corners, flights of stairs) and the floors.
+- the landmarks the route was built with (corners, flights of stairs) and the floors;
+- the lift rides (:class:`pdr_sim.lift.LiftRide`), each inside a rest of its own: the
+  person stands while the car carries them, and the floor index follows the ride.
 
 Strides on level ground are not fixed here: they follow from the thigh pitch the model
 actually produces, by the person's line s = a_H·Δθ + b_H (Eq. (4.2)), see
@@ -24,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core.vocabulary import Activity, LandmarkType
+from pdr_sim.lift import LiftMotion, LiftRide
 from pdr_sim.pocket_scenario import (
     DEFAULT_SPEED_KMH,
     KMH,
@@ -96,6 +99,7 @@ class GaitPlan:
     rests: tuple[Rest, ...]
     landmarks: tuple[PlannedLandmark, ...]
     end_time: float
+    rides: tuple[LiftRide, ...] = ()
 
 
 class _Planner:
@@ -108,6 +112,7 @@ class _Planner:
         self.cycles = Cycles()
         self.rests: list[Rest] = []
         self.landmarks: list[PlannedLandmark] = []
+        self.rides: list[LiftRide] = []
         self.t = 0.0
         self.heading = np.radians(scenario.initial.yaw_deg)
         self.group = 0
@@ -261,6 +266,17 @@ class _Planner:
     def _platform(self, seg: PocketSegment) -> None:
         self.stair_step(seg.direction, 1, seg.riser_m, 2 * seg.tread_m)
 
+    def _lift(self, seg: PocketSegment) -> None:
+        """A lift ride: standing, ``dwell_s`` before the car moves and after it stops; the
+        floor index changes by the floors ridden (a landing between floors is kept)."""
+        self._end_bout()
+        sign = 1 if seg.direction == "up" else -1
+        ride = LiftRide(self.t + seg.dwell_s, seg.rise_m, sign * seg.floors,
+                        LiftMotion(seg.speed_mps, seg.acceleration_mps2, seg.jerk_mps3))
+        self.rides.append(ride)
+        self.rest(2 * seg.dwell_s + ride.duration_s, Activity.STANDING, 0.0)
+        self.floor += ride.floors
+
     def finish(self) -> GaitPlan:
         """Close the last bout and centre the scatter on each walk segment and flight, so
         that the person's lines hold exactly for every segment's and flight's mean (the
@@ -276,7 +292,8 @@ class _Planner:
                 c.scatter_m = list(centred)
             else:
                 c.pitch_max = list(np.asarray(c.pitch_max, float) + centred)
-        return GaitPlan(self.cycles.frozen(), tuple(self.rests), tuple(self.landmarks), self.t)
+        return GaitPlan(self.cycles.frozen(), tuple(self.rests), tuple(self.landmarks), self.t,
+                        tuple(self.rides))
 
 
 def plan_gait(scenario: PocketScenario) -> GaitPlan:

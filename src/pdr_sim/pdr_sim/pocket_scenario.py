@@ -25,6 +25,15 @@ A pocket scenario is a YAML mapping (built-in ones in ``pdr_sim/scenarios/pocket
          tread_m: 0.28, landing_turn_deg: 180, landing_steps: 2, flights_per_floor: 2}
       - {type: platform, direction: up, riser_m: 0.17}     # one riser on level ground
       - {type: sitting, duration_s: 60, pitch_deg: 80}
+      - {type: lift, direction: up, floors: 3}             # or height_m: 10.5; standing
+      - {type: lift, direction: down, floors: 2, floor_height_m: 3.5, speed_mps: 1.6,
+         acceleration_mps2: 0.8, jerk_mps3: 1.2, dwell_s: 4}
+
+A *lift* ride (pdr_sim.lift) carries the standing person ``floors`` × ``floor_height_m``
+(default pdr_core.vocabulary.FLOOR_HEIGHT_M, 3.5 m), or ``height_m``, up or down, the car
+moving with the jerk-limited profile of a passenger lift (defaults: pdr_sim.lift.LiftMotion),
+``dwell_s`` of standing in the car before it moves and after it stops. The floor index
+follows the ride (``floors``, or the height in floors when only ``height_m`` is given).
 
 A *step* is one gait cycle of the sensor leg (two footfalls), as in the thesis. Walking
 segments take ``speed_kmh`` (default: the previous walking speed, first 3.5); cadence
@@ -40,6 +49,8 @@ import numpy as np
 
 from pdr_core.config_files import check_keys
 from pdr_core.errors import InputError
+from pdr_core.vocabulary import FLOOR_HEIGHT_M
+from pdr_sim.lift import LiftMotion
 from pdr_sim.scenario import (
     Environment,
     environment_from,
@@ -54,9 +65,9 @@ from pdr_sim.scenario import (
 # Table 5.8, for the multi-hypothesis association).
 POCKET_BUILTIN = ("h1_rectangle", "h2_rectangle_speeds", "h3_museum", "up_dw",
                   "sit_stand", "theresienhoehe", "building", "out_and_back_39min",
-                  "block_two_laps", "corridor_grid")
+                  "block_two_laps", "corridor_grid", "building_lift")
 
-SEGMENT_TYPES = ("standing", "sitting", "walk", "turn", "stairs", "platform")
+SEGMENT_TYPES = ("standing", "sitting", "walk", "turn", "stairs", "platform", "lift")
 # Human range checked on the scenario (beyond it the key is refused).
 STRIDE_RANGE_M = (0.3, 2.2)          # one gait cycle (two footfalls)
 SPEED_RANGE_KMH = (0.5, 7.0)         # walking; faster is running, out of the thesis' scope
@@ -66,6 +77,14 @@ SITTING_RANGE_DEG = (30.0, 100.0)
 MAX_TURN_PER_STEP_DEG = 120.0
 PITCH_AMPLITUDE_RANGE_DEG = (5.0, 100.0)   # Δθ a person's line may ask of the thigh
 MIN_SITTING_S = 4.0                  # sitting down and standing up take 1.5 s each
+# What a passenger lift does, beyond which a lift key is refused (pdr_sim.lift: comfort
+# keeps its acceleration at or below about 1 m/s² and its jerk about 2 m/s³; the ranges
+# leave room around them and up to the fastest lifts), and a floor's height
+LIFT_SPEED_RANGE_MPS = (0.25, 10.0)
+LIFT_ACCELERATION_RANGE_MPS2 = (0.1, 1.5)
+LIFT_JERK_RANGE_MPS3 = (0.2, 3.0)
+FLOOR_HEIGHT_RANGE_M = (2.4, 6.0)
+LIFT_RISE_RANGE_M = (0.5, 500.0)
 KMH = 1.0 / 3.6
 DEFAULT_SPEED_KMH = 3.5
 # Named phone mountings, C_s^t: sensor axes in the thigh frame (x forward, y left, z up
@@ -171,6 +190,19 @@ class PocketSegment:
     landing_turn_deg: float = 180.0
     landing_steps: int = 2
     flights_per_floor: int = 2
+    floors: int = 0                             # lift: floors ridden (0: from height_m)
+    height_m: float = 0.0                       # lift: the rise (0: floors × floor height)
+    floor_height_m: float = FLOOR_HEIGHT_M
+    speed_mps: float = LiftMotion.speed_mps
+    acceleration_mps2: float = LiftMotion.acceleration_mps2
+    jerk_mps3: float = LiftMotion.jerk_mps3
+    dwell_s: float = 4.0                        # lift: standing in the car before and after
+
+    @property
+    def rise_m(self) -> float:
+        """A lift's rise [m], + up."""
+        height = self.height_m or self.floors * self.floor_height_m
+        return height if self.direction == "up" else -height
 
 
 @dataclass(frozen=True)
@@ -257,7 +289,7 @@ def mounting_matrix(mounting: Any) -> np.ndarray:
 _NEEDS = {
     "standing": ("duration_s",), "sitting": ("duration_s",),
     "walk": (), "turn": ("angle_deg",), "stairs": ("direction", "riser_m"),
-    "platform": ("direction", "riser_m"),
+    "platform": ("direction", "riser_m"), "lift": ("direction",),
 }
 _ALLOWED = {
     "standing": ("duration_s",), "sitting": ("duration_s", "pitch_deg"),
@@ -266,8 +298,21 @@ _ALLOWED = {
     "stairs": ("direction", "flights", "risers", "riser_m", "tread_m", "landing_turn_deg",
                "landing_steps", "flights_per_floor", "speed_kmh"),
     "platform": ("direction", "riser_m", "tread_m"),
+    "lift": ("direction", "floors", "height_m", "floor_height_m", "speed_mps",
+             "acceleration_mps2", "jerk_mps3", "dwell_s"),
 }
-_INTEGERS = ("steps", "flights", "risers", "landing_steps", "flights_per_floor")
+_INTEGERS = ("steps", "flights", "risers", "landing_steps", "flights_per_floor", "floors")
+_RANGES = {  # key -> (range, what it is beyond)
+    "speed_kmh": (SPEED_RANGE_KMH, "walking speed"),
+    "pitch_deg": (SITTING_RANGE_DEG, "a sitting pitch"),
+    "riser_m": (RISER_RANGE_M, "a human-range riser"),
+    "tread_m": (TREAD_RANGE_M, "a human-range tread"),
+    "speed_mps": (LIFT_SPEED_RANGE_MPS, "a passenger lift's speed"),
+    "acceleration_mps2": (LIFT_ACCELERATION_RANGE_MPS2, "a passenger lift's acceleration"),
+    "jerk_mps3": (LIFT_JERK_RANGE_MPS3, "a passenger lift's jerk"),
+    "floor_height_m": (FLOOR_HEIGHT_RANGE_M, "a floor's height"),
+    "height_m": (LIFT_RISE_RANGE_M, "a lift ride's rise"),
+}
 
 
 def _in_range(value: float, bounds: tuple[float, float], where: str, what: str) -> float:
@@ -306,14 +351,13 @@ def _segment(data: Any, where: str) -> PocketSegment:
             out[key] = number(value, at, 0.0, strict=True)
     if kind == "walk" and ("distance_m" in out) == ("steps" in out):
         raise InputError(f"{where}.distance_m", "give either distance_m or steps")
-    if "speed_kmh" in out:
-        _in_range(out["speed_kmh"], SPEED_RANGE_KMH, f"{where}.speed_kmh", "walking speed")
-    if "pitch_deg" in out:
-        _in_range(out["pitch_deg"], SITTING_RANGE_DEG, f"{where}.pitch_deg", "a sitting pitch")
-    if "riser_m" in out:
-        _in_range(out["riser_m"], RISER_RANGE_M, f"{where}.riser_m", "a human-range riser")
-    if "tread_m" in out:
-        _in_range(out["tread_m"], TREAD_RANGE_M, f"{where}.tread_m", "a human-range tread")
+    if kind == "lift" and "floors" not in out and "height_m" not in out:
+        raise InputError(f"{where}.floors", "give floors or height_m")
+    for key, (bounds, what) in _RANGES.items():
+        if key in out:
+            _in_range(out[key], bounds, f"{where}.{key}", what)
+    if kind == "lift" and "floors" not in out:
+        out["floors"] = round(out["height_m"] / out.get("floor_height_m", FLOOR_HEIGHT_M))
     if kind == "turn" and "duration_s" in out and "steps" in out:
         raise InputError(f"{where}.duration_s", "a turn is walked (steps) or in place "
                                                 "(duration_s), not both")

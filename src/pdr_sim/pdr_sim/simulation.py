@@ -10,7 +10,11 @@ level), ``imu/mag`` (sensor_msgs/MagneticField) and ``ground_truth/pose``
 ``ground_truth/stance`` (pdr_msgs/Stance, every sample: where the sensor's true velocity
 and turn rate are zero, :func:`foot_truth`), the pocket placement ``ground_truth/step``
 (pdr_msgs/Step, one per true step, at its end) and ``ground_truth/landmarks``
-(pdr_msgs/Landmark, every corner and flight of stairs).
+(pdr_msgs/Landmark, every corner and flight of stairs). With ``pressure`` (opt-in,
+``pdr-sim generate --pressure``) a barometer beside the IMU adds ``imu/pressure``
+(sensor_msgs/FluidPressure [Pa], at the barometer's own rate, :func:`barometer_batch`);
+its random draws come from a stream of their own, so everything else is the same
+with and without it.
 :func:`simulation_record` holds the complete configuration and the truth that has no
 topic (the sensor's constant biases, revisits, activity periods), so that any run can be
 reproduced and evaluated from its bag.
@@ -25,14 +29,22 @@ from typing import Any
 import numpy as np
 
 from pdr_core import topics
+from pdr_core.atmosphere import pressure_pa
 from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
-from pdr_core.imu_errors import ImuErrors, corrupt, turn_on_bias
-from pdr_core.imu_profiles import PROFILES, profile
+from pdr_core.imu_errors import (
+    BarometerErrors,
+    BarometerRun,
+    ImuErrors,
+    barometer_readings,
+    corrupt,
+    turn_on_bias,
+)
+from pdr_core.imu_profiles import PA_PER_HPA, PROFILES, profile
 from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, MagneticField, homogeneous
-from pdr_core.msgtypes import IMU, LANDMARK, MAGNETIC_FIELD, POSE_STAMPED, STEP
+from pdr_core.msgtypes import FLUID_PRESSURE, IMU, LANDMARK, MAGNETIC_FIELD, POSE_STAMPED, STEP
 from pdr_core.rotations import quaternion_xyzw
 from pdr_core.vocabulary import ACTIVITY_NAMES, LandmarkType
 from pdr_sim import signals
@@ -51,6 +63,7 @@ TRUTH_DETECTOR = 255             # pdr_msgs/Stance.DETECTOR_TRUTH
 MIN_RATE_HZ, MAX_RATE_HZ = 50.0, 1000.0
 PLACEMENTS = ("foot", "pocket")
 WORKERS = max(1, min(4, os.cpu_count() or 1))
+BAROMETER_STREAM = 3        # the seed's child stream after the gyro's, accel's and mag's
 
 
 @dataclass(frozen=True)
@@ -65,6 +78,7 @@ class SimulationConfig:
     seed: int = 0
     gravity_mps2: float = STANDARD_GRAVITY_MPS2
     placement: str = "foot"
+    pressure: bool = False          # also the barometer: imu/pressure
 
     def __post_init__(self) -> None:
         if not MIN_RATE_HZ <= self.rate_hz <= MAX_RATE_HZ:
@@ -96,11 +110,14 @@ class Simulation:
     truth: dict[str, MessageBatch]        # placement-specific truth topics (bag names)
     gyro_bias: np.ndarray                 # (3,) constant + turn-on gyro bias [rad/s]
     model: TrajectoryModel
+    pressure: MessageBatch | None = None  # imu/pressure, with config.pressure
+    barometer: BarometerRun | None = None     # what the barometer drew, with it
 
     @property
     def batches(self) -> dict[str, MessageBatch]:
         """Every topic of the run, by bag name."""
-        return {topics.IMU_DATA: self.imu, topics.IMU_MAG: self.mag,
+        barometer = {} if self.pressure is None else {topics.IMU_PRESSURE: self.pressure}
+        return {topics.IMU_DATA: self.imu, topics.IMU_MAG: self.mag, **barometer,
                 topics.GROUND_TRUTH_POSE: self.pose, **self.truth}
 
 
@@ -218,12 +235,35 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
         "pose.position": traj.position, "pose.orientation": quaternion_xyzw(traj.attitude)})
     truth = pocket_truth(model) if isinstance(model, ThighTrajectory) else \
         foot_truth(traj, stamps)
+    pressure, barometer = barometer_batch(model, errors.baro, config.seed) if config.pressure \
+        else (None, None)
     return Simulation(config, traj, true_gyro, true_accel, true_mag, imu, mag_batch, pose,
-                      truth, biases[0][0, 0], model)
+                      truth, biases[0][0, 0], model, pressure, barometer)
 
 
 def _stamps(t_s: np.ndarray) -> np.ndarray:
     return START_TIME_NS + np.round(np.asarray(t_s) * 1e9).astype(np.int64)
+
+
+def barometer_rng(seed: int) -> np.random.Generator:
+    """The barometer's random stream: the seed's child :data:`BAROMETER_STREAM`, beside
+    (and independent of) the three sensors' streams, which stay as they were without it."""
+    return np.random.default_rng(seed).spawn(BAROMETER_STREAM + 1)[BAROMETER_STREAM]
+
+
+def barometer_batch(model: TrajectoryModel, errors: BarometerErrors,
+                    seed: int) -> tuple[MessageBatch, BarometerRun]:
+    """``imu/pressure`` of a run and what its barometer drew: at the barometer's rate
+    (``errors.rate_hz``) from the start, the standard atmosphere's pressure
+    (pdr_core.atmosphere) at the sensor's true height z [m] above the map's z = 0, where it
+    is ``errors.reference_pa``, with the barometer's errors (pdr_core.imu_errors); stamps
+    from the simulated time, frame the IMU's, ``variance`` the white noise's [Pa²]."""
+    t = sample_times(model.duration_s, errors.rate_hz)
+    true = pressure_pa(model.at(t).position[:, 2], errors.reference_pa)
+    readings, run = barometer_readings(true, t, errors, barometer_rng(seed))
+    return MessageBatch(FLUID_PRESSURE, _stamps(t), SENSOR_FRAME, {
+        "fluid_pressure": readings,
+        "variance": np.full(len(t), errors.noise_pa**2)}), run
 
 
 def foot_truth(traj: Trajectory, stamps: np.ndarray) -> dict[str, MessageBatch]:
@@ -251,7 +291,8 @@ def pocket_truth(model: ThighTrajectory) -> dict[str, MessageBatch]:
         "vertical_displacement": steps.vertical_displacement, "heading": steps.heading,
         "pitch_max": steps.pitch_max, "pitch_min": steps.pitch_min,
         "pitch_amplitude": steps.pitch_amplitude, "duration": steps.duration,
-        "activity": steps.activity})
+        "activity": steps.activity, "ride": np.zeros(len(steps.end_s), np.uint8),
+        "ride_height": np.zeros(len(steps.end_s))})     # the rides are in the record
     marks = model.landmarks
     landmark = MessageBatch(LANDMARK, _stamps([m.time_s for m in marks]), MAP_FRAME, {
         "id": np.array([m.id for m in marks], dtype=np.uint32),
@@ -267,8 +308,9 @@ def pocket_truth(model: ThighTrajectory) -> dict[str, MessageBatch]:
 def simulation_record(sim: Simulation) -> dict[str, Any]:
     """The complete configuration of a run and the truth no topic carries, as stored with
     its bag: the gyroscope's constant (fixed + turn-on) bias per axis [rad/s and °/s] and,
-    for the pocket, the landmarks with the earlier visit each revisits, and the activity
-    periods [s from the start]."""
+    for the pocket, the landmarks with the earlier visit each revisits, the activity
+    periods [s from the start] and any lift rides; with the barometer, the weather drift
+    and the sudden offsets it drew or was given (``pressure``)."""
     config = sim.config
     record = {"placement": config.placement, "scenario": config.scenario_data,
               "imu_profile": config.imu, "imu_overrides": config.imu_overrides,
@@ -284,5 +326,17 @@ def simulation_record(sim: Simulation) -> dict[str, Any]:
         record["periods"] = [{"activity": ACTIVITY_NAMES[p.activity],
                               "start_s": round(p.start_s, 3), "end_s": round(p.end_s, 3)}
                              for p in sim.model.periods]
+        if sim.model.plan.rides:
+            record["lift_rides"] = [
+                {"start_s": round(r.start_s, 3), "end_s": round(r.end_s, 3),
+                 "rise_m": round(r.rise_m, 3), "floors": r.floors}
+                for r in sim.model.plan.rides]
+    if sim.barometer is not None:
+        record["pressure"] = {
+            "topic": topics.IMU_PRESSURE,
+            "drift_hpa_per_h": round(sim.barometer.drift_pa_per_s * 3600.0 / PA_PER_HPA, 4),
+            "offsets": [{"at_s": round(o.start_s, 3),
+                         "size_hpa": round(o.size_pa / PA_PER_HPA, 4),
+                         "duration_s": round(o.duration_s, 3)} for o in sim.barometer.offsets]}
     return record
 

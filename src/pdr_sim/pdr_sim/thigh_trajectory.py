@@ -24,6 +24,10 @@ ones; the truth reports the spline's exact extremes (roots of θ̇).
 Turn rate and specific force come from the analytic derivatives: with α = −θ,
 ω_t = (−sin α·ψ̇, α̇, cos α·ψ̇), ω̇_t by differentiation, and the sensor acceleration
 p̈ = p̈_hip + C_t·(ω̇_t × r + ω_t × (ω_t × r)).
+
+A lift ride (:mod:`pdr_sim.lift`) carries the whole standing body: its height, vertical
+speed and acceleration are added to the sensor's, exactly, and the route after it (the
+landmarks' positions) is as much higher or lower.
 """
 from __future__ import annotations
 
@@ -52,6 +56,7 @@ from pdr_sim.gait_plan import (
     GaitPlan,
     plan_gait,
 )
+from pdr_sim.lift import rides_motion
 from pdr_sim.pocket_scenario import CARRIED, PocketScenario
 from pdr_sim.trajectory import Trajectory
 
@@ -377,6 +382,10 @@ class ThighTrajectory:
         attitude, rate = Rotation.from_quat(motion.quaternion), motion.body_rate
         if self.scenario.remounts:
             attitude, rate = self._remounted(t, attitude, rate)
+        if self.plan.rides:
+            for out, ride in zip((motion.position, motion.velocity, motion.acceleration),
+                                 rides_motion(self.plan.rides, t), strict=True):
+                out[:, 2] += ride
         return Trajectory(t, motion.position, motion.velocity, motion.acceleration, attitude,
                           rate)
 
@@ -411,7 +420,9 @@ class ThighTrajectory:
     def landmarks(self) -> tuple[TrueLandmark, ...]:
         """The route's corners and flights, with the earlier visit each one revisits: the
         nearest first visit of the same type and floor within :data:`REVISIT_RADIUS_M`,
-        at least :data:`REVISIT_MIN_S` earlier (Muñoz Díaz 2016, Section 5.3)."""
+        at least :data:`REVISIT_MIN_S` earlier (Muñoz Díaz 2016, Section 5.3). A lift ride
+        is none: it has no shape in the heading a drift estimator could recognise; the
+        landmarks after it are on the floor it went to, as high as it went."""
         c, route = self.plan.cycles, self.route
         ends = c.start + c.duration
         out: list[TrueLandmark] = []
@@ -436,6 +447,8 @@ class ThighTrajectory:
                 before = float(wrap_angle(route["heading"][a]))
                 after = float(wrap_angle(route["heading"][b] + c.turn[b]))
                 time_s = float((c.start[a] + ends[b]) / 2)
+            if self.plan.rides:
+                position = position + (0.0, 0.0, rides_motion(self.plan.rides, [time_s])[0][0])
             candidates = [(np.hypot(*(np.asarray(e.position[:2]) - position[:2])), e.id)
                           for e in out if e.type == mark.type and e.floor == mark.floor
                           and e.revisit_of is None and time_s - e.time_s >= REVISIT_MIN_S]

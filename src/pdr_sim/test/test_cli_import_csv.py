@@ -75,3 +75,32 @@ def test_a_constant_accelerometer_column_is_refused(tmp_path, force):
     kept = run(csv, "--out", tmp_path / "bag", "--time-col", "t_ns", "--time-unit", "ns",
                "--acc-cols", "ax,ay,az", *force)
     assert kept.returncode == 0, kept.stderr
+
+
+def pressure_log(scale: float) -> str:
+    """Three rows with a barometer column p of 1013.20-1013.25 hPa, times ``scale``."""
+    return "t,ax,ay,az,p\n" + "".join(f"{0.01 * i:.2f},0,0,9.8,{p * scale:.2f}\n"
+                                      for i, p in enumerate((1013.20, 1013.25, 1013.22)))
+
+
+@pytest.mark.parametrize("unit, scale", [("hpa", 1.0), ("pa", 100.0)])
+def test_a_pressure_column_is_written_to_imu_pressure(tmp_path, unit, scale):
+    csv = tmp_path / "baro.csv"
+    csv.write_text(pressure_log(scale))
+    result = run(*import_args(csv, tmp_path / "bag"), "--pressure-col", "p",
+                 "--pressure-unit", unit)
+    assert result.returncode == 0, result.stderr
+    pressure = BagReader(tmp_path / "bag").read("/imu/pressure")
+    assert pressure.msgtype == "sensor_msgs/msg/FluidPressure"
+    assert pressure["fluid_pressure"].tolist() == pytest.approx([101320.0, 101325.0, 101322.0])
+
+
+def test_a_pressure_in_pa_read_as_hpa_is_refused_naming_the_column_and_option(tmp_path):
+    csv = tmp_path / "baro.csv"
+    csv.write_text(pressure_log(100.0))
+    result = run(*import_args(csv, tmp_path / "bag"), "--pressure-col", "p")
+    assert result.returncode == 2
+    [line] = result.stderr.splitlines()
+    assert line.startswith(f"pdr-sim: error: {csv}: column p: median pressure 1.013e+05 hPa")
+    assert "(--pressure-unit hpa)" in line and "pass --pressure-unit pa" in line
+    assert list(tmp_path.iterdir()) == [csv], "no output"

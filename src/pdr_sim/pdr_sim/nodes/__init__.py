@@ -4,5 +4,4 @@
 - :mod:`imu_sim`: publishes a simulated walk live, as ``pdr-sim generate`` writes it;
 - :mod:`playback`: the timed publishing both share (and ``/clock``);
 - :mod:`bag_record`: writes graph topics to an MCAP bag as they arrive;
-- :mod:`ros_types`: ROS type names to rclpy message classes.
 """

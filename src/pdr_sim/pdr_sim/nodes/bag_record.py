@@ -41,7 +41,7 @@ from pdr_core.msgtypes import typestore
 from pdr_core.node_main import check_params_files
 from pdr_core.node_params import declare
 from pdr_core.recording import RecordingBag
-from pdr_sim.nodes.ros_types import message_class
+from pdr_core.ros_types import message_class
 
 _NS = 1_000_000_000
 # messages taken from a subscription's queue per callback (pdr_core.backlog)

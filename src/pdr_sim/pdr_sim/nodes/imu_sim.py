@@ -8,10 +8,13 @@ Parameters (``--params-file config/imu_sim.yaml`` or ``-p name:=value``):
     seed (int, 0): seed of the sensor errors.
     placement (str, "foot"): foot, or pocket (a phone in the trouser pocket).
     gravity_mps2 (float, 9.80665).
+    pressure (bool, false): also the barometer: ``imu/pressure`` (``pdr-sim generate
+        --pressure``).
     rate, clock, wait_for_subscribers, wait_timeout_s, ack_every: see
         :mod:`pdr_sim.nodes.playback` (rate 1.0 = real time).
 
-Publishes ``imu/data``, ``imu/mag`` and ``ground_truth/pose``, and the foot placement
+Publishes ``imu/data``, ``imu/mag`` (with ``pressure`` ``imu/pressure``, sensor_msgs/
+FluidPressure) and ``ground_truth/pose``, and the foot placement
 ``ground_truth/stance`` (the pocket placement ``ground_truth/step`` and
 ``ground_truth/landmarks``) with the stamps of the simulation
 (data time, not the wall clock), then exits. The messages are identical to those of
@@ -43,6 +46,8 @@ class ImuSim(Node):
         self.placement = declare(self, "placement", "foot", "where the IMU sits", PLACEMENTS)
         self.gravity = declare(self, "gravity_mps2", STANDARD_GRAVITY_MPS2,
                                "magnitude of gravity [m/s²]")
+        self.pressure = declare(self, "pressure", False, "also simulate the barometer and "
+                                "publish imu/pressure (sensor_msgs/FluidPressure, Pa)")
         self.playback = Playback(self)
 
     def run(self) -> int:
@@ -51,7 +56,8 @@ class ImuSim(Node):
                                      else "straight")
             scenario, data = load_placement_scenario(name, self.placement)
             sim = simulate(SimulationConfig(scenario, data, self.imu, {}, self.rate_hz,
-                                            self.seed, self.gravity, self.placement))
+                                            self.seed, self.gravity, self.placement,
+                                            self.pressure))
         except InputError as exc:
             self.get_logger().error(str(exc))
             return 2

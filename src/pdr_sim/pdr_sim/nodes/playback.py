@@ -32,7 +32,7 @@ from pdr_core.bag import RawMessage
 from pdr_core.errors import InputError
 from pdr_core.node_main import check_params_files, use_fast_acks
 from pdr_core.node_params import declare
-from pdr_sim.nodes.ros_types import message_class
+from pdr_core.ros_types import message_class
 
 RELIABLE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
                       reliability=ReliabilityPolicy.RELIABLE,
