@@ -498,6 +498,76 @@ class PersonConfig:
 
 
 @dataclass(frozen=True)
+class BarometerConfig:
+    """The height filter (pdr_pocket.height_filter): each step's v fused with the
+    barometric height, the barometer's offset b and its weather drift as states, and the
+    lift and escalator rides told from the barometer's own offsets. Pressures in hPa at
+    this edge, as phones and weather reports give them (1 hPa ≈ 8.3 m near the ground);
+    SI inside. The figures: a phone's barometer (pdr_core.imu_profiles, PHONE_BAROMETER),
+    the weather's drift of up to about 1 hPa/h (Parviainen et al. 2008), offsets of
+    0.2-0.4 hPa by a stairwell's or lift lobby's ventilation."""
+
+    enabled: bool = True                    # false: imu/pressure is ignored
+    # the barometer: one reading's white noise and its step, and what an epoch's mean
+    # keeps of the noise (its slow part)
+    pressure_noise_hpa: float = 0.03
+    pressure_resolution_hpa: float = 0.01
+    correlated_noise_hpa: float = 0.005
+    epoch_s: float = 0.5                    # readings are averaged over epochs this long
+    # the offset b: the weather's drift rate ḃ (σ, Gauss-Markov with its time), a slow
+    # random walk, and sudden jumps behind a χ² gate (1 dof) on the innovation
+    weather_drift_hpa_per_h: float = 1.0
+    weather_drift_time_s: float = 3600.0
+    offset_walk_hpa_per_sqrt_h: float = 0.05
+    offset_jump_gate_probability: float = 0.9999
+    offset_jump_sigma_hpa: float = 0.5
+    # the steps: a step's v is good to this fraction of itself (1σ) at least
+    step_vertical_sigma_fraction: float = 0.2
+    # changes of the barometric height: moving while the height changes this fast over
+    # the window, measured between the levels held this long before and after
+    motion_speed_mps: float = 0.15
+    motion_window_s: float = 2.0
+    settle_s: float = 2.0
+    max_change_s: float = 120.0             # a change still moving after this: unresolved
+    ride_min_height_m: float = 2.0          # a ride climbs at least this far
+    # a lift: still (f_up's σ in an epoch below the first) for most of the ride, the
+    # vertical force's peak speed and its double integral within a factor of the height
+    still_force_sigma_mps2: float = 0.5
+    lift_min_still_fraction: float = 0.75
+    lift_min_speed_mps: float = 0.3
+    lift_height_ratio_max: float = 2.0
+    # an escalator: no pulses, but at least this long (10-90 %) and never this fast
+    escalators: bool = True
+    escalator_min_s: float = 8.0
+    escalator_max_speed_mps: float = 1.0
+
+    def __post_init__(self) -> None:
+        _positive(self, ("pressure_noise_hpa", "epoch_s", "weather_drift_hpa_per_h",
+                         "weather_drift_time_s", "offset_jump_sigma_hpa",
+                         "step_vertical_sigma_fraction", "motion_speed_mps",
+                         "motion_window_s", "settle_s", "max_change_s", "ride_min_height_m",
+                         "still_force_sigma_mps2", "lift_min_speed_mps", "escalator_min_s",
+                         "escalator_max_speed_mps"))
+        for name in ("pressure_resolution_hpa", "correlated_noise_hpa",
+                     "offset_walk_hpa_per_sqrt_h"):
+            if not getattr(self, name) >= 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        for name in ("offset_jump_gate_probability", "lift_min_still_fraction"):
+            if not 0 < getattr(self, name) < 1:
+                raise ValueError(f"{name} must be within (0, 1), got {getattr(self, name)}")
+        if not self.lift_height_ratio_max > 1:
+            raise ValueError(f"lift_height_ratio_max must be above 1, got "
+                             f"{self.lift_height_ratio_max}")
+        if not self.motion_window_s >= self.epoch_s or not self.settle_s >= self.epoch_s:
+            raise ValueError(f"motion_window_s and settle_s must span an epoch_s "
+                             f"({self.epoch_s}) at least, got {self.motion_window_s} and "
+                             f"{self.settle_s}")
+        if not self.escalator_max_speed_mps > self.motion_speed_mps:
+            raise ValueError(f"escalator_max_speed_mps must be above motion_speed_mps, got "
+                             f"{self.escalator_max_speed_mps} and {self.motion_speed_mps}")
+
+
+@dataclass(frozen=True)
 class PocketConfig:
     """The whole navigator."""
 
@@ -509,13 +579,15 @@ class PocketConfig:
     stairs: StairsConfig = field(default_factory=StairsConfig)
     position: PositionConfig = field(default_factory=PositionConfig)
     person: PersonConfig = field(default_factory=PersonConfig)
+    barometer: BarometerConfig = field(default_factory=BarometerConfig)
     magnetometer_calibration: str | None = None   # YAML of pdr-pocket calibrate-mag
 
 
 ACTIVITY_MODELS = ("thesis", "level_prior")
 SECTIONS = {"mounting": MountingConfig, "steps": StepsConfig, "activity": ActivityConfig,
             "step_length": StepLengthConfig, "stairs": StairsConfig,
-            "position": PositionConfig, "person": PersonConfig}
+            "position": PositionConfig, "person": PersonConfig,
+            "barometer": BarometerConfig}
 
 
 def _positive(config, names: tuple[str, ...]) -> None:

@@ -1,0 +1,699 @@
+"""The height of a pocket walk from its steps and the barometer, and the lift and
+escalator rides between floors (issue 41). Plain NumPy, causal and chunk-invariant: fed
+in pieces, as a live node feeds it, it gives exactly what it gives fed at once.
+
+**The model.** A Kalman filter on x = [h, b, ḃ]: h [m] the person's height above the
+start, b [m] the barometer's offset (the barometric height less h) and ḃ [m/s] its weather
+drift. Each sensor comes in through its own entry point, as VQF's updateGyr/updateAcc:
+
+- :meth:`HeightFilter.step`: a step's vertical displacement v [m] (Muñoz Díaz 2016,
+  Eqs. (4.4)-(4.5); 0 on level steps) with its variance, climbed over the step's gait
+  cycle (t − duration, t] (t the pitch maximum): each epoch takes the share of v and of
+  its variance that falls into it, h ← h + v·δt/duration, so the height the barometer
+  sees climbing through a step is the filter's too; a step's variance is
+  max(σ_v², (f·v)²) with f = ``step_vertical_sigma_fraction`` (a step's v is no better
+  than that fraction of itself however small the navigator's σ);
+- :meth:`HeightFilter.pressure`: readings p [Pa] become barometric heights
+  z = pdr_core.atmosphere.height_m(p) and are averaged over epochs of ``epoch_s``
+  (a fixed grid of absolute time, so any chunking cuts them alike); each epoch's mean is
+  one measurement z = h + b + n of the height at the epoch's middle, R = σ_z²/N + σ_c² with
+  σ_z² = (σ_p² + q²/12)·(dh/dp)² (σ_p the reading's noise, q its step, dh/dp at the first
+  reading), σ_c the slow noise the mean keeps (``correlated_noise_hpa``);
+- :meth:`HeightFilter.vertical_force`: f_up [m/s²], the specific force along the
+  navigation frame's up axis (≈ g at rest), averaged per epoch for the lift test below.
+
+Between epochs (Δt = ``epoch_s``) h holds, b drifts with ḃ and walks slowly, and ḃ is a
+first-order Gauss-Markov process (σ_w = ``weather_drift_hpa_per_h``, correlation time
+τ_w = ``weather_drift_time_s``)::
+
+    h ← h
+    b ← b + Δt·ḃ + w_b,        var(w_b) = q_b·Δt   (q_b: offset_walk_hpa_per_sqrt_h)
+    ḃ ← φ·ḃ + w_ḃ,             φ = exp(−Δt/τ_w),   var(w_ḃ) = σ_w²·(1 − φ²)
+
+The weather moves the pressure by up to about 1 hPa/h, 8 m/h of barometric height
+(Parviainen et al. 2008); over a staircase's half minute that is 7 cm, so the barometer
+measures a climb's height while level walking pins h and leaves every slow change to b.
+A sudden offset (a door to a pressurised stairwell, a lift lobby's ventilation: 0.2-0.4 hPa,
+2-3 m, for a minute) is a jump of b: an innovation ν = z − h − b beyond the χ² gate
+(``offset_jump_gate_probability``, 1 dof) adds a jump's variance σ_j² to P_bb before the
+update, so b takes the jump and h keeps its value. (Muralidharan et al. 2014 found a
+phone's absolute pressure a poor guide to its floor, as it differs between phones and
+drifts with time and place, while its changes over a short time are good ones; B-Loc,
+Ye et al. 2014, counts floors from such changes.)
+
+**Changes of the barometric height and the rides.** The filter alone would give b every
+change no step explains, a lift ride included. A detector watches the epochs' barometric
+heights: a change starts when the height moves faster than ``motion_speed_mps`` over
+``motion_window_s`` (a backward difference) and ends when it has held still for
+``settle_s``; its height D is the mean of the level after less the mean of the level
+before (each ``settle_s`` long, the weather's ḃ·Δt taken off), and its start and end are
+when the height passes 10 % and 90 % of D. Then it is judged, in this order:
+
+1. **stairs** when a stairs step falls within it: the steps and the filter have it;
+2. **a lift** when the person stood still through it (f_up's σ within an epoch below
+   ``still_force_sigma_mps2`` for ``lift_min_still_fraction`` of the epochs, still ones
+   at both ends) and the vertical force shows the ride: its double integral
+   D_acc = ∫∫ (f_up − mean f_up), with zero velocity at both ends of the still span
+   (the velocity's linear trend removed, which also takes out any bias of the force), has
+   the sign of D and |D| within a factor ``lift_height_ratio_max``, and its speed peaks
+   beyond ``lift_min_speed_mps`` in D's direction. A lift gives an acceleration pulse and
+   a deceleration pulse of 0.3-1 m/s² and 1-2 s each; an offset of the barometer gives
+   none (FTrack, Ye et al. 2012, reads lift rides from the accelerometer's pulses alone);
+3. **an escalator** (``escalators``) when the change took at least ``escalator_min_s``
+   (10-90 %) and its 1 s speed never exceeded ``escalator_max_speed_mps``: an escalator
+   climbs at 0.2-0.4 m/s, without pulses, while the person stands or walks on level
+   steps; an offset is a step of the pressure within a second or two. (A staircase the
+   step detector took for level walking is also a slow, smooth change without stairs
+   steps: it counts as an escalator, and the filter gets its height right.)
+4. otherwise **an offset** of the barometer, which b keeps.
+
+A ride of at least ``ride_min_height_m`` moves its height from b to h (h + b, which the
+barometer measures, unchanged): h ← h_before + D, b ← b − δ with δ the part moved, and
+P ← P + σ_D²·g·gᵀ, g = [1, −1, 0]. A ride shows in h when it has ended and held for
+``settle_s`` (about 4 s after the car stops); :meth:`HeightFilter.step` reports it at the
+next step. Floors are round(h / floor height), as pdr_pocket.stairs counts them.
+
+**Time and chunks.** Epochs are processed when a step or :meth:`HeightFilter.advance`
+reaches past their end, so every reading stamped before a step's time must have been given
+before :meth:`HeightFilter.step` is called (later ones may come earlier: they wait).
+Steps come in time order, and :meth:`HeightFilter.advance` goes no further than the
+earliest time a step yet to come may climb from (the last step's time while walking; the
+end of the walk); a step climbing from a time already processed climbs in the next epoch
+instead (counted, :attr:`HeightFilter.late_steps`), and only then does the chunking
+matter. A reading stamped before the time already processed is late:
+dropped and counted, as are NaN readings and stamps that do not increase
+(:attr:`HeightFilter.dropped`). A pressure no person meets (beyond 30-110 kPa) is a glitch,
+dropped and counted, unless the readings are plausible in hPa or kPa: then a ValueError
+names the unit, since every reading of that sensor will be wrong alike.
+
+Without a pressure reading (none yet, or ``enabled: false``) :meth:`HeightFilter.step` is
+h ← h + v and σ² ← σ² + σ_v² exactly, the navigator's own height.
+
+- :class:`HeightFilter`: the filter; :class:`StepHeight`: what a step gets back;
+  :class:`HeightChange`: a change of the barometric height, judged;
+- :class:`HeightCoefficients`: the configuration in SI units per epoch, derived once.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from pdr_core.atmosphere import height_m, metres_per_pascal
+from pdr_core.barometry import (
+    MISGIVEN_UNITS_PA,
+    PA_PER_HPA,
+    RIDE_KINDS,
+    HeightChangeKind,
+    misgiven_unit,
+    plausible_pressure,
+)
+from pdr_core.chi2 import chi2_quantile
+from pdr_core.vocabulary import FLOOR_HEIGHT_M
+from pdr_pocket.config import BarometerConfig
+
+# a change of the barometric height this close to a stairs step's climb was walked
+STAIRS_MARGIN_S = 1.0
+# the change's start and end: where the barometric height passes these shares of it
+START_SHARE, END_SHARE = 0.1, 0.9
+H, B, BDOT = range(3)           # the state's indices
+EPOCH_COLUMNS = ("start_s", "z", "n", "force", "still", "h")
+SECONDS_PER_HOUR = 3600.0
+
+
+class HeightCoefficients(NamedTuple):
+    """What :class:`~pdr_pocket.config.BarometerConfig` means in SI units, per epoch, at
+    the first reading's dh/dp [m/Pa]."""
+
+    epoch_s: float
+    reading_var_m2: float       # one reading's variance: (σ_p² + q²/12)·(dh/dp)²
+    correlated_var_m2: float    # what an epoch's mean keeps: σ_c²·(dh/dp)²
+    offset_walk_var_m2: float   # var(w_b) per epoch
+    drift_var_m2ps2: float      # σ_w², the drift rate's stationary variance
+    drift_decay: float          # φ = exp(−Δt/τ_w) per epoch
+    jump_var_m2: float          # σ_j²
+    gate_nis: float             # the χ² gate of the innovation (1 dof)
+    motion_epochs: int          # W: the backward difference's span
+    settle_epochs: int          # A: the level held before and after
+    max_change_epochs: int
+
+    @classmethod
+    def from_config(cls, c: BarometerConfig, metres_per_pa: float) -> HeightCoefficients:
+        m_per_hpa = abs(metres_per_pa) * PA_PER_HPA
+        drift = c.weather_drift_hpa_per_h * m_per_hpa / SECONDS_PER_HOUR
+        walk = c.offset_walk_hpa_per_sqrt_h * m_per_hpa / np.sqrt(SECONDS_PER_HOUR)
+        return cls(
+            c.epoch_s,
+            (c.pressure_noise_hpa**2 + c.pressure_resolution_hpa**2 / 12.0) * m_per_hpa**2,
+            (c.correlated_noise_hpa * m_per_hpa) ** 2, walk**2 * c.epoch_s, drift**2,
+            float(np.exp(-c.epoch_s / c.weather_drift_time_s)),
+            (c.offset_jump_sigma_hpa * m_per_hpa) ** 2,
+            chi2_quantile(c.offset_jump_gate_probability, 1),
+            _epochs(c.motion_window_s, c.epoch_s), _epochs(c.settle_s, c.epoch_s),
+            _epochs(c.max_change_s, c.epoch_s))
+
+
+def _epochs(seconds: float, epoch_s: float) -> int:
+    return max(1, round(seconds / epoch_s))
+
+
+@dataclass(frozen=True)
+class HeightChange:
+    """A change of the barometric height, judged (the module docstring): its kind, when
+    it passed 10 % and 90 % [s], its height D [m] (+ up), the floors the filter's height
+    moved by over it, and the vertical force's double integral over it [m] (NaN when
+    there was none or the person was not still)."""
+
+    kind: HeightChangeKind
+    start_s: float
+    end_s: float
+    height_m: float
+    floors: int
+    accel_height_m: float
+
+    @property
+    def ride(self) -> bool:
+        """A lift or escalator ride: its height went to h."""
+        return self.kind in RIDE_KINDS
+
+
+class StepHeight(NamedTuple):
+    """A step's height above the start [m] and its σ [m], its floor, and the rides that
+    ended since the step before (the module docstring)."""
+
+    height_m: float
+    sigma_m: float
+    floor: int
+    rides: tuple[HeightChange, ...]
+
+
+@dataclass
+class _Samples:
+    """Readings given but not yet processed: stamps [s], values, and the last stamp."""
+
+    t: list = field(default_factory=list)
+    values: list = field(default_factory=list)
+    last_t: float = -np.inf
+
+    def add(self, t: np.ndarray, values: np.ndarray) -> None:
+        if len(t):
+            self.t.append(t)
+            self.values.append(values)
+            self.last_t = float(t[-1])
+
+    def take(self, first_epoch: int, end_epoch: int, epoch_s: float):
+        """The readings of epochs [first_epoch, end_epoch): their epoch's offset from
+        ``first_epoch`` and values; later ones stay, earlier ones are dropped."""
+        if not self.t:
+            return np.empty(0, np.int64), np.empty(0)
+        t, values = np.concatenate(self.t), np.concatenate(self.values)
+        epoch = np.floor(t / epoch_s).astype(np.int64)
+        later = epoch >= end_epoch
+        self.t, self.values = ([t[later]], [values[later]]) if later.any() else ([], [])
+        now = (epoch >= first_epoch) & ~later
+        return epoch[now] - first_epoch, values[now]
+
+
+def _epoch_means(offsets: np.ndarray, values: np.ndarray, count: int):
+    """Per epoch of ``count``: the readings' number, mean and σ (NaN without readings).
+    bincount adds each epoch's readings one after the other in order, so an epoch's
+    figures do not depend on how its readings were chunked."""
+    n = np.bincount(offsets, minlength=count)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.bincount(offsets, weights=values, minlength=count) / n
+        spread = np.sqrt(np.bincount(offsets, weights=(values - mean[offsets]) ** 2,
+                                     minlength=count) / n)
+    return n, mean, spread
+
+
+class _Epochs:
+    """The processed epochs the change detector looks back on, a column per
+    :data:`EPOCH_COLUMNS`: per epoch its start [s], mean barometric height [m] and
+    readings, mean f_up [m/s²] and whether the person stood still, and h after it [m].
+    Epochs are indexed from the first processed; ``first`` is the oldest kept."""
+
+    def __init__(self) -> None:
+        self.first = 0
+        self.columns: dict[str, list] = {name: [] for name in EPOCH_COLUMNS}
+
+    def __len__(self) -> int:
+        return self.first + len(self.columns["z"])
+
+    def append(self, **values) -> None:
+        for name, column in self.columns.items():
+            column.append(values[name])
+
+    def array(self, name: str, lo: int, hi: int) -> np.ndarray:
+        """Epochs [lo, hi) of a column."""
+        return np.asarray(self.columns[name][lo - self.first:hi - self.first], float)
+
+    def value(self, name: str, index: int) -> float:
+        return self.columns[name][index - self.first]
+
+    def shift_h(self, lo: int, dh: float) -> None:
+        """Add ``dh`` [m] to h from epoch ``lo`` on (a ride's height moved into h)."""
+        h = self.columns["h"]
+        for index in range(max(lo - self.first, 0), len(h)):
+            h[index] += dh
+
+    def forget_before(self, index: int) -> None:
+        cut = index - self.first
+        if cut > 0:
+            for column in self.columns.values():
+                del column[:cut]
+            self.first = index
+
+
+@dataclass
+class _Change:
+    """A change of the barometric height in progress: the epoch it was first seen moving,
+    the last one moving, and how many have been still since."""
+
+    first: int
+    last: int
+    still_epochs: int = 0
+
+
+@dataclass
+class _Climb:
+    """A step's v [m] and variance [m²] climbed evenly from ``start`` to ``end`` [s], of
+    which the share ``applied`` is in h."""
+
+    start: float
+    end: float
+    v: float
+    var: float
+    applied: float = 0.0
+
+    def share(self, t_s: float) -> float:
+        """The share of the climb done by ``t_s``."""
+        if t_s >= self.end:
+            return 1.0
+        if t_s <= self.start:
+            return 0.0
+        return (t_s - self.start) / (self.end - self.start)
+
+
+class HeightFilter:
+    """Steps and the barometer to a height, floors and rides (the module docstring).
+
+    ``config`` (default BarometerConfig()); ``floor_height_m`` the floors' height [m], the
+    navigator's StairsConfig.floor_height_m. Attributes: :attr:`changes` every judged
+    change, :attr:`rides` the lifts and escalators among them, :attr:`jumps` the offset
+    jumps the gate let in, :attr:`dropped` the readings dropped by reason."""
+
+    def __init__(self, config: BarometerConfig | None = None,
+                 floor_height_m: float = FLOOR_HEIGHT_M) -> None:
+        self.config = config or BarometerConfig()
+        self.floor_height_m = float(floor_height_m)
+        self.coefficients: HeightCoefficients | None = None
+        self._h, self._var = 0.0, 0.0           # the height while there is no barometer
+        self.x: np.ndarray | None = None        # [h, b, ḃ] once the barometer is on
+        self.P: np.ndarray | None = None
+        self._pressure, self._force = _Samples(), _Samples()
+        self._through = None                    # epochs before this one are processed
+        self._epochs = _Epochs()
+        self._change: _Change | None = None
+        self._climbs: list[_Climb] = []         # steps' climbs not wholly in h yet
+        self._stairs: list[tuple[float, float]] = []    # stairs steps' cycles [s]
+        self._last_step_s = -np.inf
+        self.late_steps = 0
+        self._unreported: list[HeightChange] = []
+        self.changes: list[HeightChange] = []
+        self.jumps = 0
+        self.dropped = {"pressure_nonfinite": 0, "pressure_implausible": 0,
+                        "pressure_out_of_order": 0, "force_nonfinite": 0,
+                        "force_out_of_order": 0}
+
+    # --- the state -----------------------------------------------------------------------
+    @property
+    def fused(self) -> bool:
+        """Whether the barometer is in (a reading has been processed)."""
+        return self.x is not None
+
+    @property
+    def height_m(self) -> float:
+        """h [m] above the start, the steps' climbs not yet processed included."""
+        if not self.fused:
+            return self._h
+        return float(self.x[H]) + sum(c.v * (1.0 - c.applied) for c in self._climbs)
+
+    @property
+    def sigma_m(self) -> float:
+        """σ of h [m]."""
+        if not self.fused:
+            return float(np.sqrt(self._var))
+        return float(np.sqrt(self.P[H, H] + sum(c.var * (1.0 - c.applied)
+                                                for c in self._climbs)))
+
+    @property
+    def floor(self) -> int:
+        """The floor at h: round(h / floor height), as pdr_pocket.stairs counts it."""
+        return self._floor(self.height_m)
+
+    def _floor(self, h: float) -> int:
+        return int(np.round(h / self.floor_height_m))
+
+    @property
+    def rides(self) -> list[HeightChange]:
+        """The lift and escalator rides so far."""
+        return [change for change in self.changes if change.ride]
+
+    # --- the entry points ----------------------------------------------------------------
+    def pressure(self, t_s, pressure_pa) -> None:
+        """Barometer readings: stamps [s] and pressures [Pa], 1-D arrays alike. NaN,
+        late or non-increasing readings and glitches beyond 30-110 kPa are dropped and
+        counted; ValueError when the readings are plausible in hPa or kPa instead."""
+        readings = self._finite(t_s, pressure_pa, "pressure")
+        if readings is None:
+            return
+        t, p = readings
+        plausible = plausible_pressure(p)
+        if not plausible.all():
+            unit = misgiven_unit(p[~plausible])
+            if unit is not None:
+                raise ValueError(
+                    f"pressure {float(np.median(p[~plausible])):g} Pa is no air pressure "
+                    f"near the ground (30-110 kPa) but is one in {unit}: give Pa "
+                    f"(sensor_msgs/FluidPressure), i.e. multiply by "
+                    f"{MISGIVEN_UNITS_PA[unit]:g}")
+            self.dropped["pressure_implausible"] += int(np.count_nonzero(~plausible))
+            t, p = t[plausible], p[plausible]
+        ordered = self._ordered(t, self._pressure, "pressure")
+        if self.coefficients is None and ordered.any():
+            self.coefficients = HeightCoefficients.from_config(
+                self.config, float(metres_per_pascal(p[ordered][0])))
+        self._pressure.add(t[ordered], height_m(p[ordered]))
+
+    def vertical_force(self, t_s, f_up_mps2) -> None:
+        """The accelerometer's specific force along the navigation frame's up axis: stamps
+        [s] and f_up [m/s²] (≈ +g at rest), 1-D arrays alike. NaN, late or
+        non-increasing samples are dropped and counted."""
+        samples = self._finite(t_s, f_up_mps2, "force")
+        if samples is None:
+            return
+        t, f = samples
+        ordered = self._ordered(t, self._force, "force")
+        self._force.add(t[ordered], f[ordered])
+
+    def step(self, t_s: float, v_m: float, v_var_m2: float, on_stairs: bool,
+             duration_s: float) -> StepHeight:
+        """A step: its time ``t_s`` [s] (the pitch maximum that ends its gait cycle), its
+        climb ``v_m`` [m] with variance ``v_var_m2`` [m²] over the cycle of
+        ``duration_s`` [s] before it; ``on_stairs``: a stairs step. Every reading stamped
+        before ``t_s`` must have been given. Returns the fused height, its σ, the floor and
+        the rides that ended since the last step."""
+        t_s = float(t_s)
+        if not t_s >= self._last_step_s:
+            raise ValueError(f"a step at {t_s} s after one at {self._last_step_s} s: "
+                             f"steps come in time order")
+        self._last_step_s = t_s
+        start = t_s - max(float(duration_s), 0.0)
+        if on_stairs:
+            self._stairs.append((start, t_s))
+        climb = None
+        if (v_m or v_var_m2) and (self.fused or self._pressure.t):
+            processed_s = self._processed_s()
+            if start < processed_s:
+                self.late_steps += 1
+            climb = _Climb(max(start, processed_s), max(t_s, processed_s), float(v_m),
+                           max(float(v_var_m2),
+                               (self.config.step_vertical_sigma_fraction * v_m) ** 2))
+            self._climbs.append(climb)
+        self.advance(t_s)
+        if not self.fused:          # no barometer (yet): the step as the navigator has it
+            if climb is not None:
+                self._climbs.remove(climb)
+            self._h += v_m
+            self._var += v_var_m2
+        rides, self._unreported = tuple(self._unreported), []
+        return StepHeight(self.height_m, self.sigma_m, self.floor, rides)
+
+    def _processed_s(self) -> float:
+        """Up to when the epochs are processed [s]."""
+        return -np.inf if self._through is None else self._through * self.config.epoch_s
+
+    def advance(self, t_s: float) -> None:
+        """Process the epochs that end by ``t_s`` [s]: every reading stamped before it
+        must have been given, and no step yet to come may climb from before it (the
+        module docstring). :meth:`step` does this itself; call it at the end of a walk, or
+        while the person stands with ``t_s`` a longest gait cycle before the last
+        reading, to judge the changes before it; a time already processed changes
+        nothing."""
+        epoch_s = self.config.epoch_s
+        end = int(np.floor(float(t_s) / epoch_s))
+        if self._through is not None and end < self._through:
+            return
+        first = self._through
+        if not self.fused:
+            first = self._first_pressure_epoch(first)
+            if first is None or end <= first:   # no reading yet: nothing to process
+                self._force.take(end, end, epoch_s)
+                self._through = end
+                return
+        if end <= first:
+            return
+        self._through = end
+        count = end - first
+        zi, z = self._pressure.take(first, end, epoch_s)
+        fi, f = self._force.take(first, end, epoch_s)
+        nz, z_mean, _ = _epoch_means(zi, z, count)
+        nf, f_mean, f_sigma = _epoch_means(fi, f, count)
+        still = (nf > 1) & (f_sigma < self.config.still_force_sigma_mps2)
+        for i in range(count):
+            self._epoch(first + i, float(z_mean[i]), int(nz[i]), float(f_mean[i]),
+                        bool(still[i]))
+
+    # --- the readings --------------------------------------------------------------------
+    def _finite(self, t_s, values, sensor: str) -> tuple[np.ndarray, np.ndarray] | None:
+        """A sensor's stamps and values as 1-D arrays without the non-finite ones (counted
+        as ``<sensor>_nonfinite``); None when the barometer is off."""
+        t = np.atleast_1d(np.asarray(t_s, float))
+        v = np.atleast_1d(np.asarray(values, float))
+        if t.ndim != 1 or t.shape != v.shape:
+            raise ValueError(f"the stamps and the {sensor} values must be 1-D arrays of one "
+                             f"length, got shapes {t.shape} and {v.shape}")
+        if not self.config.enabled:
+            return None
+        finite = np.isfinite(t) & np.isfinite(v)
+        self.dropped[f"{sensor}_nonfinite"] += int(np.count_nonzero(~finite))
+        return t[finite], v[finite]
+
+    def _ordered(self, t: np.ndarray, samples: _Samples, sensor: str) -> np.ndarray:
+        """Whether each stamp increases on every one before it and lies in an epoch not
+        yet processed (the others counted as ``<sensor>_out_of_order``)."""
+        before = np.maximum.accumulate(np.concatenate([[samples.last_t], t[:-1]]))
+        ok = t > before
+        if self._through is not None:
+            ok &= np.floor(t / self.config.epoch_s) >= self._through
+        self.dropped[f"{sensor}_out_of_order"] += int(np.count_nonzero(~ok))
+        return ok
+
+    def _first_pressure_epoch(self, through: int | None) -> int | None:
+        if not self._pressure.t:
+            return None
+        first = int(np.floor(self._pressure.t[0][0] / self.config.epoch_s))
+        return first if through is None else max(first, through)
+
+    # --- the filter ----------------------------------------------------------------------
+    def _epoch(self, k: int, z: float, n: int, force: float, still: bool) -> None:
+        """One epoch k: predict, update with its mean barometric height, look for
+        changes."""
+        c = self.coefficients
+        if self.fused:
+            self._predict()
+        self._climb((k + 0.5) * c.epoch_s)      # z is the height at the epoch's middle
+        r = c.reading_var_m2 / max(n, 1) + c.correlated_var_m2
+        if not self.fused:                      # the first epoch with readings
+            self.x = np.array([self._h, z - self._h, 0.0])
+            self.P = np.diag([self._var, r, c.drift_var_m2ps2])
+        elif n:
+            self._update(z, r)
+        self._climb((k + 1) * c.epoch_s)
+        e = self._epochs
+        e.append(start_s=k * c.epoch_s, z=z, n=n, force=force, still=still,
+                 h=float(self.x[H]))
+        self._detect(len(e) - 1)
+
+    def _predict(self) -> None:
+        c = self.coefficients
+        dt = c.epoch_s
+        transition = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, dt], [0.0, 0.0, c.drift_decay]])
+        self.x = transition @ self.x
+        self.P = transition @ self.P @ transition.T + np.diag(
+            [0.0, c.offset_walk_var_m2, c.drift_var_m2ps2 * (1.0 - c.drift_decay**2)])
+
+    def _climb(self, t_s: float) -> None:
+        """Put into h the steps' climbs up to ``t_s`` [s]."""
+        dv = dvar = 0.0
+        for climb in self._climbs:
+            share = climb.share(t_s)
+            dv += climb.v * (share - climb.applied)
+            dvar += climb.var * (share - climb.applied)
+            climb.applied = share
+        self._climbs = [climb for climb in self._climbs if climb.applied < 1.0]
+        if self.fused:
+            self.x[H] += dv
+            self.P[H, H] += dvar
+        else:
+            self._h += dv
+            self._var += dvar
+
+    def _update(self, z: float, r: float) -> None:
+        """z = h + b + n, var(n) = r; an innovation beyond the gate is a jump of b."""
+        nu = z - self.x[H] - self.x[B]
+        ph = self.P[:, H] + self.P[:, B]            # P·Hᵀ, H = [1, 1, 0]
+        s = ph[H] + ph[B] + r
+        if nu * nu > self.coefficients.gate_nis * s:
+            self.P[B, B] += self.coefficients.jump_var_m2
+            self.jumps += 1
+            ph = self.P[:, H] + self.P[:, B]
+            s = ph[H] + ph[B] + r
+        gain = ph / s
+        self.x = self.x + gain * nu
+        self.P = self.P - np.outer(gain, ph)
+
+    # --- changes of the barometric height ------------------------------------------------
+    def _detect(self, e: int) -> None:
+        """The change detector at epoch index e (the module docstring)."""
+        c = self.coefficients
+        span, settle = c.motion_epochs, c.settle_epochs
+        epochs = self._epochs
+        moving = False
+        if e - span - settle >= epochs.first:     # a level to measure a change from
+            speed = (epochs.value("z", e) - epochs.value("z", e - span)) / (span * c.epoch_s)
+            moving = bool(abs(speed) >= self.config.motion_speed_mps)   # NaN: not moving
+        change = self._change
+        if change is None:
+            if moving:
+                self._change = _Change(e, e)
+        elif moving:
+            change.last, change.still_epochs = e, 0
+        else:
+            change.still_epochs += 1
+            if change.still_epochs >= settle:
+                self._judge(change)
+                self._change = None
+        if self._change is not None and e - self._change.first > c.max_change_epochs:
+            self._record(HeightChangeKind.UNRESOLVED, epochs.value("start_s", self._change.first),
+                         epochs.value("start_s", e) + c.epoch_s, np.nan, np.nan, 0)
+            self._change = None
+        keep = (self._change.first if self._change is not None else e) - 2 * span - settle
+        if keep - epochs.first > 4 * (c.max_change_epochs + 2 * span + settle):
+            epochs.forget_before(keep)
+            self._stairs = [s for s in self._stairs if s[1] >= epochs.value("start_s", keep)]
+
+    def _judge(self, change: _Change) -> None:
+        """Measure a change that has ended and decide what it was."""
+        c, epochs = self.coefficients, self._epochs
+        lo = change.first - c.motion_epochs     # the motion lies within [lo, change.last]
+        before_lo = lo - c.settle_epochs
+        after_lo, after_hi = change.last + 1, change.last + 1 + c.settle_epochs
+        if before_lo < epochs.first:
+            self._record(HeightChangeKind.UNRESOLVED,
+                         epochs.value("start_s", max(lo, epochs.first)),
+                         epochs.value("start_s", change.last) + c.epoch_s, np.nan, np.nan, 0)
+            return
+        before, after = epochs.array("z", before_lo, lo), epochs.array("z", after_lo, after_hi)
+        if not (np.isfinite(before).any() and np.isfinite(after).any()):
+            self._record(HeightChangeKind.UNRESOLVED, epochs.value("start_s", lo),
+                         epochs.value("start_s", change.last) + c.epoch_s, np.nan, np.nan, 0)
+            return
+        level_before, level_after = float(np.nanmean(before)), float(np.nanmean(after))
+        span_s = (after_lo + after_hi - before_lo - lo) / 2.0 * c.epoch_s
+        height = level_after - level_before - float(self.x[BDOT]) * span_s
+        z = epochs.array("z", lo, after_lo)
+        start, end = _passages(z, level_before, level_after)
+        start_s = epochs.value("start_s", lo + start)
+        end_s = epochs.value("start_s", lo + end) + c.epoch_s
+        h_before = epochs.value("h", lo - 1)
+        accel = self._accel_height(lo, change.last + 1, lo + start, lo + end)
+        kind = self._kind(height, start_s, end_s, z[start:end + 1], accel)
+        if kind is None:
+            return
+        if kind in RIDE_KINDS:
+            moved = h_before + height - float(self.x[H])
+            self.x[H] += moved
+            self.x[B] -= moved
+            epochs.shift_h(lo, moved)         # h since it began
+            g = np.array([1.0, -1.0, 0.0])
+            self.P = self.P + np.outer(g, g) * self._level_var(before, after)
+        floors = self._floor(float(self.x[H])) - self._floor(h_before)
+        self._record(kind, start_s, end_s, height, accel, floors)
+
+    def _kind(self, height: float, start_s: float, end_s: float, z: np.ndarray,
+              accel: float) -> HeightChangeKind | None:
+        """What a change of ``height`` [m] between ``start_s`` and ``end_s`` [s] was,
+        with ``z`` its epochs' barometric heights from 10 % to 90 % and ``accel`` the
+        vertical force's double integral over it (the module docstring); None: too small
+        to be anything."""
+        c = self.config
+        if any(t1 >= start_s - STAIRS_MARGIN_S and t0 <= end_s + STAIRS_MARGIN_S
+               for t0, t1 in self._stairs):
+            return HeightChangeKind.STAIRS
+        big = abs(height) >= c.ride_min_height_m
+        if big and np.isfinite(accel) and \
+                1.0 / c.lift_height_ratio_max <= accel / height <= c.lift_height_ratio_max:
+            return HeightChangeKind.LIFT
+        if big and c.escalators and end_s - start_s >= c.escalator_min_s:
+            one_second = _epochs(1.0, c.epoch_s)
+            speed = np.abs(z[one_second:] - z[:-one_second]) / (one_second * c.epoch_s)
+            if len(speed) and np.nanmax(speed) <= c.escalator_max_speed_mps:
+                return HeightChangeKind.ESCALATOR
+        if abs(height) < c.motion_speed_mps * c.motion_window_s:
+            return None
+        return HeightChangeKind.OFFSET
+
+    def _accel_height(self, lo: int, hi: int, start: int, end: int) -> float:
+        """The vertical force's double integral [m] over the still span around the
+        change's epochs [lo, hi) that holds its 10-90 % epochs [start, end], with zero
+        velocity at both ends; NaN when the person was not still enough or the speed does
+        not peak beyond lift_min_speed_mps in the integral's direction."""
+        c, epochs = self.config, self._epochs
+        still = epochs.array("still", lo, hi).astype(bool)
+        index = np.flatnonzero(still)
+        if not len(index):
+            return np.nan
+        first, last = lo + index[0], lo + index[-1] + 1
+        span = still[index[0]:index[-1] + 1]
+        if first > start or last <= end or span.mean() < c.lift_min_still_fraction:
+            return np.nan
+        force = epochs.array("force", first, last)
+        if not np.isfinite(force).all():
+            return np.nan
+        dt = c.epoch_s
+        velocity = np.concatenate([[0.0], np.cumsum((force - force.mean()) * dt)])
+        velocity -= velocity[-1] * np.arange(len(velocity)) / len(force)
+        height = float(np.sum(velocity[:-1] + velocity[1:]) * dt / 2.0)
+        if not np.max(velocity * np.sign(height)) >= c.lift_min_speed_mps:
+            return np.nan
+        return height
+
+    def _level_var(self, before: np.ndarray, after: np.ndarray) -> float:
+        """The variance of a change's height from its levels' means [m²]."""
+        c = self.coefficients
+        n = self._epochs.columns["n"][-len(after):]
+        per_epoch = c.reading_var_m2 / max(1.0, float(np.mean(n))) \
+            + c.correlated_var_m2
+        return per_epoch * (1.0 / np.isfinite(before).sum() + 1.0 / np.isfinite(after).sum())
+
+    def _record(self, kind: HeightChangeKind, start_s: float, end_s: float, height: float,
+                accel: float, floors: int) -> None:
+        change = HeightChange(kind, float(start_s), float(end_s), float(height), int(floors),
+                              float(accel))
+        self.changes.append(change)
+        if change.ride:
+            self._unreported.append(change)
+
+
+def _passages(z: np.ndarray, before: float, after: float) -> tuple[int, int]:
+    """The indices of ``z`` (a change's epochs) where it is last below 10 % of the way
+    from ``before`` to ``after`` before first reaching 90 %, plus one, and where it first
+    reaches 90 %."""
+    share = (z - before) / (after - before) if after != before else np.zeros_like(z)
+    reached = np.flatnonzero(share >= END_SHARE)
+    end = int(reached[0]) if len(reached) else len(z) - 1
+    below = np.flatnonzero(share[:end + 1] < START_SHARE)
+    start = int(below[-1]) + 1 if len(below) else 0
+    return min(start, end), end
