@@ -91,7 +91,7 @@ def test_the_start_up_line_names_the_resolved_topics_and_services(procs):
     wait_for_log(proc, "configuration")
     line = next(x for x in log_text(proc).splitlines() if "configuration" in x)
     for text in ("map frame alice_map", "sensor frame imu_link",
-                 "subscribes /alice/imu/data, /alice/sensors/mag",
+                 "subscribes /alice/imu/data, /alice/imu/pressure, /alice/sensors/mag",
                  "/alice/pdr/pocket/attitude", "/alice/pdr/pocket/step",
                  "serves /alice/pdr/pocket/apply_correction, /alice/pocket_pdr/reset"):
         assert text in line, line

@@ -92,6 +92,25 @@ def test_calibrate_mag_refuses_a_walk_saying_how_much_it_covers(procs, tmp_path)
     assert not (tmp_path / "mag.yaml").exists()
 
 
+def played_live(procs, tmp_path, bag, played: str, recorded: str, messages: int, *params):
+    """bag_play (the ``played`` topics of ``bag``) → pocket_pdr (with ``params``) →
+    bag_record (the ``recorded`` topics, ``messages`` of them) as three processes: the
+    stopped node and the recorded bag."""
+    recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
+                           f"topics:={recorded}", "-p", f"max_messages:={messages}",
+                           name="record")
+    node = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
+                       *params, name="pocket_pdr")
+    wait_for_log(recorder, *(f"recording /{topic.strip()}"
+                             for topic in recorded.strip("[]").split(",")))
+    play = procs.run("bag_play", "--ros-args", "-p", f"bag:={bag}", "-p", f"topics:={played}",
+                     "-p", "rate:=0.0", "-p", "wait_for_subscribers:=1")
+    assert play.returncode == 0, play.stderr
+    assert recorder.wait(timeout=120) == 0, log_text(recorder) + log_text(node)
+    assert procs.stop(node, signal.SIGINT) == 0, log_text(node)
+    return node, BagReader(tmp_path / "live")
+
+
 def test_live_node_equals_offline_run(procs, tmp_path):
     """bag_play → pocket_pdr → bag_record as three processes give what pdr-pocket run
     gives: the attitude at every sample, the steps and the poses (issue 17, acceptance
@@ -103,20 +122,8 @@ def test_live_node_equals_offline_run(procs, tmp_path):
     ref_steps, ref_poses = reference.read("/pdr/pocket/step"), reference.read("/pdr/pocket/pose")
     expected = len(ref)     # the last sample goes out when its magnetometer reading comes
     topics = "[pdr/pocket/attitude, pdr/pocket/gyro_bias, pdr/pocket/step, pdr/pocket/pose]"
-    recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
-                           f"topics:={topics}", "-p",
-                           f"max_messages:={2 * expected + 2 * len(ref_steps)}", name="record")
-    node = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
-                       name="pocket_pdr")
-    wait_for_log(recorder, "recording /pdr/pocket/attitude", "recording /pdr/pocket/gyro_bias",
-                 "recording /pdr/pocket/step", "recording /pdr/pocket/pose")
-    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={BAG}", "-p",
-                       "topics:=[/imu/data, /imu/mag]", "-p", "rate:=0.0", "-p",
-                       "wait_for_subscribers:=1")
-    assert played.returncode == 0, played.stderr
-    assert recorder.wait(timeout=120) == 0, log_text(recorder) + log_text(node)
-    assert procs.stop(node, signal.SIGINT) == 0, log_text(node)
-    live_bag = BagReader(tmp_path / "live")
+    node, live_bag = played_live(procs, tmp_path, BAG, "[/imu/data, /imu/mag]", topics,
+                                 2 * expected + 2 * len(ref_steps))
     live = live_bag.read("/pdr/pocket/attitude")
     assert len(live) == expected
     np.testing.assert_array_equal(live.stamp_ns, ref.stamp_ns[:expected])
@@ -140,6 +147,34 @@ def test_live_node_equals_offline_run(procs, tmp_path):
     assert placement["placement"] == "front pocket"
     assert "placement: front pocket (the pitch swing is " in log
     assert "); strides from the pitch model" in log
+
+
+def test_live_node_with_a_barometer_equals_offline_run(procs, tmp_path):
+    """bag_play → pocket_pdr → bag_record with imu/pressure (issue 41, acceptance 4): the
+    simulated lift walk with its barometer, the filter for its sensor; the steps, their
+    rides and the poses equal pdr-pocket run's, both lift rides said."""
+    sim = tmp_path / "sim"
+    made = procs.run("pdr-sim", "generate", "--placement", "pocket", "--scenario",
+                     "building_lift", "--imu", "xsens_mtw", "--seed", "1", "--pressure",
+                     "--out", str(sim))
+    assert made.returncode == 0, made.stderr
+    config = ROOT / "src" / "pdr_pocket" / "config" / "pocket_pdr_xsens_mtw.yaml"
+    offline = procs.run("pdr-pocket", "run", str(sim), "--out", str(tmp_path / "offline"),
+                        "--config", str(config))
+    assert offline.returncode == 0, offline.stderr
+    reference = BagReader(tmp_path / "offline")
+    ref_steps, ref_poses = reference.read("/pdr/pocket/step"), reference.read("/pdr/pocket/pose")
+    _, live_bag = played_live(procs, tmp_path, sim, "[/imu/data, /imu/mag, /imu/pressure]",
+                              "[pdr/pocket/step, pdr/pocket/pose]", 2 * len(ref_steps),
+                              "-p", f"config:={config}")
+    steps, poses = live_bag.read("/pdr/pocket/step"), live_bag.read("/pdr/pocket/pose")
+    np.testing.assert_array_equal(steps.stamp_ns, ref_steps.stamp_ns)
+    np.testing.assert_array_equal(steps["ride"], ref_steps["ride"])
+    assert (steps["ride"] == 1).sum() == 2
+    for key in ("vertical_displacement", "ride_height", "length", "heading"):
+        np.testing.assert_allclose(steps[key], ref_steps[key], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(poses["pose.pose.position"], ref_poses["pose.pose.position"],
+                               rtol=0, atol=1e-9)
 
 
 def test_run_writes_steps_poses_path_and_report_on_the_sample_bag(procs, tmp_path):

@@ -7,12 +7,18 @@ import re
 
 import pytest
 
-from pdr_core.vocabulary import ACTIVITY_NAMES, STAIRS_ACTIVITIES, Activity, LandmarkType
+from pdr_core.vocabulary import ACTIVITY_NAMES, STAIRS_ACTIVITIES, Activity, LandmarkType, Ride
 from wstest import ROOT
 
 MSG = ROOT / "src" / "pdr_msgs" / "msg"
 CONSTANT = re.compile(r"^\s*uint8\s+([A-Z][A-Z0-9_]*)\s*=\s*(\d+)\s*(?:#.*)?$")
-ENUMS = {"Step": Activity, "Landmark": LandmarkType}
+# each message's enums by the prefix of their constants' names
+ENUMS = {"Step": {"": Activity, "RIDE_": Ride}, "Landmark": {"": LandmarkType}}
+
+
+def members(message: str) -> dict[str, int]:
+    """The constants the enums of ``message`` give, by name."""
+    return {prefix + e.name: e.value for prefix, enum in ENUMS[message].items() for e in enum}
 
 
 def constants(message: str) -> dict[str, int]:
@@ -23,15 +29,15 @@ def constants(message: str) -> dict[str, int]:
 
 @pytest.mark.parametrize("message", sorted(ENUMS))
 def test_the_enum_is_the_message_definitions_constants(message):
-    assert constants(message) == {e.name: e.value for e in ENUMS[message]}
+    assert constants(message) == members(message)
 
 
 @pytest.mark.parametrize("message", sorted(ENUMS))
 def test_the_generated_message_class_agrees(message):
     msg = pytest.importorskip("pdr_msgs.msg")
     generated = getattr(msg, message)
-    for e in ENUMS[message]:
-        assert getattr(generated, e.name) == e.value, e
+    for name, value in members(message).items():
+        assert getattr(generated, name) == value, name
 
 
 def test_the_parser_sees_the_constants_it_is_for():

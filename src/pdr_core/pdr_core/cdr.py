@@ -1,7 +1,7 @@
 """Vectorised CDR codec for stamped messages of fixed layout.
 
 Most high-rate messages of the stack (``sensor_msgs/Imu``, ``MagneticField``,
-``PoseStamped``, ``PoseWithCovarianceStamped``, ``TwistWithCovarianceStamped``,
+``FluidPressure``, ``PoseStamped``, ``PoseWithCovarianceStamped``, ``TwistWithCovarianceStamped``,
 ``Vector3Stamped`` and every ``pdr_msgs`` message) are a ``std_msgs/Header`` followed by
 primitives and fixed arrays. For a given ``frame_id`` length their CDR (little-endian,
 XCDR1 as ROS 2 uses) has the same byte layout in every message, so a whole topic is
@@ -25,7 +25,7 @@ import numpy as np
 from rosbags.interfaces import Nodetype
 
 from pdr_core.batch import MessageBatch
-from pdr_core.msgtypes import typestore
+from pdr_core.msgtypes import APPENDED_FIELDS, typestore
 
 _BASE_DTYPES = {
     "bool": "?", "byte": "u1", "char": "u1", "octet": "u1", "int8": "i1", "uint8": "u1",
@@ -87,8 +87,9 @@ def fixed_layout(msgtype: str) -> tuple[Leaf, ...] | None:
 
 
 @functools.cache
-def _record_dtype(msgtype: str, frame_len: int) -> np.dtype:
-    """Structured dtype of one message whose frame_id has ``frame_len`` bytes.
+def _record_dtype(msgtype: str, frame_len: int, older: bool = False) -> np.dtype:
+    """Structured dtype of one message whose frame_id has ``frame_len`` bytes; ``older``:
+    as written before the fields of pdr_core.msgtypes.APPENDED_FIELDS were appended.
 
     CDR alignment is relative to the end of the 4-byte encapsulation header; each
     primitive is aligned to its own size.
@@ -97,7 +98,10 @@ def _record_dtype(msgtype: str, frame_len: int) -> np.dtype:
     formats: list[Any] = [("u1", (4,)), "<i4", "<u4", "<u4", f"S{frame_len + 1}"]
     offsets = [0, 4, 8, 12, 16]
     pos = 12 + frame_len + 1
+    appended = APPENDED_FIELDS.get(msgtype, ()) if older else ()
     for leaf in fixed_layout(msgtype):
+        if leaf.path in appended:
+            continue
         size = leaf.dtype.itemsize
         pos = -(-pos // size) * size
         names.append(leaf.path)
@@ -147,10 +151,12 @@ def _decode_buffer(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> Messag
         raise ValueError(f"{msgtype}: frame_id longer than its message")
     stamp_ns = np.empty(n, np.int64)
     frame_id = np.empty(n, dtype=object)
-    fields = {leaf.path: np.empty((n,) if leaf.count == 1 else (n, leaf.count), leaf.dtype)
+    fields = {leaf.path: np.zeros((n,) if leaf.count == 1 else (n, leaf.count), leaf.dtype)
               for leaf in leaves}
     for length, slen, idx in _groups(lengths, strlen):
         dtype = _record_dtype(msgtype, int(slen) - 1)
+        if length < dtype.itemsize and msgtype in APPENDED_FIELDS:
+            dtype = _record_dtype(msgtype, int(slen) - 1, older=True)    # an older bag's
         if length < dtype.itemsize:
             raise ValueError(f"{msgtype}: message of {length} bytes, layout needs {dtype.itemsize}")
         if len(idx) == n:
@@ -161,7 +167,8 @@ def _decode_buffer(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> Messag
         stamp_ns[idx] = view["sec"].astype(np.int64) * _NS + view["nanosec"]
         frame_id[idx] = _decoded_frames(view["frame"])
         for leaf in leaves:
-            fields[leaf.path][idx] = view[leaf.path]
+            if leaf.path in dtype.names:
+                fields[leaf.path][idx] = view[leaf.path]
     return MessageBatch(msgtype, stamp_ns, frame_id.astype(str), fields)
 
 

@@ -14,6 +14,7 @@ from rosbags.typesys.store import Typestore
 
 IMU = "sensor_msgs/msg/Imu"
 MAGNETIC_FIELD = "sensor_msgs/msg/MagneticField"
+FLUID_PRESSURE = "sensor_msgs/msg/FluidPressure"   # fluid_pressure [Pa], variance [Pa²]
 POSE_STAMPED = "geometry_msgs/msg/PoseStamped"
 POSE_WITH_COVARIANCE_STAMPED = "geometry_msgs/msg/PoseWithCovarianceStamped"
 TWIST_WITH_COVARIANCE_STAMPED = "geometry_msgs/msg/TwistWithCovarianceStamped"
@@ -23,6 +24,9 @@ CLOCK = "rosgraph_msgs/msg/Clock"
 STEP = "pdr_msgs/msg/Step"
 LANDMARK = "pdr_msgs/msg/Landmark"
 DRIFT_ESTIMATE = "pdr_msgs/msg/DriftEstimate"
+# Fields appended to our own messages since bags were first written with them: a message
+# of an older bag, without them, reads them as 0 (pdr_core.cdr). Only ever append.
+APPENDED_FIELDS = {STEP: ("ride", "ride_height")}      # issue 41: the lift rides
 
 
 def pdr_msgs_dir() -> Path:

@@ -37,6 +37,15 @@ ACTIVITY_NAMES = tuple(a.label for a in Activity)
 STAIRS_ACTIVITIES = (Activity.UPSTAIRS, Activity.DOWNSTAIRS)
 
 
+class Ride(_Labelled):
+    """pdr_msgs/Step rides (its ``RIDE_`` constants): how the floor changed since the
+    step before without a stairs step, found by the barometer (issue 41)."""
+
+    NONE = 0
+    LIFT = 1
+    ESCALATOR = 2
+
+
 class LandmarkType(_Labelled):
     """pdr_msgs/Landmark types."""
 

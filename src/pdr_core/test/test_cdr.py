@@ -118,6 +118,22 @@ def test_truncated_message_is_refused():
         cdr.decode(batch.msgtype, [raws[0], raws[1][:-8]])
 
 
+def test_a_step_of_an_older_bag_reads_its_appended_fields_as_zero():
+    """pdr_msgs/Step gained ``ride`` and ``ride_height`` (issue 41,
+    pdr_core.msgtypes.APPENDED_FIELDS): a message written before, without them, reads
+    them as 0 and the rest as written; one cut shorter still is refused."""
+    batch = random_batch("pdr_msgs/msg/Step", 4, np.random.default_rng(5), ["map"])
+    older = cdr._record_dtype(batch.msgtype, len("map"), older=True).itemsize
+    raws = [r[:older] for r in cdr.encode(batch)]
+    back = cdr.decode(batch.msgtype, raws)
+    np.testing.assert_array_equal(back["ride"], 0)
+    np.testing.assert_array_equal(back["ride_height"], 0.0)
+    np.testing.assert_array_equal(back["heading"], batch["heading"])
+    np.testing.assert_array_equal(back["activity"], batch["activity"])
+    with pytest.raises(ValueError, match="bytes"):
+        cdr.decode(batch.msgtype, [r[:older - 8] for r in raws])
+
+
 def test_frame_id_longer_than_the_message_is_refused():
     batch = random_batch("sensor_msgs/msg/Imu", 1, np.random.default_rng(6), ["imu_link"])
     raw = cdr.encode(batch)[0]

@@ -22,7 +22,8 @@ def straight_walk(steps: int = 40) -> tuple[MessageBatch, MessageBatch]:
               "vertical_displacement": np.zeros(steps), "heading": np.zeros(steps),
               "pitch_max": np.full(steps, 0.4), "pitch_min": np.full(steps, -0.1),
               "pitch_amplitude": np.full(steps, 0.5), "duration": np.full(steps, PERIOD_S),
-              "activity": np.ones(steps, np.uint8)}
+              "activity": np.ones(steps, np.uint8), "ride": np.zeros(steps, np.uint8),
+              "ride_height": np.zeros(steps)}
     position = np.c_[STRIDE_M * np.arange(1, steps + 1), np.zeros((steps, 2))]
     covariance = np.zeros((steps, 6, 6))
     covariance[:, :3, :3] = np.eye(3) * 0.01

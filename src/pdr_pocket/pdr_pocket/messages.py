@@ -45,7 +45,9 @@ def step_fields(steps: list[StepRecord]) -> dict[str, np.ndarray]:
             "pitch_min": np.array([s.pitch_min for s in steps]),
             "pitch_amplitude": np.array([s.pitch_amplitude for s in steps]),
             "duration": np.array([s.duration for s in steps]),
-            "activity": np.array([s.activity for s in steps], np.uint8)}
+            "activity": np.array([s.activity for s in steps], np.uint8),
+            "ride": np.array([s.ride for s in steps], np.uint8),
+            "ride_height": np.array([s.ride_height for s in steps])}
 
 
 def pose_fields(steps: list[StepRecord], attitude: np.ndarray) -> dict[str, np.ndarray]:

@@ -9,7 +9,8 @@ in the module named for it:
    filter, or without a gyroscope the gravity direction's tilt; the thigh frame and
    pitch;
 2. the steps (:mod:`pdr_pocket.step_assembly`): the step detector, and per step the
-   activity, stride, vertical displacement, heading and position;
+   activity, stride, vertical displacement, heading and position; with a barometer the
+   height, floors and lift rides from the height filter (:mod:`pdr_pocket.height_filter`);
 3. the corrections (:mod:`pdr_pocket.corrections`, Eqs. (6.2)-(6.3)): a
    :class:`~pdr_core.correction.Correction` through :meth:`PocketNavigator.apply_correction`.
 
@@ -19,6 +20,7 @@ the steps and every step is level.
 from __future__ import annotations
 
 import copy
+from dataclasses import replace
 
 import numpy as np
 
@@ -109,13 +111,13 @@ class PocketNavigator:
     def process(self, samples: Samples) -> NavigatorOutput:
         """A chunk of samples (:class:`~pdr_pocket.samples.Samples`: t [s], accel [m/s²],
         gyro [rad/s] or None, mag [T] or None)."""
-        samples = Samples(np.asarray(samples.t, float), samples.accel, samples.gyro,
-                          samples.mag)
+        samples = replace(samples, t=np.asarray(samples.t, float))
         if self.gyroscope is None and len(samples):
             self.gyroscope = samples.gyro is not None
             self.assembly.use_sensors(self.gyroscope)
         chunk = self.pitch_source.run(samples)
         a = self.assembly
+        a.sense_height(samples, chunk)
         before = (a.last_confirm, a.last_activity)
         steps = a.add(chunk)
         return NavigatorOutput(chunk.attitude, chunk.pitch, chunk.heading,
@@ -141,6 +143,21 @@ class PocketNavigator:
             "level only (no gyroscope: the gravity direction's pitch holds no stairs evidence)"
         return {"step_detector": a.detector.name, "pitch_from": pitch_from,
                 "activities": activities}
+
+    def barometer(self) -> dict | None:
+        """What the barometer did (the report's ``barometer``; None without one): whether
+        it was fused, the lift and escalator rides, the changes judged by kind, the
+        offset jumps let in, the readings dropped and the steps whose climb came late."""
+        if not self.assembly.barometer:
+            return None
+        h = self.assembly.height
+        kinds = [c.kind.label for c in h.changes]
+        return {"fused": h.fused,
+                "rides": [{"kind": r.kind.label, "start_s": r.start_s, "end_s": r.end_s,
+                           "height_m": r.height_m, "floors": r.floors} for r in h.rides],
+                "changes": {kind: kinds.count(kind) for kind in sorted(set(kinds))},
+                "offset_jumps": h.jumps, "dropped": dict(h.dropped),
+                "late_steps": h.late_steps}
 
     def no_step_reason(self) -> str | None:
         """Why no step was found, when none was (None otherwise)."""

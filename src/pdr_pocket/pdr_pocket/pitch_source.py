@@ -49,7 +49,8 @@ NO_GAIT_MIN_MOVING_S = 5.0                  # moving this long without a step: n
 class PitchChunk:
     """A chunk's attitude C_b^n per sample, the thigh's pitch and heading [rad] per sample
     (NaN while the axes are unknown), the tilt between the sensor's and the thigh's up
-    [rad] per sample, the mounting changes [s] found in it, and the detector's stream:
+    [rad] per sample, the specific force along the navigation frame's up [m/s²] per
+    sample, the mounting changes [s] found in it, and the detector's stream:
     (t [s], θ, heading [rad], the vertical specific force and its norm (M, 2) [m/s²], the
     yaw's and the tilt's variances (M, 2) [rad²]), held samples replayed in it."""
 
@@ -57,6 +58,7 @@ class PitchChunk:
     pitch: np.ndarray
     heading: np.ndarray
     tilt: np.ndarray
+    vertical_force: np.ndarray
     remounts_t: list[float]
     stream: tuple
 
@@ -131,7 +133,7 @@ class PitchSource:
         stream = self._stream(t, attitude.attitude, forces, variances, pitch, heading, known,
                               up, flex)
         tilt = np.arccos(np.clip(np.einsum("nj,nj->n", attitude.attitude[:, 2, :], up), -1, 1))
-        return PitchChunk(attitude, pitch, heading, tilt, remounts_t, stream)
+        return PitchChunk(attitude, pitch, heading, tilt, forces[:, 0], remounts_t, stream)
 
     def _count_motion(self, t: np.ndarray, rate: np.ndarray) -> None:
         """Add the chunk's time, and its time moving (the turn rate, or without a

@@ -133,6 +133,8 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                                "scale": height_scale(config.step_length, config.person.height_m),
                                "bounded_steps": navigator.bounded_steps},
                "warnings": navigator.warnings()}
+    if navigator.barometer() is not None:
+        report["barometer"] = navigator.barometer()
     if drift_log is not None:
         report["drift"] = {"mode": drift, **drift_log.summary()}
         if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in batches:

@@ -6,7 +6,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdr_core.barometry import HeightChangeKind
+from pdr_core.vocabulary import Ride
 from pdr_pocket.orientation import AttitudeEstimate
+
+# pdr_msgs/Step's ride of each kind of ride the height filter finds
+RIDES = {HeightChangeKind.LIFT: Ride.LIFT, HeightChangeKind.ESCALATOR: Ride.ESCALATOR}
 
 
 @dataclass(frozen=True)
@@ -27,6 +32,8 @@ class StepRecord:
     covariance: np.ndarray
     floor: int
     vertical_force_range: float     # max − min of the vertical specific force [m/s²]
+    ride: int = Ride.NONE           # a ride ended before the step (pdr_core.vocabulary.Ride)
+    ride_height: float = 0.0        # the height it took [m], in vertical_displacement
 
     @property
     def pitch_amplitude(self) -> float:

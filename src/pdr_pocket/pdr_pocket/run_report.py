@@ -149,12 +149,18 @@ def riser_errors(staircases: Staircases, truth_steps: MessageBatch, end: np.ndar
 
 def true_floors(record: dict) -> tuple[int, int] | None:
     """The final and the highest floor of a simulated walk (its ``pdr.simulation``
-    record), None when the record does not tell."""
+    record: the landmarks' floors, and the lift rides' floors after the last landmark
+    before them), None when the record does not tell."""
     marks = record.get("landmarks")
     if not marks:
         return (0, 0) if record.get("placement") == "pocket" else None
-    floors = [m["floor"] for m in marks]
-    return floors[-1], max(0, *floors)
+    events = sorted([(m.get("time_s", 0.0), "at", m["floor"]) for m in marks] +
+                    [(r["end_s"], "by", r["floors"]) for r in record.get("lift_rides", [])])
+    floor, floors = 0, [0]
+    for _, kind, value in events:
+        floor = value if kind == "at" else floor + value
+        floors.append(floor)
+    return floor, max(floors)
 
 
 def attitude_errors(estimate: AttitudeEstimate, truth_quat: np.ndarray) -> np.ndarray:

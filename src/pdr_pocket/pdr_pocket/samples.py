@@ -26,13 +26,16 @@ class Samples:
     - ``accel`` (N, 3) [m/s²], the specific force;
     - ``gyro`` (N, 3) [rad/s], or None: the IMU has no gyroscope (REP-145);
     - ``mag`` (N, 3) [T], or None: no magnetometer; a NaN row: no reading paired with
-      that sample.
+      that sample;
+    - ``pressure`` (N,) [Pa], or None: no barometer; each reading on the first sample
+      stamped at or after it (pdr_core.barometry.readings_at_samples), NaN elsewhere.
     """
 
     t: np.ndarray
     accel: np.ndarray
     gyro: np.ndarray | None = None
     mag: np.ndarray | None = None
+    pressure: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.t)

@@ -9,6 +9,10 @@ stream the pitch source gives (pdr_pocket.pitch_source) to steps with their pose
   circular mean of the thigh's heading over the cycle, which cancels the hip sway, less
   ``heading_drift_correction_deg_per_s`` times the time: the offline drift correction)
   and the position filter (Eq. (5.1), chapter 6);
+- with a barometer (``imu/pressure``), the height: each step's climb fused with the
+  barometric height (:mod:`pdr_pocket.height_filter`), the floors from it, and the lift
+  and escalator rides it finds, said by the first step after them; without one, the
+  steps' climbs alone, as before;
 - per sample between steps: the last step's activity, or standing/sitting from the
   thigh's tilt after ``rest_after_s`` without a step;
 - what is implausible in the result (the warnings).
@@ -22,14 +26,16 @@ import numpy as np
 
 from pdr_core.angles import wrap_angle
 from pdr_core.gait import MAX_WALKING_SPEED_MPS, WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
-from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
+from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity, Ride
 from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
 from pdr_pocket.compiled_peaks import EV_MAX, EV_MIN, EV_T_CONFIRM, EV_T_MAX
 from pdr_pocket.config import PocketConfig
+from pdr_pocket.height_filter import HeightFilter, StepHeight
 from pdr_pocket.pitch_source import PitchChunk
 from pdr_pocket.placement import PlacementClassifier
 from pdr_pocket.position import PositionFilter
-from pdr_pocket.records import StepRecord
+from pdr_pocket.records import RIDES, StepRecord
+from pdr_pocket.samples import Samples
 from pdr_pocket.stairs import Staircases, vertical_displacement_m
 from pdr_pocket.step_length import STRIDE_MODELS, StrideInputs, stride_model
 from pdr_pocket.steps import FootfallDetector, PitchMaximumDetector
@@ -51,6 +57,9 @@ class StepAssembly:
         self.bounded_steps = 0                  # strides cut to what a person walks
         self.bounded_models: set[str] = set()   # ... by the models that gave them
         self.staircases = Staircases(c.stairs)
+        self.height = HeightFilter(c.barometer, c.stairs.floor_height_m)
+        self.barometer = False                  # a pressure reading has come
+        self.height_m = 0.0                     # the height the steps have published [m]
         self.position = PositionFilter(c.position)
         self.steps: list[StepRecord] = []
         # per-cycle accumulators since the last confirmed step
@@ -69,6 +78,25 @@ class StepAssembly:
         self.detector = PitchMaximumDetector(self.config.steps) if gyroscope \
             else FootfallDetector(self.config.steps)
         self.classifier = activity_classifier(self.config.activity, gyroscope)
+
+    def sense_height(self, samples: Samples, chunk: PitchChunk) -> None:
+        """Give the height filter the chunk's barometer readings [Pa] and, from the first
+        reading ever on, the specific force along the navigation frame's up [m/s²] (its
+        lift detector's), before the chunk's steps. Without a barometer, nothing."""
+        if samples.pressure is None or not self.config.barometer.enabled:
+            if not self.barometer:
+                return
+            readings = np.zeros(len(samples), bool)
+        else:
+            readings = np.isfinite(samples.pressure)
+        start = 0
+        if not self.barometer:
+            if not readings.any():
+                return
+            self.barometer, start = True, int(np.argmax(readings))
+        if readings.any():
+            self.height.pressure(samples.t[readings], samples.pressure[readings])
+        self.height.vertical_force(samples.t[start:], chunk.vertical_force[start:])
 
     @property
     def footfalls(self) -> int:
@@ -135,18 +163,26 @@ class StepAssembly:
         vertical_range = self.vz_max - self.vz_min
         length = self._walked(StrideInputs(amplitude_deg, duration, vertical_range)) \
             if activity == Activity.WALKING else c.step_length.stairs_stride_m
-        vertical = vertical_displacement_m(activity, amplitude_deg, c.stairs)
+        climbed = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
-        activity, vertical = self.staircases.admit(index, t_max, activity, vertical, heading)
+        activity, vertical = self.staircases.admit(index, t_max, activity, climbed, heading)
         on_stairs = activity in STAIRS_ACTIVITIES
+        vertical_var = c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2
+        # the height filter takes each stairs step's own climb over its own cycle, the one
+        # the flight check holds back included (it publishes it a step late)
+        fused = self.height.step(t_max, climbed if on_stairs else 0.0, vertical_var,
+                                 on_stairs, duration) if self.barometer else None
+        if fused is not None and self.height.fused:
+            vertical, self.height_m = fused.height_m - self.height_m, fused.height_m
         self.position.step(length, vertical, heading, yaw_var, c.step_length.length_sigma_m**2,
-                           c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2,
-                           duration)
+                           vertical_var, duration)
+        floor = fused.floor if fused is not None and self.height.fused else \
+            self.staircases.floor(self.position.position[2])
+        ride, ride_height = _ride(fused)
         record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
                             float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
-                            self.position.position, self.position.covariance,
-                            self.staircases.floor(self.position.position[2]),
-                            vertical_range)
+                            self.position.position, self.position.covariance, floor,
+                            vertical_range, ride, ride_height)
         self.steps.append(record)
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf
@@ -221,3 +257,13 @@ class StepAssembly:
         c, s = np.cos(turned_rad), np.sin(turned_rad)
         self.sum_cos, self.sum_sin = (c * self.sum_cos - s * self.sum_sin,
                                       s * self.sum_cos + c * self.sum_sin)
+
+
+def _ride(fused: StepHeight | None) -> tuple[int, float]:
+    """The ride (pdr_core.vocabulary.Ride, :data:`pdr_pocket.records.RIDES`) that ended
+    before a step and the height it took [m]: the last one's kind, their heights summed;
+    (Ride.NONE, 0) without one."""
+    if fused is None or not fused.rides:
+        return Ride.NONE, 0.0
+    return RIDES[fused.rides[-1].kind], float(sum(r.height_m for r in fused.rides))
+

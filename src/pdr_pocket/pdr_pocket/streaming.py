@@ -17,6 +17,12 @@ result whatever the chunks, pdr_pocket.navigator):
   magnetometer quiet for longer than that holds nothing (no latency without one,
   :attr:`mag_stale`) and only pauses the magnetic updates: samples processed without a
   reading for ``mag_wait_s`` of IMU data (:attr:`mag_paused`, what the node reports);
+- the other sensors' readings (pdr_pocket.sensor_inputs: ``imu/pressure``) land each on
+  the first sample stamped at or after them, as offline (pdr_core.sample_pairing): once a
+  sensor's reading has come, a sample is held, as for the magnetometer, until a reading
+  stamped at or after it has come or ``mag_wait_s`` of IMU data has passed since the
+  sensor's last; a reading that is not finite, or stamped at or before the last kept
+  one, is dropped and counted. A sensor that never reads makes nothing wait;
 - the units are checked on the first :data:`UNIT_CHECK_SAMPLES` samples: data in g or
   deg/s is refused (nothing is navigated until :meth:`reset`), a magnetometer in µT or
   gauss is switched off (:attr:`mag_error`);
@@ -46,6 +52,7 @@ from pdr_core.correction import Correction
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
+from pdr_core.sample_pairing import readings_at_samples
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.navigator import PocketNavigator
@@ -132,6 +139,31 @@ Input = Samples | TakenCorrection
 
 
 @dataclass
+class Readings:
+    """A sensor's readings (pdr_pocket.sensor_inputs) not yet on a sample: stamps [ns]
+    ascending and values, and the newest stamp kept [ns] (−1: none yet)."""
+
+    stamps: np.ndarray = field(default_factory=lambda: np.empty(0, np.int64))
+    values: np.ndarray = field(default_factory=lambda: np.empty(0))
+    newest_ns: int = -1
+
+    def add(self, stamps: np.ndarray, values: np.ndarray) -> None:
+        if len(stamps):
+            self.stamps = np.concatenate((self.stamps, stamps))
+            self.values = np.concatenate((self.values, values))
+            self.newest_ns = int(stamps[-1])
+
+    def take(self, stamps: np.ndarray, previous_ns: int | None) -> np.ndarray:
+        """The readings on the samples stamped ``stamps`` [ns], the next to be processed
+        after the one stamped ``previous_ns`` (pdr_core.sample_pairing); those put on them
+        are let go."""
+        out = readings_at_samples(stamps, self.stamps, self.values, previous_ns)
+        used = int(np.searchsorted(self.stamps, stamps[-1], side="right"))
+        self.stamps, self.values = self.stamps[used:], self.values[used:]
+        return out
+
+
+@dataclass
 class StreamingPocket:
     """Live navigator: :meth:`push_imu` and :meth:`push_mag` return the
     :class:`Processed` chunks of the samples they let the navigator process."""
@@ -163,6 +195,7 @@ class StreamingPocket:
         self.t0_ns: int | None = None
         self.processed_ns: int | None = None    # the last sample processed ...
         self.paired_ns: int | None = None       # ... and the last with a reading
+        self.readings: dict[str, Readings] = {}     # the other sensors', once they read
         self.counts = {"non_finite": 0, "implausible": 0, "stamp_not_increasing": 0,
                        "mag_non_finite": 0,
                        "mag_missing": 0}
@@ -212,6 +245,24 @@ class StreamingPocket:
         if not self.checked:
             return []
         self._check_mag_units()
+        return self._process(self._ready())
+
+    def push_readings(self, name: str, stamp_ns: np.ndarray, values) -> list[Processed]:
+        """Readings (N,) of the sensor ``name`` of pdr_pocket.sensor_inputs (SI units) in
+        arrival order, as one block: one not finite, or stamped at or before the last kept
+        one, is dropped and counted (``<name>_non_finite``, ``<name>_out_of_order``)."""
+        readings = self.readings.setdefault(name, Readings())
+        stamps = np.asarray(stamp_ns, np.int64)
+        values = np.asarray(values, float).reshape(-1)
+        finite = np.isfinite(values)
+        before = latest_before(stamps, finite, readings.newest_ns)
+        kept = finite & (stamps > before)
+        for what, count in (("non_finite", ~finite), ("out_of_order", finite & ~kept)):
+            key = f"{name}_{what}"
+            self.counts[key] = self.counts.get(key, 0) + int(count.sum())
+        readings.add(stamps[kept], values[kept])
+        if not kept.any() or not self.checked:
+            return []
         return self._process(self._ready())
 
     def push_imu(self, stamp_ns: int, accel, gyro) -> list[Processed]:
@@ -286,11 +337,15 @@ class StreamingPocket:
         """How many held samples can be processed: those a reading stamped at or after
         them has come for, or ``mag_wait_s`` of IMU data has passed since, or all when
         the magnetometer is off or has been quiet that long."""
-        if self.mag_error is not None or self.mag_stale:
+        covered = []
+        if self.mag_error is None and not self.mag_stale:
+            covered.append(self.mag_stamps[-1] if len(self.mag_stamps) else -1)
+        covered += [r.newest_ns for r in self.readings.values() if r.newest_ns >= 0 and
+                    self.last_stamp_ns - r.newest_ns <= self.mag_wait_s * 1e9]
+        if not covered:
             return len(self.held)
-        covered = self.mag_stamps[-1] if len(self.mag_stamps) else -1
         waited = self.last_stamp_ns - self.mag_wait_s * 1e9
-        return int(np.searchsorted([h[0] for h in self.held], max(covered, waited),
+        return int(np.searchsorted([h[0] for h in self.held], max(min(covered), waited),
                                    side="right"))
 
     def _process(self, count: int) -> list[Processed]:
@@ -304,6 +359,7 @@ class StreamingPocket:
             mag = latest_readings(stamps, self.mag_stamps, self.mag_values)
             first = max(int(np.searchsorted(self.mag_stamps, stamps[-1], side="right")) - 1, 0)
             self.mag_stamps, self.mag_values = self.mag_stamps[first:], self.mag_values[first:]
+        readings = {name: r.take(stamps, self.processed_ns) for name, r in self.readings.items()}
         missing = np.isnan(mag).any(axis=1)
         self.counts["mag_missing"] += int(missing.sum())
         self.processed_ns = int(stamps[-1])
@@ -311,7 +367,7 @@ class StreamingPocket:
             self.paired_ns = int(stamps[~missing][-1])
         gyro = np.array([h[2] for h in held])
         samples = Samples(self._time_s(stamps), np.array([h[1] for h in held]),
-                          None if np.isnan(gyro).all() else gyro, mag)
+                          None if np.isnan(gyro).all() else gyro, mag, **readings)
         out = self._run_kept(self.navigator, samples)
         return [Processed(stamps, out, self.t0_ns)]
 

@@ -1,8 +1,11 @@
-"""Node ``pocket_pdr``: the pocket navigator on ``imu/data`` and ``imu/mag``, live.
+"""Node ``pocket_pdr``: the pocket navigator on ``imu/data``, ``imu/mag`` and
+``imu/pressure``, live.
 
-Subscribes ``imu/data`` (sensor_msgs/Imu, REP-145) and ``imu/mag``
-(sensor_msgs/MagneticField, tesla) and publishes, per sample, ``pdr/pocket/attitude``
-(sensor_msgs/Imu with the orientation and its covariance, REP-145) and
+Subscribes ``imu/data`` (sensor_msgs/Imu, REP-145), ``imu/mag``
+(sensor_msgs/MagneticField, tesla) and, optionally, ``imu/pressure``
+(sensor_msgs/FluidPressure, Pa: the height, floors and lift rides then come from the
+barometer fused with the steps, pdr_pocket.height_filter) and publishes, per sample,
+``pdr/pocket/attitude`` (sensor_msgs/Imu with the orientation and its covariance, REP-145) and
 ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped); per step, ``pdr/pocket/step``
 (pdr_msgs/Step), ``pdr/pocket/pose`` (geometry_msgs/PoseWithCovarianceStamped) and
 ``pdr/pocket/path`` (nav_msgs/Path, every step so far), stamped with the IMU sample that
@@ -57,6 +60,7 @@ from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
+from pdr_core.ros_types import message_class
 from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
@@ -65,6 +69,7 @@ from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.messages import attitude_batches, pose_fields, step_fields
 from pdr_pocket.placement import UNKNOWN, stride_choice
+from pdr_pocket.sensor_inputs import SENSOR_INPUTS
 from pdr_pocket.streaming import (
     CORRECTION_WINDOW_S,
     MAG_WAIT_S,
@@ -121,6 +126,11 @@ class PocketPdrNode(Node):
         self.mag_sub = self.create_subscription(MagneticField, graph_name(topics.IMU_MAG),
                                                 self.on_mag, qos, raw=True)
         self.mag_topic = self.mag_sub.topic_name
+        # the other sensors (pdr_pocket.sensor_inputs), each on its topic
+        self.sensor_subs = {sensor.name: (sensor, self.create_subscription(
+            message_class(sensor.msgtype), graph_name(sensor.topic),
+            lambda raw, name=sensor.name: self.on_readings(name, [raw]), qos, raw=True))
+            for sensor in SENSOR_INPUTS}
         out = QoSProfile(depth=HISTORY, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.attitude_pub = self.create_publisher(Imu, graph_name(topics.POCKET_ATTITUDE), out)
@@ -165,6 +175,8 @@ class PocketPdrNode(Node):
             end = int(np.searchsorted(imu.stamp_ns, imu.stamp_ns[start] + span_ns,
                                       side="right"))
             self.on_mag_block([])
+            for name in self.sensor_subs:
+                self.on_readings(name, [])
             part = imu.take(slice(start, end))
             self.publish(self.navigator.push_imus(
                 part.stamp_ns, part["linear_acceleration"],
@@ -184,6 +196,17 @@ class PocketPdrNode(Node):
         self.undecodable += malformed
         if len(mag):
             self.publish(self.navigator.push_mags(mag.stamp_ns, mag["magnetic_field"]))
+
+    def on_readings(self, name: str, raws: list[bytes]) -> None:
+        """These messages of the sensor ``name`` (pdr_pocket.sensor_inputs) and the ones
+        waiting behind them, as one block."""
+        sensor, subscription = self.sensor_subs[name]
+        block, malformed = decode_block(sensor.msgtype, [*raws, *waiting_messages(
+            subscription, MAX_BLOCK - len(raws))])
+        self.undecodable += malformed
+        if len(block):
+            self.publish(self.navigator.push_readings(name, block.stamp_ns,
+                                                      block[sensor.field]))
 
     def publish(self, chunks) -> None:
         """Attitude and gyro bias of every sample the navigator took (raw CDR, as
@@ -216,6 +239,7 @@ class PocketPdrNode(Node):
         set_header(msg.header, stamp, self.map_frame)
         msg.index = int(fields.pop("index"))
         msg.activity = int(fields.pop("activity"))
+        msg.ride = int(fields.pop("ride"))
         for key, value in fields.items():
             setattr(msg, key, float(value))
         pose_values = {k: v[0] for k, v in pose_fields([step], attitude[None]).items()}
