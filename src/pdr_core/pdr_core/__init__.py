@@ -33,6 +33,10 @@ Modules:
     node_wiring               The start-up log line: a node's resolved topic and service names.
     backlog                   A subscription's backlog taken in one callback, and blocks
                               published as the reliable subscribers acknowledge them.
+    ros_types                 ROS type names to their rclpy message classes.
+    diagnostics               A navigator's health from its counters: OK, WARN or ERROR
+                              with the reason (no rclpy).
+    node_diagnostics          /diagnostics at 1 Hz for a node (diagnostic_msgs).
   IMU and magnetometer data
     imu_checks                The checks every navigator runs on IMU data, and the CSV
                               importer's unit checks.
@@ -42,6 +46,9 @@ Modules:
     magnetic_field            Homogeneous and cylinder-perturbed fields, iron distortion.
     magnetometer_calibration  Hard/soft-iron calibration by ellipsoid fitting.
     magnetometer_pairing      Each IMU sample paired with its latest magnetometer reading.
+    sample_pairing            A slow sensor's readings on the IMU's samples, each once.
+    atmosphere                Pressure and height: the standard atmosphere's formula.
+    barometry                 The barometer's limits and the kinds of height change.
   Attitude and compiled kernels
     rotations                 Attitude conventions (ENU/FLU, ZYX Euler), conversions, the
                               tilt from specific force.
@@ -52,6 +59,7 @@ Modules:
     kernel_cache              Keeps numba's on-disk cache valid when a kernel's callee in
                               another module changes.
   Corrections
+    correction                A drift correction as one value, sender to filter.
     checkpoints               A navigator's state kept at past instants with the inputs
                               since: a late correction taken there and the inputs run
                               again (robot_localization's revertTo).

@@ -13,6 +13,7 @@ GROUND_TRUTH_STEP = "/ground_truth/step"            # pocket placement: one per 
 GROUND_TRUTH_LANDMARKS = "/ground_truth/landmarks"  # pocket placement: corners, flights
 GROUND_TRUTH_STANCE = "/ground_truth/stance"        # foot placement: true zero velocity
 CLOCK = "/clock"
+DIAGNOSTICS = "/diagnostics"                        # diagnostic_msgs/DiagnosticArray, absolute
 
 # the foot navigator (zupt_ekf, pdr-ekf run)
 FOOT_POSE = "/pdr/foot/pose"

@@ -25,7 +25,9 @@ and encodes the messages as raw CDR (pdr_core.cdr). ``pdr/foot/path`` is latched
 
 Bad samples (NaN/Inf, stamps going backwards) and malformed messages are dropped and
 counted with a throttled warning; data in g or deg/s is refused at alignment with an
-error, and nothing is navigated until ``~/reset``.
+error, and nothing is navigated until ``~/reset``. The node's health, with those
+counters, goes on ``/diagnostics`` once a second (pdr_core.node_diagnostics: OK, WARN
+when something was dropped since the last report, ERROR while not navigating).
 """
 from __future__ import annotations
 
@@ -42,8 +44,10 @@ from std_srvs.srv import Trigger
 
 from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
+from pdr_core.diagnostics import Counters
 from pdr_core.frames import MAP_FRAME
 from pdr_core.msgtypes import IMU
+from pdr_core.node_diagnostics import NodeDiagnostics
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
@@ -111,6 +115,7 @@ class ZuptEkfNode(Node):
         self.steps = _Steps()
         self.undecodable = 0
         self.reported: dict[str, int] = {}
+        self.diagnostics = NodeDiagnostics(self, self.diagnostic_counters)
         self.get_logger().info(f"zupt_ekf: configuration {path or profile or 'default'}; "
                                f"map frame {self.map_frame}; {wiring(self)}")
 
@@ -122,6 +127,7 @@ class ZuptEkfNode(Node):
         """Serialized Imu messages (CDR) in arrival order: navigate, publish, report."""
         imu, malformed = decode_block(IMU, raws)
         self.undecodable += malformed
+        self.diagnostics.received(imu, malformed)
         run = self.navigator.push_many(imu.stamp_ns, imu["linear_acceleration"],
                                        imu["angular_velocity"])
         self.publish(run)
@@ -139,6 +145,15 @@ class ZuptEkfNode(Node):
         if self.navigator.failed is not None:
             self.get_logger().error(f"not navigating: {self.navigator.failed}",
                                     throttle_duration_sec=5.0)
+
+    def diagnostic_counters(self) -> Counters:
+        """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
+        dropped by reason, the gaps and the malformed messages (the log's); the units
+        refused. zupt_ekf takes no corrections."""
+        failed = self.navigator.failed
+        return Counters(self.diagnostics.samples_in,
+                        {**self.navigator.counts, "malformed_cdr": self.undecodable},
+                        failed=None if failed is None else str(failed))
 
     def publish(self, run: FootRun) -> None:
         """Pose, velocity and stance of every sample of the block (raw CDR; a large block

@@ -37,7 +37,10 @@ time. Bad samples and malformed messages are dropped and counted with a throttle
 warning (pdr_pocket.streaming); data in g or deg/s is
 refused with an error until ``~/reset``; when the configuration has magnetic updates, a
 magnetometer quiet for ``mag_wait_s`` of IMU data pauses them with a warning naming its
-topic, and its next reading resumes them (logged too).
+topic, and its next reading resumes them (logged too). The node's health, with those
+counters and the corrections', goes on ``/diagnostics`` once a second
+(pdr_core.node_diagnostics: OK, WARN when something was dropped or a correction refused
+since the last report or while the magnetometer is paused, ERROR while not navigating).
 """
 from __future__ import annotations
 
@@ -54,9 +57,11 @@ from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
 from pdr_core.correction import from_request
+from pdr_core.diagnostics import Counters
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.headers import set_header, stamp_ns, time_ns
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
+from pdr_core.node_diagnostics import NodeDiagnostics
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_wiring import wiring
@@ -64,6 +69,7 @@ from pdr_core.ros_types import message_class
 from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
+from pdr_pocket.compiled_orientation import GAPS
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
@@ -151,6 +157,7 @@ class PocketPdrNode(Node):
         self.mag_was_paused = False
         self.detection_told = self.no_gait_told = False
         self.placement_told = UNKNOWN
+        self.diagnostics = NodeDiagnostics(self, self.diagnostic_counters)
         magnetometer = "magnetic updates" if self.mag_updates else \
             "the first reading's heading only (no magnetic update configured)"
         self.get_logger().info(
@@ -167,6 +174,7 @@ class PocketPdrNode(Node):
         imu, malformed = decode_block(IMU, [raw, *waiting_messages(self.imu_sub,
                                                                    MAX_BLOCK - 1)])
         self.undecodable += malformed
+        self.diagnostics.received(imu, malformed)
         self.sources.add(imu)
         no_gyro = len(imu) and bool(np.all(imu["angular_velocity_covariance"][:, 0] == -1))
         span_ns = self.navigator.mag_wait_s * 0.5e9
@@ -345,6 +353,26 @@ class PocketPdrNode(Node):
                                        "resumed")
         self.mag_was_paused = paused
 
+    def diagnostic_counters(self) -> Counters:
+        """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
+        and readings dropped by reason and the malformed messages (the log's), the gaps
+        the orientation filter propagated over, the refused corrections; the accepted ones
+        and the samples without a magnetometer reading as tallies; the magnetometer off
+        (units) or, with magnetic updates configured, paused; the units refused."""
+        nav = self.navigator
+        corrections = nav.corrections
+        problems = {key: count for key, count in nav.counts.items() if key != "mag_missing"}
+        problems.update(malformed_cdr=self.undecodable, gaps=filter_gaps(nav.navigator),
+                        corrections_refused=corrections["refused"])
+        conditions = {"mag_off": nav.mag_error}
+        if self.mag_updates:
+            conditions["mag_paused"] = (
+                f"no reading on {self.mag_topic} for {nav.mag_wait_s:g} s of IMU data, "
+                "magnetic updates paused") if nav.mag_paused and nav.mag_error is None else None
+        return Counters(self.diagnostics.samples_in, problems,
+                        {"corrections_accepted": corrections["accepted"],
+                         "mag_missing": nav.counts["mag_missing"]}, conditions, nav.failed)
+
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
         self.detection_told = self.no_gait_told = self.mag_was_paused = False
@@ -352,6 +380,14 @@ class PocketPdrNode(Node):
         self.path.poses = []
         response.success, response.message = True, "navigator reset"
         return response
+
+
+def filter_gaps(navigator) -> int:
+    """Gaps longer than ``max_gap_s`` the orientation filter of ``navigator``
+    (pdr_pocket.navigator.PocketNavigator) propagated over so far (0 before its first
+    sample)."""
+    state = navigator.orientation.state
+    return 0 if state is None else int(state.scalars[GAPS])
 
 
 def path_pose(pose: PoseWithCovarianceStamped, heading: float) -> PoseStamped:

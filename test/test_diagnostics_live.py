@@ -1,0 +1,169 @@
+"""The navigators' health on ``/diagnostics``, read live (issue 42, acceptance 2): a real
+``pocket_pdr`` (and ``zupt_ekf``) fed IMU samples from this process at 100 Hz, one of them
+poisoned (NaN), and for ``pocket_pdr`` a correction refused (a negative variance). An
+rclpy subscriber reads ``/diagnostics``: the node's status goes WARN naming the counter
+and how many, and back to OK after a clean report period (pdr_core.diagnostics)."""
+from __future__ import annotations
+
+import math
+import signal
+import time
+
+import numpy as np
+import pytest
+
+from pdr_core import topics
+from pdr_core.diagnostics import Level
+from pdr_core.frames import SENSOR_FRAME
+from pdr_core.topics import DIAGNOSTICS as DIAGNOSTICS_TOPIC
+from wstest import log_text, wait_for_log
+
+pytestmark = pytest.mark.ros
+RATE_HZ = 100.0
+FIRST_STAMP_NS = 1_700_000_000_000_000_000
+FIELD_T = (20e-6, 0.0, -40e-6)      # the Earth's field in the sensor frame [T]
+REPORT_WAIT_S = 5.0                 # a report comes every second; this is ample
+START_WAIT_S = 30.0                 # the first clean report, the node's kernels loaded
+
+
+class Feed:
+    """A sensor at rest published from the test's node: ``imu/data`` (and ``imu/mag``) at
+    :data:`RATE_HZ` of wall-clock time, stamped 1/RATE_HZ apart from
+    :data:`FIRST_STAMP_NS` however late the test's loop runs (no gap in the stamps), and
+    the statuses named ``name`` read from ``/diagnostics``."""
+
+    def __init__(self, ros, name: str, mag: bool) -> None:
+        from diagnostic_msgs.msg import DiagnosticArray
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
+        from sensor_msgs.msg import Imu, MagneticField
+
+        self.node, self.executor = ros
+        qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+        self.imu_pub = self.node.create_publisher(Imu, topics.graph_name(topics.IMU_DATA), qos)
+        self.mag_pub = self.node.create_publisher(
+            MagneticField, topics.graph_name(topics.IMU_MAG), qos) if mag else None
+        self.statuses: list = []        # (the array's stamp [ns], the status)
+        self.node.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, lambda array: (
+            self.statuses.extend((array.header.stamp.sec * 1_000_000_000
+                                  + array.header.stamp.nanosec, s)
+                                 for s in array.status if s.name == name)), 10)
+        self.rng = np.random.default_rng(0)
+        self.sent = 0
+        self.start = time.monotonic()
+        self.poison_next = False
+
+    def wait_for_node(self, proc) -> None:
+        deadline = time.monotonic() + 30
+        while self.imu_pub.get_subscription_count() < 1:
+            assert time.monotonic() < deadline and proc.poll() is None, log_text(proc)
+            self.executor.spin_once(timeout_sec=0.05)
+        self.start = time.monotonic()
+
+    def publish_due(self) -> None:
+        """The samples due by now (at most a second's worth at once)."""
+        from sensor_msgs.msg import Imu, MagneticField
+
+        due = int((time.monotonic() - self.start) * RATE_HZ) - self.sent
+        for _ in range(min(due, int(RATE_HZ))):
+            stamp_ns = FIRST_STAMP_NS + round(self.sent * 1e9 / RATE_HZ)
+            imu = Imu()
+            imu.header.stamp.sec, imu.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
+            imu.header.frame_id = SENSOR_FRAME
+            f = self.rng.normal(0.0, 0.01, 3) + [0.0, 0.0, 9.81]
+            w = self.rng.normal(0.0, 0.001, 3)
+            if self.poison_next:
+                f[0], self.poison_next = math.nan, False
+            imu.linear_acceleration.x, imu.linear_acceleration.y, \
+                imu.linear_acceleration.z = map(float, f)
+            imu.angular_velocity.x, imu.angular_velocity.y, imu.angular_velocity.z = \
+                map(float, w)
+            self.imu_pub.publish(imu)
+            if self.mag_pub is not None:
+                mag = MagneticField()
+                mag.header = imu.header
+                mag.magnetic_field.x, mag.magnetic_field.y, mag.magnetic_field.z = FIELD_T
+                self.mag_pub.publish(mag)
+            self.sent += 1
+
+    def spin(self) -> None:
+        self.publish_due()
+        self.executor.spin_once(timeout_sec=0.02)
+
+    def next_status(self, level: Level, proc, text: str, wait_s: float = REPORT_WAIT_S):
+        """The first status from now on at ``level`` whose message holds ``text``, fed
+        meanwhile, and its array's stamp [ns]; within ``wait_s`` [s]."""
+        seen = len(self.statuses)
+        deadline = time.monotonic() + wait_s
+        while time.monotonic() < deadline:
+            self.spin()
+            for stamp_ns, status in self.statuses[seen:]:
+                if status.level == bytes([level]) and text in status.message:
+                    return status, stamp_ns
+        got = [(s.level, s.message) for _, s in self.statuses[seen:]]
+        raise AssertionError(f"no {level.name} status with {text!r} within {wait_s} s; "
+                             f"got {got}\n{log_text(proc)}")
+
+    def call(self, client, request):
+        """A service call, fed while it is answered."""
+        assert client.wait_for_service(timeout_sec=30)
+        future = client.call_async(request)
+        deadline = time.monotonic() + 30
+        while not future.done() and time.monotonic() < deadline:
+            self.spin()
+        return future.result()
+
+
+def values(status) -> dict[str, str]:
+    return {kv.key: kv.value for kv in status.values}
+
+
+def test_pocket_pdr_goes_warn_on_a_poisoned_sample_and_a_refused_correction(procs, ros):
+    """WARN naming ``non_finite +1``, OK, WARN naming ``corrections_refused +1``, OK; the
+    key-values carry the counts, the arrival rate and the IMU's frame as hardware id, and
+    the array is stamped with the node's clock."""
+    from pdr_msgs.srv import ApplyCorrection
+
+    proc = procs.start("pocket_pdr", name="pocket_pdr")
+    feed = Feed(ros, "pocket_pdr: navigator", mag=True)
+    wait_for_log(proc, "configuration")
+    started = next(x for x in log_text(proc).splitlines() if "configuration" in x)
+    assert DIAGNOSTICS_TOPIC in started.split("publishes")[1].split(";")[0], started
+    feed.wait_for_node(proc)
+    clean, stamp_ns = feed.next_status(Level.OK, proc, "navigating", START_WAIT_S)
+    assert abs(stamp_ns * 1e-9 - time.time()) < 60      # the node's clock: ROS time
+    assert clean.hardware_id == SENSOR_FRAME
+    assert values(clean)["navigating"] == "true" and values(clean)["mag_paused"] == "false"
+
+    feed.poison_next = True
+    warned, _ = feed.next_status(Level.WARN, proc, "non_finite +1 since the last report")
+    assert values(warned)["non_finite"] == "1", values(warned)
+    feed.next_status(Level.OK, proc, "navigating")
+
+    client = ros[0].create_client(ApplyCorrection,
+                                  topics.graph_name(topics.POCKET_APPLY_CORRECTION))
+    response = feed.call(client, ApplyCorrection.Request(yaw=0.01, yaw_variance=-1.0))
+    assert response is not None and not response.accepted, log_text(proc)
+    warned, _ = feed.next_status(Level.WARN, proc, "corrections_refused +1 since the last "
+                                 "report")
+    assert values(warned)["corrections_refused"] == "1"
+    assert values(warned)["non_finite"] == "1"
+    back, _ = feed.next_status(Level.OK, proc, "navigating")
+    assert int(values(back)["samples_in"]) > int(values(clean)["samples_in"])
+    # a whole period fed at 100 Hz (the loop catches up when it runs late)
+    assert 30.0 < float(values(back)["input_rate_hz"]) < 300.0, values(back)
+    assert procs.stop(proc, signal.SIGINT) == 0, log_text(proc)
+
+
+def test_zupt_ekf_goes_warn_on_a_poisoned_sample_and_back_to_ok(procs, ros):
+    """The same for the foot navigator, which takes no corrections."""
+    proc = procs.start("zupt_ekf", name="zupt_ekf")
+    feed = Feed(ros, "zupt_ekf: navigator", mag=False)
+    wait_for_log(proc, "configuration")
+    feed.wait_for_node(proc)
+    clean, _ = feed.next_status(Level.OK, proc, "navigating", START_WAIT_S)
+    assert clean.hardware_id == SENSOR_FRAME and values(clean)["gaps"] == "0"
+    feed.poison_next = True
+    warned, _ = feed.next_status(Level.WARN, proc, "non_finite +1 since the last report")
+    assert values(warned)["non_finite"] == "1", values(warned)
+    feed.next_status(Level.OK, proc, "navigating")
+    assert procs.stop(proc, signal.SIGINT) == 0, log_text(proc)
