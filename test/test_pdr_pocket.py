@@ -407,3 +407,53 @@ def test_a_walk_without_steps_is_reported_and_says_why(procs, tmp_path, scenario
     assert line.startswith(f"pdr-pocket: warning: {tmp_path / 'walk'}: {warning}")
     assert report["warnings"] == [line.split(": ", 3)[3]]
     assert len(BagReader(tmp_path / "run").read("/pdr/pocket/step")) == 0
+
+
+def test_the_pose_is_on_tf(procs, ros, tmp_path):
+    """bag_play → pocket_pdr → a TF listener of this process (issue 42, acceptance 1): the
+    transform map → base_link on /tf at each pose's stamp equals that pose (position [m]
+    and orientation) to 1e-9, for every step of the sample bag (as many as pdr-pocket run
+    finds)."""
+    from geometry_msgs.msg import PoseWithCovarianceStamped
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    from tf2_msgs.msg import TFMessage
+
+    offline = procs.run("pdr-pocket", "run", str(BAG), "--out", str(tmp_path / "offline"))
+    assert offline.returncode == 0, offline.stderr
+    steps = len(BagReader(tmp_path / "offline").read("/pdr/pocket/pose"))
+    node, executor = ros
+    heard: dict[int, tuple] = {}
+    posed: dict[int, tuple] = {}
+
+    def stamp(header) -> int:
+        return header.stamp.sec * 1_000_000_000 + header.stamp.nanosec
+
+    def listen(message) -> None:
+        for t in message.transforms:
+            if (t.header.frame_id, t.child_frame_id) == ("map", "base_link"):
+                r, q = t.transform.translation, t.transform.rotation
+                heard[stamp(t.header)] = (r.x, r.y, r.z, q.x, q.y, q.z, q.w)
+
+    def pose(message) -> None:
+        p, q = message.pose.pose.position, message.pose.pose.orientation
+        posed[stamp(message.header)] = (p.x, p.y, p.z, q.x, q.y, q.z, q.w)
+
+    qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.VOLATILE)
+    node.create_subscription(TFMessage, "/tf", listen, qos)
+    node.create_subscription(PoseWithCovarianceStamped, "pdr/pocket/pose", pose, qos)
+    pocket = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
+                         name="pocket_pdr")
+    wait_for_log(pocket, "publishes")
+    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={BAG}", "-p",
+                       "topics:=[/imu/data, /imu/mag]", "-p", "rate:=0.0", "-p",
+                       "wait_for_subscribers:=1")
+    assert played.returncode == 0, played.stderr
+    deadline = time.monotonic() + 60
+    while min(len(heard), len(posed)) < steps and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.1)
+    assert procs.stop(pocket, signal.SIGINT) == 0, log_text(pocket)
+    assert len(posed) == steps and sorted(heard) == sorted(posed)
+    np.testing.assert_allclose([heard[k] for k in sorted(posed)],
+                               [posed[k] for k in sorted(posed)], rtol=0, atol=1e-9)

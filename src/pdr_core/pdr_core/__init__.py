@@ -37,6 +37,7 @@ Modules:
     diagnostics               A navigator's health from its counters: OK, WARN or ERROR
                               with the reason (no rclpy).
     node_diagnostics          /diagnostics at 1 Hz for a node (diagnostic_msgs).
+    node_tf                   A navigator's pose on /tf (tf2_msgs, REP-105).
   IMU and magnetometer data
     imu_checks                The checks every navigator runs on IMU data, and the CSV
                               importer's unit checks.

@@ -14,6 +14,7 @@ GROUND_TRUTH_LANDMARKS = "/ground_truth/landmarks"  # pocket placement: corners,
 GROUND_TRUTH_STANCE = "/ground_truth/stance"        # foot placement: true zero velocity
 CLOCK = "/clock"
 DIAGNOSTICS = "/diagnostics"                        # diagnostic_msgs/DiagnosticArray, absolute
+TF = "/tf"                                          # tf2_msgs/TFMessage, absolute (REP-105)
 
 # the foot navigator (zupt_ekf, pdr-ekf run)
 FOOT_POSE = "/pdr/foot/pose"

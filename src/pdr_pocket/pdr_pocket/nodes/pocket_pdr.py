@@ -58,12 +58,13 @@ from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
 from pdr_core.correction import from_request
 from pdr_core.diagnostics import Counters
-from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
+from pdr_core.frames import BASE_FRAME, MAP_FRAME, SENSOR_FRAME
 from pdr_core.headers import set_header, stamp_ns, time_ns
 from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
 from pdr_core.node_diagnostics import NodeDiagnostics
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
+from pdr_core.node_tf import pose_transform, tf_publisher
 from pdr_core.node_wiring import wiring
 from pdr_core.ros_types import message_class
 from pdr_core.topics import graph_name
@@ -111,6 +112,10 @@ class PocketPdrNode(Node):
                                  "frame of the steps, poses and path (ENU, REP-105)")
         self.sensor_frame = declare(self, "sensor_frame", SENSOR_FRAME,
                                     "frame of the attitude's rates and the gyro bias (the IMU)")
+        self.base_frame = declare(self, "base_frame", BASE_FRAME,
+                                  "frame whose pose in map_frame goes on /tf (REP-105)")
+        self.publish_tf = declare(self, "publish_tf", True,
+                                  "broadcast map_frame -> base_frame on /tf at each pose")
         durability = declare(self, "imu_durability", "volatile",
                              "durability of the IMU subscriptions, to match the publisher",
                              DURABILITIES)
@@ -146,6 +151,7 @@ class PocketPdrNode(Node):
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped,
                                               graph_name(topics.POCKET_POSE), out)
         self.path_pub = self.create_publisher(Path, graph_name(topics.POCKET_PATH), out)
+        self.tf_pub = tf_publisher(self) if self.publish_tf else None
         self.path = Path()
         self.path.header.frame_id = self.map_frame
         self.create_service(Trigger, "~/reset", self.on_reset)
@@ -235,6 +241,10 @@ class PocketPdrNode(Node):
         msg, pose = self.step_messages(stamp, step, attitude)
         self.step_pub.publish(msg)
         self.pose_pub.publish(pose)
+        if self.tf_pub is not None:
+            p, q = pose.pose.pose.position, pose.pose.pose.orientation
+            self.tf_pub.publish(pose_transform(stamp, self.map_frame, self.base_frame,
+                                               (p.x, p.y, p.z), (q.x, q.y, q.z, q.w)))
         self.path.poses.append(path_pose(pose, step.heading))
         self.path.header.stamp = pose.header.stamp
         self.path_pub.publish(self.path)
