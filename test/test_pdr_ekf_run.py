@@ -25,7 +25,7 @@ def test_sample_bag_outputs_and_report(procs, tmp_path):
     assert report["armse_3d_m"] < 0.05 and report["final_error_pct"] < 0.5
     reader = BagReader(tmp_path / "out")
     assert set(reader.topics) == {"/pdr/foot/pose", "/pdr/foot/velocity", "/pdr/foot/stance",
-                                  "/pdr/foot/path"}
+                                  "/pdr/foot/path", "/pdr/foot/odometry", "/tf", "/tf_static"}
     pose = reader.read("/pdr/foot/pose")
     assert len(pose) == report["samples"] == 6095
     cov = pose["pose.covariance"].reshape(-1, 6, 6)[:, :3, :3]

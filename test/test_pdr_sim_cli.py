@@ -61,7 +61,8 @@ def test_generate_pocket_writes_truth_topics_and_plots(procs, tmp_path):
     assert "66 steps" in result.stdout
     reader = BagReader(tmp_path / "bag")
     assert set(reader.topics) == {"/imu/data", "/imu/mag", "/ground_truth/pose",
-                                  "/ground_truth/step", "/ground_truth/landmarks"}
+                                  "/ground_truth/step", "/ground_truth/landmarks", "/tf",
+                                  "/tf_static"}
     steps = reader.read("/ground_truth/step")
     assert len(steps) == 66 and set(steps["activity"]) == {1}
     record = reader.custom_data("pdr.simulation")

@@ -27,14 +27,16 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                     BagReader(tmp_path / "offline").read_messages("/pdr/foot/smoothed_path")
                     if stamp <= ref.stamp_ns[expected - 1]]  # the segments ended live
     recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
-                           "topics:=[pdr/foot/pose, pdr/foot/stance, pdr/foot/smoothed_path]",
-                           "-p", f"max_messages:={2 * expected + len(ref_smoothed)}",
+                           "topics:=[pdr/foot/pose, pdr/foot/stance, pdr/foot/smoothed_path, "
+                           "pdr/foot/odometry, tf, tf_static]",
+                           "-p", f"max_messages:={4 * expected + 1 + len(ref_smoothed)}",
                            name="record")
     node = procs.start("zupt_ekf", "--ros-args", "-p", f"config:={CONFIG}", "-p",
                        "imu_durability:=transient_local", "-p", "smoothed_path:=true",
                        name="zupt_ekf")
     wait_for_log(recorder, "recording /pdr/foot/pose", "recording /pdr/foot/stance",
-                 "recording /pdr/foot/smoothed_path")
+                 "recording /pdr/foot/smoothed_path", "recording /pdr/foot/odometry",
+                 "recording /tf", "recording /tf_static")
     played = procs.run("bag_play", "--ros-args", "-p", f"bag:={bag}", "-p",
                        "topics:=[/imu/data]", "-p", "rate:=0.0", "-p", "wait_for_subscribers:=1")
     assert played.returncode == 0, played.stderr
@@ -47,6 +49,12 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                                rtol=0, atol=1e-9)
     np.testing.assert_allclose(live["pose.covariance"], ref["pose.covariance"][:expected],
                                rtol=0, atol=1e-12)
+    # the odometry and TF (issue 42): the offline bag's messages, byte for byte
+    for topic in ("/pdr/foot/odometry", "/tf", "/tf_static"):
+        offline_raw = [m.data for m in BagReader(tmp_path / "offline").raw_messages([topic])]
+        live_raw = [m.data for m in BagReader(tmp_path / "live").raw_messages([topic])]
+        assert live_raw == offline_raw[:len(live_raw)] and len(live_raw) == min(
+            expected, len(offline_raw)), topic
     live_smoothed = [path for _, path in
                      BagReader(tmp_path / "live").read_messages("/pdr/foot/smoothed_path")]
     assert len(live_smoothed) == len(ref_smoothed) > 30
@@ -55,3 +63,57 @@ def test_live_node_equals_offline_run(procs, tmp_path):
          for path in live_smoothed for p in path.poses],
         [[p.pose.position.x, p.pose.position.y, p.pose.position.z]
          for path in ref_smoothed for p in path.poses], rtol=0, atol=1e-9)
+
+
+def test_with_an_odom_frame_it_publishes_map_to_odom(procs, tmp_path):
+    """``odom_frame:=odom`` (robot_localization's map instance): another node's
+    odom → base_link comes on /tf (here a bag's: 0.5 m/s forward, 0.1 m/s left, turning
+    0.2 rad/s, every second IMU sample), and zupt_ekf publishes map → odom, such that
+    map → odom · odom → base_link is its pose at every stamp, to 1e-9 m, as
+    ``pdr-ekf run`` gives it."""
+    from scipy.spatial.transform import Rotation
+
+    from pdr_core.bag import write_batches
+    from pdr_core.odometry import transform_batch
+
+    foot = ROOT / "bags" / "foot_walk"
+    imu = BagReader(foot).read("/imu/data")
+    t = (imu.stamp_ns[::2] - imu.stamp_ns[0]) * 1e-9
+    odom_position = np.column_stack([0.5 * t, 0.1 * t, np.zeros_like(t)])
+    odom_rotation = Rotation.from_euler("z", 0.2 * t[:, None])
+    write_batches(tmp_path / "with_odometry", {"/imu/data": imu, "/tf": transform_batch(
+        imu.stamp_ns[::2], "odom", "base_link", odom_position, odom_rotation.as_quat())})
+    offline = procs.run("pdr-ekf", "run", str(foot), "--out", str(tmp_path / "offline"))
+    assert offline.returncode == 0, offline.stderr
+    pose = BagReader(tmp_path / "offline").read("/pdr/foot/pose")
+    expected = len(pose) - load_run_config().detector.context(100.0)[1]
+    recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
+                           "topics:=[tf]", "-p", f"max_messages:={len(t) + expected}",
+                           name="record")
+    node = procs.start("zupt_ekf", "--ros-args", "-p", "imu_durability:=transient_local",
+                       "-p", "odom_frame:=odom", name="zupt_ekf")
+    wait_for_log(node, "/tf map -> odom from odom -> base_link")
+    wait_for_log(recorder, "recording /tf")
+    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={tmp_path / 'with_odometry'}",
+                       "-p", "rate:=0.0", "-p", "wait_for_subscribers:=1")
+    assert played.returncode == 0, played.stderr
+    assert recorder.wait(timeout=120) == 0, log_text(recorder) + log_text(node)
+    assert procs.stop(node, signal.SIGINT) == 0
+    tf = [(m.header.stamp.sec * 10**9 + m.header.stamp.nanosec, m) for m in
+          (msg.transforms[0] for _, msg in BagReader(tmp_path / "live").read_messages("/tf"))]
+    map_odom = [(s, m) for s, m in tf if (m.header.frame_id, m.child_frame_id) == ("map", "odom")]
+    assert len(map_odom) == expected
+    stamps = np.array([s for s, _ in map_odom])
+    np.testing.assert_array_equal(stamps, pose.stamp_ns[:expected])
+    r_mo = Rotation.from_quat([[m.transform.rotation.x, m.transform.rotation.y,
+                                m.transform.rotation.z, m.transform.rotation.w]
+                               for _, m in map_odom])
+    p_mo = np.array([[m.transform.translation.x, m.transform.translation.y,
+                      m.transform.translation.z] for _, m in map_odom])
+    t_pose = (stamps - imu.stamp_ns[0]) * 1e-9      # odom → base_link at the poses' stamps
+    p_ob = np.column_stack([0.5 * t_pose, 0.1 * t_pose, np.zeros_like(t_pose)])
+    r_ob = Rotation.from_euler("z", 0.2 * t_pose[:, None])
+    np.testing.assert_allclose(p_mo + r_mo.apply(p_ob), pose["pose.pose.position"][:expected],
+                               rtol=0, atol=1e-9)
+    r_mb = Rotation.from_quat(pose["pose.pose.orientation"][:expected])
+    assert np.abs(((r_mo * r_ob) * r_mb.inv()).magnitude()).max() < 1e-9

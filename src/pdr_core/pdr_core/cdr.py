@@ -9,8 +9,12 @@ decoded with one NumPy structured view and encoded with one structured array, wi
 per-message Python work beyond splitting the buffer. The result is byte-identical to
 ``rosbags``' serializer (tested).
 
-Types with strings or sequences after the header (``nav_msgs/Path``) go through
-``rosbags``: see :func:`decode_generic` and :mod:`pdr_core.bag`.
+A type with a string after its header (``nav_msgs/Odometry``'s ``child_frame_id``) or a
+``tf2_msgs/TFMessage`` of one transform has a fixed layout too once its strings are known:
+:func:`encode_rows` and :func:`encode` take such a batch when each string field (a str
+array) holds one value, as the poses a navigator broadcasts do. Other types with strings
+or sequences (``nav_msgs/Path``) go through ``rosbags``: see :func:`decode_generic` and
+:mod:`pdr_core.bag`.
 
 Public: :func:`fixed_layout`, :func:`decode`, :func:`decode_rows`, :func:`encode`,
 :func:`encode_rows`, :func:`decode_generic`, :func:`encode_generic`.
@@ -138,6 +142,8 @@ def decode_rows(msgtype: str, rows: np.ndarray) -> MessageBatch:
 
 def _decode_buffer(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> MessageBatch:
     """Messages of ``lengths`` bytes back to back in ``buf``."""
+    if fixed_layout(msgtype) is None:
+        return _decode_with_strings(msgtype, buf, lengths)
     leaves = _require_fixed(msgtype)
     n = len(lengths)
     starts = np.concatenate(([0], np.cumsum(lengths)[:-1])) if n else np.zeros(0, np.int64)
@@ -204,7 +210,10 @@ def _frame_groups(frame_id: np.ndarray):
 def encode_rows(batch: MessageBatch, frame: str, select: slice | np.ndarray = slice(None)
                 ) -> np.ndarray:
     """The CDR of the selected messages of a fixed-layout batch, all in ``frame``, as one
-    (n, message size) uint8 array: row i is message i, encapsulation header included."""
+    (n, message size) uint8 array: row i is message i, encapsulation header included.
+    A type with strings after the header goes through :func:`_encode_with_strings`."""
+    if fixed_layout(batch.msgtype) is None:
+        return _encode_with_strings(batch, frame, select)
     leaves = _require_fixed(batch.msgtype)
     encoded = frame.encode()
     dtype = _record_dtype(batch.msgtype, len(encoded))
@@ -220,8 +229,161 @@ def encode_rows(batch: MessageBatch, frame: str, select: slice | np.ndarray = sl
     return rec.view(np.uint8).reshape(len(rec), dtype.itemsize)
 
 
+@functools.cache
+def _string_entries(msgtype: str) -> tuple[tuple[str, str, np.dtype | None, int], ...]:
+    """(kind, path, dtype, count) of every field of ``msgtype`` in CDR order, the header's
+    included: kind ``value`` (a primitive, a fixed array or a struct of float64, as
+    :class:`Leaf`), ``string`` or ``count`` (a sequence's length; its element's fields
+    follow, named through it). Raises ValueError for a sequence of primitives or a field
+    with no fixed layout."""
+    store = typestore()
+    out: list[tuple[str, str, np.dtype | None, int]] = []
+
+    def walk(name_of: str, prefix: str) -> None:
+        for name, (kind, detail) in store.fielddefs[name_of][1]:
+            path = f"{prefix}{name}"
+            if kind == Nodetype.BASE and detail[0] == "string":
+                out.append(("string", path, None, 0))
+            elif kind == Nodetype.SEQUENCE and detail[0][0] == Nodetype.NAME:
+                out.append(("count", path, np.dtype("<u4"), 1))
+                walk(detail[0][1], f"{path}.")
+            elif kind == Nodetype.NAME and not _is_float_struct(store.fielddefs[detail][1]):
+                walk(detail, f"{path}.")
+            else:
+                leaves: list[Leaf] = []
+                if not _flatten(path, (kind, detail), leaves):
+                    raise ValueError(f"{msgtype}: {path} has no fixed CDR layout")
+                out.extend(("value", leaf.path, leaf.dtype, leaf.count) for leaf in leaves)
+
+    walk(msgtype, "")
+    return tuple(out)
+
+
+@functools.cache
+def _string_record_dtype(msgtype: str, lengths: tuple[int, ...]) -> np.dtype:
+    """Structured dtype of one ``msgtype`` message whose strings have ``lengths`` bytes
+    (in CDR order) and whose sequences one element each; a string is its length
+    (``<path>#length``, uint32) then its bytes with the terminating null."""
+    names, formats, offsets = ["cdr"], [("u1", (4,))], [0]
+    pos, strings = 0, iter(lengths)
+    for kind, path, dtype, count in _string_entries(msgtype):
+        if kind == "string":
+            size = next(strings) + 1
+            pos = -(-pos // 4) * 4
+            names += [f"{path}#length", path]
+            formats += ["<u4", f"S{size}"]
+            offsets += [4 + pos, 8 + pos]
+            pos += 4 + size
+            continue
+        pos = -(-pos // dtype.itemsize) * dtype.itemsize
+        names.append(path)
+        formats.append(dtype if count == 1 else (dtype, (count,)))
+        offsets.append(4 + pos)
+        pos += dtype.itemsize * count
+    return np.dtype({"names": names, "formats": formats, "offsets": offsets,
+                     "itemsize": 4 + pos})
+
+
+def _encode_with_strings(batch: MessageBatch, frame: str, select: slice | np.ndarray
+                         ) -> np.ndarray:
+    """:func:`encode_rows` of a type with strings after its header (see the module's
+    docstring): the header's frame is ``frame``, each other string the one value of its
+    field, each sequence one element. Raises ValueError when a string differs between
+    the messages."""
+    entries = _string_entries(batch.msgtype)
+    stamps = batch.stamp_ns[select]
+    strings: dict[str, bytes] = {}
+    for kind, path, _, _ in entries:
+        if kind != "string":
+            continue
+        values = [frame] if path.endswith("header.frame_id") else \
+            np.unique(batch.fields[path][select]).tolist()
+        if len(values) > 1:
+            raise ValueError(f"{batch.msgtype}: {path} differs between the messages "
+                             f"({values[:3]}); encode each value's messages apart")
+        strings[path] = str(values[0] if values else "").encode()
+    dtype = _string_record_dtype(batch.msgtype, tuple(len(v) for v in strings.values()))
+    sec, nanosec = np.divmod(stamps, _NS)
+    rec = np.zeros(len(stamps), dtype)
+    rec["cdr"] = np.frombuffer(_CDR_LE, np.uint8)
+    for kind, path, _, _ in entries:
+        if kind == "string":
+            rec[f"{path}#length"] = len(strings[path]) + 1
+            rec[path] = strings[path]
+        elif kind == "count":
+            rec[path] = 1
+        elif path.endswith("header.stamp.sec"):
+            rec[path] = sec
+        elif path.endswith("header.stamp.nanosec"):
+            rec[path] = nanosec
+        else:
+            rec[path] = batch.fields[path][select]
+    return rec.view(np.uint8).reshape(len(rec), dtype.itemsize)
+
+
+def _string_lengths(msgtype: str, raw: np.ndarray) -> tuple[int, ...]:
+    """The byte lengths of one message's strings (CDR order, without the null), read
+    along its layout. Raises ValueError for a sequence of other than one element or a
+    message too short."""
+    pos, lengths = 0, []
+    payload = raw[4:]
+    for kind, path, dtype, count in _string_entries(msgtype):
+        size = 4 if kind in ("string", "count") else dtype.itemsize
+        pos = -(-pos // size) * size
+        if pos + 4 > len(payload) and kind != "value":
+            raise ValueError(f"{msgtype}: message of {len(raw)} bytes ends in {path}")
+        if kind == "value":
+            pos += size * count
+            continue
+        value = int(payload[pos:pos + 4].view("<u4")[0])
+        if kind == "count" and value != 1:
+            raise ValueError(f"{msgtype}: {path} holds {value} elements; one is read here "
+                             "(use decode_generic)")
+        if kind == "string":
+            lengths.append(value - 1)
+            pos += value
+        pos += 4
+    return tuple(lengths)
+
+
+def _decode_with_strings(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> MessageBatch:
+    """:func:`decode` of a type with strings after its header (the module's docstring):
+    messages grouped by the lengths of their strings, each group through one view. The
+    header's frame is the batch's frame_id, each other string a str field."""
+    n = len(lengths)
+    starts = np.concatenate(([0], np.cumsum(lengths)[:-1])) if n else np.zeros(0, np.int64)
+    keys = [_string_lengths(msgtype, buf[s:s + size]) for s, size in
+            zip(starts.tolist(), lengths.tolist(), strict=True)]
+    entries = _string_entries(msgtype)
+    strings = [path for kind, path, _, _ in entries if kind == "string"]
+    values = [(path, dtype, count) for kind, path, dtype, count in entries
+              if kind == "value" and not path.endswith(("header.stamp.sec",
+                                                        "header.stamp.nanosec"))]
+    stamp_ns = np.zeros(n, np.int64)
+    text = {path: np.empty(n, dtype=object) for path in strings}
+    fields = {path: np.zeros((n,) if count == 1 else (n, count), dtype)
+              for path, dtype, count in values}
+    for key in dict.fromkeys(keys):
+        idx = np.flatnonzero([k == key for k in keys])
+        dtype = _string_record_dtype(msgtype, key)
+        if int(lengths[idx].min()) < dtype.itemsize:
+            raise ValueError(f"{msgtype}: message shorter than its layout")
+        rows = buf[starts[idx, None] + np.arange(dtype.itemsize)]
+        view = np.ascontiguousarray(rows).view(dtype).ravel()
+        sec = next(p for p in dtype.names if p.endswith("header.stamp.sec"))
+        stamp_ns[idx] = view[sec].astype(np.int64) * _NS + view[sec.replace(".sec", ".nanosec")]
+        for path in strings:
+            text[path][idx] = _decoded_frames(view[path])
+        for path, _, _ in values:
+            fields[path][idx] = view[path]
+    frame = next(p for p in strings if p.endswith("header.frame_id"))
+    fields |= {path: column.astype(str) for path, column in text.items() if path != frame}
+    return MessageBatch(msgtype, stamp_ns, text[frame].astype(str), fields)
+
+
 def encode(batch: MessageBatch) -> list[bytes]:
-    """Serialize every message of a fixed-layout batch to CDR, in order."""
+    """Serialize every message of a fixed-layout batch (or one of
+    :func:`_encode_with_strings`' types) to CDR, in order."""
     n = len(batch)
     out: list[bytes] = [b""] * n
     for frame, idx in _frame_groups(batch.frame_id):

@@ -1,43 +1,110 @@
-"""A navigator's pose on TF (REP-105; issue 42): ``map_frame → base_frame`` as a
-tf2_msgs/TFMessage on ``/tf`` (rclpy imported inside the functions, as pdr_core's node
-helpers do; ``tf2_msgs`` is the workspace's own when no other is installed,
-docs/ros_install.md).
+"""A navigator's pose on TF (REP-105; issue 42), for both navigator nodes (rclpy imported
+inside the functions, as pdr_core's node helpers do; ``tf2_msgs`` is the workspace's own
+when no other is installed, docs/ros_install.md).
 
-- :func:`tf_publisher`: the ``/tf`` publisher, with TF's QoS (reliable, volatile, depth 100,
-  as tf2_ros' broadcaster);
-- :func:`pose_transform`: the TFMessage of one pose.
+:class:`TfBroadcaster` declares the node's TF parameters and publishes, as raw CDR
+(pdr_core.cdr, pdr_core.odometry):
+
+- on ``/tf``, at each pose, ``map_frame → base_frame``; or, when ``odom_frame`` is given,
+  ``map_frame → odom_frame`` from the ``odom_frame → base_frame`` transform another node
+  (wheel or visual odometry) puts on ``/tf``, as robot_localization's map instance does
+  (pdr_core.transform_history, the ``/tf`` messages waiting in the queue taken first); a
+  pose with no such transform at its stamp publishes nothing and is counted
+  (``tf_no_odom``);
+- on ``/tf_static``, once, at the first pose's stamp, the identity ``base_frame →
+  sensor_frame`` (pdr_core.odometry.static_batch).
+
+The publishers have TF's QoS: reliable and volatile on ``/tf`` (deep enough for a block
+of poses published in acknowledged slices), reliable and transient local, depth 1, on
+``/tf_static``, as tf2_ros' broadcasters.
 """
 from __future__ import annotations
 
-from pdr_core import topics
-from pdr_core.headers import set_header
+import numpy as np
 
-TF_DEPTH = 100
+from pdr_core import cdr, topics
+from pdr_core.backlog import publish_acked, waiting_messages
+from pdr_core.frames import BASE_FRAME
+from pdr_core.node_params import declare
+from pdr_core.odometry import static_batch, transform_batch
+from pdr_core.transform_history import TransformHistory, map_to_odom
+
+# /tf history [messages]: a navigator's block of poses goes out in acknowledged slices of
+# up to 500 (pdr_core.backlog.publish_acked); tf2_ros' broadcaster keeps 100
+TF_DEPTH = 1000
+# odom → base transforms kept at most, not yet passed by a pose (10 min at 100 Hz)
+ODOM_KEPT = 60_000
 
 
-def tf_publisher(node):
-    """A publisher of tf2_msgs/TFMessage on ``/tf`` for ``node``."""
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+class TfBroadcaster:
+    """The TF of one navigator node: its parameters (``publish_tf``, ``base_frame``,
+    ``odom_frame``), publishers and, with ``odom_frame``, the odometry it reads."""
 
-    from tf2_msgs.msg import TFMessage
+    def __init__(self, node, map_frame: str, sensor_frame: str) -> None:
+        self.map_frame, self.sensor_frame = map_frame, sensor_frame
+        self.enabled = declare(node, "publish_tf", True,
+                               "broadcast map_frame -> base_frame (or -> odom_frame) on /tf")
+        self.base_frame = declare(node, "base_frame", BASE_FRAME,
+                                  "the frame whose pose the navigator estimates (REP-105)")
+        self.odom_frame = declare(node, "odom_frame", "", "when given: publish map_frame -> "
+                                  "odom_frame from the odom_frame -> base_frame on /tf")
+        self.no_odom = 0
+        self.static_sent = False
+        self.odometry = TransformHistory(ODOM_KEPT)
+        if not self.enabled:
+            return
+        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-    return node.create_publisher(TFMessage, topics.TF, QoSProfile(
-        depth=TF_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.VOLATILE))
+        from tf2_msgs.msg import TFMessage
 
+        self.tf_pub = node.create_publisher(TFMessage, topics.TF, QoSProfile(
+            depth=TF_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
+            durability=DurabilityPolicy.VOLATILE))
+        self.static_pub = node.create_publisher(TFMessage, topics.TF_STATIC, QoSProfile(
+            depth=1, reliability=ReliabilityPolicy.RELIABLE,
+            durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        if self.odom_frame:
+            self.odom_sub = node.create_subscription(TFMessage, topics.TF, self.on_tf, QoSProfile(
+                depth=TF_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
+                durability=DurabilityPolicy.VOLATILE))
 
-def pose_transform(stamp_ns: int, parent: str, child: str, position, quaternion_xyzw):
-    """The TFMessage of ``child``'s pose in ``parent`` at ``stamp_ns`` [ns]: the position
-    [m] (3,) and the orientation, a unit quaternion (x, y, z, w)."""
-    from geometry_msgs.msg import TransformStamped
+    def describe(self) -> str:
+        """The start-up line's part: what goes on /tf."""
+        if not self.enabled:
+            return "no /tf"
+        if self.odom_frame:
+            return (f"/tf {self.map_frame} -> {self.odom_frame} from {self.odom_frame} -> "
+                    f"{self.base_frame}")
+        return f"/tf {self.map_frame} -> {self.base_frame}"
 
-    from tf2_msgs.msg import TFMessage
+    def on_tf(self, msg) -> None:
+        """Keep the ``odom_frame → base_frame`` transforms of a /tf message."""
+        for t in msg.transforms:
+            if t.header.frame_id == self.odom_frame and t.child_frame_id == self.base_frame:
+                p, q = t.transform.translation, t.transform.rotation
+                self.odometry.add(t.header.stamp.sec * 1_000_000_000 + t.header.stamp.nanosec,
+                                  np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]))
 
-    transform = TransformStamped()
-    set_header(transform.header, stamp_ns, parent)
-    transform.child_frame_id = child
-    t = transform.transform.translation
-    t.x, t.y, t.z = map(float, position)
-    r = transform.transform.rotation
-    r.x, r.y, r.z, r.w = map(float, quaternion_xyzw)
-    return TFMessage(transforms=[transform])
+    def broadcast(self, stamp_ns: np.ndarray, position: np.ndarray, quaternion_xyzw: np.ndarray,
+                  slice_len: int, ack_timeout) -> None:
+        """The poses [m], (x, y, z, w) of ``base_frame`` in ``map_frame`` at ``stamp_ns``
+        [ns]: on /tf (see the module), in acknowledged slices of ``slice_len``."""
+        if not self.enabled or not len(stamp_ns):
+            return
+        if not self.static_sent:
+            self.static_pub.publish(cdr.encode(static_batch(int(stamp_ns[0]), self.base_frame,
+                                                            self.sensor_frame))[0])
+            self.static_sent = True
+        child = self.base_frame
+        if self.odom_frame:
+            # the /tf messages that came before these poses and wait behind the executor
+            while taken := waiting_messages(self.odom_sub, TF_DEPTH):
+                for msg in taken:
+                    self.on_tf(msg)
+            odom_position, odom_quaternion, found = self.odometry.at(stamp_ns)
+            self.no_odom += int(np.sum(~found))
+            stamp_ns, child = stamp_ns[found], self.odom_frame
+            position, quaternion_xyzw = map_to_odom(position[found], quaternion_xyzw[found],
+                                                    odom_position, odom_quaternion)
+        publish_acked([(self.tf_pub, transform_batch(stamp_ns, self.map_frame, child, position,
+                                                     quaternion_xyzw))], slice_len, ack_timeout)

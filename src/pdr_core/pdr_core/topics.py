@@ -15,11 +15,13 @@ GROUND_TRUTH_STANCE = "/ground_truth/stance"        # foot placement: true zero 
 CLOCK = "/clock"
 DIAGNOSTICS = "/diagnostics"                        # diagnostic_msgs/DiagnosticArray, absolute
 TF = "/tf"                                          # tf2_msgs/TFMessage, absolute (REP-105)
+TF_STATIC = "/tf_static"                            # tf2_msgs/TFMessage, absolute, latched
 
 # the foot navigator (zupt_ekf, pdr-ekf run)
 FOOT_POSE = "/pdr/foot/pose"
 FOOT_VELOCITY = "/pdr/foot/velocity"
 FOOT_STANCE = "/pdr/foot/stance"
+FOOT_ODOMETRY = "/pdr/foot/odometry"                # nav_msgs/Odometry, for a fusion node
 FOOT_PATH = "/pdr/foot/path"
 FOOT_SMOOTHED_PATH = "/pdr/foot/smoothed_path"
 
@@ -28,6 +30,7 @@ POCKET_ATTITUDE = "/pdr/pocket/attitude"
 POCKET_GYRO_BIAS = "/pdr/pocket/gyro_bias"
 POCKET_STEP = "/pdr/pocket/step"
 POCKET_POSE = "/pdr/pocket/pose"
+POCKET_ODOMETRY = "/pdr/pocket/odometry"            # nav_msgs/Odometry, for a fusion node
 POCKET_PATH = "/pdr/pocket/path"
 POCKET_CORRECTED_PATH = "/pdr/pocket/corrected_path"   # pdr-drift run's offline correction
 POCKET_APPLY_CORRECTION = "/pdr/pocket/apply_correction"   # the service pocket_pdr offers

@@ -41,6 +41,7 @@ from pdr_ins_ekf.offline import (
     smoothed_paths,
     stance_scores,
     step_path,
+    tf_batches,
 )
 from pdr_ins_ekf.studies.cli import add_study_commands
 from pdr_ins_ekf.zupt_ekf import SMOOTHER_MODES
@@ -104,7 +105,7 @@ def _run_run(args: argparse.Namespace) -> int:
         smoothed = smoothed_paths(result)
         report["smoothed"] = step_report(t_s, result.smoothed.position, truth,
                                          result.stance) | {"segments": len(smoothed)}
-    outputs = output_batches(result)
+    outputs = output_batches(result) | tf_batches(result)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
         writer.write_merged(outputs)
         writer.add_topic(topics.FOOT_PATH, PATH)

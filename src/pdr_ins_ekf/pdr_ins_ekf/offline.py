@@ -1,8 +1,9 @@
 """The foot navigator on a whole recording: input checks, alignment, filter, outputs.
 
 :func:`navigate` takes an ``imu/data`` batch and returns a :class:`FootRun`; the message
-batches of the outputs (``pdr/foot/pose``, ``velocity``, ``stance``, ``path``) come from
-:func:`output_batches`. Bad input never stops the run silently:
+batches of the outputs (``pdr/foot/pose``, ``velocity``, ``odometry``, ``stance``) come
+from :func:`output_batches`, the path's from :func:`step_path`, ``/tf`` and ``/tf_static``
+from :func:`tf_batches`. Bad input never stops the run silently:
 
 - samples with NaN/Inf are dropped and counted; so are stamps that do not increase;
 - gaps longer than ``max_gap_s`` are propagated (the covariance grows with the gap) and
@@ -20,10 +21,21 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.batch import LazyBatch, MessageBatch
 from pdr_core.errors import InputError
-from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
+from pdr_core.frames import BASE_FRAME, MAP_FRAME, SENSOR_FRAME
 from pdr_core.imu_checks import check_units, clean_samples
-from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, TWIST_WITH_COVARIANCE_STAMPED
+from pdr_core.msgtypes import (
+    ODOMETRY,
+    POSE_WITH_COVARIANCE_STAMPED,
+    TWIST_WITH_COVARIANCE_STAMPED,
+)
 from pdr_core.nav_path import encode_path
+from pdr_core.odometry import (
+    ANGULAR,
+    LINEAR,
+    UNKNOWN_VARIANCE,
+    odometry_fields,
+)
+from pdr_core.odometry import tf_batches as pose_tf
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.kernel_data import ATTITUDE, AXES
@@ -32,9 +44,6 @@ from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
 STANCE = "pdr_msgs/msg/Stance"
 IMU_GRAPH = topics.graph_name(topics.IMU_DATA)     # the input errors name
-UNKNOWN_VARIANCE = 1e6
-# the blocks of a geometry_msgs 6×6 covariance: x, y, z, then about the x, y, z axes
-LINEAR, ANGULAR = slice(0, 3), slice(3, 6)
 
 
 @dataclass
@@ -116,19 +125,24 @@ def stance_scores(run_: FootRun, truth: MessageBatch) -> dict[str, float | int |
             "detected_fraction": float(detected.mean()) if n else None}
 
 
-def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch]:
-    """``pdr/foot/pose``, ``velocity`` and ``stance`` with covariances, built block by
-    block as they are written."""
+def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE_FRAME
+                   ) -> dict[str, LazyBatch]:
+    """``pdr/foot/pose``, ``velocity``, ``odometry`` (``base_frame``'s pose in ``frame``,
+    its velocity in ``base_frame``) and ``stance`` with covariances, built block by block
+    as they are written."""
     out, n = run_.output, len(run_.stamp_ns)
 
-    def pose(index: slice) -> dict[str, np.ndarray]:
+    def pose_covariance(index: slice) -> np.ndarray:
         cov = np.zeros((len(out.position[index]), 6, 6))
         cov[:, LINEAR, LINEAR] = out.position_cov[index]
         cov[:, ANGULAR, ANGULAR] = (out.variance[index, ATTITUDE:ATTITUDE + AXES, None]
                                     * np.eye(3))
+        return cov
+
+    def pose(index: slice) -> dict[str, np.ndarray]:
         return {"pose.pose.position": out.position[index],
                 "pose.pose.orientation": quaternion_from_orthonormal(out.attitude[index]),
-                "pose.covariance": cov.reshape(-1, 36)}
+                "pose.covariance": pose_covariance(index).reshape(-1, 36)}
 
     def velocity(index: slice) -> dict[str, np.ndarray]:
         cov = np.zeros((len(out.velocity[index]), 6, 6))
@@ -138,15 +152,32 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME) -> dict[str, LazyBatch
                 "twist.twist.angular": np.zeros((len(cov), 3)),
                 "twist.covariance": cov.reshape(-1, 36)}
 
+    def odometry(index: slice) -> dict[str, np.ndarray]:
+        c = out.attitude[index]                 # C_b^n: the velocity to the body, Cᵀ·v
+        return odometry_fields(
+            base_frame, out.position[index], quaternion_from_orthonormal(c),
+            pose_covariance(index), np.einsum("nji,nj->ni", c, out.velocity[index]),
+            np.einsum("nji,njk,nkl->nil", c, out.velocity_cov[index], c))
+
     detector = np.full(n, run_.detector, np.uint8)
     return {
         topics.FOOT_POSE: LazyBatch(POSE_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame, pose),
         topics.FOOT_VELOCITY: LazyBatch(TWIST_WITH_COVARIANCE_STAMPED, run_.stamp_ns, frame,
                                         velocity),
+        topics.FOOT_ODOMETRY: LazyBatch(ODOMETRY, run_.stamp_ns, frame, odometry),
         topics.FOOT_STANCE: LazyBatch(STANCE, run_.stamp_ns, SENSOR_FRAME, lambda index: {
             "stationary": run_.stance[index], "statistic": run_.statistic[index],
             "detector": detector[index]}),
     }
+
+
+def tf_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE_FRAME,
+               sensor_frame: str = SENSOR_FRAME) -> dict[str, LazyBatch | MessageBatch]:
+    """``/tf``: ``frame → base_frame`` at every sample; ``/tf_static``: ``base_frame →
+    sensor_frame``, the identity, at the first (pdr_core.odometry)."""
+    out = run_.output
+    return pose_tf(run_.stamp_ns, frame, base_frame, sensor_frame, lambda index: (
+        out.position[index], quaternion_from_orthonormal(out.attitude[index])))
 
 
 def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, bytes]]:

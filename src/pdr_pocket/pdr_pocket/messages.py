@@ -1,10 +1,12 @@
 """The pocket navigator's outputs as messages, one packing for the live node
 (``pocket_pdr``) and the bag ``pdr-pocket run`` writes.
 
-- :func:`step_batches`: ``pdr/pocket/step`` (pdr_msgs/Step) and ``pdr/pocket/pose``
+- :func:`step_batches`: ``pdr/pocket/step`` (pdr_msgs/Step), ``pdr/pocket/pose``
   (geometry_msgs/PoseWithCovarianceStamped, the thigh's attitude and the position with
-  its covariance) at each step's confirmation, stamped with the IMU sample that
-  confirmed it (:func:`step_stamps`), from :func:`step_fields` and :func:`pose_fields`;
+  its covariance) and ``pdr/pocket/odometry`` (nav_msgs/Odometry, the same pose with the
+  attitude's covariance too) at each step's confirmation, stamped with the IMU sample
+  that confirmed it (:func:`step_stamps`), from :func:`step_fields`, :func:`pose_fields`
+  and :func:`odometry_step_fields`;
 - :func:`path_batch`: the steps' poses for ``pdr/pocket/path``;
 - :func:`attitude_batches`: ``pdr/pocket/attitude`` (sensor_msgs/Imu with orientation and
   its covariance, REP-145) and ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped) at
@@ -16,15 +18,18 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.batch import MessageBatch
-from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
+from pdr_core.frames import BASE_FRAME, MAP_FRAME, SENSOR_FRAME
 from pdr_core.msgtypes import (
     IMU,
+    ODOMETRY,
     POSE_STAMPED,
     POSE_WITH_COVARIANCE_STAMPED,
     STEP,
     VECTOR3_STAMPED,
 )
+from pdr_core.odometry import ANGULAR, odometry_fields, tf_batches
 from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_pocket.compiled_orientation import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.orientation import AttitudeEstimate
 from pdr_pocket.records import NavigatorOutput, StepRecord
@@ -61,13 +66,37 @@ def pose_fields(steps: list[StepRecord], attitude: np.ndarray) -> dict[str, np.n
             "pose.covariance": cov.reshape(-1, 36)}
 
 
-def step_batches(out: NavigatorOutput, stamp_ns: np.ndarray) -> dict[str, MessageBatch]:
-    steps, t = out.steps, out.attitude.t
-    stamps = step_stamps(steps, stamp_ns, t)
-    at = np.clip(np.searchsorted(t, [s.t_confirm for s in steps]), 0, len(t) - 1)
+def odometry_step_fields(steps: list[StepRecord], attitude: np.ndarray,
+                         attitude_covariance: np.ndarray, base_frame: str = BASE_FRAME
+                         ) -> dict[str, np.ndarray]:
+    """nav_msgs/Odometry of ``base_frame`` at each step: the pose of :func:`pose_fields`
+    with the orientation filter's attitude covariance (N, 3, 3) [rad²] in its rotation
+    block; no velocity (the navigator has steps, not a velocity state: the twist's
+    variances are pdr_core.odometry.UNKNOWN_VARIANCE)."""
+    pose = pose_fields(steps, attitude)
+    cov = pose["pose.covariance"].reshape(-1, 6, 6)
+    cov[:, ANGULAR, ANGULAR] = attitude_covariance
+    return odometry_fields(base_frame, pose["pose.pose.position"],
+                           pose["pose.pose.orientation"], cov)
+
+
+def _step_samples(out: NavigatorOutput, stamp_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The stamps [ns] and sample indices of the steps' confirmations."""
+    t = out.attitude.t
+    at = np.clip(np.searchsorted(t, [s.t_confirm for s in out.steps]), 0, len(t) - 1)
+    return step_stamps(out.steps, stamp_ns, t), at
+
+
+def step_batches(out: NavigatorOutput, stamp_ns: np.ndarray, base_frame: str = BASE_FRAME
+                 ) -> dict[str, MessageBatch]:
+    steps = out.steps
+    stamps, at = _step_samples(out, stamp_ns)
+    attitude = out.attitude.attitude[at]
     return {topics.POCKET_STEP: MessageBatch(STEP, stamps, MAP_FRAME, step_fields(steps)),
             topics.POCKET_POSE: MessageBatch(POSE_WITH_COVARIANCE_STAMPED, stamps, MAP_FRAME,
-                                     pose_fields(steps, out.attitude.attitude[at]))}
+                                             pose_fields(steps, attitude)),
+            topics.POCKET_ODOMETRY: MessageBatch(ODOMETRY, stamps, MAP_FRAME, odometry_step_fields(
+                steps, attitude, out.attitude.covariance[at][:, ATT_ROWS, ATT_ROWS], base_frame))}
 
 
 def path_batch(steps: list[StepRecord], stamps: np.ndarray) -> MessageBatch:
@@ -78,6 +107,19 @@ def path_batch(steps: list[StepRecord], stamps: np.ndarray) -> MessageBatch:
     return MessageBatch(POSE_STAMPED, stamps, MAP_FRAME, {
         "pose.position": np.array([s.position for s in steps]).reshape(-1, 3),
         "pose.orientation": quat})
+
+
+def step_tf(out: NavigatorOutput, stamp_ns: np.ndarray) -> dict[str, MessageBatch]:
+    """A bag's ``/tf`` (``map → base_link`` at each step, the pose of ``pdr/pocket/pose``)
+    and ``/tf_static`` (``base_link → imu_link``; pdr_core.odometry.tf_batches); none
+    without a step."""
+    if not out.steps:
+        return {}
+    stamps, at = _step_samples(out, stamp_ns)
+    position = np.array([s.position for s in out.steps]).reshape(-1, 3)
+    quaternion = quaternion_from_orthonormal(out.attitude.attitude[at])
+    return tf_batches(stamps, MAP_FRAME, BASE_FRAME, SENSOR_FRAME,
+                      lambda index: (position[index], quaternion[index]))
 
 
 def step_positions(steps: list[StepRecord]) -> np.ndarray:

@@ -22,6 +22,7 @@ from pdr_pocket.messages import (
     step_batches,
     step_positions,
     step_stamps,
+    step_tf,
 )
 from pdr_pocket.records import StepRecord
 from pdr_pocket.run_report import navigation_report, true_floors
@@ -149,7 +150,8 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     with BagWriter(out, overwrite=overwrite, custom_data={RUN_RECORD: record_text}) as writer:
         writer.write_merged(attitude_batches(inputs, result.attitude,
                                              navigator.orientation.params.gyro_noise_var)
-                            | step_batches(result, inputs.stamp_ns))
+                            | step_batches(result, inputs.stamp_ns)
+                            | step_tf(result, inputs.stamp_ns))
         if steps:
             writer.write_raw(topics.POCKET_PATH, PATH, int(stamps[-1]),
                              encode_path(path_batch(steps, stamps), int(stamps[-1]), MAP_FRAME))

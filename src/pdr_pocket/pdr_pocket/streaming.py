@@ -100,10 +100,15 @@ def stamp_of(t0_ns: int, t_s: float) -> int:
     return t0_ns + round(t_s * 1e9)
 
 
+def sample_at(output: NavigatorOutput, step: StepRecord) -> int:
+    """The index of ``output``'s sample that confirmed the step."""
+    a = output.attitude
+    return min(int(np.searchsorted(a.t, step.t_confirm)), len(a.t) - 1)
+
+
 def attitude_at(output: NavigatorOutput, step: StepRecord) -> np.ndarray:
     """C_b^n (3, 3) of ``output`` at the step's confirmation (the pose's orientation)."""
-    a = output.attitude
-    return a.attitude[min(int(np.searchsorted(a.t, step.t_confirm)), len(a.t) - 1)]
+    return output.attitude.attitude[sample_at(output, step)]
 
 
 @dataclass(frozen=True)

@@ -42,6 +42,7 @@ from pdr_core.csv_import import (
 )
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
+from pdr_core.odometry import truth_tf
 from pdr_sim.allan_report import allan_report
 from pdr_sim.foot_trajectory import level_walk_like
 from pdr_sim.overrides import with_overrides
@@ -133,7 +134,8 @@ def _run_generate(args: argparse.Namespace) -> int:
     config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
                               args.gravity, family, args.pressure)
     sim = simulate(config)
-    write_batches(args.out, sim.batches, overwrite=args.overwrite, compress=args.compress,
+    write_batches(args.out, sim.batches | truth_tf(sim.pose), overwrite=args.overwrite,
+                  compress=args.compress,
                   custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(sim),
                                                                 sort_keys=False)})
     print(f"{args.out}: {scenario.name}, {len(sim.imu)} samples at {args.rate:g} Hz "
@@ -349,6 +351,7 @@ def _run_import_csv(args: argparse.Namespace) -> int:
     batches = {topics.IMU_DATA: result.imu}
     if result.pose is not None:
         batches[topics.GROUND_TRUTH_POSE] = result.pose
+        batches |= truth_tf(result.pose)
     if result.mag is not None:
         batches[topics.IMU_MAG] = result.mag
     if result.pressure is not None:

@@ -1,19 +1,23 @@
 """Node ``zupt_ekf``: the foot navigator on ``imu/data``, live.
 
 Subscribes ``imu/data`` (sensor_msgs/Imu) and publishes, per sample, ``pdr/foot/pose``
-(PoseWithCovarianceStamped), ``pdr/foot/velocity`` (TwistWithCovarianceStamped) and
-``pdr/foot/stance`` (pdr_msgs/Stance), and at the end of every step ``pdr/foot/path``
-(one pose per step). With ``smoothed_path`` true it also publishes
-``pdr/foot/smoothed_path``: one Path per segment of the segmented RTS smoother
-(Simón Colomar et al. 2012), with every sample's smoothed pose, as soon as the segment
-ends (its lag and its memory are bounded by the segment). Serves ``~/reset``
-(std_srvs/Trigger).
+(PoseWithCovarianceStamped), ``pdr/foot/velocity`` (TwistWithCovarianceStamped),
+``pdr/foot/odometry`` (nav_msgs/Odometry: the pose and its covariance, the velocity in
+``base_frame``, for a fusion node), ``pdr/foot/stance`` (pdr_msgs/Stance) and the pose on
+``/tf`` (pdr_core.node_tf: ``map_frame → base_frame``, or ``map_frame → odom_frame``),
+and at the end of every step ``pdr/foot/path`` (one pose per step). With
+``smoothed_path`` true it also publishes ``pdr/foot/smoothed_path``: one Path per segment
+of the segmented RTS smoother (Simón Colomar et al. 2012), with every sample's smoothed
+pose, as soon as the segment ends (its lag and its memory are bounded by the segment).
+Serves ``~/reset`` (std_srvs/Trigger).
 
 Parameters (docs/nodes.md): ``config`` (navigator YAML, see pdr_ins_ekf.config; default
 the installed config/foot_ekf.yaml) or ``imu_profile`` (the shipped
 config/foot_ekf_<profile>.yaml), ``map_frame`` (the frame of the poses and paths:
-REP-105's map, pdr_core.frames), ``imu_durability`` (volatile or transient_local, to match
-the publisher), ``smoothed_path`` (false). The start-up line names the resolved topics and
+REP-105's map, pdr_core.frames), ``sensor_frame`` (the IMU's frame, placed on
+``/tf_static`` at ``base_frame``), ``publish_tf`` (true), ``base_frame`` (base_link),
+``odom_frame`` (empty), ``imu_durability`` (volatile or transient_local, to match the
+publisher), ``smoothed_path`` (false). The start-up line names the resolved topics and
 services.
 
 Estimates lag the input by the detector's look-ahead (a few samples) and agree with
@@ -35,6 +39,7 @@ import dataclasses
 
 import numpy as np
 from geometry_msgs.msg import PoseWithCovarianceStamped, TwistWithCovarianceStamped
+from nav_msgs.msg import Odometry
 from nav_msgs.msg import Path as PathMsg
 from rclpy.duration import Duration
 from rclpy.node import Node
@@ -45,12 +50,14 @@ from std_srvs.srv import Trigger
 from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.diagnostics import Counters
-from pdr_core.frames import MAP_FRAME
+from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.msgtypes import IMU
 from pdr_core.node_diagnostics import NodeDiagnostics
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
+from pdr_core.node_tf import TfBroadcaster
 from pdr_core.node_wiring import wiring
+from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_core.topics import graph_name
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import FootRun, output_batches, pose_path
@@ -84,6 +91,9 @@ class ZuptEkfNode(Node):
                           "consumer_phone)")
         self.map_frame = declare(self, "map_frame", MAP_FRAME,
                                  "frame of the poses, velocities and paths (ENU, REP-105)")
+        sensor_frame = declare(self, "sensor_frame", SENSOR_FRAME,
+                               "the IMU's frame (REP-145), at base_frame on /tf_static")
+        self.tf = TfBroadcaster(self, self.map_frame, sensor_frame)
         durability = declare(self, "imu_durability", "volatile",
                              "durability of the IMU subscription, to match the publisher",
                              ("volatile", "transient_local"))
@@ -107,6 +117,7 @@ class ZuptEkfNode(Node):
             topic: self.create_publisher(kind, graph_name(topic), out)
             for topic, kind in ((topics.FOOT_POSE, PoseWithCovarianceStamped),
                                 (topics.FOOT_VELOCITY, TwistWithCovarianceStamped),
+                                (topics.FOOT_ODOMETRY, Odometry),
                                 (topics.FOOT_STANCE, Stance))}
         self.path_pub = self.create_publisher(PathMsg, graph_name(topics.FOOT_PATH), latched)
         self.smoothed_pub = self.create_publisher(PathMsg, graph_name(topics.FOOT_SMOOTHED_PATH),
@@ -117,7 +128,8 @@ class ZuptEkfNode(Node):
         self.reported: dict[str, int] = {}
         self.diagnostics = NodeDiagnostics(self, self.diagnostic_counters)
         self.get_logger().info(f"zupt_ekf: configuration {path or profile or 'default'}; "
-                               f"map frame {self.map_frame}; {wiring(self)}")
+                               f"map frame {self.map_frame}; {self.tf.describe()}; "
+                               f"{wiring(self)}")
 
     def on_imu(self, raw: bytes) -> None:
         """One message from the executor, and the ones waiting behind it, as one block."""
@@ -149,20 +161,26 @@ class ZuptEkfNode(Node):
     def diagnostic_counters(self) -> Counters:
         """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
         dropped by reason, the gaps and the malformed messages (the log's); the units
-        refused. zupt_ekf takes no corrections."""
+        refused; the poses not on /tf for want of an odom_frame transform at their stamp.
+        zupt_ekf takes no corrections."""
         failed = self.navigator.failed
         return Counters(self.diagnostics.samples_in,
-                        {**self.navigator.counts, "malformed_cdr": self.undecodable},
+                        {**self.navigator.counts, "malformed_cdr": self.undecodable,
+                         "tf_no_odom": self.tf.no_odom},
                         failed=None if failed is None else str(failed))
 
     def publish(self, run: FootRun) -> None:
-        """Pose, velocity and stance of every sample of the block (raw CDR; a large block
-        in acknowledged slices, see HISTORY), and the step path if a step began in it."""
+        """Pose, velocity, odometry, stance and TF of every sample of the block (raw CDR; a
+        large block in acknowledged slices, see HISTORY), and the step path if a step began
+        in it."""
         if not len(run.stamp_ns):
             return
-        batches = output_batches(run, self.map_frame)
+        batches = output_batches(run, self.map_frame, self.tf.base_frame)
         publish_acked([(self.estimate_pubs[topic], batch) for topic, batch in batches.items()],
                       HISTORY // 2, ACK_TIMEOUT)
+        self.tf.broadcast(run.stamp_ns, run.output.position,
+                          quaternion_from_orthonormal(run.output.attitude), HISTORY // 2,
+                          ACK_TIMEOUT)
         if self.steps.add(run):
             self.path_pub.publish(self.steps.path(self.map_frame))
 

@@ -7,7 +7,10 @@ Subscribes ``imu/data`` (sensor_msgs/Imu, REP-145), ``imu/mag``
 barometer fused with the steps, pdr_pocket.height_filter) and publishes, per sample,
 ``pdr/pocket/attitude`` (sensor_msgs/Imu with the orientation and its covariance, REP-145) and
 ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped); per step, ``pdr/pocket/step``
-(pdr_msgs/Step), ``pdr/pocket/pose`` (geometry_msgs/PoseWithCovarianceStamped) and
+(pdr_msgs/Step), ``pdr/pocket/pose`` (geometry_msgs/PoseWithCovarianceStamped),
+``pdr/pocket/odometry`` (nav_msgs/Odometry: the pose with the position's and the
+attitude's covariance, for a fusion node; pdr_pocket.messages), the pose on ``/tf``
+(pdr_core.node_tf: ``map_frame → base_frame``, or ``map_frame → odom_frame``) and
 ``pdr/pocket/path`` (nav_msgs/Path, every step so far), stamped with the IMU sample that
 confirmed the step. Serves ``~/reset`` (std_srvs/Trigger) and
 ``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection: yaw and z gyro bias added
@@ -46,35 +49,40 @@ from __future__ import annotations
 
 import numpy as np
 from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, Vector3Stamped
-from nav_msgs.msg import Path
+from nav_msgs.msg import Odometry, Path
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import Imu, MagneticField
 from std_srvs.srv import Trigger
 
-from pdr_core import topics
+from pdr_core import cdr, topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
 from pdr_core.correction import from_request
 from pdr_core.diagnostics import Counters
-from pdr_core.frames import BASE_FRAME, MAP_FRAME, SENSOR_FRAME
+from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.headers import set_header, stamp_ns, time_ns
-from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
+from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, ODOMETRY
 from pdr_core.node_diagnostics import NodeDiagnostics
 from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
-from pdr_core.node_tf import pose_transform, tf_publisher
+from pdr_core.node_tf import TfBroadcaster
 from pdr_core.node_wiring import wiring
 from pdr_core.ros_types import message_class
 from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
-from pdr_pocket.compiled_orientation import GAPS
+from pdr_pocket.compiled_orientation import ATT_ROWS, GAPS
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.messages import attitude_batches, pose_fields, step_fields
+from pdr_pocket.messages import (
+    attitude_batches,
+    odometry_step_fields,
+    pose_fields,
+    step_fields,
+)
 from pdr_pocket.placement import UNKNOWN, stride_choice
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
 from pdr_pocket.streaming import (
@@ -82,7 +90,7 @@ from pdr_pocket.streaming import (
     MAG_WAIT_S,
     CorrectionResult,
     StreamingPocket,
-    attitude_at,
+    sample_at,
 )
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
@@ -112,10 +120,7 @@ class PocketPdrNode(Node):
                                  "frame of the steps, poses and path (ENU, REP-105)")
         self.sensor_frame = declare(self, "sensor_frame", SENSOR_FRAME,
                                     "frame of the attitude's rates and the gyro bias (the IMU)")
-        self.base_frame = declare(self, "base_frame", BASE_FRAME,
-                                  "frame whose pose in map_frame goes on /tf (REP-105)")
-        self.publish_tf = declare(self, "publish_tf", True,
-                                  "broadcast map_frame -> base_frame on /tf at each pose")
+        self.tf = TfBroadcaster(self, self.map_frame, self.sensor_frame)
         durability = declare(self, "imu_durability", "volatile",
                              "durability of the IMU subscriptions, to match the publisher",
                              DURABILITIES)
@@ -150,8 +155,9 @@ class PocketPdrNode(Node):
         self.step_pub = self.create_publisher(Step, graph_name(topics.POCKET_STEP), out)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped,
                                               graph_name(topics.POCKET_POSE), out)
+        self.odometry_pub = self.create_publisher(Odometry, graph_name(topics.POCKET_ODOMETRY),
+                                                  out)
         self.path_pub = self.create_publisher(Path, graph_name(topics.POCKET_PATH), out)
-        self.tf_pub = tf_publisher(self) if self.publish_tf else None
         self.path = Path()
         self.path.header.frame_id = self.map_frame
         self.create_service(Trigger, "~/reset", self.on_reset)
@@ -168,7 +174,8 @@ class PocketPdrNode(Node):
             "the first reading's heading only (no magnetic update configured)"
         self.get_logger().info(
             f"pocket_pdr: configuration {path or 'default'}; map frame {self.map_frame}, "
-            f"sensor frame {self.sensor_frame}; {self.mag_topic}: {magnetometer}; "
+            f"sensor frame {self.sensor_frame}; {self.tf.describe()}; "
+            f"{self.mag_topic}: {magnetometer}; "
             f"strides: {stride_choice(self.navigator.navigator.config.step_length)}; "
             f"{wiring(self)}")
 
@@ -234,17 +241,22 @@ class PocketPdrNode(Node):
                            (self.bias_pub, batches[topics.POCKET_GYRO_BIAS])], HISTORY // 2,
                           ACK_TIMEOUT)
             for step in out.steps:
-                self.publish_step(chunk.stamp_of(step.t_confirm), step, attitude_at(out, step))
+                i = sample_at(out, step)
+                self.publish_step(chunk.stamp_of(step.t_confirm), step, out.attitude.attitude[i],
+                                  out.attitude.covariance[i, ATT_ROWS, ATT_ROWS])
 
-    def publish_step(self, stamp: int, step, attitude: np.ndarray) -> None:
-        """Step, pose and path of one step (fields packed as pdr-pocket run packs them)."""
+    def publish_step(self, stamp: int, step, attitude: np.ndarray,
+                     attitude_covariance: np.ndarray) -> None:
+        """Step, pose, odometry, TF and path of one step (fields packed as pdr-pocket run
+        packs them): C_b^n (3, 3) and its covariance (3, 3) [rad²] at the step."""
         msg, pose = self.step_messages(stamp, step, attitude)
         self.step_pub.publish(msg)
         self.pose_pub.publish(pose)
-        if self.tf_pub is not None:
-            p, q = pose.pose.pose.position, pose.pose.pose.orientation
-            self.tf_pub.publish(pose_transform(stamp, self.map_frame, self.base_frame,
-                                               (p.x, p.y, p.z), (q.x, q.y, q.z, q.w)))
+        odometry = MessageBatch(ODOMETRY, np.array([stamp]), self.map_frame, odometry_step_fields(
+            [step], attitude[None], attitude_covariance[None], self.tf.base_frame))
+        self.odometry_pub.publish(cdr.encode(odometry)[0])
+        self.tf.broadcast(odometry.stamp_ns, odometry["pose.pose.position"],
+                          odometry["pose.pose.orientation"], HISTORY // 2, ACK_TIMEOUT)
         self.path.poses.append(path_pose(pose, step.heading))
         self.path.header.stamp = pose.header.stamp
         self.path_pub.publish(self.path)
@@ -368,12 +380,13 @@ class PocketPdrNode(Node):
         and readings dropped by reason and the malformed messages (the log's), the gaps
         the orientation filter propagated over, the refused corrections; the accepted ones
         and the samples without a magnetometer reading as tallies; the magnetometer off
-        (units) or, with magnetic updates configured, paused; the units refused."""
+        (units) or, with magnetic updates configured, paused; the units refused; the poses
+        not on /tf for want of an odom_frame transform at their stamp."""
         nav = self.navigator
         corrections = nav.corrections
         problems = {key: count for key, count in nav.counts.items() if key != "mag_missing"}
         problems.update(malformed_cdr=self.undecodable, gaps=filter_gaps(nav.navigator),
-                        corrections_refused=corrections["refused"])
+                        corrections_refused=corrections["refused"], tf_no_odom=self.tf.no_odom)
         conditions = {"mag_off": nav.mag_error}
         if self.mag_updates:
             conditions["mag_paused"] = (

@@ -1,0 +1,97 @@
+"""The bags ``pdr-sim``, ``pdr-ekf run`` and ``pdr-pocket run`` write carry ``/tf`` and
+``/tf_static`` (REP-105), so a viewer places them in ``map`` with no setting changed, and
+the navigators' ``nav_msgs/Odometry`` is their pose with its covariance (issue 42)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from pdr_core.bag import BagReader
+from wstest import ROOT, cli
+
+
+def transforms(reader: BagReader, topic: str = "/tf"):
+    """(stamps [ns], parent, child, positions, quaternions) of a bag's TF messages of one
+    transform each."""
+    items = [msg.transforms for _, msg in reader.read_messages(topic)]
+    assert all(len(t) == 1 for t in items)
+    ts = [t[0] for t in items]
+    return (np.array([t.header.stamp.sec * 10**9 + t.header.stamp.nanosec for t in ts]),
+            {t.header.frame_id for t in ts}, {t.child_frame_id for t in ts},
+            np.array([[t.transform.translation.x, t.transform.translation.y,
+                       t.transform.translation.z] for t in ts]),
+            np.array([[t.transform.rotation.x, t.transform.rotation.y, t.transform.rotation.z,
+                       t.transform.rotation.w] for t in ts]))
+
+
+def assert_static_identity(reader: BagReader) -> None:
+    stamps, parent, child, position, quaternion = transforms(reader, "/tf_static")
+    assert len(stamps) == 1 and parent == {"base_link"} and child == {"imu_link"}
+    np.testing.assert_array_equal(position, [[0, 0, 0]])
+    np.testing.assert_array_equal(quaternion, [[0, 0, 0, 1]])
+
+
+@pytest.mark.parametrize("bag", ["foot_walk", "pocket_walk", "vicon_walk"])
+def test_a_recording_puts_its_true_pose_on_tf(bag):
+    """pdr-sim generate and import-csv (the sample bags are theirs, test_sample_bags.py)."""
+    reader = BagReader(ROOT / "bags" / bag)
+    truth = reader.read("/ground_truth/pose")
+    stamps, parent, child, position, quaternion = transforms(reader)
+    assert parent == {"map"} and child == {"ground_truth"}
+    np.testing.assert_array_equal(stamps, truth.stamp_ns)
+    np.testing.assert_array_equal(position, truth["pose.position"])
+    np.testing.assert_array_equal(quaternion, truth["pose.orientation"])
+    assert_static_identity(reader)
+
+
+def test_the_foot_bag_has_its_pose_on_tf_and_as_odometry(tmp_path):
+    result = cli("pdr-ekf", "run", str(ROOT / "bags" / "foot_walk"), "--out", str(tmp_path / "out"))
+    assert result.returncode == 0, result.stderr
+    reader = BagReader(tmp_path / "out")
+    pose, velocity = reader.read("/pdr/foot/pose"), reader.read("/pdr/foot/velocity")
+    stamps, parent, child, position, quaternion = transforms(reader)
+    assert parent == {"map"} and child == {"base_link"}
+    np.testing.assert_array_equal(stamps, pose.stamp_ns)
+    np.testing.assert_array_equal(position, pose["pose.pose.position"])
+    np.testing.assert_array_equal(quaternion, pose["pose.pose.orientation"])
+    assert_static_identity(reader)
+    odometry = [msg for _, msg in reader.read_messages("/pdr/foot/odometry")]
+    assert len(odometry) == len(pose)
+    assert {m.header.frame_id for m in odometry} == {"map"}
+    assert {m.child_frame_id for m in odometry} == {"base_link"}
+    np.testing.assert_array_equal([m.pose.covariance for m in odometry],
+                                  pose["pose.covariance"])
+    # the twist in the body: Cᵀ·v, its covariance Cᵀ·P·C (REP-105: in child_frame_id)
+    c = Rotation.from_quat(pose["pose.pose.orientation"]).as_matrix()
+    v_map = velocity["twist.twist.linear"]
+    v_body = np.array([[m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z]
+                       for m in odometry])
+    np.testing.assert_allclose(np.einsum("nij,nj->ni", c, v_body), v_map, atol=1e-12)
+    p_map = velocity["twist.covariance"].reshape(-1, 6, 6)[:, :3, :3]
+    p_body = np.array([m.twist.covariance for m in odometry]).reshape(-1, 6, 6)[:, :3, :3]
+    np.testing.assert_allclose(np.einsum("nij,njk,nlk->nil", c, p_body, c), p_map, atol=1e-15)
+
+
+def test_the_pocket_bag_has_each_step_on_tf_and_as_odometry(tmp_path):
+    result = cli("pdr-pocket", "run", str(ROOT / "bags" / "pocket_walk"), "--out",
+                 str(tmp_path / "out"))
+    assert result.returncode == 0, result.stderr
+    reader = BagReader(tmp_path / "out")
+    pose = reader.read("/pdr/pocket/pose")
+    stamps, parent, child, position, quaternion = transforms(reader)
+    assert parent == {"map"} and child == {"base_link"} and len(stamps) == 122
+    np.testing.assert_array_equal(stamps, pose.stamp_ns)
+    np.testing.assert_array_equal(position, pose["pose.pose.position"])
+    np.testing.assert_array_equal(quaternion, pose["pose.pose.orientation"])
+    assert_static_identity(reader)
+    odometry = [msg for _, msg in reader.read_messages("/pdr/pocket/odometry")]
+    cov = np.array([m.pose.covariance for m in odometry]).reshape(-1, 6, 6)
+    np.testing.assert_array_equal(cov[:, :3, :3],
+                                  pose["pose.covariance"].reshape(-1, 6, 6)[:, :3, :3])
+    # the attitude's covariance, which pdr/pocket/pose leaves out, is in the odometry
+    attitude = reader.read("/pdr/pocket/attitude")
+    at = np.searchsorted(attitude.stamp_ns, pose.stamp_ns)
+    np.testing.assert_array_equal(cov[:, 3:, 3:].reshape(-1, 9),
+                                  attitude["orientation_covariance"][at])
+    assert (np.array([m.twist.covariance for m in odometry])[:, ::7] == 1e6).all()
