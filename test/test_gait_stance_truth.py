@@ -18,7 +18,8 @@ from pdr_ins_ekf.zupt_ekf import run
 from pdr_sim.scenario import load_scenario
 from pdr_sim.simulation import SimulationConfig, simulate
 
-FOOT_TOPICS = {"/imu/data", "/imu/mag", "/ground_truth/pose", "/ground_truth/stance"}
+FOOT_TOPICS = {"/imu/data", "/imu/mag", "/ground_truth/pose", "/ground_truth/stance", "/tf",
+               "/tf_static"}
 
 
 @pytest.fixture

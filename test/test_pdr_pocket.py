@@ -121,9 +121,10 @@ def test_live_node_equals_offline_run(procs, tmp_path):
     ref = reference.read("/pdr/pocket/attitude")
     ref_steps, ref_poses = reference.read("/pdr/pocket/step"), reference.read("/pdr/pocket/pose")
     expected = len(ref)     # the last sample goes out when its magnetometer reading comes
-    topics = "[pdr/pocket/attitude, pdr/pocket/gyro_bias, pdr/pocket/step, pdr/pocket/pose]"
+    topics = ("[pdr/pocket/attitude, pdr/pocket/gyro_bias, pdr/pocket/step, pdr/pocket/pose, "
+              "pdr/pocket/odometry, tf_static]")
     node, live_bag = played_live(procs, tmp_path, BAG, "[/imu/data, /imu/mag]", topics,
-                                 2 * expected + 2 * len(ref_steps))
+                                 2 * expected + 3 * len(ref_steps) + 1)
     live = live_bag.read("/pdr/pocket/attitude")
     assert len(live) == expected
     np.testing.assert_array_equal(live.stamp_ns, ref.stamp_ns[:expected])
@@ -140,6 +141,18 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                                rtol=0, atol=1e-9)
     np.testing.assert_allclose(poses["pose.covariance"], ref_poses["pose.covariance"], rtol=0,
                                atol=1e-9)
+    # the attitude of each step's own sample, the first step's too (it is confirmed in a
+    # later chunk than its sample's)
+    np.testing.assert_allclose(poses["pose.pose.orientation"],
+                               ref_poses["pose.pose.orientation"], rtol=0, atol=1e-9)
+    # the odometry with the attitude's covariance, and /tf_static (issue 42), as offline
+    odometry = [m for _, m in live_bag.read_messages("/pdr/pocket/odometry")]
+    ref_odometry = [m for _, m in reference.read_messages("/pdr/pocket/odometry")]
+    assert len(odometry) == len(ref_odometry) == len(ref_steps)
+    np.testing.assert_allclose([m.pose.covariance for m in odometry],
+                               [m.pose.covariance for m in ref_odometry], rtol=0, atol=1e-9)
+    assert [m.data for m in live_bag.raw_messages(["/tf_static"])] == \
+        [m.data for m in reference.raw_messages(["/tf_static"])]
     # the start-up log says how strides are chosen, and the log the placement found
     log = log_text(node)
     assert "strides: auto: the pitch line on a thigh's swing (front pocket)" in log

@@ -25,6 +25,18 @@ def transforms(reader: BagReader, topic: str = "/tf"):
                        t.transform.rotation.w] for t in ts]))
 
 
+def assert_tf_equals(reader: BagReader, child: str, stamp_ns: np.ndarray, position: np.ndarray,
+                     orientation: np.ndarray) -> None:
+    """/tf holds ``map → child`` at exactly these stamps, positions and orientations, and
+    /tf_static the identity ``base_link → imu_link``."""
+    stamps, parent, children, tf_position, quaternion = transforms(reader)
+    assert parent == {"map"} and children == {child}
+    np.testing.assert_array_equal(stamps, stamp_ns)
+    np.testing.assert_array_equal(tf_position, position)
+    np.testing.assert_array_equal(quaternion, orientation)
+    assert_static_identity(reader)
+
+
 def assert_static_identity(reader: BagReader) -> None:
     stamps, parent, child, position, quaternion = transforms(reader, "/tf_static")
     assert len(stamps) == 1 and parent == {"base_link"} and child == {"imu_link"}
@@ -37,12 +49,8 @@ def test_a_recording_puts_its_true_pose_on_tf(bag):
     """pdr-sim generate and import-csv (the sample bags are theirs, test_sample_bags.py)."""
     reader = BagReader(ROOT / "bags" / bag)
     truth = reader.read("/ground_truth/pose")
-    stamps, parent, child, position, quaternion = transforms(reader)
-    assert parent == {"map"} and child == {"ground_truth"}
-    np.testing.assert_array_equal(stamps, truth.stamp_ns)
-    np.testing.assert_array_equal(position, truth["pose.position"])
-    np.testing.assert_array_equal(quaternion, truth["pose.orientation"])
-    assert_static_identity(reader)
+    assert_tf_equals(reader, "ground_truth", truth.stamp_ns, truth["pose.position"],
+                     truth["pose.orientation"])
 
 
 def test_the_foot_bag_has_its_pose_on_tf_and_as_odometry(tmp_path):
@@ -50,12 +58,8 @@ def test_the_foot_bag_has_its_pose_on_tf_and_as_odometry(tmp_path):
     assert result.returncode == 0, result.stderr
     reader = BagReader(tmp_path / "out")
     pose, velocity = reader.read("/pdr/foot/pose"), reader.read("/pdr/foot/velocity")
-    stamps, parent, child, position, quaternion = transforms(reader)
-    assert parent == {"map"} and child == {"base_link"}
-    np.testing.assert_array_equal(stamps, pose.stamp_ns)
-    np.testing.assert_array_equal(position, pose["pose.pose.position"])
-    np.testing.assert_array_equal(quaternion, pose["pose.pose.orientation"])
-    assert_static_identity(reader)
+    assert_tf_equals(reader, "base_link", pose.stamp_ns, pose["pose.pose.position"],
+                     pose["pose.pose.orientation"])
     odometry = [msg for _, msg in reader.read_messages("/pdr/foot/odometry")]
     assert len(odometry) == len(pose)
     assert {m.header.frame_id for m in odometry} == {"map"}
@@ -79,12 +83,9 @@ def test_the_pocket_bag_has_each_step_on_tf_and_as_odometry(tmp_path):
     assert result.returncode == 0, result.stderr
     reader = BagReader(tmp_path / "out")
     pose = reader.read("/pdr/pocket/pose")
-    stamps, parent, child, position, quaternion = transforms(reader)
-    assert parent == {"map"} and child == {"base_link"} and len(stamps) == 122
-    np.testing.assert_array_equal(stamps, pose.stamp_ns)
-    np.testing.assert_array_equal(position, pose["pose.pose.position"])
-    np.testing.assert_array_equal(quaternion, pose["pose.pose.orientation"])
-    assert_static_identity(reader)
+    assert len(pose) == 122
+    assert_tf_equals(reader, "base_link", pose.stamp_ns, pose["pose.pose.position"],
+                     pose["pose.pose.orientation"])
     odometry = [msg for _, msg in reader.read_messages("/pdr/pocket/odometry")]
     cov = np.array([m.pose.covariance for m in odometry]).reshape(-1, 6, 6)
     np.testing.assert_array_equal(cov[:, :3, :3],

@@ -8,9 +8,10 @@ when no other is installed, docs/ros_install.md).
 - on ``/tf``, at each pose, ``map_frame → base_frame``; or, when ``odom_frame`` is given,
   ``map_frame → odom_frame`` from the ``odom_frame → base_frame`` transform another node
   (wheel or visual odometry) puts on ``/tf``, as robot_localization's map instance does
-  (pdr_core.transform_history, the ``/tf`` messages waiting in the queue taken first); a
-  pose with no such transform at its stamp publishes nothing and is counted
-  (``tf_no_odom``);
+  (pdr_core.transform_history). A pose waits until the odometry has reached its stamp
+  (the ``/tf`` messages in the queue are read first), at most :data:`ODOM_WAIT_S` of pose
+  time, so the topics may come in any order; a pose with no transform around its stamp
+  publishes nothing and is counted (``tf_no_odom``);
 - on ``/tf_static``, once, at the first pose's stamp, the identity ``base_frame →
   sensor_frame`` (pdr_core.odometry.static_batch).
 
@@ -34,14 +35,24 @@ from pdr_core.transform_history import TransformHistory, map_to_odom
 TF_DEPTH = 1000
 # odom → base transforms kept at most, not yet passed by a pose (10 min at 100 Hz)
 ODOM_KEPT = 60_000
+# how long a pose waits for the odometry to reach its stamp [s of pose time]: longer than
+# a block of poses spans (400 samples, 4 s at 100 Hz: a bag played as fast as it goes
+# brings whole blocks ahead of the odometry read so far); tf2's buffer keeps 10 s too
+ODOM_WAIT_S = 10.0
 
 
 class TfBroadcaster:
     """The TF of one navigator node: its parameters (``publish_tf``, ``base_frame``,
     ``odom_frame``), publishers and, with ``odom_frame``, the odometry it reads."""
 
-    def __init__(self, node, map_frame: str, sensor_frame: str) -> None:
+    def __init__(self, node, map_frame: str, sensor_frame: str, slice_len: int,
+                 ack_timeout) -> None:
+        """``slice_len`` messages at most go out before the reliable subscribers have
+        acknowledged them, waiting ``ack_timeout`` (an rclpy Duration) at most
+        (pdr_core.backlog.publish_acked)."""
         self.map_frame, self.sensor_frame = map_frame, sensor_frame
+        self.slice_len, self.ack_timeout = slice_len, ack_timeout
+        self.waiting: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
         self.enabled = declare(node, "publish_tf", True,
                                "broadcast map_frame -> base_frame (or -> odom_frame) on /tf")
         self.base_frame = declare(node, "base_frame", BASE_FRAME,
@@ -53,7 +64,7 @@ class TfBroadcaster:
         self.odometry = TransformHistory(ODOM_KEPT)
         if not self.enabled:
             return
-        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+        from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
         from tf2_msgs.msg import TFMessage
 
@@ -64,8 +75,10 @@ class TfBroadcaster:
             depth=1, reliability=ReliabilityPolicy.RELIABLE,
             durability=DurabilityPolicy.TRANSIENT_LOCAL))
         if self.odom_frame:
+            # keep all: a transform overwritten before it was read leaves a gap the poses
+            # would be interpolated across (the IMU subscriptions keep all too)
             self.odom_sub = node.create_subscription(TFMessage, topics.TF, self.on_tf, QoSProfile(
-                depth=TF_DEPTH, reliability=ReliabilityPolicy.RELIABLE,
+                history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                 durability=DurabilityPolicy.VOLATILE))
 
     def describe(self) -> str:
@@ -78,33 +91,58 @@ class TfBroadcaster:
         return f"/tf {self.map_frame} -> {self.base_frame}"
 
     def on_tf(self, msg) -> None:
-        """Keep the ``odom_frame → base_frame`` transforms of a /tf message."""
+        """Keep the ``odom_frame → base_frame`` transforms of a /tf message, and publish
+        the poses that waited for them."""
         for t in msg.transforms:
             if t.header.frame_id == self.odom_frame and t.child_frame_id == self.base_frame:
                 p, q = t.transform.translation, t.transform.rotation
                 self.odometry.add(t.header.stamp.sec * 1_000_000_000 + t.header.stamp.nanosec,
                                   np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]))
+        self._publish_waiting()
 
-    def broadcast(self, stamp_ns: np.ndarray, position: np.ndarray, quaternion_xyzw: np.ndarray,
-                  slice_len: int, ack_timeout) -> None:
+    def broadcast(self, stamp_ns: np.ndarray, position: np.ndarray, quaternion_xyzw: np.ndarray
+                  ) -> None:
         """The poses [m], (x, y, z, w) of ``base_frame`` in ``map_frame`` at ``stamp_ns``
-        [ns]: on /tf (see the module), in acknowledged slices of ``slice_len``."""
+        [ns, ascending]: on /tf (see the module)."""
         if not self.enabled or not len(stamp_ns):
             return
         if not self.static_sent:
             self.static_pub.publish(cdr.encode(static_batch(int(stamp_ns[0]), self.base_frame,
                                                             self.sensor_frame))[0])
             self.static_sent = True
-        child = self.base_frame
-        if self.odom_frame:
-            # the /tf messages that came before these poses and wait behind the executor
-            while taken := waiting_messages(self.odom_sub, TF_DEPTH):
-                for msg in taken:
-                    self.on_tf(msg)
-            odom_position, odom_quaternion, found = self.odometry.at(stamp_ns)
-            self.no_odom += int(np.sum(~found))
-            stamp_ns, child = stamp_ns[found], self.odom_frame
-            position, quaternion_xyzw = map_to_odom(position[found], quaternion_xyzw[found],
-                                                    odom_position, odom_quaternion)
-        publish_acked([(self.tf_pub, transform_batch(stamp_ns, self.map_frame, child, position,
-                                                     quaternion_xyzw))], slice_len, ack_timeout)
+        if not self.odom_frame:
+            self._publish(stamp_ns, self.base_frame, position, quaternion_xyzw)
+            return
+        self.waiting.append((stamp_ns, position, quaternion_xyzw))
+        while taken := waiting_messages(self.odom_sub, TF_DEPTH):  # read before these poses
+            for msg in taken:
+                self.on_tf(msg)
+        self._publish_waiting()
+
+    def _publish_waiting(self) -> None:
+        """``map_frame → odom_frame`` at the waiting poses the odometry has reached; those
+        that waited ``ODOM_WAIT_S`` of pose time in vain are counted (``tf_no_odom``)."""
+        if not self.waiting:
+            return
+        stamps = np.concatenate([w[0] for w in self.waiting])
+        position = np.concatenate([w[1] for w in self.waiting])
+        quaternion = np.concatenate([w[2] for w in self.waiting])
+        newest = self.odometry.newest_ns()
+        reached = stamps <= newest if newest is not None else np.zeros(len(stamps), bool)
+        expired = ~reached & (stamps < stamps[-1] - ODOM_WAIT_S * 1e9)
+        self.no_odom += int(expired.sum())
+        keep = ~reached & ~expired
+        self.waiting = [(stamps[keep], position[keep], quaternion[keep])] if keep.any() else []
+        odom_position, odom_quaternion, found = self.odometry.at(stamps[reached])
+        self.no_odom += int(np.sum(~found))
+        pose = np.flatnonzero(reached)[found]
+        self._publish(stamps[pose], self.odom_frame, *map_to_odom(
+            position[pose], quaternion[pose], odom_position, odom_quaternion))
+
+    def _publish(self, stamp_ns: np.ndarray, child: str, position: np.ndarray,
+                 quaternion_xyzw: np.ndarray) -> None:
+        """``map_frame → child`` on /tf, in acknowledged slices."""
+        if len(stamp_ns):
+            publish_acked([(self.tf_pub, transform_batch(stamp_ns, self.map_frame, child,
+                                                         position, quaternion_xyzw))],
+                          self.slice_len, self.ack_timeout)

@@ -47,6 +47,11 @@ class TransformHistory:
         self.stamp_ns, self.position, self.quaternion = (
             stamps[keep], position[keep], quaternion[keep])
 
+    def newest_ns(self) -> int | None:
+        """The latest stamp kept [ns] (None: none)."""
+        self._merge()
+        return int(self.stamp_ns[-1]) if len(self.stamp_ns) else None
+
     def at(self, stamp_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The poses at ``stamp_ns`` (N,) [ns, ascending] inside the kept span: positions
         (K, 3), quaternions (K, 4) and which of the N stamps had one (N,) bool, K of

@@ -53,9 +53,11 @@ from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
 from pdr_core.sample_pairing import readings_at_samples
+from pdr_pocket.compiled_orientation import ATT_ROWS
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.orientation import AttitudeEstimate
 from pdr_pocket.records import NavigatorOutput, StepRecord
 from pdr_pocket.samples import Samples
 
@@ -73,16 +75,22 @@ minute costs 60 checkpoints of the navigator's state and a minute of samples."""
 CHECKPOINT_EVERY_S = 1.0
 """The navigator's state is kept at most this often [s of IMU data]: a correction runs
 again at most this much besides the samples since its step."""
+ATTITUDE_KEPT_S = 30.0
+"""How long the orientation filter's output is kept [s of IMU data]: a step is confirmed
+after its sample, the first one, once the thigh frame is learnt, up to seconds after and
+in a later chunk; its pose takes the attitude of its own sample, as offline."""
 
 
 @dataclass(frozen=True)
 class Processed:
-    """Samples the navigator took: their stamps [ns], its output for them and the stamp
-    of its time 0 [ns]."""
+    """Samples the navigator took: their stamps [ns], its output for them, the stamp of
+    its time 0 [ns], and for each of its steps the attitude C_b^n (3, 3) and its
+    covariance (3, 3) [rad²] at the sample that confirmed it (:class:`AttitudeTail`)."""
 
     stamp_ns: np.ndarray
     output: NavigatorOutput
     t0_ns: int
+    step_attitude: list[tuple[np.ndarray, np.ndarray]]
 
     def stamp_of(self, t_s: float) -> int:
         """The stamp [ns] of the navigator time ``t_s`` (a step's confirmation)."""
@@ -100,15 +108,34 @@ def stamp_of(t0_ns: int, t_s: float) -> int:
     return t0_ns + round(t_s * 1e9)
 
 
-def sample_at(output: NavigatorOutput, step: StepRecord) -> int:
-    """The index of ``output``'s sample that confirmed the step."""
-    a = output.attitude
-    return min(int(np.searchsorted(a.t, step.t_confirm)), len(a.t) - 1)
+class AttitudeTail:
+    """The orientation filter's attitude C_b^n and its covariance (the attitude rows,
+    [rad²]) at the samples of the last ``kept_s`` seconds [s of navigator time], the
+    latest run of each sample (a correction's run again replaces the first)."""
 
+    def __init__(self, kept_s: float) -> None:
+        self.kept_s = kept_s
+        self.t = np.zeros(0)
+        self.attitude = np.zeros((0, 3, 3))
+        self.covariance = np.zeros((0, 3, 3))
 
-def attitude_at(output: NavigatorOutput, step: StepRecord) -> np.ndarray:
-    """C_b^n (3, 3) of ``output`` at the step's confirmation (the pose's orientation)."""
-    return output.attitude.attitude[sample_at(output, step)]
+    def extend(self, estimate: AttitudeEstimate) -> None:
+        """Keep the estimate's samples, in place of any at or after its first."""
+        if not len(estimate.t):
+            return
+        keep = self.t < estimate.t[0]
+        t = np.concatenate([self.t[keep], estimate.t])
+        recent = t >= t[-1] - self.kept_s
+        self.t = t[recent]
+        self.attitude = np.concatenate([self.attitude[keep], estimate.attitude])[recent]
+        self.covariance = np.concatenate([
+            self.covariance[keep], estimate.covariance[:, ATT_ROWS, ATT_ROWS]])[recent]
+
+    def at(self, step: StepRecord) -> tuple[np.ndarray, np.ndarray]:
+        """C_b^n (3, 3) and its covariance (3, 3) at the step's confirmation (the first
+        sample at or after it, as pdr_pocket.messages.step_batches takes it)."""
+        i = min(int(np.searchsorted(self.t, step.t_confirm)), len(self.t) - 1)
+        return self.attitude[i], self.covariance[i]
 
 
 @dataclass(frozen=True)
@@ -194,6 +221,7 @@ class StreamingPocket:
         self.mag_stamps = np.empty(0, np.int64)
         self.mag_values = np.empty((0, 3))
         self.held: list[tuple[int, np.ndarray, np.ndarray]] = []
+        self.tail = AttitudeTail(ATTITUDE_KEPT_S)
         self.checked = self.mag_checked = False
         self.failed: str | None = None
         self.mag_error: str | None = None
@@ -374,7 +402,7 @@ class StreamingPocket:
         samples = Samples(self._time_s(stamps), np.array([h[1] for h in held]),
                           None if np.isnan(gyro).all() else gyro, mag, **readings)
         out = self._run_kept(self.navigator, samples)
-        return [Processed(stamps, out, self.t0_ns)]
+        return [Processed(stamps, out, self.t0_ns, [self.tail.at(s) for s in out.steps])]
 
     def _run_kept(self, navigator: PocketNavigator, samples: Samples) -> NavigatorOutput:
         """``navigator`` on a chunk of samples, kept in the history: the chunk in parts
@@ -389,6 +417,7 @@ class StreamingPocket:
             end = max(end, start + 1)
             part = samples.part(start, end)
             outputs.append(navigator.process(part))
+            self.tail.extend(outputs[-1].attitude)
             self.history.record(part, float(t[end - 1]))
             start = end
         return outputs[0] if len(outputs) == 1 else NavigatorOutput.concatenate(outputs)
@@ -428,7 +457,7 @@ class StreamingPocket:
                 self.history.record(item, item.t_s)
                 continue
             out = self._run_kept(navigator, item)
-            revised += [Revised(stamp_of(self.t0_ns, s.t_confirm), s, attitude_at(out, s))
+            revised += [Revised(stamp_of(self.t0_ns, s.t_confirm), s, self.tail.at(s)[0])
                         for s in out.steps]
         self.navigator = navigator
         return self._counted(CorrectionResult(True, message, revised))

@@ -93,7 +93,8 @@ class ZuptEkfNode(Node):
                                  "frame of the poses, velocities and paths (ENU, REP-105)")
         sensor_frame = declare(self, "sensor_frame", SENSOR_FRAME,
                                "the IMU's frame (REP-145), at base_frame on /tf_static")
-        self.tf = TfBroadcaster(self, self.map_frame, sensor_frame)
+        self.tf = TfBroadcaster(self, self.map_frame, sensor_frame, HISTORY // 2,
+                                ACK_TIMEOUT)
         durability = declare(self, "imu_durability", "volatile",
                              "durability of the IMU subscription, to match the publisher",
                              ("volatile", "transient_local"))
@@ -179,8 +180,7 @@ class ZuptEkfNode(Node):
         publish_acked([(self.estimate_pubs[topic], batch) for topic, batch in batches.items()],
                       HISTORY // 2, ACK_TIMEOUT)
         self.tf.broadcast(run.stamp_ns, run.output.position,
-                          quaternion_from_orthonormal(run.output.attitude), HISTORY // 2,
-                          ACK_TIMEOUT)
+                          quaternion_from_orthonormal(run.output.attitude))
         if self.steps.add(run):
             self.path_pub.publish(self.steps.path(self.map_frame))
 

@@ -73,7 +73,7 @@ from pdr_core.ros_types import message_class
 from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
-from pdr_pocket.compiled_orientation import ATT_ROWS, GAPS
+from pdr_pocket.compiled_orientation import GAPS
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
@@ -90,7 +90,6 @@ from pdr_pocket.streaming import (
     MAG_WAIT_S,
     CorrectionResult,
     StreamingPocket,
-    sample_at,
 )
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
@@ -120,7 +119,8 @@ class PocketPdrNode(Node):
                                  "frame of the steps, poses and path (ENU, REP-105)")
         self.sensor_frame = declare(self, "sensor_frame", SENSOR_FRAME,
                                     "frame of the attitude's rates and the gyro bias (the IMU)")
-        self.tf = TfBroadcaster(self, self.map_frame, self.sensor_frame)
+        self.tf = TfBroadcaster(self, self.map_frame, self.sensor_frame, HISTORY // 2,
+                                ACK_TIMEOUT)
         durability = declare(self, "imu_durability", "volatile",
                              "durability of the IMU subscriptions, to match the publisher",
                              DURABILITIES)
@@ -240,10 +240,9 @@ class PocketPdrNode(Node):
             publish_acked([(self.attitude_pub, batches[topics.POCKET_ATTITUDE]),
                            (self.bias_pub, batches[topics.POCKET_GYRO_BIAS])], HISTORY // 2,
                           ACK_TIMEOUT)
-            for step in out.steps:
-                i = sample_at(out, step)
-                self.publish_step(chunk.stamp_of(step.t_confirm), step, out.attitude.attitude[i],
-                                  out.attitude.covariance[i, ATT_ROWS, ATT_ROWS])
+            for step, (attitude, covariance) in zip(out.steps, chunk.step_attitude,
+                                                    strict=True):
+                self.publish_step(chunk.stamp_of(step.t_confirm), step, attitude, covariance)
 
     def publish_step(self, stamp: int, step, attitude: np.ndarray,
                      attitude_covariance: np.ndarray) -> None:
@@ -256,7 +255,7 @@ class PocketPdrNode(Node):
             [step], attitude[None], attitude_covariance[None], self.tf.base_frame))
         self.odometry_pub.publish(cdr.encode(odometry)[0])
         self.tf.broadcast(odometry.stamp_ns, odometry["pose.pose.position"],
-                          odometry["pose.pose.orientation"], HISTORY // 2, ACK_TIMEOUT)
+                          odometry["pose.pose.orientation"])
         self.path.poses.append(path_pose(pose, step.heading))
         self.path.header.stamp = pose.header.stamp
         self.path_pub.publish(self.path)
