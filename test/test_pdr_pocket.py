@@ -459,6 +459,11 @@ def test_the_pose_is_on_tf(procs, ros, tmp_path):
     pocket = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
                          name="pocket_pdr")
     wait_for_log(pocket, "publishes")
+    discovered = time.monotonic() + 10     # the listener matched to pocket_pdr's first
+    while min(node.count_publishers("/tf"), node.count_publishers("/pdr/pocket/pose")) < 1 \
+            and time.monotonic() < discovered:
+        executor.spin_once(timeout_sec=0.1)
+    executor.spin_once(timeout_sec=1.0)
     played = procs.run("bag_play", "--ros-args", "-p", f"bag:={BAG}", "-p",
                        "topics:=[/imu/data, /imu/mag]", "-p", "rate:=0.0", "-p",
                        "wait_for_subscribers:=1")
