@@ -16,7 +16,7 @@ import subprocess
 
 import pytest
 
-from wstest import CLIS, ROOT, cli
+from wstest import CLIS, ROOT, cli, installed_cli
 
 RST_MARKUP = re.compile(r"``|`|:(class|func|meth|data|mod|attr):")
 # Option names that carry their unit (--rest-s, --floor-height-m, --field-norm-ut)
@@ -36,16 +36,10 @@ COMMANDS = [(prog, path, sub) for prog, module in CLIS.items()
             for path, sub in subcommands(importlib.import_module(module).parser())]
 
 
-def installed(prog: str) -> str:
-    """The executable ``prog`` of the built workspace."""
-    [exe] = ROOT.glob(f"install/*/lib/*/{prog}")
-    return str(exe)
-
-
 def run_help(prog: str, path: tuple[str, ...]) -> subprocess.CompletedProcess:
     if path:
         return cli(prog, *path, "--help")
-    return subprocess.run([installed(prog), "--help"], capture_output=True, text=True,
+    return subprocess.run([installed_cli(prog), "--help"], capture_output=True, text=True,
                           timeout=120, cwd=ROOT)
 
 
@@ -117,7 +111,7 @@ def test_pocket_help_no_longer_fails_on_percent_signs():
 # that fail a plausibility check
 WRITES_A_BAG = {("pdr-sim", "generate"), ("pdr-sim", "import-csv"), ("pdr-sim", "repair"),
                 ("pdr-pocket", "run"), ("pdr-pocket", "attitude"), ("pdr-ekf", "run"),
-                ("pdr-drift", "run"),
+                ("pdr-drift", "run"), ("pdr-eval",),
                 ("pdr-sim", "export-csv"), ("pdr-pocket", "evaluate")}   # a CSV, a JSON
 CHECKS_PLAUSIBILITY = {("pdr-sim", "import-csv"), ("pdr-sim", "allan"),
                        ("pdr-pocket", "calibrate-mag")}

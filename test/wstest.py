@@ -73,7 +73,14 @@ def missing_shared(paths) -> str | None:
 
 # The offline CLIs and the module of each one's ``main`` (its console script's entry point)
 CLIS = {"pdr-sim": "pdr_sim.cli", "pdr-pocket": "pdr_pocket.cli",
-        "pdr-ekf": "pdr_ins_ekf.cli", "pdr-drift": "pdr_drift.cli"}
+        "pdr-ekf": "pdr_ins_ekf.cli", "pdr-drift": "pdr_drift.cli", "pdr-eval": "pdr_eval.cli"}
+
+
+def installed_cli(prog: str) -> str:
+    """The executable ``prog`` of the built workspace (install/PKG/lib/PKG/PROG, what
+    ``./ws PROG`` runs)."""
+    [exe] = ROOT.glob(f"install/*/lib/*/{prog}")
+    return str(exe)
 
 
 def cli(prog: str, *args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:

@@ -1,0 +1,101 @@
+"""The recordings of a dataset run (``pdr-eval``): bag directories, MCAP files or CSV logs,
+given on the command line (paths and globs) or in a manifest.
+
+A manifest is a CSV file with a header and one row per recording:
+
+- ``recording`` (required): a bag directory, an ``.mcap`` file or a ``.csv`` log, relative
+  to the manifest's folder unless absolute;
+- ``dataset``: the name its figures are grouped under (default: the recording's parent
+  folder, as for paths given on the command line);
+- ``navigator``: ``foot`` or ``pocket`` (default: ``--navigator``);
+- ``import_options``: for a CSV, the ``pdr-sim import-csv`` options that read it, as one
+  shell-quoted string (``--time-col t_s --acc-cols ax,ay,az``); its truth columns
+  (``--pos-cols``) are what the run is scored against.
+
+A recording that does not exist is kept: its run fails, named, and the rest go on.
+"""
+from __future__ import annotations
+
+import csv
+import glob
+import shlex
+from dataclasses import dataclass
+from pathlib import Path
+
+from pdr_core.errors import InputError
+
+NAVIGATORS = ("foot", "pocket")
+MANIFEST_COLUMNS = ("recording", "dataset", "navigator", "import_options")
+
+
+@dataclass(frozen=True)
+class Recording:
+    """One recording to navigate: its output folder's ``name`` (unique in the run), its
+    ``source`` path, ``dataset``, ``navigator`` and, for a CSV, the import options."""
+
+    name: str
+    source: Path
+    dataset: str
+    navigator: str
+    import_options: tuple[str, ...] = ()
+
+    @property
+    def is_csv(self) -> bool:
+        return self.source.suffix.lower() == ".csv"
+
+
+def from_paths(patterns: list[str], navigator: str) -> list[Recording]:
+    """Recordings of paths and globs (a glob that matches nothing is refused; a plain
+    path is kept even when missing, to fail by name)."""
+    found: list[Path] = []
+    for pattern in patterns:
+        if glob.has_magic(pattern):
+            matches = sorted(glob.glob(pattern))
+            if not matches:
+                raise InputError(pattern, "matches no recording")
+            found += [Path(m) for m in matches]
+        else:
+            found.append(Path(pattern))
+    return named([(path, path.absolute().parent.name, navigator, ()) for path in found])
+
+
+def from_manifest(manifest: Path, navigator: str) -> list[Recording]:
+    """Recordings of a manifest (see the module)."""
+    try:
+        with manifest.open(newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as exc:
+        raise InputError(manifest, f"cannot be read: {exc.strerror}") from exc
+    if not rows or "recording" not in rows[0]:
+        raise InputError(manifest, "needs a header with a 'recording' column "
+                                   f"(columns: {', '.join(MANIFEST_COLUMNS)})")
+    unknown = set(rows[0]) - set(MANIFEST_COLUMNS)
+    if unknown:
+        raise InputError(manifest, f"unknown columns {sorted(unknown)} (columns: "
+                                   f"{', '.join(MANIFEST_COLUMNS)})")
+    entries = []
+    for line, row in enumerate(rows, start=2):
+        path = Path(row["recording"])
+        path = path if path.is_absolute() else manifest.parent / path
+        chosen = row.get("navigator") or navigator
+        if chosen not in NAVIGATORS:
+            raise InputError(manifest, f"line {line}: navigator {chosen!r} is not one of "
+                                       f"{', '.join(NAVIGATORS)}")
+        entries.append((path, row.get("dataset") or path.absolute().parent.name, chosen,
+                        tuple(shlex.split(row.get("import_options") or ""))))
+    return named(entries)
+
+
+def named(entries: list[tuple[Path, str, str, tuple[str, ...]]]) -> list[Recording]:
+    """Recordings with unique folder names: the file's stem, prefixed by its dataset
+    where two stems meet, and numbered where that is not enough."""
+    stems = [path.stem if path.suffix else path.name for path, *_ in entries]
+    names = [stem if stems.count(stem) == 1 else f"{dataset}_{stem}"
+             for stem, (_, dataset, *_) in zip(stems, entries, strict=True)]
+    seen: dict[str, int] = {}
+    recordings = []
+    for name, (path, dataset, navigator, options) in zip(names, entries, strict=True):
+        seen[name] = seen.get(name, 0) + 1
+        unique = name if names.count(name) == 1 else f"{name}_{seen[name]}"
+        recordings.append(Recording(unique, path, dataset, navigator, options))
+    return recordings
