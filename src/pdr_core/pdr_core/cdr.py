@@ -346,14 +346,37 @@ def _string_lengths(msgtype: str, raw: np.ndarray) -> tuple[int, ...]:
     return tuple(lengths)
 
 
+def _layout_keys(msgtype: str, buf: np.ndarray, starts: np.ndarray, lengths: np.ndarray
+                 ) -> list[tuple[int, ...]]:
+    """Each message's string lengths (:func:`_string_lengths`): read on the first message
+    of each size and checked on the others of that size at once (one layout in the usual
+    case); a message that differs is read by itself."""
+    keys: list[tuple[int, ...]] = [()] * len(lengths)
+    for size in np.unique(lengths).tolist():
+        idx = np.flatnonzero(lengths == size)
+        key = _string_lengths(msgtype, buf[starts[idx[0]]:starts[idx[0]] + size])
+        dtype = _string_record_dtype(msgtype, key)
+        view = np.ascontiguousarray(buf[starts[idx, None] + np.arange(dtype.itemsize)]
+                                    ).view(dtype).ravel()
+        same = np.ones(len(idx), bool)
+        for kind, path, _, _ in _string_entries(msgtype):
+            if kind == "count":
+                same &= view[path] == 1
+        strings = [n for n in dtype.names if n.endswith("#length")]
+        for name, length in zip(strings, key, strict=True):
+            same &= view[name] == length + 1
+        for i, ok in zip(idx.tolist(), same.tolist(), strict=True):
+            keys[i] = key if ok else _string_lengths(msgtype, buf[starts[i]:starts[i] + size])
+    return keys
+
+
 def _decode_with_strings(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> MessageBatch:
     """:func:`decode` of a type with strings after its header (the module's docstring):
     messages grouped by the lengths of their strings, each group through one view. The
     header's frame is the batch's frame_id, each other string a str field."""
     n = len(lengths)
     starts = np.concatenate(([0], np.cumsum(lengths)[:-1])) if n else np.zeros(0, np.int64)
-    keys = [_string_lengths(msgtype, buf[s:s + size]) for s, size in
-            zip(starts.tolist(), lengths.tolist(), strict=True)]
+    keys = _layout_keys(msgtype, buf, starts, lengths)
     entries = _string_entries(msgtype)
     strings = [path for kind, path, _, _ in entries if kind == "string"]
     values = [(path, dtype, count) for kind, path, dtype, count in entries

@@ -230,3 +230,19 @@ def test_odometry_and_tf_decode_what_they_encode():
         transforms=[cdr.decode_generic(tf.msgtype, raws[0]).transforms[0]] * 2))
     with pytest.raises(ValueError, match="holds 2 elements"):
         cdr.decode(tf.msgtype, [two])
+
+
+def test_messages_of_one_size_with_other_strings_decode_apart():
+    """Two TFMessages of the same byte size whose frames split the letters differently
+    ("ab" → "cdef", "abcd" → "ef"): each read along its own layout."""
+    tfs = [MessageBatch("tf2_msgs/msg/TFMessage", np.array([k]), frame, {
+        "transforms.child_frame_id": np.array([child]),
+        "transforms.transform.translation": np.full((1, 3), float(k)),
+        "transforms.transform.rotation": np.array([[0.0, 0.0, 0.0, 1.0]])})
+        for k, (frame, child) in enumerate([("ab", "cdef"), ("abcd", "ef"), ("ab", "cdef")])]
+    raws = [cdr.encode(b)[0] for b in tfs]
+    assert len({len(r) for r in raws}) == 1
+    back = cdr.decode("tf2_msgs/msg/TFMessage", raws)
+    assert back.frame_id.tolist() == ["ab", "abcd", "ab"]
+    assert back["transforms.child_frame_id"].tolist() == ["cdef", "ef", "cdef"]
+    np.testing.assert_array_equal(back["transforms.transform.translation"][:, 0], [0, 1, 2])
