@@ -167,3 +167,32 @@ def test_zupt_ekf_goes_warn_on_a_poisoned_sample_and_back_to_ok(procs, ros):
     assert values(warned)["non_finite"] == "1", values(warned)
     feed.next_status(Level.OK, proc, "navigating")
     assert procs.stop(proc, signal.SIGINT) == 0, log_text(proc)
+
+
+def test_zupt_ekf_without_the_odometry_its_odom_frame_needs_goes_warn(procs, ros):
+    """``odom_frame:=odom`` and no node publishing odom → base_link: the poses wait 10 s of
+    pose time for it (pdr_core.node_tf.ODOM_WAIT_S), then count as ``tf_no_odom`` and the
+    status goes WARN naming it (docs/nodes.md, "TF and odometry")."""
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    from wstest import ROOT
+
+    statuses: list = []
+    node, executor = ros
+    node.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, lambda array: statuses.extend(
+        s for s in array.status if s.name == "zupt_ekf: navigator"), 10)
+    proc = procs.start("zupt_ekf", "--ros-args", "-p", "imu_durability:=transient_local",
+                       "-p", "odom_frame:=odom", name="zupt_ekf")
+    wait_for_log(proc, "/tf map -> odom from odom -> base_link")
+    played = procs.run("bag_play", "--ros-args", "-p", f"bag:={ROOT / 'bags' / 'foot_walk'}",
+                       "-p", "topics:=[/imu/data]", "-p", "rate:=0.0", "-p",
+                       "wait_for_subscribers:=1")
+    assert played.returncode == 0, played.stderr
+    deadline = time.monotonic() + 3 * REPORT_WAIT_S / 2   # the reports after the last pose
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.1)
+    assert any(s.level == bytes([Level.WARN]) and "tf_no_odom +" in s.message
+               for s in statuses), [(s.level, s.message) for s in statuses]
+    # 6,033 poses 10 ms apart: all but the 1,001 within 10 s of the last waited in vain
+    assert max(int(values(s)["tf_no_odom"]) for s in statuses) == 6033 - 1001
+    assert procs.stop(proc, signal.SIGINT) == 0, log_text(proc)
