@@ -1,7 +1,7 @@
 """Where the recordings of a dataset run go: a pool of processes on this machine (one per
 core by default), or a Dask cluster (``--scheduler ADDRESS``, Dask distributed: its
 scheduler, its workers, its protocol). Every worker runs one recording at a time with one
-numba thread (:func:`one_numba_thread`), and compiles the kernels once, from the on-disk
+numba thread (pdr_core.parallel), and compiles the kernels once, from the on-disk
 cache (pdr_core.kernel_cache). Inputs and outputs are paths: on a cluster, the workers
 must reach them (a shared filesystem).
 
@@ -10,29 +10,15 @@ over them as they end (done, failed, time left).
 """
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 from tqdm import tqdm
 
+from pdr_core.parallel import cluster_map, on_one_thread
 from pdr_eval.job import Outcome, run_recording
 from pdr_eval.recordings import Recording
-
-
-def one_numba_thread() -> None:
-    """One numba thread in this worker: the parallelism is over recordings."""
-    os.environ["NUMBA_NUM_THREADS"] = "1"
-    import numba
-
-    numba.set_num_threads(1)
-
-
-def _run_one(recording: Recording, out: Path, config: Path | None, overwrite: bool
-             ) -> Outcome:
-    one_numba_thread()
-    return run_recording(recording, out, config, overwrite)
 
 
 def _progress(total: int) -> tqdm:
@@ -61,14 +47,10 @@ def run_all(recordings: list[Recording], out: Path, config: Path | None, overwri
     """Every recording, in parallel: on ``scheduler`` (a Dask scheduler's address) or a
     pool of ``workers`` processes here (see the module)."""
     if scheduler:
-        from distributed import Client
-        from distributed import as_completed as dask_completed
-
-        with Client(scheduler) as client:
-            futures = [client.submit(_run_one, r, out, config, overwrite, pure=False,
-                                     key=f"pdr-eval-{r.name}-{os.getpid()}")
-                       for r in recordings]
-            return _collect((f.result() for f in dask_completed(futures)), recordings, tell)
+        ended = cluster_map(scheduler, run_recording,
+                            [(r, out, config, overwrite) for r in recordings], "pdr-eval")
+        return _collect((outcome for _, outcome in ended), recordings, tell)
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(_run_one, r, out, config, overwrite) for r in recordings]
+        futures = [pool.submit(on_one_thread, run_recording, r, out, config, overwrite)
+                   for r in recordings]
         return _collect((f.result() for f in as_completed(futures)), recordings, tell)

@@ -121,6 +121,8 @@ def add_sweep(studies: argparse._SubParsersAction) -> None:
                    help="Monte-Carlo runs per value (0: covariance only)")
     p.add_argument("--steps", type=int, default=100, help="strides of the walk")
     p.add_argument("--seed", type=int, default=0, help="seed of the Monte-Carlo runs")
+    p.add_argument("--scheduler", help="a Dask scheduler's address (tcp://HOST:8786): run "
+                                       "the Monte-Carlo batches on its workers")
     p.add_argument("--out", type=Path, help="write DIR/sweep.csv, sweep.md and sweep.png")
     p.set_defaults(func=run_sweep)
 
@@ -137,7 +139,8 @@ def run_sweep(args: argparse.Namespace) -> int:
     for parameter in error_sweep.RANGES:
         for value in error_sweep.sweep_values(parameter, args.points):
             points.append(error_sweep.sweep_point(walk, gait, parameter, float(value),
-                                                  args.runs, args.seed))
+                                                  args.runs, args.seed,
+                                                  scheduler=args.scheduler))
             print(f"{parameter} = {value:.3g} {error_sweep.UNITS[parameter]}: done",
                   file=sys.stderr, flush=True)
     table = error_sweep.sweep_markdown(points, gait)

@@ -15,11 +15,13 @@ NEES, ε = δpᵀ·P_pp⁻¹·δp averaged over runs (3 for a consistent filter)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from numba import njit, prange
 
 from pdr_core import kernel_cache, small_matrix, units
+from pdr_core.parallel import run_batches
 from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import filter_loop
 from pdr_ins_ekf.kernel_data import GYRO, HEADING, NAV_AND_BIAS_STATES, NAV_STATES, Samples
@@ -189,28 +191,34 @@ def consistency(result: BatchResult, truth: np.ndarray) -> Consistency:
 
 def ekf_study(walk: Walk, noise: NoiseLevels, runs: int, detector: StanceDetector,
               config: FilterConfig, seed: int = 0, block: int = 20, points: int = 200,
-              progress=None, rest_gyro_bias: bool = True) -> EkfStudy:
+              progress=None, rest_gyro_bias: bool = True, scheduler: str | None = None
+              ) -> EkfStudy:
     """``runs`` EKF runs in blocks of ``block`` (memory: block × T × 6 doubles for the
     signals, plus one filter history per thread); ``progress(done, runs)`` per block.
-    ``rest_gyro_bias``: see :func:`run_batch`."""
+    ``rest_gyro_bias``: see :func:`run_batch`. The blocks run here, or on the Dask
+    ``scheduler`` (pdr_core.parallel); a run's noise depends on its index only."""
     if runs < 2:
         raise ValueError(f"runs must be >= 2, got {runs}")
     keep = stance_times(walk, 1.0, points)
-    rng = np.random.default_rng(seed)
-    parts = []
-    for first in range(0, runs, block):
-        a, w = noisy_signals(walk.accel, walk.gyro, walk.rate_hz, noise,
-                             min(block, runs - first), rng)
-        stance = detect_runs(detector, a, w, walk.rate_hz)
-        parts.append(run_batch(walk, a, w, stance, config, keep, rest_gyro_bias))
-        if progress is not None:
-            progress(first + len(a), runs)
+    parts = run_batches(partial(ekf_block, walk, noise, seed, detector, config, keep,
+                                rest_gyro_bias), runs, block, scheduler, progress,
+                        "pdr-ekf-montecarlo-ekf")
     result = BatchResult(*(np.concatenate([getattr(p, f) for p in parts])
                            for f in BatchResult.__dataclass_fields__))
     t = walk.t_s[keep] - walk.rest_s
     growth = error_growth(t, result.position, result.yaw, walk.position[keep],
                           walk.yaw[keep])
     return EkfStudy(growth, consistency(result, walk.position[keep]))
+
+
+def ekf_block(walk: Walk, noise: NoiseLevels, seed: int, detector: StanceDetector,
+              config: FilterConfig, keep: np.ndarray, rest_gyro_bias: bool, first: int,
+              count: int) -> BatchResult:
+    """Runs first … first + count − 1 of :func:`ekf_study`, detected and filtered."""
+    a, w = noisy_signals(walk.accel, walk.gyro, walk.rate_hz, noise, seed,
+                         range(first, first + count))
+    stance = detect_runs(detector, a, w, walk.rate_hz)
+    return run_batch(walk, a, w, stance, config, keep, rest_gyro_bias)
 
 
 # Zampella et al. 2011, Tables II (σ_p [m]) and III (σ_ψ [rad]), t [s] of walking, per

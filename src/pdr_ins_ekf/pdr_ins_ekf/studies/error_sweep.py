@@ -23,16 +23,20 @@ during the navigation"):
 
 The Monte-Carlo spread of the final position error is reported beside them. It is far
 below σ_∥: the simulated foot is exactly still in stance, while the model and the
-filter take the ZUPT as a measurement with noise r.
+filter take the ZUPT as a measurement with noise r. Its runs go in batches of
+:data:`SWEEP_BATCH_RUNS`, here or on a Dask cluster (``scheduler``), each run seeded by its
+index (pdr_core.parallel): the split does not change the figures.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
 from pdr_core import units
 from pdr_core.chi2 import chi2_quantile
+from pdr_core.parallel import run_batches
 from pdr_ins_ekf.studies.ekf_montecarlo import filter_for, run_batch
 from pdr_ins_ekf.studies.montecarlo import NoiseLevels, Walk, noisy_signals, straight_walk
 from pdr_ins_ekf.studies.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel
@@ -48,6 +52,7 @@ UNITS = {"arw": "°/√h", "vrw": "mg/√Hz", "rrw": "mdeg/s/√h"}
 # the model assumes a known start: no initial heading or bias uncertainty
 KNOWN_START = {"init_yaw_sigma_rad": 1e-6, "init_acc_bias_sigma_mps2": 1e-6,
                "init_gyro_bias_sigma_radps": 1e-7}
+SWEEP_BATCH_RUNS = 5   # runs per batch: 5 × 44.5 k samples × 6 doubles ≈ 11 MB of signals
 QUANTITIES = ("sigma_v_mps", "sigma_theta_rad", "sigma_par_m", "sigma_perp_m")
 
 
@@ -101,9 +106,10 @@ class SweepPoint:
 
 
 def sweep_point(walk: Walk, gait: Gait, parameter: str, value: float, runs: int,
-                seed: int = 0, settle_fraction: float = 0.2) -> SweepPoint:
+                seed: int = 0, settle_fraction: float = 0.2, scheduler: str | None = None
+                ) -> SweepPoint:
     """The analytic and simulated levels with ``parameter`` at ``value``, the others at
-    :data:`BASELINE`."""
+    :data:`BASELINE`; the Monte-Carlo runs here or on the Dask ``scheduler``."""
     densities, noise = noise_point(**{**BASELINE, parameter: value})
     model = ZuptErrorModel(densities, gait, SWEEP_ZUPT_SIGMA_MPS, walk.rate_hz)
     steady = model.steady_state()
@@ -123,23 +129,33 @@ def sweep_point(walk: Walk, gait: Gait, parameter: str, value: float, runs: int,
                  "sigma_perp_m": (float(np.sqrt(filtered.position_cov[-1, 1, 1])),) * 3}
     return SweepPoint(parameter, value, analytic, simulated,
                       float(replace(model, rederived_eq56=True).sigma_par_m(duration)),
-                      _monte_carlo(walk, noise, config, runs, seed))
+                      _monte_carlo(walk, noise, config, runs, seed, scheduler))
 
 
-def _monte_carlo(walk: Walk, noise: NoiseLevels, config, runs: int, seed: int) -> dict:
+def _monte_carlo(walk: Walk, noise: NoiseLevels, config, runs: int, seed: int,
+                 scheduler: str | None) -> dict:
     """Spread over ``runs`` of the final position error along (x) and across (y) the
     walk."""
     if runs < 2:
         return {}
-    a, w = noisy_signals(walk.accel, walk.gyro, walk.rate_hz, noise, runs,
-                         np.random.default_rng(seed))
-    stance = np.broadcast_to(walk.at_rest, (runs, len(walk.t_s)))
+    ends = run_batches(partial(final_errors, walk, noise, config, seed), runs,
+                       SWEEP_BATCH_RUNS, scheduler, name="pdr-ekf-sweep")
+    error = np.concatenate(ends)
+    return {"sigma_par_m": _spread(error[:, 0]), "sigma_perp_m": _spread(error[:, 1])}
+
+
+def final_errors(walk: Walk, noise: NoiseLevels, config, seed: int, first: int, count: int
+                 ) -> np.ndarray:
+    """The final horizontal position error [m] (count, 2) of runs first … first + count − 1,
+    with ZUPTs at the true stance."""
+    a, w = noisy_signals(walk.accel, walk.gyro, walk.rate_hz, noise, seed,
+                         range(first, first + count))
+    stance = np.broadcast_to(walk.at_rest, (count, len(walk.t_s)))
     # the bias starts at zero, as the model and the filter's start (KNOWN_START) assume;
     # its mean over the noisy rest would put an unmodelled heading drift in every run
     result = run_batch(walk, a, w, stance, config, np.array([len(walk.t_s) - 1]),
                        rest_gyro_bias=False)
-    error = result.position[:, 0, :2] - walk.position[-1, :2]
-    return {"sigma_par_m": _spread(error[:, 0]), "sigma_perp_m": _spread(error[:, 1])}
+    return result.position[:, 0, :2] - walk.position[-1, :2]
 
 
 def _bar(sigma: np.ndarray) -> tuple[float, float, float]:

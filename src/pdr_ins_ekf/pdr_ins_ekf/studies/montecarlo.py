@@ -14,10 +14,15 @@ Error sources (SI, units in the names): white noise densities ``acc_noise_mps2_p
 and ``gyro_noise_radps_per_sqrt_hz`` (per-sample std density/√Δt), and constant biases
 ``acc_bias_mps2`` and ``gyro_bias_radps`` drawn per run and axis from N(0, σ²), and the
 gyro bias random walk ``gyro_rrw_radps_per_sqrt_s`` (RRW of Wang et al. 2020).
+
+Each run draws its errors from its own generator, seeded by the study's seed and its index
+(:func:`pdr_core.parallel.run_generator`): the runs can be split into batches, here or on a
+Dask cluster (``scheduler``), and the study is the same.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from numba import njit, prange
@@ -25,6 +30,7 @@ from numba import njit, prange
 from pdr_core import kernel_cache, small_matrix
 from pdr_core.angles import wrap_angle
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from pdr_core.parallel import run_batches, run_generator
 from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import mechanize, new_state, start
 from pdr_sim.scenario import scenario_from_dict
@@ -89,17 +95,28 @@ class NoiseLevels:
 
 
 def noisy_signals(accel: np.ndarray, gyro: np.ndarray, rate_hz: float, noise: NoiseLevels,
-                  runs: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """``runs`` noisy copies (runs, T, 3) of the noiseless specific force and rate."""
-    shape = (runs, *accel.shape)
+                  seed: int, runs: range) -> tuple[np.ndarray, np.ndarray]:
+    """Noisy copies (len(runs), T, 3) of the noiseless specific force and rate, run k from
+    its own generator (:func:`pdr_core.parallel.run_generator`), whatever the batch."""
+    a = np.empty((len(runs), *accel.shape))
+    w = np.empty_like(a)
+    for i, run in enumerate(runs):
+        a[i], w[i] = _noisy_run(accel, gyro, rate_hz, noise, run_generator(seed, run))
+    return a, w
+
+
+def _noisy_run(accel: np.ndarray, gyro: np.ndarray, rate_hz: float, noise: NoiseLevels,
+               rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """One run's specific force and rate (T, 3): white noise, a constant bias, and the
+    gyro's rate random walk."""
     root_rate = np.sqrt(rate_hz)
-    a = accel + rng.standard_normal(shape) * noise.acc_noise_mps2_per_sqrt_hz * root_rate
-    a += rng.standard_normal((runs, 1, 3)) * noise.acc_bias_mps2
-    w = gyro + rng.standard_normal(shape) * noise.gyro_noise_radps_per_sqrt_hz * root_rate
-    w += rng.standard_normal((runs, 1, 3)) * noise.gyro_bias_radps
+    a = accel + rng.standard_normal(accel.shape) * noise.acc_noise_mps2_per_sqrt_hz * root_rate
+    a += rng.standard_normal(3) * noise.acc_bias_mps2
+    w = gyro + rng.standard_normal(gyro.shape) * noise.gyro_noise_radps_per_sqrt_hz * root_rate
+    w += rng.standard_normal(3) * noise.gyro_bias_radps
     if noise.gyro_rrw_radps_per_sqrt_s > 0:
-        steps = rng.standard_normal(shape) * noise.gyro_rrw_radps_per_sqrt_s / root_rate
-        w += np.cumsum(steps, axis=1)
+        steps = rng.standard_normal(gyro.shape) * noise.gyro_rrw_radps_per_sqrt_s / root_rate
+        w += np.cumsum(steps, axis=0)
     return a, w
 
 
@@ -187,26 +204,28 @@ class InsStudy:
 
 def ins_study(walk: Walk, noise: NoiseLevels, runs: int, seed: int = 0, block: int = 100,
               points: int = 200, gravity_mps2: float = STANDARD_GRAVITY_MPS2,
-              progress=None) -> InsStudy:
+              progress=None, scheduler: str | None = None) -> InsStudy:
     """``runs`` pure-INS runs in blocks of ``block`` (memory: block × T × 6 doubles),
     sampled at ``points`` log-spaced times from 1 s; ``progress(done, runs)`` after each
-    block."""
+    block. The blocks run here, or on the Dask ``scheduler`` (pdr_core.parallel)."""
     if runs < 2:
         raise ValueError(f"runs must be >= 2, got {runs}")
     keep = log_spaced(len(walk.t_s), int(np.ceil(walk.rate_hz)), points)
-    rng = np.random.default_rng(seed)
     clean_p, clean_yaw = ins_loop(walk.t_s, walk.accel, walk.gyro, walk.start_attitude,
                                   gravity_mps2)
-    positions, yaws = [], []
-    for first in range(0, runs, block):
-        a, w = noisy_signals(walk.accel, walk.gyro, walk.rate_hz, noise,
-                             min(block, runs - first), rng)
-        p, y = ins_batch(walk.t_s, a, w, walk.start_attitude, gravity_mps2, keep)
-        positions.append(p)
-        yaws.append(y)
-        if progress is not None:
-            progress(first + len(p), runs)
-    p, y = np.concatenate(positions), np.concatenate(yaws)
+    parts = run_batches(partial(ins_block, walk, noise, seed, keep, gravity_mps2), runs,
+                        block, scheduler, progress, "pdr-ekf-montecarlo-ins")
+    p = np.concatenate([part[0] for part in parts])
+    y = np.concatenate([part[1] for part in parts])
     t = walk.t_s[keep]
     return InsStudy(error_growth(t, p, y, walk.position[keep], walk.yaw[keep]),
                     error_growth(t, p, y, clean_p[keep], clean_yaw[keep]))
+
+
+def ins_block(walk: Walk, noise: NoiseLevels, seed: int, keep: np.ndarray,
+              gravity_mps2: float, first: int, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Runs first … first + count − 1 of :func:`ins_study`: position [m] (count, K, 3) and
+    yaw [rad] (count, K) at the samples ``keep``."""
+    a, w = noisy_signals(walk.accel, walk.gyro, walk.rate_hz, noise, seed,
+                         range(first, first + count))
+    return ins_batch(walk.t_s, a, w, walk.start_attitude, gravity_mps2, keep)

@@ -6,6 +6,9 @@ error the source adds, against the noiseless mechanization) and ``ekf_original``
 ``ekf_limited``, ``ekf_retarded`` (the 15-state ZUPT + ZARU EKF with the detector and window
 of Zampella et al. 2011, :mod:`pdr_ins_ekf.studies.ekf_montecarlo`; fitted against the truth at
 stance samples, t from the first stride, as the paper's tables).
+
+The runs go in batches (``--batch``), here or on a Dask cluster (``--scheduler``); each run's
+noise is seeded by its index, so the figures do not depend on the split.
 """
 from __future__ import annotations
 
@@ -37,6 +40,8 @@ from pdr_ins_ekf.studies.montecarlo import (
 from pdr_sim.simulation import MAX_RATE_HZ, MIN_RATE_HZ
 
 PROFILES = {"xsens_mti": XSENS_MTI}
+INS_BATCH_RUNS = 100    # memory: batch × T × 6 doubles of signals
+EKF_BATCH_RUNS = 20     # plus a filter history per numba thread
 CLI_LEVELS = {"acc_noise": 0.01, "gyro_noise": 1e-3, "acc_bias": 0.01, "gyro_bias": 1e-3}
 UNITS = {"acc_noise": "m/s²/√Hz", "gyro_noise": "rad/s/√Hz", "acc_bias": "m/s², σ",
          "gyro_bias": "rad/s, σ"}
@@ -68,6 +73,11 @@ def add_montecarlo(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rest-s", type=float, default=10.0,
                    help="standing before the walk, for the EKF's alignment [s]")
     p.add_argument("--seed", type=int, default=0, help="seed of the noise realisations")
+    p.add_argument("--batch", type=int,
+                   help=f"runs per batch (default {INS_BATCH_RUNS} for ins, "
+                        f"{EKF_BATCH_RUNS} for the EKF); the figures do not depend on it")
+    p.add_argument("--scheduler", help="a Dask scheduler's address (tcp://HOST:8786): run "
+                                       "the batches on its workers, one numba thread each")
     p.add_argument("--profile", choices=sorted(PROFILES),
                    help="take every level from this IMU (Zampella et al. 2011, section IV-B: "
                         "xsens_mti)")
@@ -104,6 +114,8 @@ def _levels(args: argparse.Namespace) -> NoiseLevels:
 def _check(args: argparse.Namespace) -> None:
     if args.runs < 2:
         raise InputError("--runs", f"need at least 2 runs, got {args.runs}")
+    if args.batch is not None and args.batch < 1:
+        raise InputError("--batch", f"need at least 1 run per batch, got {args.batch}")
     if args.steps < 1 or not MIN_RATE_HZ <= args.rate <= MAX_RATE_HZ:
         raise InputError("--steps/--rate", f"need steps >= 1 and a rate in "
                                            f"{MIN_RATE_HZ:g}-{MAX_RATE_HZ:g} Hz")
@@ -139,13 +151,17 @@ def run_montecarlo(args: argparse.Namespace) -> int:
                 print(f"{label}: {done}/{total} runs", file=sys.stderr, flush=True)
 
             if estimator == "ins":
-                study = ins_study(walks["ins"], noise, args.runs, args.seed, progress=progress)
+                study = ins_study(walks["ins"], noise, args.runs, args.seed,
+                                  args.batch or INS_BATCH_RUNS, progress=progress,
+                                  scheduler=args.scheduler)
                 growths[source, estimator] = study.noise_only
                 extra[source, estimator] = study.against_truth
             else:
                 study = ekf_study(walks["ekf"], noise, args.runs, estimator_detector(estimator),
                                   filter_for(levels, states=args.states), args.seed,
-                                  progress=progress, rest_gyro_bias=args.rest_gyro_bias)
+                                  args.batch or EKF_BATCH_RUNS, progress=progress,
+                                  rest_gyro_bias=args.rest_gyro_bias,
+                                  scheduler=args.scheduler)
                 growths[source, estimator] = study.growth
                 checks[source, estimator] = study
     rows = fits_rows(growths)
