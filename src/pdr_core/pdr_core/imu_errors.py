@@ -15,6 +15,10 @@ Monte-Carlo runs (no Python loop over either):
   (Muñoz Díaz 2016, Eqs. (3.8)–(3.9), with τ in seconds instead of samples);
 - b_rw: random walk of density ``random_walk_density`` [unit/s/√Hz] (rate random walk,
   acceleration random walk);
+- b_w: the warm-up, ``warmup``·(1 − e^{−t/τ}) with τ = ``warmup_tau_s`` [s] from the first
+  sample: the bias a sensor takes on while it warms after power-on (a MEMS gyro's bias
+  follows its temperature). A navigator that calibrates its biases at rest at the start
+  does not see it;
 - S, M: scale-factor errors (diagonal) and misalignment (off-diagonal, small angles);
 - sat_q: saturation at ±``saturation`` and quantisation to multiples of ``quantum``.
 
@@ -60,6 +64,8 @@ class TriadErrors:
     gm_sigma: Axes = ZERO3
     gm_tau_s: Axes = (1.0, 1.0, 1.0)
     random_walk_density: Axes = ZERO3
+    warmup: Axes = ZERO3
+    warmup_tau_s: Axes = (1.0, 1.0, 1.0)
     scale_factor: Axes = ZERO3
     misalignment: tuple[Axes, Axes, Axes] = (ZERO3, ZERO3, ZERO3)
     saturation: float = float("inf")
@@ -69,8 +75,9 @@ class TriadErrors:
         for name in ("white_density", "bias_sigma", "gm_sigma", "random_walk_density"):
             if min(getattr(self, name)) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
-        if min(self.gm_tau_s) <= 0:
-            raise ValueError(f"gm_tau_s must be > 0, got {self.gm_tau_s}")
+        for name in ("gm_tau_s", "warmup_tau_s"):
+            if min(getattr(self, name)) <= 0:
+                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
         if self.saturation <= 0 or self.quantum < 0:
             raise ValueError("saturation must be > 0 and quantum >= 0")
 
@@ -207,6 +214,9 @@ def corrupt(true: np.ndarray, errors: TriadErrors, rate_hz: float, rng: np.rando
     if any(errors.gm_sigma):
         out += gauss_markov(rng, shape, np.asarray(errors.gm_sigma),
                             np.asarray(errors.gm_tau_s), dt)
+    if any(errors.warmup):
+        t = np.arange(n)[:, None] * dt
+        out += np.asarray(errors.warmup) * -np.expm1(-t / np.asarray(errors.warmup_tau_s))
     if any(errors.random_walk_density):
         steps = _normal(rng, shape)
         steps *= (np.asarray(errors.random_walk_density) * np.sqrt(dt)).astype(np.float32)

@@ -8,12 +8,12 @@ are refused with the key named. Keys:
 
 gyro:  arw_deg_per_sqrt_h, bias_deg_per_s, bias_sigma_deg_per_s,
        bias_instability_deg_per_h | gauss_markov_sigma_deg_per_s, bias_correlation_time_s,
-       rrw_deg_per_s_per_sqrt_h, scale_factor_ppm, misalignment_mrad, range_deg_per_s,
-       resolution_deg_per_s
+       rrw_deg_per_s_per_sqrt_h, warmup_bias_deg_per_s, warmup_time_constant_s,
+       scale_factor_ppm, misalignment_mrad, range_deg_per_s, resolution_deg_per_s
 accel: vrw_ug_per_sqrt_hz | vrw_mps_per_sqrt_h, bias_mg, bias_sigma_mg,
        bias_instability_mg | gauss_markov_sigma_mg, bias_correlation_time_s,
-       random_walk_mps2_per_sqrt_h, scale_factor_ppm, misalignment_mrad, range_g,
-       resolution_mg
+       random_walk_mps2_per_sqrt_h, warmup_bias_mg, warmup_time_constant_s,
+       scale_factor_ppm, misalignment_mrad, range_g, resolution_mg
 mag:   noise_ut_per_sqrt_hz, bias_ut, bias_sigma_ut, scale_factor_ppm, misalignment_mrad,
        range_ut, resolution_ut
 baro:  rate_hz, noise_hpa (std per reading), resolution_hpa, reference_hpa (the true
@@ -140,17 +140,20 @@ _SCALES = {
              "bias_instability_deg_per_h": units.deg_per_h_to_si(1),
              "gauss_markov_sigma_deg_per_s": units.DEG,
              "rrw_deg_per_s_per_sqrt_h": units.rrw_to_si(1),
+             "warmup_bias_deg_per_s": units.DEG,
              "range_deg_per_s": units.DEG, "resolution_deg_per_s": units.DEG},
     "accel": {"vrw_ug_per_sqrt_hz": units.ug_per_sqrt_hz_to_si(1),
               "vrw_mps_per_sqrt_h": units.vrw_to_si(1), "bias_mg": units.mg_to_si(1),
               "bias_sigma_mg": units.mg_to_si(1), "bias_instability_mg": units.mg_to_si(1),
               "gauss_markov_sigma_mg": units.mg_to_si(1),
               "random_walk_mps2_per_sqrt_h": 1 / units.SQRT_HOUR,
+              "warmup_bias_mg": units.mg_to_si(1),
               "range_g": STANDARD_GRAVITY_MPS2, "resolution_mg": units.mg_to_si(1)},
     "mag": {"noise_ut_per_sqrt_hz": 1e-6, "bias_ut": 1e-6, "bias_sigma_ut": 1e-6,
             "range_ut": 1e-6, "resolution_ut": 1e-6},
 }
-_COMMON = {"scale_factor_ppm": 1e-6, "misalignment_mrad": 1e-3, "bias_correlation_time_s": 1.0}
+_COMMON = {"scale_factor_ppm": 1e-6, "misalignment_mrad": 1e-3, "bias_correlation_time_s": 1.0,
+           "warmup_time_constant_s": 1.0}
 _FIELDS = {  # config key (after unit scaling) -> TriadErrors field
     "arw_deg_per_sqrt_h": "white_density", "vrw_ug_per_sqrt_hz": "white_density",
     "vrw_mps_per_sqrt_h": "white_density", "noise_ut_per_sqrt_hz": "white_density",
@@ -159,6 +162,7 @@ _FIELDS = {  # config key (after unit scaling) -> TriadErrors field
     "bias_sigma_ut": "bias_sigma", "rrw_deg_per_s_per_sqrt_h": "random_walk_density",
     "random_walk_mps2_per_sqrt_h": "random_walk_density", "scale_factor_ppm": "scale_factor",
     "gauss_markov_sigma_deg_per_s": "gm_sigma", "gauss_markov_sigma_mg": "gm_sigma",
+    "warmup_bias_deg_per_s": "warmup", "warmup_bias_mg": "warmup",
 }
 _SCALAR_KEYS = {"range_deg_per_s", "range_g", "range_ut", "resolution_deg_per_s",
                 "resolution_mg", "resolution_ut"}
@@ -191,7 +195,8 @@ def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
                 raise InputError(f"{where}.{key}", f"must be a positive number, got {raw!r}")
             continue
         axes = tuple(v * scales[key] for v in _axes(raw, f"{where}.{key}"))
-        signed = key in ("bias_deg_per_s", "bias_mg", "bias_ut", "scale_factor_ppm")
+        signed = key in ("bias_deg_per_s", "bias_mg", "bias_ut", "scale_factor_ppm",
+                         "warmup_bias_deg_per_s", "warmup_bias_mg")
         if not signed and min(axes) < 0:
             raise InputError(f"{where}.{key}", f"must be >= 0, got {raw!r}")
         values[key] = axes
@@ -221,6 +226,10 @@ def _triad(sensor: str, config: Mapping[str, Any], where: str) -> TriadErrors:
         except ValueError as exc:
             raise InputError(f"{where}.{instability}", str(exc)) from exc
         fields["gm_tau_s"] = tau
+    if "warmup_time_constant_s" in values:
+        if min(values["warmup_time_constant_s"]) <= 0:
+            raise InputError(f"{where}.warmup_time_constant_s", "must be > 0")
+        fields["warmup_tau_s"] = values["warmup_time_constant_s"]
     for key in _SCALAR_KEYS & set(config):
         target = "saturation" if key.startswith("range") else "quantum"
         fields[target] = float(config[key]) * scales[key]

@@ -31,6 +31,19 @@ def test_random_walk_variance_grows_linearly():
     assert y[:, -1].var() == pytest.approx(0.1**2 * 10.0, rel=0.1)
 
 
+def test_the_warm_up_is_not_there_at_the_start_and_reached_after_it():
+    """b_w = warmup·(1 − e^{−t/τ}): nothing at the first sample, 63 % after τ, all of it
+    after many, from the profile keys in their units."""
+    errors = imu_errors({"gyro": {"warmup_bias_deg_per_s": [0, 0, 0.05],
+                                  "warmup_time_constant_s": 60.0}}, "p").gyro
+    y = corrupt(np.zeros((100 * 600 + 1, 3)), errors, 100.0, np.random.default_rng(4))
+    z = np.degrees(y[:, 2])
+    assert z[0] == 0 and z[6000] == pytest.approx(0.05 * (1 - np.exp(-1)), rel=1e-9)
+    assert z[-1] == pytest.approx(0.05, rel=1e-4) and (y[:, :2] == 0).all()
+    with pytest.raises(InputError, match=r"p\.gyro\.warmup_time_constant_s: must be > 0"):
+        imu_errors({"gyro": {"warmup_time_constant_s": 0.0}}, "p")
+
+
 def test_scale_misalignment_saturation_and_quantisation():
     errors = TriadErrors(scale_factor=(0.01, 0.0, 0.0),
                          misalignment=((0, 0.002, 0), (0.002, 0, 0), (0, 0, 0)),

@@ -29,6 +29,8 @@ A scenario is a YAML mapping (see ``pdr_sim/scenarios/*.yaml`` for the built-in 
       - {type: turn, angle_deg: 90, duration_s: 1.5}     # in place; positive = left
       - {type: stairs, direction: up, steps: 8, gait: {riser_m: 0.18}}
       - {type: run, steps: 20}
+      - {type: repeat, times: 3, segments: [{type: straight, steps: 4},
+                                            {type: turn, angle_deg: 90, duration_s: 1.2}]}
 
 Gait segments (:mod:`pdr_sim.foot_gaits`, a stance that is not a still foot): ``walk``,
 ``run``, ``stairs`` (direction up or down), ``in_place``, ``side_steps`` (direction left
@@ -55,7 +57,8 @@ from pdr_sim.step_pattern import TIMINGS
 
 GAIT_SCENARIOS = ("stairs_up_down", "running", "stepping_in_place", "side_and_back_steps",
                   "crawling", "level_walk_matched")
-BUILTIN = ("straight", "square_loop", "figure_eight", "long_mixed_walk", *GAIT_SCENARIOS)
+BUILTIN = ("straight", "square_loop", "figure_eight", "long_mixed_walk", "block_laps",
+           *GAIT_SCENARIOS)
 SEGMENT_TYPES = ("standing", "straight", "curve", "turn", *GAIT_TYPES)
 DIRECTIONS = {"curve": ("left", "right"), "side_steps": ("left", "right"),
               "stairs": ("up", "down")}
@@ -187,7 +190,7 @@ def _segment(data: Any, where: str, step: StepSpec) -> Segment:
              "stairs": ("steps", "direction"), "side_steps": ("steps", "direction")}
     if kind not in needs:
         raise InputError(f"{where}.type", f"unknown segment type '{kind}' "
-                                          f"(known: {', '.join(SEGMENT_TYPES)})")
+                                          f"(known: {', '.join(SEGMENT_TYPES)}, repeat)")
     optional = ("gait",) if kind in GAIT_TYPES else ("step",)
     allowed = {"type", *optional, *needs[kind]}
     for key in values:
@@ -262,15 +265,36 @@ def seed_from(value: Any, where: str) -> int:
     return value
 
 
+def _flattened(segments: Any, where: str) -> list[tuple[Any, str]]:
+    """The segments with every ``repeat`` expanded in place, each with the name errors
+    should cite: ``{type: repeat, times: N, segments: [...]}`` walks its segments N times
+    (a lap of a block, say), and may hold repeats itself."""
+    if not isinstance(segments, list) or not segments:
+        raise InputError(where, "expected a non-empty list")
+    out = []
+    for i, item in enumerate(segments):
+        at = f"{where}[{i}]"
+        if not (isinstance(item, dict) and item.get("type") == "repeat"):
+            out.append((item, at))
+            continue
+        unknown = sorted(set(item) - {"type", "times", "segments"})
+        if unknown:
+            raise InputError(f"{at}.{unknown[0]}", "not a key of a 'repeat' segment (keys: "
+                                                   "segments, times, type)")
+        times = item.get("times")
+        if isinstance(times, bool) or not isinstance(times, int) or times < 1:
+            raise InputError(f"{at}.times", f"must be a positive integer, got {times!r}")
+        out += _flattened(item.get("segments"), f"{at}.segments") * times
+    return out
+
+
 def scenario_from_dict(data: Any, where: str) -> Scenario:
     """Validate a scenario mapping; InputError names the offending key as WHERE: key.path."""
     values = check_keys(data, Scenario, f"{where}:", required=("segments",))
     step = _step(values.get("step", {}), f"{where}: step", StepSpec())
     variation = _step(values.get("variation", {}), f"{where}: variation",
                       StepSpec(0.0, 0.0, 0.0, 0.0, 0.0), variation=True)
-    segments = values["segments"]
-    if not isinstance(segments, list) or not segments:
-        raise InputError(f"{where}: segments", "expected a non-empty list")
+    segments = _flattened(values["segments"], f"{where}: segments")
     initial = check_keys(values.get("initial", {}), InitialPose, f"{where}: initial")
     pose = InitialPose(
         position_m=vector(initial.get("position_m", [0, 0, 0]), f"{where}: initial.position_m"),
@@ -288,8 +312,7 @@ def scenario_from_dict(data: Any, where: str) -> Scenario:
     seed = seed_from(values.get("seed", 0), f"{where}: seed")
     return Scenario(
         name=str(values.get("name", where)),
-        segments=tuple(_segment(s, f"{where}: segments[{i}]", step)
-                       for i, s in enumerate(segments)),
+        segments=tuple(_segment(s, at, step) for s, at in segments),
         step=step, variation=variation, seed=seed, initial=pose, pattern=pattern,
         fitted_pattern=values.get("fitted_pattern"), timing=timing, environment=environment)
 

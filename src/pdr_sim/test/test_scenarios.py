@@ -68,11 +68,27 @@ def test_variation_is_seeded():
     ({"segments": []}, "segments"),
     ({"segments": [{"type": "straight", "steps": 1.5}]}, "segments[0].steps"),
     ({"segments": [{"type": "straight", "steps": 2}], "timing": "fast"}, "timing"),
+    ({"segments": [{"type": "repeat", "times": 0, "segments": [
+        {"type": "straight", "steps": 2}]}]}, "segments[0].times"),
+    ({"segments": [{"type": "repeat", "times": 2, "segments": [
+        {"type": "straight", "steps": 0}]}]}, "segments[0].segments[0].steps"),
+    ({"segments": [{"type": "repeat", "times": 2, "laps": 3, "segments": [
+        {"type": "straight", "steps": 2}]}]}, "segments[0].laps"),
 ])
 def test_bad_scenarios_name_the_key(data, key):
     with pytest.raises(InputError) as err:
         scenario_from_dict(data, "x.yaml")
     assert key in str(err.value)
+
+
+def test_a_repeat_walks_its_segments_again_in_place():
+    lap = [{"type": "straight", "steps": 3}, {"type": "turn", "angle_deg": 90, "duration_s": 1}]
+    repeated = scenario_from_dict({"segments": [
+        {"type": "standing", "duration_s": 2},
+        {"type": "repeat", "times": 4, "segments": lap}]}, "x.yaml")
+    written = scenario_from_dict({"segments": [{"type": "standing", "duration_s": 2},
+                                               *lap * 4]}, "x.yaml")
+    assert repeated.segments == written.segments and len(repeated.segments) == 9
 
 
 def test_unknown_profile_and_rate_out_of_range():
