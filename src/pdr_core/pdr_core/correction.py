@@ -6,13 +6,17 @@ is ``None``.
 ``pdr_drift`` makes it, ``pdr_msgs/srv/ApplyCorrection`` carries it between processes
 (:func:`request_fields` and :func:`from_request`, the only places that know the
 service's convention that a value and variance both 0 mean "absent"), and a navigator
-takes it whole (pdr_pocket.corrections).
+takes it whole (pdr_pocket.corrections, pdr_ins_ekf.corrections): every part gated at
+:data:`GATE_PROBABILITY` before any is applied, and :func:`invalid` names the numbers
+that cannot be used.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+
+GATE_PROBABILITY = 0.999   # χ² gate of each part of a correction against the covariance
 
 
 @dataclass(frozen=True)
@@ -75,3 +79,25 @@ def request_fields(correction: Correction) -> dict:
             float(v) for v in np.asarray(correction.position_covariance_m2, float).ravel()]
     return {k: float(v) if isinstance(v, (float, np.floating)) else v
             for k, v in fields.items()}
+
+
+def invalid(correction: Correction) -> str | None:
+    """Why the correction's numbers cannot be used (None: they can), each named by its
+    field of pdr_msgs/srv/ApplyCorrection, in the service's order."""
+    c = correction
+    problems = [f"{name} {value!r} is not finite" if not np.isfinite(value) else
+                f"{name} {value!r} is negative" for name, value, variance in (
+                    ("yaw", c.yaw_rad, False), ("yaw_variance", c.yaw_variance_rad2, True),
+                    ("gyro_bias_z", c.gyro_bias_z_radps, False),
+                    ("gyro_bias_z_variance", c.gyro_bias_z_variance_rad2ps2, True))
+                if value is not None and (not np.isfinite(value) or (variance and value < 0))]
+    if c.position_m is not None:
+        cov = np.asarray(c.position_covariance_m2, float).reshape(3, 3)
+        if not np.isfinite(c.position_m).all():
+            problems.append(f"position {list(map(float, c.position_m))} is not finite")
+        if not np.isfinite(cov).all():
+            problems.append("position_covariance is not finite")
+        elif np.any(np.diag(cov) < 0):
+            problems.append(f"position_covariance has a negative variance "
+                            f"(diagonal {np.diag(cov).tolist()} m²)")
+    return "; ".join(problems) or None

@@ -30,6 +30,7 @@ class DriftConfig:
     gate_probability: float = 0.997         # κ = √χ²(p, n) = 4.48 (Section 5.2)
     gate_dof: int = 6
     min_revisit_s: float = 120.0
+    landmark_yaw_sigma_deg: float = 4.0     # each landmark yaw (Section 5.3: a thigh's)
     association: str = "nearest"            # nearest (Section 5.2) or multi_hypothesis
     hypotheses_k: int = 8                   # multi_hypothesis: the best k kept
     commit_margin: float = 6.0              # ... committed when the next is this much worse
@@ -50,6 +51,7 @@ class DriftConfig:
                              f"got {self.association!r}")
         for name in ("q_steps", "m_steps", "r1_deg", "r2_deg", "turn_rate_min_deg_per_step",
                      "turn_tolerance_deg", "gate_probability", "gate_dof", "min_revisit_s",
+                     "landmark_yaw_sigma_deg",
                      "hypotheses_k", "commit_margin", "drift_sigma_deg_per_s", "turn_scale_sigma",
                      "heading_wander_deg_per_sqrt_s",
                      "place_sigma_m", "places_per_km2",

@@ -7,7 +7,8 @@
   its opposite) it lies nearest: δ is taken modulo 180°.
 - :func:`drift_of`: the drift ε, the rate at which the estimated heading turns away from
   the truth, ε = −δ/Δt [rad/s] (Eq. (5.8) with Eq. (5.7)'s sign: ψ₂ = ψ₁ + ε·Δt). Its
-  variance comes from a 4° σ on each yaw (Section 5.3).
+  variance comes from a σ on each yaw, 4° in Section 5.3 (a thigh's heading, the hip's sway
+  averaged; ``landmark_yaw_sigma_deg`` of pdr_drift.config).
 - :func:`offline_drift`: ε₀ of Eq. (6.5), the Δt-weighted mean of the associations'
   drifts, after rejecting those beyond the sensor's plausible drift and those far from
   the others (more than ``spread_factor`` median absolute deviations from the median).
@@ -25,7 +26,7 @@ from pdr_core.angles import wrap_axial
 from pdr_core.vocabulary import LandmarkType
 from pdr_drift.landmarks import Association
 
-YAW_SIGMA_RAD = np.radians(4.0)      # each landmark yaw (Section 5.3)
+YAW_SIGMA_RAD = np.radians(4.0)      # each landmark yaw (Section 5.3), the default
 
 
 @dataclass(frozen=True)
@@ -54,13 +55,15 @@ def deviation(association: Association) -> tuple[float, int]:
     return float(np.mean(deltas)), 2
 
 
-def drift_of(association: Association, since_s: float = -np.inf) -> DriftEstimate:
-    """ε = −δ/Δt with its variance (module docstring); Δt from the first visit, or from
-    ``since_s`` [s] when later (the last correction of a hypothesis whose landmarks were
-    corrected with it, pdr_drift.hypotheses)."""
+def drift_of(association: Association, since_s: float = -np.inf,
+             yaw_sigma_rad: float = YAW_SIGMA_RAD) -> DriftEstimate:
+    """ε = −δ/Δt with its variance (module docstring), each landmark yaw with σ
+    ``yaw_sigma_rad``; Δt from the first visit, or from ``since_s`` [s] when later (the last
+    correction of a hypothesis whose landmarks were corrected with it,
+    pdr_drift.hypotheses)."""
     delta, pairs = deviation(association)
     elapsed = association.revisit.t - max(association.first.t, since_s)
-    delta_var = 2 * YAW_SIGMA_RAD**2 / pairs
+    delta_var = 2 * yaw_sigma_rad**2 / pairs
     return DriftEstimate(association.first.id, association.revisit.id, delta, elapsed,
                          -delta / elapsed, delta_var / elapsed**2, delta_var)
 

@@ -26,7 +26,7 @@ import numpy as np
 from pdr_core.correction import Correction
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetector
-from pdr_drift.drift import YAW_SIGMA_RAD, DriftEstimate, drift_of
+from pdr_drift.drift import DriftEstimate, drift_of
 from pdr_drift.hypotheses import Commit, HypothesisSet
 from pdr_drift.landmarks import Association, Landmark, LandmarkDatabase, StairsTracker, from_corner
 
@@ -56,6 +56,7 @@ class DriftEstimator:
                                          self.config.min_revisit_s)
         self.hypotheses = None if self.config.association == "nearest" else HypothesisSet(
             self.database, self.config, feedback)
+        self.yaw_sigma_rad = np.radians(self.config.landmark_yaw_sigma_deg)
         self.next_id = 0
         self.last: StepSample | None = None
 
@@ -75,7 +76,7 @@ class DriftEstimator:
             association = self.database.associate(landmark)
             if association is None:
                 continue
-            estimate = drift_of(association)
+            estimate = drift_of(association, yaw_sigma_rad=self.yaw_sigma_rad)
             result.associations.append(association)
             result.drifts.append(estimate)
             # the landmark lies a few steps back (a corner is known once the heading has
@@ -83,7 +84,8 @@ class DriftEstimator:
             # what was walked since the revisit's landmark
             since = np.asarray(step.position, float) - np.asarray(landmark.position, float)
             result.corrections.append(Correction(
-                estimate.deviation, YAW_SIGMA_RAD**2, estimate.drift, estimate.drift_variance,
+                estimate.deviation, self.yaw_sigma_rad**2, estimate.drift,
+                estimate.drift_variance,
                 np.asarray(association.first.position, float) + since,
                 np.asarray(association.first.covariance, float)))
         return result

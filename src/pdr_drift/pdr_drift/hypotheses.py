@@ -70,7 +70,7 @@ from pdr_core.angles import wrap_angle
 from pdr_core.rotations import about_vertical
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
-from pdr_drift.drift import YAW_SIGMA_RAD, DriftEstimate, drift_of
+from pdr_drift.drift import DriftEstimate, drift_of
 from pdr_drift.landmarks import Association, Landmark, LandmarkDatabase, distance
 from pdr_drift.walked_path import WalkedPath
 
@@ -162,6 +162,7 @@ class HypothesisSet:
         self.new_place_cost = -2.0 * np.log(config.places_per_km2 * 1e-6)
         self.feedback = feedback
         self.drift_sigma_radps = np.radians(config.drift_sigma_deg_per_s)
+        self.yaw_sigma_rad = np.radians(config.landmark_yaw_sigma_deg)
         self.hypotheses = [Hypothesis(database, Frame(drift_variance=self.drift_sigma_radps ** 2))]
         self.detected: dict[int, Landmark] = {}     # as the navigator saw them, by id
         self.last: StepSample | None = None
@@ -256,7 +257,7 @@ class HypothesisSet:
         """``h`` with the association taken into its frame and database (module
         docstring); ``cost``: that of :meth:`_association_cost`."""
         first, revisit = association.first, association.revisit
-        estimate = drift_of(association, h.last_fix_s)
+        estimate = drift_of(association, h.last_fix_s, self.yaw_sigma_rad)
         delta = estimate.deviation
         allowed = estimate.deviation_variance + (self.drift_sigma_radps * estimate.elapsed) ** 2
         h.cost += cost + delta ** 2 / allowed
@@ -273,7 +274,7 @@ class HypothesisSet:
         h.history += ((first.id, revisit.id),)
         h.pending.append((association, estimate if self.feedback else drift_of(
             Association(self.detected[first.id], self.detected[revisit.id],
-                        association.distance))))
+                        association.distance), yaw_sigma_rad=self.yaw_sigma_rad)))
         return h
 
     # --- commits --------------------------------------------------------------------
@@ -297,7 +298,7 @@ class HypothesisSet:
         """The only hypothesis' pending associations and its correction as of ``step``."""
         h = self.hypotheses[0]
         commit = Commit([a for a, _ in h.pending], [e for _, e in h.pending],
-                        h.frame.yaw_at(step.t), YAW_SIGMA_RAD ** 2, h.frame.drift_radps,
+                        h.frame.yaw_at(step.t), self.yaw_sigma_rad ** 2, h.frame.drift_radps,
                         h.frame.drift_variance, h.position.copy(),
                         psd(np.asarray(step.covariance, float) + h.covariance_shift))
         h.pending = []

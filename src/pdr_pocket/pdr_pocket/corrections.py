@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.correction import Correction
+from pdr_core.correction import Correction, invalid
 from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, YAW_CORRECTION
 from pdr_pocket.orientation import CORRECTION_NAMES, OrientationFilter
 from pdr_pocket.position import PSI
@@ -103,25 +103,3 @@ class CorrectionTaker:
             self.assembly.position.apply_position(position, position_cov)
             done.append(f"position fix (NIS {nis[-1]:.2f})")
         return done
-
-
-def invalid(correction: Correction) -> str | None:
-    """Why the correction's numbers cannot be used (None: they can), each named by its
-    field of pdr_msgs/srv/ApplyCorrection, in the service's order."""
-    c = correction
-    problems = [f"{name} {value!r} is not finite" if not np.isfinite(value) else
-                f"{name} {value!r} is negative" for name, value, variance in (
-                    ("yaw", c.yaw_rad, False), ("yaw_variance", c.yaw_variance_rad2, True),
-                    ("gyro_bias_z", c.gyro_bias_z_radps, False),
-                    ("gyro_bias_z_variance", c.gyro_bias_z_variance_rad2ps2, True))
-                if value is not None and (not np.isfinite(value) or (variance and value < 0))]
-    if c.position_m is not None:
-        cov = np.asarray(c.position_covariance_m2, float).reshape(3, 3)
-        if not np.isfinite(c.position_m).all():
-            problems.append(f"position {list(map(float, c.position_m))} is not finite")
-        if not np.isfinite(cov).all():
-            problems.append("position_covariance is not finite")
-        elif np.any(np.diag(cov) < 0):
-            problems.append(f"position_covariance has a negative variance "
-                            f"(diagonal {np.diag(cov).tolist()} m²)")
-    return "; ".join(problems) or None
