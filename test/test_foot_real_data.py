@@ -91,3 +91,27 @@ def test_zeroed_heading_position_covariance_smooths_real_walks(procs, tmp_path):
                         "--config", str(config))
     assert math.isfinite(report["smoothed"]["armse_3d_m"])
     assert report["smoothed"]["armse_3d_m"] < 0.15
+
+
+@needs_shared(*PYSHOE, XIO)
+def test_the_drift_loop_changes_no_real_trial():
+    """Issue 44, acceptance 3: the trials last 1-2 minutes, less than a revisit needs
+    (min_revisit_s, 120 s), so with config/foot_drift.yaml the online loop associates no
+    landmark and its path is the run's without it, sample for sample (docs/foot_ins.md,
+    "Drift corrections")."""
+    from pdr_core.bag import BagReader
+    from pdr_drift.config import load_drift_config
+    from pdr_ins_ekf.config import load_run_config
+    from pdr_ins_ekf.drift_loop import navigate_online
+    from pdr_ins_ekf.offline import navigate
+
+    config = load_run_config(ROOT / "src" / "pdr_ins_ekf" / "config" / "foot_drift.yaml")
+    drift = load_drift_config(ROOT / "src" / "pdr_drift" / "config" /
+                              "landmark_drift_foot.yaml")
+    for csv, args in [*((trial, PYSHOE_NAV_ARGS) for trial in PYSHOE), (XIO, XIO_ARGS)]:
+        imu = BagReader(imported(csv, args)).read("/imu/data")
+        plain = navigate(imu, config)
+        corrected, log = navigate_online(imu, config, drift)
+        assert log.drifts == [] and log.corrections == [], csv.stem
+        np.testing.assert_array_equal(corrected.stamp_ns, plain.stamp_ns)
+        np.testing.assert_array_equal(corrected.output.position, plain.output.position)

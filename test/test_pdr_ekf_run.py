@@ -9,6 +9,7 @@ import pytest
 from scipy.optimize import brentq
 
 from pdr_core.bag import BagReader, write_batches
+from pdr_core.nav_path import last_path
 from wstest import ROOT, XIO, XIO_COLUMNS, needs_shared
 
 REPORT_KEYS = {"duration_s", "distance_m", "final_error_m", "final_error_pct",
@@ -25,13 +26,21 @@ def test_sample_bag_outputs_and_report(procs, tmp_path):
     assert report["armse_3d_m"] < 0.05 and report["final_error_pct"] < 0.5
     reader = BagReader(tmp_path / "out")
     assert set(reader.topics) == {"/pdr/foot/pose", "/pdr/foot/velocity", "/pdr/foot/stance",
-                                  "/pdr/foot/path", "/pdr/foot/odometry", "/tf", "/tf_static"}
+                                  "/pdr/foot/path", "/pdr/foot/odometry", "/tf", "/tf_static",
+                                  "/pdr/foot/step", "/pdr/foot/step_pose"}
     pose = reader.read("/pdr/foot/pose")
     assert len(pose) == report["samples"] == 6095
     cov = pose["pose.covariance"].reshape(-1, 6, 6)[:, :3, :3]
     assert (np.linalg.eigvalsh(cov) > 0).all(), "position covariance filled in"
     stance = reader.read("/pdr/foot/stance")
     assert 0.3 < stance["stationary"].mean() < 0.7
+    # a stride per footfall of the simulated 1.3 m strides (bags/foot_walk.yaml), level
+    steps, step_poses = reader.read("/pdr/foot/step"), reader.read("/pdr/foot/step_pose")
+    np.testing.assert_array_equal(steps.stamp_ns, step_poses.stamp_ns)
+    np.testing.assert_array_equal(steps["index"], np.arange(len(steps)))
+    assert len(steps) == len(last_path(reader, "/pdr/foot/path")) >= 30
+    assert np.median(steps["length"]) == pytest.approx(1.3, abs=0.05)
+    assert (steps["activity"] == 1).all() and np.abs(steps["vertical_displacement"]).max() < 0.05
     assert (tmp_path / "out" / "path.png").stat().st_size > 10_000
 
 

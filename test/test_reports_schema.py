@@ -22,6 +22,7 @@ from wstest import ROOT, Processes
 pytestmark = pytest.mark.ros
 DOC = ROOT / "docs" / "reports.md"
 FOOT_WALK, POCKET_WALK = ROOT / "bags" / "foot_walk", ROOT / "bags" / "pocket_walk"
+FOOT_DRIFT = ROOT / "src" / "pdr_ins_ekf" / "config" / "foot_drift.yaml"
 
 
 def anchor(heading: str) -> str:
@@ -145,6 +146,10 @@ CASES = {
     "ekf_stance_truth": ("pdr-ekf run", ["pdr-ekf", "run", f"{OUT}/gait", "--out",
                                          f"{OUT}/ekf_stance_truth"],
                          {"pose", "stance truth", "2 swings"}, True, ()),
+    "ekf_drift_truth": ("pdr-ekf run", ["pdr-ekf", "run", FOOT_WALK, "--out",
+                                        f"{OUT}/ekf_drift_truth", "--drift", "online",
+                                        "--config", FOOT_DRIFT],
+                        {"pose", "stance truth", "2 swings", "--drift"}, True, ()),
     "ekf_evaluate": ("pdr-ekf evaluate", ["pdr-ekf", "evaluate", f"{OUT}/ekf_truth_smoothed",
                                           "--truth", FOOT_WALK], {"pose"}, False,
                      ("ekf_truth_smoothed",)),

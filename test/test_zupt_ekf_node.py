@@ -27,17 +27,21 @@ def test_live_node_equals_offline_run(procs, tmp_path):
     ref_smoothed = [path for stamp, path in
                     BagReader(tmp_path / "offline").read_messages("/pdr/foot/smoothed_path")
                     if stamp <= ref.stamp_ns[expected - 1]]  # the segments ended live
+    strides = int(np.sum(BagReader(tmp_path / "offline").read("/pdr/foot/step").stamp_ns
+                         <= ref.stamp_ns[expected - 1]))
     recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={tmp_path / 'live'}", "-p",
                            "topics:=[pdr/foot/pose, pdr/foot/stance, pdr/foot/smoothed_path, "
-                           "pdr/foot/odometry, tf, tf_static]",
-                           "-p", f"max_messages:={4 * expected + 1 + len(ref_smoothed)}",
+                           "pdr/foot/odometry, tf, tf_static, pdr/foot/step, "
+                           "pdr/foot/step_pose]", "-p",
+                           f"max_messages:={4 * expected + 1 + len(ref_smoothed) + 2 * strides}",
                            name="record")
     node = procs.start("zupt_ekf", "--ros-args", "-p", f"config:={CONFIG}", "-p",
                        "imu_durability:=transient_local", "-p", "smoothed_path:=true",
                        name="zupt_ekf")
     wait_for_log(recorder, "recording /pdr/foot/pose", "recording /pdr/foot/stance",
                  "recording /pdr/foot/smoothed_path", "recording /pdr/foot/odometry",
-                 "recording /tf", "recording /tf_static")
+                 "recording /tf", "recording /tf_static", "recording /pdr/foot/step",
+                 "recording /pdr/foot/step_pose")
     played = procs.run("bag_play", "--ros-args", "-p", f"bag:={bag}", "-p",
                        "topics:=[/imu/data]", "-p", "rate:=0.0", "-p", "wait_for_subscribers:=1")
     assert played.returncode == 0, played.stderr
@@ -50,12 +54,15 @@ def test_live_node_equals_offline_run(procs, tmp_path):
                                rtol=0, atol=1e-9)
     np.testing.assert_allclose(live["pose.covariance"], ref["pose.covariance"][:expected],
                                rtol=0, atol=1e-12)
-    # the odometry and TF (issue 42): the offline bag's messages, byte for byte
-    for topic in ("/pdr/foot/odometry", "/tf", "/tf_static"):
+    # the odometry and TF (issue 42) and the strides (issue 44): the offline bag's
+    # messages, byte for byte
+    for topic, count in (("/pdr/foot/odometry", expected), ("/tf", expected),
+                         ("/tf_static", 1), ("/pdr/foot/step", strides),
+                         ("/pdr/foot/step_pose", strides)):
         offline_raw = [m.data for m in BagReader(tmp_path / "offline").raw_messages([topic])]
         live_raw = [m.data for m in BagReader(tmp_path / "live").raw_messages([topic])]
-        assert live_raw == offline_raw[:len(live_raw)] and len(live_raw) == min(
-            expected, len(offline_raw)), topic
+        assert live_raw == offline_raw[:len(live_raw)] and len(live_raw) == count, topic
+    assert strides >= 30
     live_smoothed = [path for _, path in
                      BagReader(tmp_path / "live").read_messages("/pdr/foot/smoothed_path")]
     assert len(live_smoothed) == len(ref_smoothed) > 30

@@ -30,6 +30,12 @@
   a bump or the phone handled, not a gait (pdr_pocket.compiled_peaks' footfall loop).
 - :data:`PLACEMENT_WINDOW_STEPS`: the level gait cycles the placement is judged over
   (their medians): a straight stretch of about 10 m, short of a corridor.
+- :data:`FOOT_STRIDE_MIN_M`: the shortest horizontal stride of a foot that is a step with
+  a direction of travel [m]. Stepping in place, shuffling and a turn on the spot move the
+  foot by centimetres; the shortest walking strides, at 2 km/h, are about 0.8 m, and a
+  stair stride spans two treads, about half a metre (IBC 2015, Section 1011.5.2: 11 in
+  at least). A foot INS puts a stride's end within about a centimetre, so at 0.2 m its
+  direction is good to 3°.
 """
 from __future__ import annotations
 
@@ -41,6 +47,7 @@ THIGH_SWING_MIN_RATIO = 0.75
 GAIT_MIN_FOOTFALLS = 3
 PLACEMENT_WINDOW_STEPS = 8
 PLACEMENT_MIN_CADENCE_HZ = 0.75
+FOOT_STRIDE_MIN_M = 0.2
 
 
 def stride_bound_m(duration_s: float, height_m: float | None = None) -> float:

@@ -24,6 +24,9 @@ FOOT_STANCE = "/pdr/foot/stance"
 FOOT_ODOMETRY = "/pdr/foot/odometry"                # nav_msgs/Odometry, for a fusion node
 FOOT_PATH = "/pdr/foot/path"
 FOOT_SMOOTHED_PATH = "/pdr/foot/smoothed_path"
+FOOT_STEP = "/pdr/foot/step"                        # pdr_msgs/Step, one per stride
+FOOT_STEP_POSE = "/pdr/foot/step_pose"              # the pose at each stride, for pdr_drift
+FOOT_APPLY_CORRECTION = "/pdr/foot/apply_correction"    # the service zupt_ekf offers
 
 # the pocket navigator (pocket_pdr, pdr-pocket run)
 POCKET_ATTITUDE = "/pdr/pocket/attitude"

@@ -2,7 +2,8 @@
 
 Subcommands:
     run BAG --out OUT     the ZUPT EKF on imu/data: output bag, report.json, PNG;
-                          --smoother segmented|full adds the RTS-smoothed trajectory.
+                          --smoother segmented|full adds the RTS-smoothed trajectory;
+                          --drift online|offline the landmark drift corrections.
     evaluate BAG --truth TRUTH_BAG
                           the report of recorded poses (pdr/foot/pose, pdr/pocket/pose)
                           against ground truth.
@@ -31,7 +32,7 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, add_strict_option
 from pdr_core.errors import InputError, cli_parser, dispatch
-from pdr_core.metrics import error_report, truth_at, within_step_rmse
+from pdr_core.metrics import error_report, truth_at, truth_orientation_at, within_step_rmse
 from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
 from pdr_core.report_files import print_report, write_report
 from pdr_ins_ekf.config import load_run_config
@@ -41,6 +42,7 @@ from pdr_ins_ekf.offline import (
     smoothed_paths,
     stance_scores,
     step_path,
+    stride_batches,
     tf_batches,
 )
 from pdr_ins_ekf.studies.cli import add_study_commands
@@ -72,6 +74,15 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--smoother", choices=SMOOTHER_MODES,
                    help="RTS smoothing (Simón Colomar et al. 2012): adds pdr/foot/smoothed_path "
                         "and report key 'smoothed'; default: the configuration's smoother.mode")
+    p.add_argument("--drift", choices=("none", "online", "offline"), default="none",
+                   help="landmark drift corrections (pdr_drift; Muñoz Díaz 2016, Sections "
+                        "6.1-6.2): online, taken at each revisit's stride as zupt_ekf takes "
+                        "landmark_drift's; offline, the walk's drift ε₀ taken off the heading "
+                        "in a second pass. Use a 15-state configuration "
+                        "(config/foot_ekf_drift.yaml; docs/foot_ins.md)")
+    p.add_argument("--drift-config", type=Path,
+                   help="YAML of the drift estimator (pdr_drift.config); default: the "
+                        "installed config/landmark_drift.yaml")
     p.add_argument("--plot", action="store_true",
                    help="also write OUT/path.png (and OUT/smoothing.png when smoothing)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output")
@@ -91,6 +102,9 @@ def _run_run(args: argparse.Namespace) -> int:
               + ([args.stance_truth_topic] if has_stance else []))
     batches = reader.read_batches(wanted)
     result = navigate(batches[args.imu_topic], config)
+    drift_report = None
+    if args.drift != "none":
+        result, drift_report = _with_drift(args, config, batches, result, has_truth)
     truth = None
     if has_truth:
         truth = truth_at(batches[args.truth_topic], result.stamp_ns)
@@ -105,12 +119,14 @@ def _run_run(args: argparse.Namespace) -> int:
         smoothed = smoothed_paths(result)
         report["smoothed"] = step_report(t_s, result.smoothed.position, truth,
                                          result.stance) | {"segments": len(smoothed)}
-    outputs = output_batches(result) | tf_batches(result)
+    if drift_report is not None:
+        report["drift"] = drift_report
+    outputs = output_batches(result) | tf_batches(result) | stride_batches(result.strides)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
         writer.write_merged(outputs)
         writer.add_topic(topics.FOOT_PATH, PATH)
-        stamp, path = step_path(result)
-        writer.write_raw(topics.FOOT_PATH, PATH, stamp, path)
+        stamp = int(result.stamp_ns[-1])
+        writer.write_raw(topics.FOOT_PATH, PATH, stamp, step_path(result.strides, stamp))
         for stamp, path in smoothed:
             writer.write_raw(topics.FOOT_SMOOTHED_PATH, PATH, stamp, path)
         write_report(writer.staging, report)
@@ -123,6 +139,41 @@ def _run_run(args: argparse.Namespace) -> int:
                 plots.smoothing_png(t_s, result, writer.staging / "smoothing.png")
     print_report(report)
     return 0
+
+
+def _with_drift(args: argparse.Namespace, config, batches: dict, plain, has_truth: bool
+                ) -> tuple:
+    """The run with the drift corrections (pdr_ins_ekf.drift_loop) and the report's
+    ``drift`` object: what the estimator did and, against a truth, the final yaw and
+    position errors with the corrections and without (the plain run)."""
+    from pdr_drift.config import default_config_path, load_drift_config
+    from pdr_drift.drift_report import final_errors
+    from pdr_ins_ekf.drift_loop import navigate_offline, navigate_online
+
+    if config.smoother.mode != "none":
+        raise InputError("--drift", "the smoother cannot take corrections: use --smoother "
+                                    "none with --drift")
+    drift = load_drift_config(args.drift_config or default_config_path())
+    loop = navigate_online if args.drift == "online" else navigate_offline
+    result, log = loop(batches[args.imu_topic], config, drift)
+    report = {"mode": args.drift, **log.summary()}
+    if has_truth:
+        truth = batches[args.truth_topic]
+        for name, run_ in (("corrected", result), ("uncorrected", plain)):
+            true_yaw = yaw_of(truth_orientation_at(truth, run_.stamp_ns))
+            report[name] = final_errors(yaw_of(run_.output.attitude), true_yaw,
+                                        run_.output.position,
+                                        truth_at(truth, run_.stamp_ns))
+    return result, report
+
+
+def yaw_of(attitude: np.ndarray) -> np.ndarray:
+    """ENU yaw [rad] of attitudes: C_b^n (N, 3, 3) or quaternions (N, 4), x y z w."""
+    from scipy.spatial.transform import Rotation
+
+    rotation = (Rotation.from_matrix(attitude) if attitude.ndim == 3
+                else Rotation.from_quat(attitude))
+    return rotation.as_euler("ZYX")[:, 0]
 
 
 def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,
@@ -146,8 +197,8 @@ def _add_evaluate(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--truth", type=Path, required=True, help="bag with ground_truth/pose")
     p.add_argument("--topic",
                    help="topic of the estimated poses (geometry_msgs/PoseWithCovarianceStamped);"
-                        " default: the bag's only such topic, e.g. /pdr/foot/pose or "
-                        "/pdr/pocket/pose")
+                        " default: the bag's only such topic, or its only navigator pose, "
+                        "/pdr/foot/pose or /pdr/pocket/pose")
     p.add_argument("--plot", type=Path, help="PNG of the estimate against the truth")
     p.set_defaults(func=_run_evaluate)
 
@@ -158,12 +209,15 @@ POSITION_FIELD = {POSE_WITH_COVARIANCE_STAMPED: "pose.pose.position",
 
 
 def estimate_topic(reader: BagReader) -> str:
-    """The bag's one topic of pose estimates (geometry_msgs/PoseWithCovarianceStamped);
-    InputError naming the candidates and --topic when there is none or more than one."""
+    """The bag's topic of pose estimates (geometry_msgs/PoseWithCovarianceStamped): its only
+    one, or its only navigator pose (``pdr/foot/pose``, ``pdr/pocket/pose``) beside the
+    foot's ``pdr/foot/step_pose``; InputError naming the candidates and --topic when there
+    is none or more than one."""
     candidates = sorted(topic for topic, msgtype in reader.topics.items()
                         if msgtype == POSE_WITH_COVARIANCE_STAMPED)
-    if len(candidates) == 1:
-        return candidates[0]
+    main = [topic for topic in candidates if topic in (topics.FOOT_POSE, topics.POCKET_POSE)]
+    if len(candidates) == 1 or len(main) == 1:
+        return candidates[0] if len(candidates) == 1 else main[0]
     if not candidates:
         have = ", ".join(f"{t} ({m})" for t, m in sorted(reader.topics.items())) or "none"
         raise InputError(reader.path, f"no topic of pose estimates ("

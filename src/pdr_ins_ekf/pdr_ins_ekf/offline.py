@@ -2,7 +2,8 @@
 
 :func:`navigate` takes an ``imu/data`` batch and returns a :class:`FootRun`; the message
 batches of the outputs (``pdr/foot/pose``, ``velocity``, ``odometry``, ``stance``) come
-from :func:`output_batches`, the path's from :func:`step_path`, ``/tf`` and ``/tf_static``
+from :func:`output_batches`, the strides' (``pdr/foot/step``, ``pdr/foot/step_pose``) from
+:func:`stride_batches`, the path's from :func:`step_path`, ``/tf`` and ``/tf_static``
 from :func:`tf_batches`. Bad input never stops the run silently:
 
 - samples with NaN/Inf are dropped and counted; so are stamps that do not increase;
@@ -26,6 +27,7 @@ from pdr_core.imu_checks import check_units, clean_samples
 from pdr_core.msgtypes import (
     ODOMETRY,
     POSE_WITH_COVARIANCE_STAMPED,
+    STEP,
     TWIST_WITH_COVARIANCE_STAMPED,
 )
 from pdr_core.nav_path import encode_path
@@ -39,6 +41,7 @@ from pdr_core.odometry import tf_batches as pose_tf
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.kernel_data import ATTITUDE, AXES
+from pdr_ins_ekf.strides import Stride, StrideTracker
 from pdr_ins_ekf.zero_velocity import sample_rate_hz
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SmoothedOutput, run, smooth
 
@@ -48,7 +51,8 @@ IMU_GRAPH = topics.graph_name(topics.IMU_DATA)     # the input errors name
 
 @dataclass
 class FootRun:
-    """Result of :func:`navigate` over the kept samples (stamps ``stamp_ns``)."""
+    """Result of :func:`navigate` over the kept samples (stamps ``stamp_ns``), with the
+    strides (pdr_ins_ekf.strides)."""
 
     stamp_ns: np.ndarray
     stance: np.ndarray
@@ -57,6 +61,7 @@ class FootRun:
     output: FilterOutput
     counts: dict[str, int] = field(default_factory=dict)
     smoothed: SmoothedOutput | None = None
+    strides: list[Stride] = field(default_factory=list)
 
 
 def alignment_window(stance: np.ndarray, t_s: np.ndarray, min_s: float) -> slice:
@@ -99,8 +104,9 @@ def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
     output = run(*args, aligned, yaw)
     smoothed = (None if config.smoother.mode == "none"
                 else smooth(*args, config.smoother, aligned, yaw))
+    strides = StrideTracker().push(stamp_ns[start:], result.mask[start:], output)
     return FootRun(stamp_ns[start:], result.mask[start:], result.statistic[start:],
-                   result.detector, output, counts, smoothed)
+                   result.detector, output, counts, smoothed, strides)
 
 
 def stance_scores(run_: FootRun, truth: MessageBatch) -> dict[str, float | int | None]:
@@ -194,13 +200,40 @@ def smoothed_paths(run_: FootRun, frame: str = MAP_FRAME) -> list[tuple[int, byt
     return paths
 
 
-def step_path(run_: FootRun, frame: str = MAP_FRAME) -> tuple[int, bytes]:
-    """The ``pdr/foot/path`` (CDR) of the whole run, one pose per step (at each stance
-    onset), stamped with the last sample."""
-    onsets = np.flatnonzero(run_.stance[1:] & ~run_.stance[:-1]) + 1
-    stamp = int(run_.stamp_ns[-1])
-    return stamp, pose_path(run_.stamp_ns[onsets], run_.output.position[onsets],
-                            run_.output.attitude[onsets], stamp, frame)
+def stride_batches(strides: list[Stride], frame: str = MAP_FRAME) -> dict[str, MessageBatch]:
+    """``pdr/foot/step`` (pdr_msgs/Step) and ``pdr/foot/step_pose``
+    (PoseWithCovarianceStamped: the position and attitude with their covariances) at each
+    stride, stamped with its footfall (pdr_ins_ekf.strides)."""
+    stamps = np.array([s.stamp_ns for s in strides], np.int64)
+    pitch_max = np.array([s.pitch_max_rad for s in strides])
+    pitch_min = np.array([s.pitch_min_rad for s in strides])
+    cov = np.zeros((len(strides), 6, 6))
+    cov[:, LINEAR, LINEAR] = np.reshape([s.covariance_m2 for s in strides], (-1, 3, 3))
+    cov[:, ANGULAR, ANGULAR] = (np.reshape([s.attitude_variance_rad2 for s in strides],
+                                           (-1, 3))[:, :, None] * np.eye(3))
+    return {
+        topics.FOOT_STEP: MessageBatch(STEP, stamps, frame, {
+            "index": np.array([s.index for s in strides], np.uint32),
+            "length": np.array([s.length_m for s in strides]),
+            "vertical_displacement": np.array([s.vertical_m for s in strides]),
+            "heading": np.array([s.heading_rad for s in strides]),
+            "pitch_max": pitch_max, "pitch_min": pitch_min,
+            "pitch_amplitude": pitch_max - pitch_min,
+            "duration": np.array([s.duration_s for s in strides]),
+            "activity": np.array([s.activity for s in strides], np.uint8),
+            "ride": np.zeros(len(strides), np.uint8), "ride_height": np.zeros(len(strides))}),
+        topics.FOOT_STEP_POSE: MessageBatch(POSE_WITH_COVARIANCE_STAMPED, stamps, frame, {
+            "pose.pose.position": np.reshape([s.position_m for s in strides], (-1, 3)),
+            "pose.pose.orientation": quaternion_from_orthonormal(
+                np.reshape([s.attitude for s in strides], (-1, 3, 3))),
+            "pose.covariance": cov.reshape(-1, 36)})}
+
+
+def step_path(strides: list[Stride], stamp_ns: int, frame: str = MAP_FRAME) -> bytes:
+    """The ``pdr/foot/path`` (CDR): the pose at each stride, stamped ``stamp_ns``."""
+    return pose_path(np.array([s.stamp_ns for s in strides], np.int64),
+                     np.reshape([s.position_m for s in strides], (-1, 3)),
+                     np.reshape([s.attitude for s in strides], (-1, 3, 3)), stamp_ns, frame)
 
 
 def pose_path(stamp_ns: np.ndarray, position: np.ndarray, attitude: np.ndarray,

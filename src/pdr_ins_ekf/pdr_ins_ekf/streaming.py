@@ -18,6 +18,11 @@ Input hygiene as offline: samples with NaN/Inf or beyond any IMU's range
 gaps longer than ``max_gap_s`` are counted (the filter propagates over them).
 Data in g or deg/s is refused at alignment (:class:`UnitsError`), after which nothing is
 navigated until :meth:`reset`.
+
+The filter runs with its recent past kept (pdr_ins_ekf.correctable): it gives the
+strides (``FootRun.strides``) and takes a drift correction at the stride it names
+(:meth:`StreamingNavigator.apply_correction`), the samples since filtered again; not with
+the segmented smoother, which cannot go back.
 """
 from __future__ import annotations
 
@@ -25,9 +30,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdr_core.correction import Correction
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_units, usable_samples
 from pdr_ins_ekf.config import RunConfig
+from pdr_ins_ekf.correctable import (
+    CORRECTION_WINDOW_S,
+    CorrectableFilter,
+    CorrectionResult,
+    FilterBlock,
+)
 from pdr_ins_ekf.offline import FootRun, check_rest
 from pdr_ins_ekf.zero_velocity import RATE_PROBE_INTERVALS, sample_rate_hz
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SegmentSmoother, SmoothedSegment, ZuptEkf
@@ -87,6 +99,7 @@ class StreamingNavigator:
     """
 
     config: RunConfig
+    correction_window_s: float = CORRECTION_WINDOW_S
     counts: dict[str, int] = field(default_factory=lambda: {
         "non_finite": 0, "implausible": 0, "stamp_not_increasing": 0, "gaps": 0})
 
@@ -106,6 +119,7 @@ class StreamingNavigator:
         self.offset = 0
         self.first_stamp = 0
         self.ekf: ZuptEkf | None = None
+        self.filter: CorrectableFilter | None = None
         self.smoother: SegmentSmoother | None = None
         self.smoothed: list[SmoothedSegment] = []
         self.filter_start = 0
@@ -228,6 +242,7 @@ class StreamingNavigator:
                     return
                 self.ekf = ZuptEkf.aligned(self.config.filter, a, w,
                                            np.radians(self.config.initial_yaw_deg))
+                self.filter = CorrectableFilter(self.ekf, self.correction_window_s)
                 if self.config.smoother.mode == "segmented":
                     self.smoother = SegmentSmoother(self.config.filter, self.config.smoother,
                                                     self.ekf)
@@ -247,7 +262,8 @@ class StreamingNavigator:
             dt = np.concatenate(([0.0], np.diff((stamps - self.first_stamp) * 1e-9)))
         stance = np.array(self.stance[kept], bool)
         accel, gyro = self.accel[kept], self.gyro[kept]
-        output = self.ekf.run_block(accel, gyro, dt, stance)
+        filtered = self.filter.run(FilterBlock(stamps, self._times_s(stamps), dt, accel.copy(),
+                                               gyro.copy(), stance))
         if self.smoother is not None:
             for i, stamp in enumerate(stamps.tolist()):
                 segment = self.smoother.step(stamp, accel[i], gyro[i], dt[i], stance[i])
@@ -255,7 +271,25 @@ class StreamingNavigator:
                     self.smoothed.append(segment)
         self.next_filtered = last + 1
         return FootRun(stamps, stance, np.array(self.statistic[kept], float),
-                       self.detector_id, output)
+                       self.detector_id, filtered.output, strides=filtered.strides)
+
+    def _times_s(self, stamp_ns) -> np.ndarray:
+        """Stamps [ns] as seconds from the first sample: the instants of the history."""
+        return (np.asarray(stamp_ns, np.int64) - self.first_stamp) * 1e-9
+
+    def apply_correction(self, correction: Correction) -> CorrectionResult:
+        """Take a drift correction at the sample stamped ``correction.stamp_ns`` (0: now),
+        the samples since filtered again (pdr_ins_ekf.correctable); refused by name before
+        alignment and with the segmented smoother."""
+        if self.filter is None:
+            return CorrectionResult(False, "nothing applied: the navigator has not aligned "
+                                           "yet (no stationary start)")
+        if self.smoother is not None:
+            self.filter.counts["refused"] += 1
+            return CorrectionResult(False, "nothing applied: the segmented smoother runs "
+                                           "beside the filter and cannot go back")
+        t_s = None if correction.stamp_ns == 0 else float(self._times_s(correction.stamp_ns))
+        return self.filter.apply_correction(correction, t_s)
 
     def _none_filtered(self) -> FootRun:
         """An empty block of estimates."""

@@ -5,11 +5,18 @@ Subscribes ``imu/data`` (sensor_msgs/Imu) and publishes, per sample, ``pdr/foot/
 ``pdr/foot/odometry`` (nav_msgs/Odometry: the pose and its covariance, the velocity in
 ``base_frame``, for a fusion node), ``pdr/foot/stance`` (pdr_msgs/Stance) and the pose on
 ``/tf`` (pdr_core.node_tf: ``map_frame → base_frame``, or ``map_frame → odom_frame``),
-and at the end of every step ``pdr/foot/path`` (one pose per step). With
+and at every stride (pdr_ins_ekf.strides: from one footfall to the next) ``pdr/foot/step``
+(pdr_msgs/Step), ``pdr/foot/step_pose`` (PoseWithCovarianceStamped, at the stride's stamp)
+and ``pdr/foot/path`` (one pose per stride). With
 ``smoothed_path`` true it also publishes ``pdr/foot/smoothed_path``: one Path per segment
 of the segmented RTS smoother (Simón Colomar et al. 2012), with every sample's smoothed
 pose, as soon as the segment ends (its lag and its memory are bounded by the segment).
-Serves ``~/reset`` (std_srvs/Trigger).
+Serves ``~/reset`` (std_srvs/Trigger) and ``pdr/foot/apply_correction``
+(pdr_msgs/srv/ApplyCorrection), the drift corrections of ``landmark_drift`` run on the
+foot's topics by remapping (docs/nodes.md): taken whole or not at all at the stride the
+request's stamp names, the samples since filtered again (pdr_ins_ekf.correctable); the
+strides run again go back in the answer and replace theirs in the path, published again.
+A z gyro bias part needs the 15-state form and is refused with 9 states, saying so.
 
 Parameters (docs/nodes.md): ``config`` (navigator YAML, see pdr_ins_ekf.config; default
 the installed config/foot_ekf.yaml) or ``imu_profile`` (the shipped
@@ -44,13 +51,17 @@ from nav_msgs.msg import Path as PathMsg
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
 from pdr_core import topics
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
+from pdr_core.cdr import encode
+from pdr_core.correction import from_request
 from pdr_core.diagnostics import Counters
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
+from pdr_core.headers import time_ns
 from pdr_core.msgtypes import IMU
 from pdr_core.node_diagnostics import NodeDiagnostics
 from pdr_core.node_main import spin_node
@@ -60,10 +71,13 @@ from pdr_core.node_wiring import wiring
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_core.topics import graph_name
 from pdr_ins_ekf.config import load_run_config
-from pdr_ins_ekf.offline import FootRun, output_batches, pose_path
+from pdr_ins_ekf.correctable import CorrectionResult
+from pdr_ins_ekf.offline import FootRun, output_batches, pose_path, step_path, stride_batches
 from pdr_ins_ekf.streaming import StreamingNavigator
+from pdr_ins_ekf.strides import Stride
 from pdr_ins_ekf.zupt_ekf import SmoothedSegment
-from pdr_msgs.msg import Stance
+from pdr_msgs.msg import Stance, Step
+from pdr_msgs.srv import ApplyCorrection
 
 # messages taken from the subscription's queue per callback: 2 s at 200 Hz, so a backlog
 # is worked off in large blocks while the ~/reset service still gets its turn
@@ -120,11 +134,17 @@ class ZuptEkfNode(Node):
                                 (topics.FOOT_VELOCITY, TwistWithCovarianceStamped),
                                 (topics.FOOT_ODOMETRY, Odometry),
                                 (topics.FOOT_STANCE, Stance))}
+        self.stride_pubs = {
+            topic: self.create_publisher(kind, graph_name(topic), out)
+            for topic, kind in ((topics.FOOT_STEP, Step),
+                                (topics.FOOT_STEP_POSE, PoseWithCovarianceStamped))}
         self.path_pub = self.create_publisher(PathMsg, graph_name(topics.FOOT_PATH), latched)
         self.smoothed_pub = self.create_publisher(PathMsg, graph_name(topics.FOOT_SMOOTHED_PATH),
                                                   out)
         self.create_service(Trigger, "~/reset", self.on_reset)
-        self.steps = _Steps()
+        self.create_service(ApplyCorrection, graph_name(topics.FOOT_APPLY_CORRECTION),
+                            self.on_correction)
+        self.strides: list[Stride] = []
         self.undecodable = 0
         self.reported: dict[str, int] = {}
         self.diagnostics = NodeDiagnostics(self, self.diagnostic_counters)
@@ -162,18 +182,26 @@ class ZuptEkfNode(Node):
     def diagnostic_counters(self) -> Counters:
         """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
         dropped by reason, the gaps and the malformed messages (the log's); the units
-        refused; the poses not on /tf for want of an odom_frame transform at their stamp.
-        zupt_ekf takes no corrections."""
+        refused; the poses not on /tf for want of an odom_frame transform at their stamp;
+        the corrections refused, and the accepted ones as a tally."""
         failed = self.navigator.failed
+        corrections = self.corrections()
         return Counters(self.diagnostics.samples_in,
                         {**self.navigator.counts, "malformed_cdr": self.undecodable,
-                         "tf_no_odom": self.tf.no_odom},
+                         "tf_no_odom": self.tf.no_odom,
+                         "corrections_refused": corrections["refused"]},
+                        {"corrections_accepted": corrections["accepted"]},
                         failed=None if failed is None else str(failed))
+
+    def corrections(self) -> dict[str, int]:
+        """The corrections accepted and refused since the start (or ``~/reset``)."""
+        taker = self.navigator.filter
+        return dict(taker.counts) if taker is not None else {"accepted": 0, "refused": 0}
 
     def publish(self, run: FootRun) -> None:
         """Pose, velocity, odometry, stance and TF of every sample of the block (raw CDR; a
-        large block in acknowledged slices, see HISTORY), and the step path if a step began
-        in it."""
+        large block in acknowledged slices, see HISTORY), and the strides ended in it with
+        the path."""
         if not len(run.stamp_ns):
             return
         batches = output_batches(run, self.map_frame, self.tf.base_frame)
@@ -181,8 +209,53 @@ class ZuptEkfNode(Node):
                       HISTORY // 2, ACK_TIMEOUT)
         self.tf.broadcast(run.stamp_ns, run.output.position,
                           quaternion_from_orthonormal(run.output.attitude))
-        if self.steps.add(run):
-            self.path_pub.publish(self.steps.path(self.map_frame))
+        if run.strides:
+            for topic, batch in stride_batches(run.strides, self.map_frame).items():
+                for raw in encode(batch):
+                    self.stride_pubs[topic].publish(raw)
+            self.strides += run.strides
+            self.publish_path()
+
+    def publish_path(self) -> None:
+        """``pdr/foot/path``: the pose at every stride, stamped with the last one."""
+        self.path_pub.publish(step_path(self.strides, self.strides[-1].stamp_ns,
+                                        self.map_frame))
+
+    def on_correction(self, request, response):
+        """pdr/foot/apply_correction: the navigator decides, at the request's stamp
+        (pdr_ins_ekf.correctable); logged and counted. The strides run again go back in
+        the response and replace theirs in the path, published again."""
+        stamp = time_ns(request.stamp)
+        try:
+            result = self.navigator.apply_correction(from_request(request, stamp))
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            result = CorrectionResult(False, f"correction not usable: {exc}")
+        counts = self.corrections()
+        tally = f"({counts['accepted']} accepted, {counts['refused']} refused so far)"
+        at = f" at stamp {stamp} ns" if stamp else " now"
+        if result.accepted:    # one severity per call site: rclpy refuses a logger that changes it
+            revised = [] if result.revised is None else result.revised.strides
+            self.get_logger().info(f"correction accepted{at} {tally}, {len(revised)} "
+                                   f"strides run again: {result.message}")
+            if stamp:
+                self.revise(stamp, revised, response)
+        else:
+            self.get_logger().warning(f"correction refused{at} {tally}: {result.message}")
+        response.accepted, response.message = bool(result.accepted), result.message
+        return response
+
+    def revise(self, stamp: int, revised: list[Stride], response) -> None:
+        """The strides run again after a correction stamped ``stamp`` [ns]: in the
+        response (as published), and in place of theirs in the path, published again."""
+        if revised:
+            batches = stride_batches(revised, self.map_frame)
+            response.revised_steps = [deserialize_message(raw, Step)
+                                      for raw in encode(batches[topics.FOOT_STEP])]
+            response.revised_poses = [deserialize_message(raw, PoseWithCovarianceStamped)
+                                      for raw in encode(batches[topics.FOOT_STEP_POSE])]
+        self.strides = [s for s in self.strides if s.stamp_ns <= stamp] + revised
+        if self.strides:
+            self.publish_path()
 
     def publish_smoothed(self, segment: SmoothedSegment) -> None:
         """One Path with every sample's smoothed pose, stamped at the segment's end."""
@@ -192,34 +265,9 @@ class ZuptEkfNode(Node):
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
-        self.steps = _Steps()
+        self.strides = []
         response.success, response.message = True, "navigator reset"
         return response
-
-
-class _Steps:
-    """The pose at every stance onset so far (``pdr/foot/path``)."""
-
-    def __init__(self) -> None:
-        self.stamp_ns: list[int] = []
-        self.position: list[np.ndarray] = []
-        self.attitude: list[np.ndarray] = []
-        self.previous_stance = False
-
-    def add(self, run: FootRun) -> bool:
-        """Keep the block's stance onsets; True if there were any."""
-        before = np.concatenate(([self.previous_stance], run.stance[:-1]))
-        onsets = np.flatnonzero(run.stance & ~before)
-        self.previous_stance = bool(run.stance[-1])
-        self.stamp_ns += run.stamp_ns[onsets].tolist()
-        self.position += list(run.output.position[onsets])
-        self.attitude += list(run.output.attitude[onsets])
-        return len(onsets) > 0
-
-    def path(self, frame: str) -> bytes:
-        """The path of every step (CDR), stamped at the last one."""
-        return pose_path(np.array(self.stamp_ns, np.int64), np.array(self.position),
-                         np.array(self.attitude), self.stamp_ns[-1], frame)
 
 
 def main(args: list[str] | None = None) -> None:

@@ -1,0 +1,242 @@
+"""The foot filter with its recent past kept, to give strides and take drift corrections
+at the stride they belong to (``zupt_ekf``'s ``pdr/foot/apply_correction``, ``pdr-ekf run
+--drift online``), as the pocket navigator takes them (pdr_pocket.streaming).
+
+:class:`CorrectableFilter` runs the filter (pdr_ins_ekf.zupt_ekf.ZuptEkf) over blocks of
+decided samples and finds the strides in them (pdr_ins_ekf.strides). Each block is cut
+right after every stance onset, so a stride ends a piece; after each stride the filter's
+state and the stride tracker are kept as a checkpoint at the stride's instant, with the
+pieces filtered since (pdr_core.checkpoints), for ``window_s`` of data.
+
+A correction names its stride by stamp (pdr_msgs/srv/ApplyCorrection). The filter goes
+back to the checkpoint at or before it, runs the pieces up to the stamp, gates the
+correction there (pdr_ins_ekf.corrections) and, when every part passes, applies it and
+runs the pieces since again: the estimates and strides after the stamp come back with the
+answer (:class:`CorrectionResult`) to replace those given out before the call came. A
+refused correction changes nothing. The corrections taken are inputs too, so one that
+reaches further back takes them again in their place. A zero stamp applies the correction
+to the state now. A stamp later than the last sample filtered, or older than the window,
+is refused by name.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+from pdr_core.checkpoints import Checkpoints
+from pdr_core.correction import Correction
+from pdr_ins_ekf import corrections
+from pdr_ins_ekf.kernel_data import NavState
+from pdr_ins_ekf.strides import Stride, StrideTracker
+from pdr_ins_ekf.zupt_ekf import FilterOutput, ZuptEkf
+
+CORRECTION_WINDOW_S = 60.0
+"""How far back a stamped correction may reach [s of IMU data], as the pocket navigator's
+(pdr_pocket.streaming.CORRECTION_WINDOW_S): a minute of samples and one checkpoint per
+stride."""
+
+
+@dataclass(frozen=True)
+class FilterBlock:
+    """Consecutive decided samples: stamps (N,) [ns], their time t (N,) [s] from the
+    first sample, the intervals dt (N,) [s], specific force and rate (N, 3) [m/s², rad/s],
+    body frame, and the stance decisions (N,)."""
+
+    stamp_ns: np.ndarray
+    t_s: np.ndarray
+    dt: np.ndarray
+    accel: np.ndarray
+    gyro: np.ndarray
+    stance: np.ndarray
+
+    def part(self, start: int, stop: int) -> FilterBlock:
+        return FilterBlock(*(getattr(self, f.name)[start:stop] for f in fields(self)))
+
+    @property
+    def end_s(self) -> float:
+        return float(self.t_s[-1])
+
+
+@dataclass(frozen=True)
+class TakenCorrection:
+    """A correction applied at instant ``t_s`` [s]: an input, taken again on a replay."""
+
+    t_s: float
+    correction: Correction
+
+    @property
+    def end_s(self) -> float:
+        return self.t_s
+
+
+@dataclass
+class FilterState:
+    """What a checkpoint keeps: the filter's state and the stride tracker."""
+
+    nav: NavState
+    started: bool
+    strides: StrideTracker
+
+    def copy(self) -> FilterState:
+        return FilterState(NavState(*(a.copy() for a in self.nav)), self.started,
+                           self.strides.copy())
+
+
+@dataclass(frozen=True)
+class Filtered:
+    """A block's estimates and the strides it ended."""
+
+    block: FilterBlock
+    output: FilterOutput
+    strides: list[Stride] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class CorrectionResult:
+    """Whether the correction was applied (all of it) and what was done or why not; when
+    applied at a stamp, the samples after it filtered again (:class:`Filtered`)."""
+
+    accepted: bool
+    message: str
+    revised: Filtered | None = None
+
+
+def concatenated(parts: list[Filtered]) -> Filtered:
+    """Consecutive :class:`Filtered` parts as one."""
+    if len(parts) == 1:
+        return parts[0]
+    return Filtered(
+        FilterBlock(*(np.concatenate([getattr(p.block, f.name) for p in parts])
+                      for f in fields(FilterBlock))),
+        FilterOutput(*(np.concatenate([getattr(p.output, f.name) for p in parts])
+                       for f in fields(FilterOutput))),
+        [s for p in parts for s in p.strides])
+
+
+class CorrectableFilter:
+    """The filter ``ekf`` (aligned) with strides, checkpoints and corrections (module
+    docstring); ``counts`` the corrections accepted and refused."""
+
+    def __init__(self, ekf: ZuptEkf, window_s: float = CORRECTION_WINDOW_S) -> None:
+        self.ekf = ekf
+        self.strides = StrideTracker()
+        self.history: Checkpoints[FilterState, FilterBlock | TakenCorrection] = Checkpoints(
+            FilterState.copy, window_s)
+        self.counts = {"accepted": 0, "refused": 0}
+        self.last_s: float | None = None
+
+    def state(self) -> FilterState:
+        """The state now (not a copy)."""
+        return FilterState(self.ekf.state, self.ekf.started, self.strides)
+
+    def _restore(self, state: FilterState) -> None:
+        self.ekf.state, self.ekf.started, self.strides = state.nav, state.started, state.strides
+
+    def run(self, block: FilterBlock) -> Filtered:
+        """Filter a block, cut after each stance onset; a checkpoint after each stride."""
+        cuts = [*(self.strides.onsets(block.stance) + 1).tolist(), len(block.stamp_ns)]
+        parts, start = [], 0
+        for stop in cuts:
+            if stop > start:
+                parts.append(self._run_piece(block.part(start, stop)))
+            start = stop
+        self.last_s = block.end_s
+        return concatenated(parts)
+
+    def _run_piece(self, piece: FilterBlock) -> Filtered:
+        output = self.ekf.run_block(piece.accel, piece.gyro, piece.dt, piece.stance)
+        strides = self.strides.push(piece.stamp_ns, piece.stance, output)
+        self.history.record(piece, piece.end_s)
+        for stride in strides:
+            self.history.remember(self._instant(piece, stride.stamp_ns), self.state())
+        return Filtered(piece, output, strides)
+
+    @staticmethod
+    def _instant(piece: FilterBlock, stamp_ns: int) -> float:
+        return float(piece.t_s[np.searchsorted(piece.stamp_ns, stamp_ns)])
+
+    def apply_correction(self, correction: Correction, t_s: float | None
+                         ) -> CorrectionResult:
+        """Take ``correction`` as of instant ``t_s`` [s] (its stamp's; None: now), the
+        samples since filtered again (module docstring)."""
+        problem = corrections.refusal(correction, self.ekf.state.P.shape[0])
+        if problem is None and t_s is not None:
+            problem = self._instant_problem(t_s)
+        if problem is not None:
+            return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
+        if t_s is None:
+            return self._apply_now(correction)
+        looked = self.history.look_back(t_s)
+        scratch = CorrectableFilter(ZuptEkf(self.ekf.config, self.ekf.C))
+        scratch._restore(looked.state)
+        before, after = _split(looked.inputs, t_s)
+        for item in before:
+            scratch._take(item)
+        problem, nis = corrections.gate(correction, scratch.ekf.state)
+        if problem is not None:
+            return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
+        reverted = self.history.revert_to(looked.t_s)
+        self.history.remember(reverted.t_s, reverted.state)
+        for item in [*before, TakenCorrection(t_s, correction)]:
+            self.history.record(item, item.end_s)
+        corrections.apply(correction, scratch.ekf.state)
+        self._restore(scratch.state())
+        revised = [part for part in map(self._take, after) if part is not None]
+        return self._counted(CorrectionResult(True, _applied(nis),
+                                              concatenated(revised) if revised else None))
+
+    def _take(self, item: FilterBlock | TakenCorrection) -> Filtered | None:
+        """An input again: a block filtered (kept in the history when this is the
+        navigator's filter), a correction applied."""
+        if isinstance(item, TakenCorrection):
+            corrections.apply(item.correction, self.ekf.state)
+            self.history.record(item, item.end_s)
+            return None
+        return self._run_piece(item)
+
+    def _apply_now(self, correction: Correction) -> CorrectionResult:
+        problem, nis = corrections.gate(correction, self.ekf.state)
+        if problem is not None:
+            return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
+        corrections.apply(correction, self.ekf.state)
+        if self.last_s is not None:
+            self.history.record(TakenCorrection(self.last_s, correction), self.last_s)
+        return self._counted(CorrectionResult(True, _applied(nis)))
+
+    def _instant_problem(self, t_s: float) -> str | None:
+        """Why no kept state serves instant ``t_s`` [s] (None: one does)."""
+        if self.last_s is None or t_s > self.last_s:
+            return (f"the stamp is {t_s - (self.last_s or 0.0):.3f} s after the last sample "
+                    "filtered")
+        if self.history.look_back(t_s) is None:
+            oldest = self.history.instants[0] if len(self.history) else None
+            reach = ("no stride kept yet" if oldest is None
+                     else f"the oldest kept stride is {self.last_s - oldest:.1f} s back")
+            return (f"the stamp is {self.last_s - t_s:.1f} s back, beyond the correction "
+                    f"window of {self.history.window_s:g} s of IMU data ({reach})")
+        return None
+
+    def _counted(self, result: CorrectionResult) -> CorrectionResult:
+        self.counts["accepted" if result.accepted else "refused"] += 1
+        return result
+
+
+def _applied(nis: dict[str, float]) -> str:
+    return "applied: " + ", ".join(f"{name} (NIS {value:.2f})" for name, value in nis.items())
+
+
+def _split(inputs: list, t_s: float) -> tuple[list, list]:
+    """The inputs up to instant ``t_s`` [s] and those after it, a block straddling it cut
+    there."""
+    before, after = [], []
+    for item in inputs:
+        if item.end_s <= t_s:
+            before.append(item)
+        elif isinstance(item, FilterBlock) and item.t_s[0] <= t_s:
+            cut = int(np.searchsorted(item.t_s, t_s, side="right"))
+            before.append(item.part(0, cut))
+            after.append(item.part(cut, len(item.t_s)))
+        else:
+            after.append(item)
+    return before, after

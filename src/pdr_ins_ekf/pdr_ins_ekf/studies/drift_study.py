@@ -1,0 +1,85 @@
+"""The foot INS's heading drift and what the landmark corrections take off it (issue 44's
+study; Zampella et al. 2011 and Wang et al. 2020 show the heading growing with the z gyro
+bias, which ZUPTs do not observe).
+
+The walk: twenty minutes around a block (pdr_sim scenario ``block_laps``, thirteen laps of
+90 s, every corner revisited), an Xsens MTw (``xsens_mtw``) whose z gyro warms by
+:data:`WARMUP_BIAS_DEG_PER_S` with the time constant :data:`WARMUP_TIME_CONSTANT_S` after
+the start (pdr_core.imu_errors' warm-up): the rest alignment at the start calibrates the
+bias the gyro has then, and the 0.05 °/s it takes on afterwards is what the navigator
+cannot see. The navigator is config/foot_drift.yaml (15 states), run without corrections
+and with ``--drift online`` (pdr_ins_ekf.drift_loop) and the drift estimator's
+config/landmark_drift_foot.yaml, per seed of the sensor errors.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from pdr_core.angles import wrap_angle
+from pdr_core.batch import MessageBatch
+from pdr_core.config_files import shipped_config_dir
+from pdr_core.metrics import truth_at, truth_orientation_at
+from pdr_drift.config import load_drift_config
+from pdr_ins_ekf.config import load_run_config
+from pdr_ins_ekf.drift_loop import navigate_online
+from pdr_ins_ekf.offline import FootRun, navigate
+
+WALK = "block_laps"
+IMU = "xsens_mtw"
+WARMUP_BIAS_DEG_PER_S = 0.05
+WARMUP_TIME_CONSTANT_S = 60.0
+RATE_HZ = 100.0
+NAVIGATOR_CONFIG = "foot_drift.yaml"
+DRIFT_CONFIG = "landmark_drift_foot.yaml"
+
+
+def drift_walk(seed: int) -> dict[str, MessageBatch]:
+    """The simulated walk of a seed (module docstring): its batches by bag topic."""
+    from pdr_sim.scenario import load_scenario
+    from pdr_sim.simulation import SimulationConfig, simulate
+
+    scenario, data = load_scenario(WALK)
+    warmup = {"gyro": {"warmup_bias_deg_per_s": [0.0, 0.0, WARMUP_BIAS_DEG_PER_S],
+                       "warmup_time_constant_s": WARMUP_TIME_CONSTANT_S}}
+    return simulate(SimulationConfig(scenario, data, IMU, warmup, RATE_HZ, seed)).batches
+
+
+@dataclass(frozen=True)
+class DriftOutcome:
+    """Final yaw error [deg] and final position error [m] without and with the
+    corrections, and the corrections accepted."""
+
+    seed: int
+    uncorrected_yaw_deg: float
+    corrected_yaw_deg: float
+    uncorrected_position_m: float
+    corrected_position_m: float
+    corrections: int
+
+
+def final_errors(run: FootRun, truth: MessageBatch) -> tuple[float, float]:
+    """|yaw error| [deg] and position error [m] at the last sample."""
+    last = run.stamp_ns[-1:]
+    true_yaw = Rotation.from_quat(truth_orientation_at(truth, last)).as_euler("ZYX")[0, 0]
+    yaw = Rotation.from_matrix(run.output.attitude[-1]).as_euler("ZYX")[0]
+    position = truth_at(truth, run.stamp_ns)[-1]
+    return (abs(float(np.degrees(wrap_angle(yaw - true_yaw)))),
+            float(np.linalg.norm(run.output.position[-1] - position)))
+
+
+def drift_outcome(seed: int) -> DriftOutcome:
+    """The study of one seed (module docstring)."""
+    from pdr_core import topics
+
+    batches = drift_walk(seed)
+    imu, truth = batches[topics.IMU_DATA], batches[topics.GROUND_TRUTH_POSE]
+    config = load_run_config(shipped_config_dir("pdr_ins_ekf") / NAVIGATOR_CONFIG)
+    plain = final_errors(navigate(imu, config), truth)
+    corrected_run, log = navigate_online(
+        imu, config, load_drift_config(shipped_config_dir("pdr_drift") / DRIFT_CONFIG))
+    corrected = final_errors(corrected_run, truth)
+    return DriftOutcome(seed, plain[0], corrected[0], plain[1], corrected[1],
+                        sum(1 for _, ok, _ in log.corrections if ok))
