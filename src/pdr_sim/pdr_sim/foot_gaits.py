@@ -12,7 +12,13 @@ The segment types ``walk``, ``run``, ``stairs`` (up or down), ``in_place``,
    heel-off, the sensor on the instep moving with ω × r while the toes are still) or
    about the heel (θ_T < 0, rolling back on the heel when stepping backwards);
 4. a *swing* to the next contact: a quintic Hermite path of the sensor between the
-   toe-off and the landing states, lifted by ``clearance_m`` at mid-swing.
+   toe-off and the landing states, lifted by ``clearance_m`` at mid-swing. With
+   ``swing_sway_deg`` the foot also turns through the swing as a leg lifted high does
+   (the hip and knee rotating it): its roll rises to that angle and back (64·x³(1 − x)³)
+   while its yaw swings to ± half of it and back (:data:`SWAY`), x = τ/T, so that the
+   foot never moves without turning, as the real slow
+   swings of the pyshoe trial that climbs do (docs/foot_ins.md, "The foot on real
+   stairs"); 0 for every built-in gait.
 
 Through the stance the foot also rolls about its long axis (the line through heel and
 ball, so a change of pivot keeps velocity and acceleration continuous): inverted by
@@ -76,6 +82,7 @@ class GaitSpec:
     settle_s: float = 0.0       # roll between standing and a stance pitch θ_S ≠ 0
     riser_m: float = 0.0        # stairs: riser height (a stride climbs two)
     tread_m: float = 0.0        # stairs: tread depth
+    swing_sway_deg: float = 0.0     # roll (and half as much yaw) the foot turns in swing
 
 
 # Defaults per gait; the sources are in docs/simulator.md ("Foot gaits").
@@ -206,15 +213,21 @@ def _roll(start: float, duration: float, pivot: np.ndarray, lever: np.ndarray,
                     lever)
 
 
+# x²(1 − x)²(2x − 1)·25√5/2: 0 with its slope at both ends, ±1/2 at x = 1/2 ∓ 1/√20
+SWAY = 12.5 * np.sqrt(5.0) * np.array([0.0, 0.0, -1.0, 4.0, -5.0, 2.0, 0.0])
+
+
 def _swing(start: float, duration: float, leave: PieceState, land: PieceState,
-           clearance_m: float) -> PieceRow:
+           clearance_m: float, sway_rad: float = 0.0) -> PieceRow:
     def one(channel: Channel) -> Channel:
         return Channel(channel.f[0], channel.d1[0], channel.d2[0])
 
     position = quintic(one(leave.position), one(land.position), duration)
     position[2] += clearance_m * BUMP
-    return PieceRow(start, duration, SWING, quintic(one(leave.euler), one(land.euler),
-                                                    duration), position, np.zeros(3))
+    euler = quintic(one(leave.euler), one(land.euler), duration)
+    euler[0] += sway_rad * BUMP
+    euler[2] += sway_rad * SWAY
+    return PieceRow(start, duration, SWING, euler, position, np.zeros(3))
 
 
 @dataclass
@@ -300,7 +313,8 @@ def gait_segment(segment_type: str, direction: str, steps: int, spec: GaitSpec,
         land = PieceState(Channel(land.position.f, land.position.d1 + impact_v,
                                   land.position.d2),
                           Channel(land.euler.f, land.euler.d1 + impact_w, land.euler.d2))
-        pieces.append(_swing(t, swings[k - 1], leave, land, spec.clearance_m))
+        pieces.append(_swing(t, swings[k - 1], leave, land, spec.clearance_m,
+                             np.radians(spec.swing_sway_deg)))
         pieces.append(loading)
         impacts.append((t_land, impact_v, impact_w, spec.impact_hz, spec.impact_s))
         t = t_land + spec.loading_s

@@ -55,8 +55,8 @@ from pdr_core.magnetic_field import Cylinder
 from pdr_sim.foot_gaits import GAIT_TYPES, GaitSpec, gait_defaults, gait_keys, with_overrides
 from pdr_sim.step_pattern import TIMINGS
 
-GAIT_SCENARIOS = ("stairs_up_down", "running", "stepping_in_place", "side_and_back_steps",
-                  "crawling", "level_walk_matched")
+GAIT_SCENARIOS = ("stairs_up_down", "stairs_slow", "running", "stepping_in_place",
+                  "side_and_back_steps", "crawling", "level_walk_matched")
 BUILTIN = ("straight", "square_loop", "figure_eight", "long_mixed_walk", "block_laps",
            *GAIT_SCENARIOS)
 SEGMENT_TYPES = ("standing", "straight", "curve", "turn", *GAIT_TYPES)
