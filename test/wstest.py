@@ -39,6 +39,7 @@ PYSHOE_TRIALS = ("2017-11-22-11-22-03", "2017-11-22-11-30-14", "2017-11-22-11-49
                  "2017-11-27-11-13-10", "2017-11-27-11-24-07", "2017-12-15-18-03-05",
                  "2018-02-22-10-10-29")
 PYSHOE = [SHARED_DATA / "foot" / "pyshoe_vicon" / f"{trial}.csv" for trial in PYSHOE_TRIALS]
+PYSHOE_CLIMB = SHARED_DATA / "foot" / "pyshoe_vicon" / "2018-02-09-11-19-39.csv"  # the foot climbs
 XIO = SHARED_DATA / "foot" / "xio_gait_tracking" / "short_walk.csv"
 OXFORD = SHARED_DATA / "pocket" / "oxford_step_counter" / "user1_frontpocket_1506422223341.csv"
 THIGH = SHARED_DATA / "pocket" / "thigh_revalew"

@@ -24,7 +24,9 @@ each column exactly the decision on that run alone.
   papers: γ_k = clip(κ·min_{|j−k|≤L/2} T_j, γ_min, γ_max). The floor of the statistic
   over about one stride rises from walking to running (the foot never rests as well), so
   one setting serves both; one fixed γ does not (Wang et al. 2020, section IV; the pyshoe
-  anchor).
+  anchor). Where the statistic's valley over the span is shallow, max T / min T below
+  ρ, the span holds no stance, only a swing longer than it (a slow high step), and the
+  threshold falls back to γ_min (docs/foot_ins.md, "The foot on real stairs").
 - :class:`MovingVarianceDetector` (1/(σ_a²W)·Σ‖y_a − ȳ_a‖²), :class:`MagnitudeDetector`
   (1/(σ_a²W)·Σ(‖y_a‖ − g)²) and :class:`AngularRateEnergyDetector` (1/(σ_ω²W)·Σ‖y_ω‖²),
   Skog et al. 2010, for comparison; all over centred windows of W samples.
@@ -35,7 +37,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.ndimage import minimum_filter1d, uniform_filter1d
+from scipy.ndimage import maximum_filter1d, minimum_filter1d, uniform_filter1d
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 
@@ -104,6 +106,11 @@ def trailing_mean(x: np.ndarray, samples: int) -> np.ndarray:
 def centred_mean(x: np.ndarray, samples: int) -> np.ndarray:
     """Mean over ``samples`` samples centred on k, along axis 0."""
     return uniform_filter1d(np.asarray(x, float), samples, axis=0, mode="nearest")
+
+
+def _squared_norm(x: np.ndarray) -> np.ndarray:
+    """‖x‖² over the last axis."""
+    return np.einsum("...i,...i->...", x, x)
 
 
 def _check_window(name: str, value: int) -> None:
@@ -187,14 +194,12 @@ class ShoeDetector(_CentredWindow):
     def detect(self, accel: np.ndarray, gyro: np.ndarray, rate_hz: float) -> Stance:
         w = self.window_samples
         mean_a = centred_mean(accel, w)
-        norm = np.linalg.norm(mean_a, axis=-1, keepdims=True)
-        # a window of zero mean force has no gravity direction: its u·mean(y) is 0 anyway
-        unit = np.divide(mean_a, norm, out=np.zeros_like(mean_a), where=norm > 0)
-        # 1/W·Σ‖y − g·u‖² = mean‖y‖² − 2g·u·mean(y) + g², with u fixed over the window
-        acc_term = (centred_mean(np.sum(accel**2, axis=-1), w)
-                    - 2 * self.gravity_mps2 * np.sum(unit * mean_a, axis=-1)
+        # 1/W·Σ‖y − g·u‖² = mean‖y‖² − 2g·u·mean(y) + g², with u = mean(y)/‖mean(y)‖ fixed
+        # over the window, so u·mean(y) = ‖mean(y)‖ (0 for a window of zero mean force)
+        acc_term = (centred_mean(_squared_norm(accel), w)
+                    - 2 * self.gravity_mps2 * np.sqrt(_squared_norm(mean_a))
                     + self.gravity_mps2**2)
-        rate_term = centred_mean(np.sum(gyro**2, axis=-1), w)
+        rate_term = centred_mean(_squared_norm(gyro), w)
         statistic = acc_term / self.sigma_acc_mps2**2 + rate_term / self.sigma_rate_radps**2
         return Stance(statistic < self.threshold, statistic, DETECTOR_IDS["shoe"])
 
@@ -206,10 +211,18 @@ class AdaptiveShoeDetector:
     γ_k = clip(threshold_factor · min T_j over the ``span_s`` centred on k, threshold_min,
     threshold_max): stance is where the statistic is within a factor of its lowest value
     over about one stride. ``span_s`` should cover a stride and a half; the live node then
-    lags the input by half of it. The SHOE sum runs over ``window_s``. The defaults are the
-    single setting used on all seven pyshoe VICON trials (docs/foot_ins.md), which mix
-    slow walking, fast walking and running at 200 Hz (7 and 241 samples there; 5 and 121
-    at 100 Hz).
+    lags the input by half of it. The SHOE sum runs over ``window_s``.
+
+    A span that holds no stance (a swing longer than it: a slow, high step) has a floor
+    too, the swing's slowest moment, and the factor would call it stance, a ZUPT on a foot
+    still moving. So the adaptive threshold holds only where the valley is deep, max T_j
+    ≥ ``depth_min`` · min T_j over the span; elsewhere γ_k = threshold_min. A foot at rest
+    in a stride lowers the statistic by 10³–10⁴ from its swing (walking; about 10² running),
+    a slow swing's own minimum only by 30–60 (the pyshoe trial that climbs, docs/foot_ins.md).
+
+    The defaults are the single setting used on all eight pyshoe VICON trials
+    (docs/foot_ins.md), which mix slow walking, fast walking, running and slow high steps
+    at 200 Hz (7 and 241 samples there; 5 and 121 at 100 Hz).
     """
 
     sigma_acc_mps2: float = 0.01
@@ -219,9 +232,12 @@ class AdaptiveShoeDetector:
     threshold_factor: float = 1.5
     threshold_min: float = 3.0e3
     threshold_max: float = 1.0e8
+    depth_min: float = 70.0
     gravity_mps2: float = STANDARD_GRAVITY_MPS2
 
     def __post_init__(self) -> None:
+        if self.depth_min < 1:
+            raise ValueError(f"depth_min must be >= 1, got {self.depth_min}")
         if not (self.window_s > 0 and self.span_s > 0):
             raise ValueError(f"window_s and span_s must be > 0 s, got {self.window_s} and "
                              f"{self.span_s}")
@@ -239,10 +255,12 @@ class AdaptiveShoeDetector:
         shoe = ShoeDetector(self.sigma_acc_mps2, self.sigma_rate_radps,
                             samples_of(self.window_s, rate_hz), 1.0, self.gravity_mps2)
         statistic = shoe.detect(accel, gyro, rate_hz).statistic
-        floor = minimum_filter1d(statistic, samples_of(self.span_s, rate_hz), axis=0,
-                                 mode="nearest")
-        threshold = np.clip(self.threshold_factor * floor, self.threshold_min,
-                            self.threshold_max)
+        span = samples_of(self.span_s, rate_hz)
+        floor = minimum_filter1d(statistic, span, axis=0, mode="nearest")
+        peak = maximum_filter1d(statistic, span, axis=0, mode="nearest")
+        threshold = np.where(peak >= self.depth_min * floor,
+                             np.clip(self.threshold_factor * floor, self.threshold_min,
+                                     self.threshold_max), self.threshold_min)
         return Stance(statistic < threshold, statistic, DETECTOR_IDS["adaptive_shoe"])
 
 

@@ -74,3 +74,32 @@ def sweep_png(points: list, path: Path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
+
+
+def stance_statistic_png(panels: list[dict], path: Path) -> None:
+    """One panel per recording (real and simulated): the SHOE statistic over time (log),
+    the adaptive threshold without and with the valley-depth rule, the true rest shaded,
+    and each detector's stance marked (pdr_ins_ekf.studies.stance_study). A panel is a
+    mapping with ``title``, ``t_s``, ``statistic``, ``at_rest``, ``thresholds`` and
+    ``stance`` (labels to arrays)."""
+    fig, axes = plt.subplots(len(panels), 1, figsize=(12, 4 * len(panels)))
+    for ax, panel in zip(np.atleast_1d(axes), panels, strict=True):
+        t = panel["t_s"]
+        top = float(panel["statistic"].max()) * 3
+        ax.fill_between(t, 1.0, top, where=panel["at_rest"], color="0.85",
+                        label="at rest (truth)", step="mid")
+        ax.semilogy(t, panel["statistic"], color="k", lw=1, label="SHOE statistic T")
+        for (label, threshold), colour in zip(panel["thresholds"].items(), ("C3", "C2"),
+                                               strict=True):
+            ax.semilogy(t, threshold, color=colour, lw=1, ls="--", label=label)
+        for row, ((label, stance), colour) in enumerate(zip(
+                panel["stance"].items(), ("C3", "C2"), strict=True)):
+            level = top / 2.5 ** (row + 1)
+            ax.plot(t[stance], np.full(int(stance.sum()), level), "|", color=colour,
+                    ms=8, label=label)
+        ax.set(xlabel="t [s]", ylabel="T", title=panel["title"], ylim=(1.0, top))
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(loc="lower left", fontsize=8, ncols=3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
