@@ -128,7 +128,9 @@ def run_recording(recording: Recording, out: Path, config: Path | None,
         report["eval"] = {"input_hash": digest, "versions": versions(),
                           "navigator": recording.navigator, "dataset": recording.dataset,
                           "worker_pid": os.getpid()}
-        (folder / REPORT).write_text(json.dumps(report, indent=2) + "\n")
+        stamped = (folder / REPORT).with_suffix(".stamped")
+        stamped.write_text(json.dumps(report, indent=2) + "\n")
+        stamped.replace(folder / REPORT)      # at once: a run killed here keeps no half
         return Outcome(recording, report, "", time.perf_counter() - start)
     except Exception as exc:    # one recording's failure, named, stops no other
         return Outcome(recording, None, f"{type(exc).__name__}: {exc}",
