@@ -1,6 +1,6 @@
 """The navigators' health on ``/diagnostics``, read live (issue 42, acceptance 2): a real
 ``pocket_pdr`` (and ``zupt_ekf``) fed IMU samples from this process at 100 Hz, one of them
-poisoned (NaN), and for ``pocket_pdr`` a correction refused (a negative variance). An
+poisoned (NaN), and a correction refused (a negative variance). An
 rclpy subscriber reads ``/diagnostics``: the node's status goes WARN naming the counter
 and how many, and back to OK after a clean report period (pdr_core.diagnostics)."""
 from __future__ import annotations
@@ -154,17 +154,30 @@ def test_pocket_pdr_goes_warn_on_a_poisoned_sample_and_a_refused_correction(proc
     assert procs.stop(proc, signal.SIGINT) == 0, log_text(proc)
 
 
-def test_zupt_ekf_goes_warn_on_a_poisoned_sample_and_back_to_ok(procs, ros):
-    """The same for the foot navigator, which takes no corrections."""
+def test_zupt_ekf_goes_warn_on_a_poisoned_sample_and_a_refused_correction(procs, ros):
+    """The same for the foot navigator: a poisoned sample, then a correction refused on
+    ``pdr/foot/apply_correction`` (issue 44), each a WARN and back to OK."""
+    from pdr_msgs.srv import ApplyCorrection
+
     proc = procs.start("zupt_ekf", name="zupt_ekf")
     feed = Feed(ros, "zupt_ekf: navigator", mag=False)
     wait_for_log(proc, "configuration")
     feed.wait_for_node(proc)
     clean, _ = feed.next_status(Level.OK, proc, "navigating", START_WAIT_S)
     assert clean.hardware_id == SENSOR_FRAME and values(clean)["gaps"] == "0"
+    assert values(clean)["corrections_refused"] == values(clean)["corrections_accepted"] == "0"
     feed.poison_next = True
     warned, _ = feed.next_status(Level.WARN, proc, "non_finite +1 since the last report")
     assert values(warned)["non_finite"] == "1", values(warned)
+    feed.next_status(Level.OK, proc, "navigating")
+    client = ros[0].create_client(ApplyCorrection,
+                                  topics.graph_name(topics.FOOT_APPLY_CORRECTION))
+    response = feed.call(client, ApplyCorrection.Request(yaw=0.01, yaw_variance=-1.0))
+    assert response is not None and not response.accepted, log_text(proc)
+    assert response.message.startswith("nothing applied: "), response.message
+    warned, _ = feed.next_status(Level.WARN, proc, "corrections_refused +1 since the last "
+                                 "report")
+    assert values(warned)["corrections_refused"] == "1"
     feed.next_status(Level.OK, proc, "navigating")
     assert procs.stop(proc, signal.SIGINT) == 0, log_text(proc)
 

@@ -116,14 +116,13 @@ def concatenated(parts: list[Filtered]) -> Filtered:
 
 class CorrectableFilter:
     """The filter ``ekf`` (aligned) with strides, checkpoints and corrections (module
-    docstring); ``counts`` the corrections accepted and refused."""
+    docstring)."""
 
     def __init__(self, ekf: ZuptEkf, window_s: float = CORRECTION_WINDOW_S) -> None:
         self.ekf = ekf
         self.strides = StrideTracker()
         self.history: Checkpoints[FilterState, FilterBlock | TakenCorrection] = Checkpoints(
             FilterState.copy, window_s)
-        self.counts = {"accepted": 0, "refused": 0}
         self.last_s: float | None = None
 
     def state(self) -> FilterState:
@@ -164,7 +163,7 @@ class CorrectableFilter:
         if problem is None and t_s is not None:
             problem = self._instant_problem(t_s)
         if problem is not None:
-            return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
+            return CorrectionResult(False, f"nothing applied: {problem}")
         if t_s is None:
             return self._apply_now(correction)
         looked = self.history.look_back(t_s)
@@ -175,7 +174,7 @@ class CorrectableFilter:
             scratch._take(item)
         problem, nis = corrections.gate(correction, scratch.ekf.state)
         if problem is not None:
-            return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
+            return CorrectionResult(False, f"nothing applied: {problem}")
         reverted = self.history.revert_to(looked.t_s)
         self.history.remember(reverted.t_s, reverted.state)
         for item in [*before, TakenCorrection(t_s, correction)]:
@@ -183,8 +182,7 @@ class CorrectableFilter:
         corrections.apply(correction, scratch.ekf.state)
         self._restore(scratch.state())
         revised = [part for part in map(self._take, after) if part is not None]
-        return self._counted(CorrectionResult(True, _applied(nis),
-                                              concatenated(revised) if revised else None))
+        return CorrectionResult(True, _applied(nis), concatenated(revised) if revised else None)
 
     def _take(self, item: FilterBlock | TakenCorrection) -> Filtered | None:
         """An input again: a block filtered (kept in the history when this is the
@@ -198,11 +196,11 @@ class CorrectableFilter:
     def _apply_now(self, correction: Correction) -> CorrectionResult:
         problem, nis = corrections.gate(correction, self.ekf.state)
         if problem is not None:
-            return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
+            return CorrectionResult(False, f"nothing applied: {problem}")
         corrections.apply(correction, self.ekf.state)
         if self.last_s is not None:
             self.history.record(TakenCorrection(self.last_s, correction), self.last_s)
-        return self._counted(CorrectionResult(True, _applied(nis)))
+        return CorrectionResult(True, _applied(nis))
 
     def _instant_problem(self, t_s: float) -> str | None:
         """Why no kept state serves instant ``t_s`` [s] (None: one does)."""
@@ -216,11 +214,6 @@ class CorrectableFilter:
             return (f"the stamp is {self.last_s - t_s:.1f} s back, beyond the correction "
                     f"window of {self.history.window_s:g} s of IMU data ({reach})")
         return None
-
-    def _counted(self, result: CorrectionResult) -> CorrectionResult:
-        self.counts["accepted" if result.accepted else "refused"] += 1
-        return result
-
 
 def _applied(nis: dict[str, float]) -> str:
     return "applied: " + ", ".join(f"{name} (NIS {value:.2f})" for name, value in nis.items())

@@ -120,6 +120,7 @@ class StreamingNavigator:
         self.first_stamp = 0
         self.ekf: ZuptEkf | None = None
         self.filter: CorrectableFilter | None = None
+        self.corrections = {"accepted": 0, "refused": 0}
         self.smoother: SegmentSmoother | None = None
         self.smoothed: list[SmoothedSegment] = []
         self.filter_start = 0
@@ -280,16 +281,19 @@ class StreamingNavigator:
     def apply_correction(self, correction: Correction) -> CorrectionResult:
         """Take a drift correction at the sample stamped ``correction.stamp_ns`` (0: now),
         the samples since filtered again (pdr_ins_ekf.correctable); refused by name before
-        alignment and with the segmented smoother."""
+        alignment and with the segmented smoother. Counted in :attr:`corrections`."""
         if self.filter is None:
-            return CorrectionResult(False, "nothing applied: the navigator has not aligned "
-                                           "yet (no stationary start)")
-        if self.smoother is not None:
-            self.filter.counts["refused"] += 1
-            return CorrectionResult(False, "nothing applied: the segmented smoother runs "
-                                           "beside the filter and cannot go back")
-        t_s = None if correction.stamp_ns == 0 else float(self._times_s(correction.stamp_ns))
-        return self.filter.apply_correction(correction, t_s)
+            result = CorrectionResult(False, "nothing applied: the navigator has not aligned "
+                                             "yet (no stationary start)")
+        elif self.smoother is not None:
+            result = CorrectionResult(False, "nothing applied: the segmented smoother runs "
+                                             "beside the filter and cannot go back")
+        else:
+            t_s = (None if correction.stamp_ns == 0
+                   else float(self._times_s(correction.stamp_ns)))
+            result = self.filter.apply_correction(correction, t_s)
+        self.corrections["accepted" if result.accepted else "refused"] += 1
+        return result
 
     def _none_filtered(self) -> FootRun:
         """An empty block of estimates."""

@@ -133,7 +133,7 @@ def test_a_refused_correction_changes_nothing_and_stamps_out_of_reach_are_named(
     later = navigator.apply_correction(Correction(yaw_rad=0.01, yaw_variance_rad2=1e-4,
                                                   stamp_ns=int(imu.stamp_ns[-1]) + 10**9))
     assert "after the last sample filtered" in later.message
-    assert navigator.filter.counts == {"accepted": 0, "refused": 3}
+    assert navigator.corrections == {"accepted": 0, "refused": 3}
 
 
 def pushed_rest(navigator: StreamingNavigator, imu, rest: slice) -> list:
@@ -147,3 +147,4 @@ def test_the_segmented_smoother_refuses_corrections(imu):
     pushed(navigator, imu, 3000)
     result = navigator.apply_correction(Correction(yaw_rad=0.01, yaw_variance_rad2=1e-4))
     assert not result.accepted and "segmented smoother" in result.message
+    assert navigator.corrections == {"accepted": 0, "refused": 1}

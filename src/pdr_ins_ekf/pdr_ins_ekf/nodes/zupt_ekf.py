@@ -185,18 +185,13 @@ class ZuptEkfNode(Node):
         refused; the poses not on /tf for want of an odom_frame transform at their stamp;
         the corrections refused, and the accepted ones as a tally."""
         failed = self.navigator.failed
-        corrections = self.corrections()
+        corrections = self.navigator.corrections
         return Counters(self.diagnostics.samples_in,
                         {**self.navigator.counts, "malformed_cdr": self.undecodable,
                          "tf_no_odom": self.tf.no_odom,
                          "corrections_refused": corrections["refused"]},
                         {"corrections_accepted": corrections["accepted"]},
                         failed=None if failed is None else str(failed))
-
-    def corrections(self) -> dict[str, int]:
-        """The corrections accepted and refused since the start (or ``~/reset``)."""
-        taker = self.navigator.filter
-        return dict(taker.counts) if taker is not None else {"accepted": 0, "refused": 0}
 
     def publish(self, run: FootRun) -> None:
         """Pose, velocity, odometry, stance and TF of every sample of the block (raw CDR; a
@@ -230,7 +225,7 @@ class ZuptEkfNode(Node):
             result = self.navigator.apply_correction(from_request(request, stamp))
         except (ValueError, np.linalg.LinAlgError) as exc:
             result = CorrectionResult(False, f"correction not usable: {exc}")
-        counts = self.corrections()
+        counts = self.navigator.corrections
         tally = f"({counts['accepted']} accepted, {counts['refused']} refused so far)"
         at = f" at stamp {stamp} ns" if stamp else " now"
         if result.accepted:    # one severity per call site: rclpy refuses a logger that changes it
