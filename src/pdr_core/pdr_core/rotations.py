@@ -68,6 +68,13 @@ def about_vertical(points: np.ndarray, angle_rad: float) -> np.ndarray:
     return np.stack([c * x - s * y, s * x + c * y, points[..., 2]], axis=-1)
 
 
+def yaw_of(attitude: np.ndarray) -> np.ndarray:
+    """The ENU yaw [rad] (the ZYX Euler yaw, counter-clockwise from east) of attitudes
+    C_b^n (..., 3, 3)."""
+    attitude = np.asarray(attitude, float)
+    return np.arctan2(attitude[..., 1, 0], attitude[..., 0, 0])
+
+
 def skew(v: np.ndarray) -> np.ndarray:
     """Skew-symmetric matrices [v×], (..., 3, 3), of vectors (..., 3)."""
     v = np.asarray(v)

@@ -32,7 +32,7 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, add_strict_option
 from pdr_core.errors import InputError, cli_parser, dispatch
-from pdr_core.metrics import error_report, truth_at, truth_orientation_at, within_step_rmse
+from pdr_core.metrics import error_report, truth_at, within_step_rmse
 from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
 from pdr_core.report_files import print_report, write_report
 from pdr_ins_ekf.config import load_run_config
@@ -101,10 +101,10 @@ def _run_run(args: argparse.Namespace) -> int:
     wanted = ([args.imu_topic] + ([args.truth_topic] if has_truth else [])
               + ([args.stance_truth_topic] if has_stance else []))
     batches = reader.read_batches(wanted)
-    result = navigate(batches[args.imu_topic], config)
-    drift_report = None
-    if args.drift != "none":
-        result, drift_report = _with_drift(args, config, batches, result, has_truth)
+    if args.drift == "none":
+        result, drift_report = navigate(batches[args.imu_topic], config), None
+    else:
+        result, drift_report = _with_drift(args, config, batches, has_truth)
     truth = None
     if has_truth:
         truth = truth_at(batches[args.truth_topic], result.stamp_ns)
@@ -141,39 +141,27 @@ def _run_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _with_drift(args: argparse.Namespace, config, batches: dict, plain, has_truth: bool
-                ) -> tuple:
+def _with_drift(args: argparse.Namespace, config, batches: dict, has_truth: bool) -> tuple:
     """The run with the drift corrections (pdr_ins_ekf.drift_loop) and the report's
     ``drift`` object: what the estimator did and, against a truth, the final yaw and
-    position errors with the corrections and without (the plain run)."""
+    position errors with the corrections and without (a run without them)."""
     from pdr_drift.config import default_config_path, load_drift_config
-    from pdr_drift.drift_report import final_errors
     from pdr_ins_ekf.drift_loop import navigate_offline, navigate_online
+    from pdr_ins_ekf.studies.drift_study import final_errors_against
 
     if config.smoother.mode != "none":
         raise InputError("--drift", "the smoother cannot take corrections: use --smoother "
                                     "none with --drift")
     drift = load_drift_config(args.drift_config or default_config_path())
     loop = navigate_online if args.drift == "online" else navigate_offline
-    result, log = loop(batches[args.imu_topic], config, drift)
+    imu = batches[args.imu_topic]
+    result, log = loop(imu, config, drift)
     report = {"mode": args.drift, **log.summary()}
     if has_truth:
         truth = batches[args.truth_topic]
-        for name, run_ in (("corrected", result), ("uncorrected", plain)):
-            true_yaw = yaw_of(truth_orientation_at(truth, run_.stamp_ns))
-            report[name] = final_errors(yaw_of(run_.output.attitude), true_yaw,
-                                        run_.output.position,
-                                        truth_at(truth, run_.stamp_ns))
+        report["corrected"] = final_errors_against(result, truth)
+        report["uncorrected"] = final_errors_against(navigate(imu, config), truth)
     return result, report
-
-
-def yaw_of(attitude: np.ndarray) -> np.ndarray:
-    """ENU yaw [rad] of attitudes: C_b^n (N, 3, 3) or quaternions (N, 4), x y z w."""
-    from scipy.spatial.transform import Rotation
-
-    rotation = (Rotation.from_matrix(attitude) if attitude.ndim == 3
-                else Rotation.from_quat(attitude))
-    return rotation.as_euler("ZYX")[:, 0]
 
 
 def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,

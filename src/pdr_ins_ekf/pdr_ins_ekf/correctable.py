@@ -109,8 +109,7 @@ def concatenated(parts: list[Filtered]) -> Filtered:
     return Filtered(
         FilterBlock(*(np.concatenate([getattr(p.block, f.name) for p in parts])
                       for f in fields(FilterBlock))),
-        FilterOutput(*(np.concatenate([getattr(p.output, f.name) for p in parts])
-                       for f in fields(FilterOutput))),
+        FilterOutput.concatenate([p.output for p in parts]),
         [s for p in parts for s in p.strides])
 
 

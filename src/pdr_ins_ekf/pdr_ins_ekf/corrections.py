@@ -56,7 +56,8 @@ def refusal(correction: Correction, states: int) -> str | None:
     c = correction
     if c.empty:
         return "nothing to apply: no yaw, gyro_bias_z or position given"
-    problems = [invalid(c)] if invalid(c) else []
+    unusable = invalid(c)
+    problems = [unusable] if unusable else []
     for name, value, variance in (("yaw", c.yaw_rad, c.yaw_variance_rad2),
                                   ("gyro_bias_z", c.gyro_bias_z_radps,
                                    c.gyro_bias_z_variance_rad2ps2)):

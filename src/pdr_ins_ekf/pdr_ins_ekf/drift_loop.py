@@ -20,9 +20,10 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from pdr_core.batch import MessageBatch
-from pdr_core.imu_checks import clean_samples
+from pdr_core.rotations import about_vertical
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_drift.config import DriftConfig
 from pdr_drift.drift import offline_drift
@@ -57,20 +58,16 @@ class _Outputs:
         keep = int(np.searchsorted(whole.stamp_ns, stamp_ns, side="right"))
         if not np.array_equal(whole.stamp_ns[keep:], revised.block.stamp_ns):
             raise RuntimeError("a revision must cover the samples after its stamp")
-        output = FilterOutput(*(np.concatenate([getattr(whole.output, f)[:keep],
-                                                getattr(revised.output, f)])
-                                for f in FilterOutput.__dataclass_fields__))
+        output = FilterOutput.concatenate([whole.output.part(slice(keep)), revised.output])
         self.parts = [replace(whole, output=output)]
         self.strides = [s for s in self.strides if s.stamp_ns <= stamp_ns] + revised.strides
 
     def whole(self) -> FootRun:
-        first = self.parts[0]
-        return replace(first, stamp_ns=np.concatenate([p.stamp_ns for p in self.parts]),
+        return replace(self.parts[0],
+                       stamp_ns=np.concatenate([p.stamp_ns for p in self.parts]),
                        stance=np.concatenate([p.stance for p in self.parts]),
                        statistic=np.concatenate([p.statistic for p in self.parts]),
-                       output=FilterOutput(*(np.concatenate([getattr(p.output, f)
-                                                             for p in self.parts])
-                                             for f in FilterOutput.__dataclass_fields__)),
+                       output=FilterOutput.concatenate([p.output for p in self.parts]),
                        strides=self.strides)
 
 
@@ -112,14 +109,9 @@ def navigate_online(imu: MessageBatch, config: RunConfig, drift: DriftConfig,
                     outputs.revise(stride.stamp_ns, answer.revised)
                     pending = list(answer.revised.strides)
     run = outputs.whole()
-    run.counts = {**navigator.counts, "before_alignment": _before(imu, run)}
+    # the usable samples before the alignment's start, where the filter starts
+    run.counts = {**navigator.counts, "before_alignment": navigator.filter_start}
     return run, log
-
-
-def _before(imu: MessageBatch, run: FootRun) -> int:
-    """The usable samples before the first one navigated (the alignment's start)."""
-    keep, _ = clean_samples(imu)
-    return int(np.searchsorted(imu.stamp_ns[keep], run.stamp_ns[0]))
 
 
 def navigate_offline(imu: MessageBatch, config: RunConfig, drift: DriftConfig,
@@ -138,18 +130,12 @@ def without_drift(run: FootRun, drift_radps: float) -> FootRun:
     """``run`` with the heading turned by −ε·t from its first sample (ε [rad/s]): each
     sample's displacement, velocity and attitude turned about the up axis, the strides
     found again on the turned path."""
-    t = (run.stamp_ns - run.stamp_ns[0]) * 1e-9
-    angle = -drift_radps * t
-    c, s = np.cos(angle), np.sin(angle)
-    turn = np.zeros((len(t), 3, 3))
-    turn[:, 0, 0], turn[:, 0, 1], turn[:, 1, 0], turn[:, 1, 1] = c, -s, s, c
-    turn[:, 2, 2] = 1.0
+    angle = -drift_radps * (run.stamp_ns - run.stamp_ns[0]) * 1e-9
+    turn = Rotation.from_euler("z", angle[:, None]).as_matrix()
     out = run.output
-    steps = np.diff(out.position, axis=0)
-    position = np.concatenate([out.position[:1], out.position[0] + np.cumsum(
-        np.einsum("nij,nj->ni", turn[1:], steps), axis=0)])
-    output = replace(out, position=position,
-                     velocity=np.einsum("nij,nj->ni", turn, out.velocity),
+    steps = about_vertical(np.diff(out.position, axis=0), angle[1:])
+    position = np.concatenate([out.position[:1], out.position[0] + np.cumsum(steps, axis=0)])
+    output = replace(out, position=position, velocity=about_vertical(out.velocity, angle),
                      attitude=turn @ out.attitude,
                      position_cov=turn @ out.position_cov @ turn.transpose(0, 2, 1),
                      velocity_cov=turn @ out.velocity_cov @ turn.transpose(0, 2, 1))

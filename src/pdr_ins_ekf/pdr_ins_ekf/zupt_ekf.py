@@ -23,7 +23,7 @@ Frames and units: ENU navigation frame, FLU body frame, SI.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -100,6 +100,16 @@ class FilterOutput:
     variance: np.ndarray
     position_cov: np.ndarray
     velocity_cov: np.ndarray
+
+    def part(self, index: slice) -> FilterOutput:
+        """The estimates of the samples ``index``."""
+        return FilterOutput(*(getattr(self, f.name)[index] for f in fields(self)))
+
+    @classmethod
+    def concatenate(cls, parts: list[FilterOutput]) -> FilterOutput:
+        """Consecutive estimates as one."""
+        return cls(*(np.concatenate([getattr(p, f.name) for p in parts])
+                     for f in fields(cls)))
 
 
 SMOOTHER_MODES = ("none", "segmented", "full")

@@ -15,14 +15,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
 from scipy.spatial.transform import Rotation
 
-from pdr_core.angles import wrap_angle
 from pdr_core.batch import MessageBatch
 from pdr_core.config_files import shipped_config_dir
 from pdr_core.metrics import truth_at, truth_orientation_at
+from pdr_core.rotations import yaw_of
 from pdr_drift.config import load_drift_config
+from pdr_drift.drift_report import final_errors
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.drift_loop import navigate_online
 from pdr_ins_ekf.offline import FootRun, navigate
@@ -60,14 +60,13 @@ class DriftOutcome:
     corrections: int
 
 
-def final_errors(run: FootRun, truth: MessageBatch) -> tuple[float, float]:
-    """|yaw error| [deg] and position error [m] at the last sample."""
+def final_errors_against(run: FootRun, truth: MessageBatch) -> dict:
+    """pdr_drift.drift_report.final_errors of a run against its ``ground_truth/pose``: the
+    foot's yaw [deg] and position [m] errors at the last sample navigated."""
     last = run.stamp_ns[-1:]
-    true_yaw = Rotation.from_quat(truth_orientation_at(truth, last)).as_euler("ZYX")[0, 0]
-    yaw = Rotation.from_matrix(run.output.attitude[-1]).as_euler("ZYX")[0]
-    position = truth_at(truth, run.stamp_ns)[-1]
-    return (abs(float(np.degrees(wrap_angle(yaw - true_yaw)))),
-            float(np.linalg.norm(run.output.position[-1] - position)))
+    true_yaw = yaw_of(Rotation.from_quat(truth_orientation_at(truth, last)).as_matrix())
+    return final_errors(yaw_of(run.output.attitude[-1:]), true_yaw, run.output.position[-1:],
+                        truth_at(truth, last))
 
 
 def drift_outcome(seed: int) -> DriftOutcome:
@@ -77,9 +76,11 @@ def drift_outcome(seed: int) -> DriftOutcome:
     batches = drift_walk(seed)
     imu, truth = batches[topics.IMU_DATA], batches[topics.GROUND_TRUTH_POSE]
     config = load_run_config(shipped_config_dir("pdr_ins_ekf") / NAVIGATOR_CONFIG)
-    plain = final_errors(navigate(imu, config), truth)
+    plain = final_errors_against(navigate(imu, config), truth)
     corrected_run, log = navigate_online(
         imu, config, load_drift_config(shipped_config_dir("pdr_drift") / DRIFT_CONFIG))
-    corrected = final_errors(corrected_run, truth)
-    return DriftOutcome(seed, plain[0], corrected[0], plain[1], corrected[1],
+    corrected = final_errors_against(corrected_run, truth)
+    return DriftOutcome(seed, abs(plain["final_yaw_error_deg"]),
+                        abs(corrected["final_yaw_error_deg"]),
+                        plain["final_position_error_m"], corrected["final_position_error_m"],
                         sum(1 for _, ok, _ in log.corrections if ok))
