@@ -197,6 +197,10 @@ def test_zupt_ekf_without_the_odometry_its_odom_frame_needs_goes_warn(procs, ros
     proc = procs.start("zupt_ekf", "--ros-args", "-p", "imu_durability:=transient_local",
                        "-p", "odom_frame:=odom", name="zupt_ekf")
     wait_for_log(proc, "/tf map -> odom from odom -> base_link")
+    deadline = time.monotonic() + START_WAIT_S     # heard before the bag plays, so that the
+    while not statuses and time.monotonic() < deadline:    # report of the rise is heard
+        executor.spin_once(timeout_sec=0.1)
+    assert statuses, log_text(proc)
     played = procs.run("bag_play", "--ros-args", "-p", f"bag:={ROOT / 'bags' / 'foot_walk'}",
                        "-p", "topics:=[/imu/data]", "-p", "rate:=0.0", "-p",
                        "wait_for_subscribers:=1")
