@@ -33,6 +33,15 @@ before issue 40 (``imu_profile: xsens_mtw``, ``bias_model: thesis``: "today"), o
 with the allan bias model and the profile's noise (``imu_profile`` = the sensor's), the
 same without ZARU (config/pocket_pdr_no_mag.yaml's updates), and VQF 6D (its rest and
 motion bias estimation on).
+
+``--textbook-bag BAG --out DIR`` runs the textbook navigator on a bag, as its user would
+write it, the yardstick for ``pdr-pocket run``'s speed (issue 53): ``imu/data`` (and
+``imu/mag`` when the bag has it, which ``pdr-pocket run`` reads too; VQF 6D leaves it
+unused) through rosbags' ``AnyReader``, deserialised message by message as rosbags'
+documentation shows, then :func:`textbook`, and the steps written to ``DIR/steps.csv`` (t
+[s from the first sample], x, y [m]). This mode imports nothing of this repository's
+packages, so its time is the textbook's own; time it beside ``pdr-pocket run BAG --out
+OUT`` (e.g. with ``/usr/bin/time -v``).
 """
 from __future__ import annotations
 
@@ -42,22 +51,16 @@ import os
 import sys
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.signal import butter, filtfilt, find_peaks
 from scipy.spatial.transform import Rotation
 
-from pdr_core.chi2 import chi2_quantile
-from pdr_core.csv_import import CsvImuFormat, import_csv
-from pdr_core.metrics import error_report, truth_at
-from pdr_pocket.compiled_orientation import ATT_UP
-from pdr_pocket.config import OrientationConfig, PocketConfig, Updates
-from pdr_pocket.inputs import pocket_inputs
-from pdr_pocket.navigator import PocketNavigator
-from pdr_pocket.orientation import OrientationFilter
-from pdr_pocket.samples import Samples
-from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
-from pdr_sim.simulation import SimulationConfig, simulate
+# This repository's packages are imported where they are used: --textbook-bag pays for the
+# textbook's imports only.
+if TYPE_CHECKING:
+    from pdr_pocket.config import OrientationConfig
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(os.environ.get("PDR_SHARED_DATA", ROOT.parent / "shared" / "data")) / "pocket"
@@ -69,6 +72,8 @@ LEVEL = {"norm_thigh_1", "fast_thigh_1", "jog_thigh_1", "tug_thigh_1", "oxford"}
 
 
 def board(name: str, gyroscope: bool = True):
+    from pdr_core.csv_import import CsvImuFormat, import_csv
+
     fmt = CsvImuFormat(time_col="time", acc_cols=("accel_x", "accel_y", "accel_z"),
                        gyro_cols=("gyro_x", "gyro_y", "gyro_z") if gyroscope else (),
                        mag_cols=("mag_x", "mag_y", "mag_z"), mag_unit="ut")
@@ -78,6 +83,8 @@ def board(name: str, gyroscope: bool = True):
 
 
 def oxford():
+    from pdr_core.csv_import import CsvImuFormat, import_csv
+
     csv = next((DATA / "oxford_step_counter").glob("user1_frontpocket_*.csv"))
     fmt = CsvImuFormat(time_col="0", time_unit="ns", acc_cols=("1", "2", "3"), header=False)
     return import_csv(csv, fmt).imu, None, 327
@@ -91,6 +98,9 @@ def recordings() -> dict:
 
 
 def simulated() -> dict:
+    from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
+    from pdr_sim.simulation import SimulationConfig, simulate
+
     out = {}
     for label, scenario, carried in (("H1, front pocket", "h1_rectangle", "front_pocket"),
                                      ("H1, back pocket", "h1_rectangle", "back_pocket"),
@@ -124,6 +134,10 @@ def textbook(t, gyro, accel):
 
 def ours(t, gyro, accel, mag=None):
     """Step times [s], positions (N + 1, 3), footfalls and the navigator's steps."""
+    from pdr_pocket.config import PocketConfig
+    from pdr_pocket.navigator import PocketNavigator
+    from pdr_pocket.samples import Samples
+
     navigator = PocketNavigator(PocketConfig())
     out = navigator.process(Samples(t, accel, gyro, mag))
     positions = np.vstack([np.zeros(3), *(s.position for s in out.steps)])
@@ -131,6 +145,9 @@ def ours(t, gyro, accel, mag=None):
 
 
 def row(name, truth_footfalls, ours_run, book, truth_positions=None, level=True) -> str:
+    from pdr_core.metrics import error_report
+    from pdr_pocket.config import PocketConfig
+
     t_ours, p_ours, footfalls, steps = ours_run
     t_book, p_book = book
     stairs = sum(s.activity in (2, 3) for s in steps)
@@ -149,24 +166,29 @@ def row(name, truth_footfalls, ours_run, book, truth_positions=None, level=True)
     return "| " + " | ".join(cells) + " |"
 
 
-NO_STOP = load_pocket_scenario(Path(__file__).with_name("no_stop_walk.yaml"))[1]
+NO_STOP_WALK = Path(__file__).with_name("no_stop_walk.yaml")
 HEADING_PROFILES = ("xsens_mtw", "consumer_phone")
-NO_MAG = Updates(absolute_magnetic=False, differential_magnetic=False, compass=False)
 INITIAL_YAW_SIGMA_DEG = 1.0
 
 
 def heading_filters(profile: str) -> dict[str, OrientationConfig | None]:
     """The filters of the heading table for a sensor of ``profile`` (None: VQF 6D)."""
+    from pdr_pocket.config import OrientationConfig, Updates
+
+    no_mag = Updates(absolute_magnetic=False, differential_magnetic=False, compass=False)
     return {"ours, thesis (today)": OrientationConfig(imu_profile="xsens_mtw",
-                                                      bias_model="thesis", updates=NO_MAG),
-            "ours, allan": OrientationConfig(imu_profile=profile, updates=NO_MAG),
+                                                      bias_model="thesis", updates=no_mag),
+            "ours, allan": OrientationConfig(imu_profile=profile, updates=no_mag),
             "ours, allan, no ZARU": OrientationConfig(imu_profile=profile,
-                                                      updates=replace(NO_MAG, zaru=False)),
+                                                      updates=replace(no_mag, zaru=False)),
             "VQF 6D": None}
 
 
 def heading_walk(name: str, profile: str, seed: int):
-    data = NO_STOP if name == "no stop" else load_pocket_scenario("theresienhoehe")[1]
+    from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
+    from pdr_sim.simulation import SimulationConfig, simulate
+
+    data = load_pocket_scenario(NO_STOP_WALK if name == "no stop" else "theresienhoehe")[1]
     data = {**data, "carried": "front_pocket"}
     return simulate(SimulationConfig(pocket_scenario_from_dict(data, name), data, profile, {},
                                      100.0, seed, placement="pocket"))
@@ -175,6 +197,9 @@ def heading_walk(name: str, profile: str, seed: int):
 def heading_error(sim, config: OrientationConfig | None, seed: int
                   ) -> tuple[np.ndarray, np.ndarray | None]:
     """δψ [rad] per sample (N,) and its variance σ_ψ² (N,) (None for VQF)."""
+    from pdr_pocket.compiled_orientation import ATT_UP
+    from pdr_pocket.orientation import OrientationFilter
+
     gyro = np.ascontiguousarray(sim.imu["angular_velocity"])
     accel = np.ascontiguousarray(sim.imu["linear_acceleration"])
     truth = sim.trajectory.attitude
@@ -196,6 +221,8 @@ def heading_error(sim, config: OrientationConfig | None, seed: int
 
 
 def heading_table(seeds: int) -> None:
+    from pdr_core.chi2 import chi2_quantile
+
     tail = chi2_quantile(0.025, seeds) / seeds, chi2_quantile(0.975, seeds) / seeds
     print(f"Heading without a magnetometer, seeds 1-{seeds}: median final |δψ| and RMS [°], "
           f"mean NEES (95 % interval {tail[0]:.2f}-{tail[1]:.2f})\n")
@@ -218,15 +245,69 @@ def heading_table(seeds: int) -> None:
                   f"{np.median(rows[:, 1]):.1f} | {nees} |", flush=True)
 
 
+def read_imu_bag(bag: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+    """``imu/data`` of a rosbag2 bag as its user reads it with rosbags (``AnyReader``, one
+    message deserialised at a time): t [s from the first message] (N,), the angular rate
+    [rad/s] and the specific force [m/s²] (N, 3) each, and ``imu/mag`` [T] (M, 3) when the
+    bag has it (else None)."""
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    stamps, gyro, accel, mag = [], [], [], []
+    with AnyReader([bag], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+        wanted = [c for c in reader.connections if c.topic in ("/imu/data", "/imu/mag")]
+        for connection, _, raw in reader.messages(connections=wanted):
+            msg = reader.deserialize(raw, connection.msgtype)
+            if connection.topic == "/imu/mag":
+                field = msg.magnetic_field
+                mag.append((field.x, field.y, field.z))
+                continue
+            stamps.append(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
+            w, f = msg.angular_velocity, msg.linear_acceleration
+            gyro.append((w.x, w.y, w.z))
+            accel.append((f.x, f.y, f.z))
+    stamps = np.array(stamps)
+    return ((stamps - stamps[0]) * 1e-9, np.array(gyro), np.array(accel),
+            np.array(mag) if mag else None)
+
+
+def textbook_bag(bag: Path, out: Path) -> None:
+    """``--textbook-bag``: :func:`textbook` on ``bag``, its steps (t [s], x, y [m]) in
+    ``out/steps.csv``."""
+    t, gyro, accel, _ = read_imu_bag(bag)      # VQF 6D leaves the magnetometer out
+    times, positions = textbook(t, gyro, accel)
+    out.mkdir(parents=True, exist_ok=True)
+    np.savetxt(out / "steps.csv", np.column_stack([times, positions[1:, :2]]), delimiter=",",
+               header="t_s,x_m,y_m", comments="", fmt="%.6f")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--heading", action="store_true",
                         help="the heading table against VQF 6D instead (issue 40)")
     parser.add_argument("--seeds", type=int, default=5, help="--heading: seeds 1 to N")
+    parser.add_argument("--textbook-bag", type=Path, metavar="BAG",
+                        help="instead, the textbook navigator alone on BAG (rosbags, VQF, "
+                             "scipy): its steps in --out DIR/steps.csv")
+    parser.add_argument("--out", type=Path, metavar="DIR", help="--textbook-bag's output")
     args = parser.parse_args()
+    if args.textbook_bag:
+        if args.out is None:
+            parser.error("--textbook-bag needs --out DIR")
+        textbook_bag(args.textbook_bag, args.out)
+        return 0
     if args.heading:
         heading_table(args.seeds)
         return 0
+    peers_table()
+    return 0
+
+
+def peers_table() -> None:
+    """The Markdown table of the module docstring, printed row by row."""
+    from pdr_core.metrics import truth_at
+    from pdr_pocket.inputs import pocket_inputs
+
     print("| walk | footfalls, ours | textbook | stairs steps on a level walk, ours | "
           "textbook | final floor, ours | textbook | ARMSE 2D [m], ours | final error [m], "
           "ours | ARMSE, textbook | final error, textbook |")
@@ -252,7 +333,6 @@ def main() -> int:
                   ours(inputs.t, inputs.gyro, inputs.accel, inputs.mag),
                   textbook(inputs.t, inputs.gyro, inputs.accel), truth_positions,
                   level="UP" not in name), flush=True)
-    return 0
 
 
 if __name__ == "__main__":

@@ -303,10 +303,11 @@ class BagReader:
 
     def _indexed_batches(self, wanted: list[str]) -> dict[str, MessageBatch]:
         """``wanted`` through the MCAP indexes, each file's summary read and each chunk
-        decompressed once for all of them; raises a read error (and :meth:`read_batches` falls
-        back) on anything unusual."""
+        decompressed once for all of them, each topic decoded once from the rows of every
+        chunk; raises a read error (and :meth:`read_batches` falls back) on anything
+        unusual."""
         times: dict[str, list[np.ndarray]] = {t: [] for t in wanted}
-        parts: dict[str, list[MessageBatch]] = {t: [] for t in wanted}
+        blocks: dict[str, list[np.ndarray]] = {t: [] for t in wanted}
         for file in self.files:
             with file.open("rb") as stream:
                 summary = SeekingReader(stream).get_summary()
@@ -317,23 +318,20 @@ class BagReader:
                 for channel, t, rows in mcap_bulk.chunk_rows(stream, summary, list(topic_of)):
                     topic = topic_of[channel]
                     times[topic].append(t)
-                    parts[topic].append(self._decoded(topic, rows))
-        return {topic: self._in_time_order(topic, times[topic], parts[topic])
+                    blocks[topic].append(rows)
+        return {topic: self._in_time_order(topic, times[topic], blocks[topic])
                 for topic in wanted}
 
-    def _decoded(self, topic: str, rows: np.ndarray) -> MessageBatch:
+    def _in_time_order(self, topic: str, times: list[np.ndarray], blocks: list[np.ndarray]
+                       ) -> MessageBatch:
+        """One topic's messages from the rows of several chunks, files and channels,
+        decoded in log-time order (ties in file order)."""
         try:
-            return cdr.decode_rows(self.topics[topic], rows)
+            batch = cdr.decode_rows(self.topics[topic], blocks)
         except ValueError as exc:
             raise InputError(self.path, f"topic {topic}: {exc}") from exc
-
-    def _in_time_order(self, topic: str, times: list[np.ndarray], parts: list[MessageBatch]
-                       ) -> MessageBatch:
-        """One topic's messages from several chunks, files and channels, in log-time
-        order (ties in file order)."""
-        if not parts:
-            return self._decoded(topic, np.zeros((0, 0), np.uint8))
-        batch = MessageBatch.concatenate(parts)
+        if not blocks:
+            return batch
         log_time = np.concatenate(times)
         if np.all(np.diff(log_time) >= 0):
             return batch

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 from rosbags.interfaces import Nodetype
 
 from pdr_core.batch import MessageBatch
@@ -132,57 +133,99 @@ def decode(msgtype: str, raws: list[bytes]) -> MessageBatch:
     return _decode_buffer(msgtype, np.frombuffer(b"".join(raws), dtype=np.uint8), lengths)
 
 
-def decode_rows(msgtype: str, rows: np.ndarray) -> MessageBatch:
-    """:func:`decode` of messages that all have one size, given as the rows of a
-    (n, size) uint8 array."""
-    n, size = rows.shape
-    return _decode_buffer(msgtype, np.ascontiguousarray(rows).reshape(-1),
-                          np.full(n, size, np.int64))
+def decode_rows(msgtype: str, blocks: list[np.ndarray]) -> MessageBatch:
+    """:func:`decode` of messages given as the rows of (k, size) uint8 arrays, one size
+    in each array (the chunks of a bag, pdr_core.mcap_bulk.chunk_rows; views into them
+    will do), in order. The messages of an array that share one layout, the usual case,
+    are read through one structured view and copied once, into the batch's arrays."""
+    if fixed_layout(msgtype) is None:
+        lengths = [np.full(len(rows), rows.shape[1], np.int64) for rows in blocks]
+        return _decode_with_strings(msgtype,
+                                    np.concatenate([rows.reshape(-1) for rows in blocks]
+                                                   or [np.zeros(0, np.uint8)]),
+                                    np.concatenate(lengths or [np.zeros(0, np.int64)]))
+    parts, start = [], 0
+    for rows in blocks:
+        n, size = rows.shape
+        lengths = np.full(n, size)
+        for _, slen, idx in _groups(lengths, _frame_lengths(msgtype, rows[:, :16], lengths)):
+            index = slice(start, start + n) if isinstance(idx, slice) else start + idx
+            parts.append((index, _records(msgtype, rows[idx], slen)))
+        start += n
+    return _batch(msgtype, start, parts)
 
 
 def _decode_buffer(msgtype: str, buf: np.ndarray, lengths: np.ndarray) -> MessageBatch:
     """Messages of ``lengths`` bytes back to back in ``buf``."""
     if fixed_layout(msgtype) is None:
         return _decode_with_strings(msgtype, buf, lengths)
-    leaves = _require_fixed(msgtype)
     n = len(lengths)
     starts = np.concatenate(([0], np.cumsum(lengths)[:-1])) if n else np.zeros(0, np.int64)
-    if n and lengths.min() < 16:
+    if n and lengths.min() < 16:    # first: a short last message ends before a header would
         raise ValueError(f"{msgtype}: message shorter than a CDR header")
-    representation = buf[starts[:, None] + np.arange(2)]
-    if n and not np.all(representation == np.frombuffer(_CDR_LE[:2], np.uint8)):
+    head = sliding_window_view(buf, 16)[starts] if n else np.zeros((0, 16), np.uint8)
+    parts = []
+    for length, slen, idx in _groups(lengths, _frame_lengths(msgtype, head, lengths)):
+        rows = buf.reshape(n, length) if isinstance(idx, slice) else \
+            sliding_window_view(buf, length)[starts[idx]]
+        parts.append((idx, _records(msgtype, rows, slen)))
+    return _batch(msgtype, n, parts)
+
+
+def _frame_lengths(msgtype: str, head: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """The frame_id lengths (with the null; (n,) uint32) of messages of ``lengths`` bytes
+    (n,) whose first 16 bytes are the rows of ``head`` (n, 16): encapsulation, stamp and
+    frame_id's length. Raises ValueError for a message shorter than that, not
+    little-endian CDR or with a frame_id longer than itself."""
+    if len(lengths) and lengths.min() < 16:
+        raise ValueError(f"{msgtype}: message shorter than a CDR header")
+    if not np.all(head[:, :2] == np.frombuffer(_CDR_LE[:2], np.uint8)):
         raise ValueError(f"{msgtype}: not little-endian CDR")
-    strlen = buf[starts[:, None] + 12 + np.arange(4)].copy().view("<u4").ravel()
-    if n and (strlen.astype(np.int64) > lengths - 16).any():
+    strlen = head[:, 12:16].copy().view("<u4").ravel()
+    if (strlen.astype(np.int64) > lengths - 16).any():
         raise ValueError(f"{msgtype}: frame_id longer than its message")
+    return strlen
+
+
+def _records(msgtype: str, rows: np.ndarray, strlen: int) -> np.ndarray:
+    """The messages in the rows of ``rows`` (k, size) uint8, whose frame_ids have
+    ``strlen`` bytes with the null, as (k,) records of their layout (:func:`_record_dtype`;
+    an older bag's, without the appended fields, when they are too short for today's): a
+    view. Raises ValueError when they are too short for either."""
+    size = rows.shape[1]
+    dtype = _record_dtype(msgtype, strlen - 1)
+    if size < dtype.itemsize and msgtype in APPENDED_FIELDS:
+        dtype = _record_dtype(msgtype, strlen - 1, older=True)
+    if size < dtype.itemsize:
+        raise ValueError(f"{msgtype}: message of {size} bytes, layout needs {dtype.itemsize}")
+    return rows[:, :dtype.itemsize].view(dtype)[:, 0]
+
+
+def _batch(msgtype: str, n: int, parts: list[tuple[slice | np.ndarray, np.ndarray]]
+           ) -> MessageBatch:
+    """The batch of ``n`` messages from ``parts``: (which of them, a slice or indices;
+    their records, :func:`_records`), each copied once into the batch's arrays."""
+    leaves = _require_fixed(msgtype)
+    frames = [_decoded_frames(records["frame"]) for _, records in parts]
     stamp_ns = np.empty(n, np.int64)
-    frame_id = np.empty(n, dtype=object)
+    frame_id = np.empty(n, np.result_type("<U1", *frames))     # as long as the longest
     fields = {leaf.path: np.zeros((n,) if leaf.count == 1 else (n, leaf.count), leaf.dtype)
               for leaf in leaves}
-    for length, slen, idx in _groups(lengths, strlen):
-        dtype = _record_dtype(msgtype, int(slen) - 1)
-        if length < dtype.itemsize and msgtype in APPENDED_FIELDS:
-            dtype = _record_dtype(msgtype, int(slen) - 1, older=True)    # an older bag's
-        if length < dtype.itemsize:
-            raise ValueError(f"{msgtype}: message of {length} bytes, layout needs {dtype.itemsize}")
-        if len(idx) == n:
-            rows = buf.reshape(n, length)
-        else:
-            rows = buf[starts[idx, None] + np.arange(length)]
-        view = np.ascontiguousarray(rows[:, :dtype.itemsize]).view(dtype).ravel()
-        stamp_ns[idx] = view["sec"].astype(np.int64) * _NS + view["nanosec"]
-        frame_id[idx] = _decoded_frames(view["frame"])
+    for (index, records), frame in zip(parts, frames, strict=True):
+        stamp_ns[index] = records["sec"].astype(np.int64) * _NS + records["nanosec"]
+        frame_id[index] = frame
         for leaf in leaves:
-            if leaf.path in dtype.names:
-                fields[leaf.path][idx] = view[leaf.path]
-    return MessageBatch(msgtype, stamp_ns, frame_id.astype(str), fields)
+            if leaf.path in records.dtype.names:
+                fields[leaf.path][index] = records[leaf.path]
+    return MessageBatch(msgtype, stamp_ns, frame_id, fields)
 
 
 def _groups(lengths: np.ndarray, strlen: np.ndarray):
-    """(length, frame length, indices) of the messages sharing a byte layout; one group
-    without sorting in the usual case of a single layout."""
+    """(length, frame length, indices) of the messages sharing a byte layout; in the usual
+    case of a single layout one group, without sorting, whose indices are ``slice(None)``
+    (all the messages: copied as slices, several times as fast as by an index array)."""
     if len(lengths) and (lengths == lengths[0]).all() and (strlen == strlen[0]).all():
-        yield int(lengths[0]), int(strlen[0]), np.arange(len(lengths))
+        yield int(lengths[0]), int(strlen[0]), slice(None)
         return
     keys = np.stack([lengths, strlen], axis=1)
     for length, slen in np.unique(keys, axis=0):
@@ -190,11 +233,12 @@ def _groups(lengths: np.ndarray, strlen: np.ndarray):
 
 
 def _decoded_frames(raw: np.ndarray) -> np.ndarray:
-    """frame_id strings from their null-terminated bytes (one decode per distinct value)."""
+    """frame_id strings (a str array) from their null-terminated bytes (one decode per
+    distinct value)."""
     if (raw == raw[0]).all():
-        return np.full(len(raw), raw[0].decode(), dtype=object)
+        return np.full(len(raw), raw[0].decode())
     frames, inverse = np.unique(raw, return_inverse=True)
-    return np.array([f.decode() for f in frames], dtype=object)[inverse]
+    return np.array([f.decode() for f in frames])[inverse]
 
 
 def _frame_groups(frame_id: np.ndarray):
