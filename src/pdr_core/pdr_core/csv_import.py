@@ -30,6 +30,23 @@ read is refused like the other units (hPa read as Pa is 1 kPa); a pressure colum
 holds one value over at least :data:`MIN_ROWS_CONSTANT_AXIS` rows is imported with an
 InputWarning (:func:`warn_constant_pressure`): a coarse barometer at rest may hold one
 reading, but more often it is another column.
+
+A truth attitude (``quat_cols``, four columns in ``quat_order`` xyzw or wxyz) is the
+tracked body's attitude C_world_body in the truth's world frame (z up); the sensor's
+attitude written as ``pose.orientation`` of ``ground_truth/pose`` is
+C_world_sensor = M · C_world_body · C_body_sensor (:func:`sensor_attitude`), with M the
+``pos_axes`` remap and C_body_sensor the sensor frame's orientation in the body frame
+(``sensor_in_body_rpy_deg``, ZYX roll, pitch, yaw as pdr_core.rotations builds them). A
+remap that mirrors the frame (determinant −1, ``-x,y,z``) is refused with quaternions: M
+times a rotation is no rotation. A quaternion needs positions beside it (``pos_cols``):
+``ground_truth/pose`` always carries a position, and the trajectory metrics would score
+a navigator against zeros. A row whose quaternion's norm is not 1 within
+:data:`QUATERNION_NORM_TOLERANCE` (a tracker that lost the body writes zeros) is an
+invalid row like a NaN (:func:`valid_rows`); the others are normalised.
+
+The pieces serve other importers too (pdr_core.oxiod): :func:`read_table`,
+:func:`valid_rows`, :func:`sensor_attitude` and the batch builders :func:`imu_batch`,
+:func:`pose_batch` and :func:`mag_batch`.
 """
 from __future__ import annotations
 
@@ -39,6 +56,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from pdr_core.atmosphere import SEA_LEVEL_PRESSURE_PA
 from pdr_core.barometry import PA_PER_HPA, PRESSURE_MAX_PA, PRESSURE_MIN_PA
@@ -57,6 +75,7 @@ from pdr_core.imu_checks import (
     median_specific_force_mps2,
 )
 from pdr_core.msgtypes import FLUID_PRESSURE, IMU, MAGNETIC_FIELD, POSE_STAMPED
+from pdr_core.rotations import quaternion_xyzw, rotation_from_euler
 from pdr_core.units import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
@@ -80,6 +99,14 @@ _SYMBOLS = {**UNIT_SYMBOLS, "pa": "Pa", "hpa": "hPa"}
 PRESSURE_RANGE = PlausibleRange("median pressure", "Pa", PRESSURE_MIN_PA, PRESSURE_MAX_PA,
                                 SEA_LEVEL_PRESSURE_PA, "300-1100 hPa, 30-110 kPa")
 
+# The orders a truth's quaternion columns may come in: name -> the indices, among the
+# columns as read, of x, y, z and w
+QUATERNION_ORDERS = {"xyzw": (0, 1, 2, 3), "wxyz": (1, 2, 3, 0)}
+# How far from 1 a quaternion's norm may be before its row is invalid: a quaternion
+# printed with 3 significant digits is within 0.002 of unit norm; a tracker that lost the
+# body writes zeros, and a column mapped wrongly is far off
+QUATERNION_NORM_TOLERANCE = 0.01
+
 
 @dataclass(frozen=True)
 class CsvImuFormat:
@@ -99,7 +126,14 @@ class CsvImuFormat:
         acc_axes, gyro_axes: a remap for one sensor only, replacing ``axes`` for it (for
             logs whose accelerometer and gyroscope triads differ in sign or order).
         pos_axes: remap of the ground-truth positions into a right-handed, z-up map frame
-            (a motion-capture frame may be left-handed: ``-x,y,z`` mirrors it).
+            (a motion-capture frame may be left-handed: ``-x,y,z`` mirrors it); with
+            ``quat_cols`` it turns the attitude too, and must not mirror.
+        quat_cols: four columns of the truth's attitude quaternion, or () (needs
+            ``pos_cols``); ``quat_order`` xyzw or wxyz. The tracked body's attitude in the
+            truth's world frame, C_world_body.
+        sensor_in_body_rpy_deg: the sensor frame's orientation in the tracked body's frame,
+            C_body_sensor, as ZYX roll, pitch, yaw [deg]; the truth written is
+            C_world_sensor = C_world_body · C_body_sensor.
         header: whether the first row holds column names.
         time_offset_s: added to every stamp.
         drop_invalid: drop NaN/Inf rows and non-increasing stamps instead of failing.
@@ -126,6 +160,9 @@ class CsvImuFormat:
     acc_axes: tuple[str, str, str] | None = None
     gyro_axes: tuple[str, str, str] | None = None
     pos_axes: tuple[str, str, str] = ("x", "y", "z")
+    quat_cols: tuple[str, ...] = ()
+    quat_order: str = "xyzw"
+    sensor_in_body_rpy_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
     header: bool = True
     time_offset_s: float = 0.0
     drop_invalid: bool = False
@@ -179,7 +216,10 @@ def _column_index(path: Path, names: list[str] | None, col: str) -> int:
     raise InputError(path, f"no column '{col}'{known}")
 
 
-def _read_table(path: Path, header: bool) -> tuple[list[str] | None, np.ndarray]:
+def read_table(path: Path, header: bool) -> tuple[list[str] | None, np.ndarray]:
+    """The column names (None without a header) and the numbers (N, M) of a CSV file;
+    InputError names the file and what is wrong with it (none, empty, not numbers, rows
+    of different lengths: numpy names the row)."""
     if not path.is_file():
         raise InputError(path, "no such file")
     with path.open(newline="") as stream:
@@ -212,7 +252,7 @@ def read_columns(path: str | Path, columns: tuple[str, ...], header: bool = True
     """The named (or 0-based numbered) columns of a CSV file of numbers, (N, len(columns));
     InputError names the file and what is wrong with it."""
     path = Path(path)
-    names, table = _read_table(path, header)
+    names, table = read_table(path, header)
     return _select(path, names, table, tuple(columns))
 
 
@@ -261,29 +301,50 @@ def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str) -
                            f"{flag} drops them)")
 
 
+def valid_rows(path: Path, values: np.ndarray, first_row: int, drop_invalid: bool,
+               quaternion: np.ndarray | None = None) -> np.ndarray:
+    """(N,) bool: the rows of ``values`` (N, M) that hold no NaN or Inf and, with
+    ``quaternion`` (N, 4), whose quaternion's norm is 1 within
+    :data:`QUATERNION_NORM_TOLERANCE`. Unless ``drop_invalid``, any other row is refused:
+    an InputError naming ``path``, the first such row (numbered from ``first_row``) and
+    ``--drop-invalid``."""
+    finite = np.isfinite(values).all(axis=1)
+    if not drop_invalid and not finite.all():
+        _refuse(path, ~finite, first_row, "NaN or Inf value", "--drop-invalid")
+    if quaternion is None:
+        return finite
+    norm = np.linalg.norm(quaternion, axis=1)
+    off = finite & (np.abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE)
+    if off.any() and not drop_invalid:
+        _refuse(path, off, first_row, f"quaternion norm {norm[np.flatnonzero(off)[0]]:.4g}, "
+                                      f"not 1 (±{QUATERNION_NORM_TOLERANCE:g})", "--drop-invalid")
+    return finite & ~off
+
+
 def _kept_rows(path: Path, t_s: np.ndarray, values: np.ndarray, fmt: CsvImuFormat,
-               first_row: int) -> tuple[np.ndarray, np.ndarray]:
+               first_row: int, quaternion: np.ndarray | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
     """Masks (keep, duplicate) over the rows; raises InputError for refused rows.
 
     A duplicate repeats the previous row exactly (time and every value): it carries no
-    information, and some loggers emit them. Other rows must be finite and strictly
-    later than every kept row before them.
+    information, and some loggers emit them. Other rows must be valid (:func:`valid_rows`,
+    with the truth's ``quaternion`` (N, 4) when there is one) and strictly later than
+    every kept row before them.
     """
     duplicate = np.concatenate(([False], (t_s[1:] == t_s[:-1])
                                 & (values[1:] == values[:-1]).all(axis=1)))
     if duplicate.any() and not fmt.drop_duplicates:
         _refuse(path, duplicate, first_row, "exact duplicate of the previous row",
                 "--drop-duplicates")
-    finite = np.isfinite(values).all(axis=1) & np.isfinite(t_s) & ~duplicate
-    if not fmt.drop_invalid and not (finite | duplicate).all():
-        _refuse(path, ~(finite | duplicate), first_row, "NaN or Inf value", "--drop-invalid")
-    kept_t = np.where(finite, t_s, -np.inf)
+    valid = valid_rows(path, np.column_stack([t_s, values]), first_row, fmt.drop_invalid,
+                       quaternion) & ~duplicate
+    kept_t = np.where(valid, t_s, -np.inf)
     increasing = np.concatenate(([True], kept_t[1:] > np.maximum.accumulate(kept_t)[:-1]))
-    late = finite & ~increasing
+    late = valid & ~increasing
     if late.any() and not fmt.drop_invalid:
         _refuse(path, late, first_row, f"time {t_s[np.flatnonzero(late)[0]]:.9f} does not "
                                        "increase", "--drop-invalid")
-    return finite & increasing, duplicate
+    return valid & increasing, duplicate
 
 
 @dataclass(frozen=True)
@@ -361,6 +422,92 @@ def refuse_implausible(path: Path, problems: list[Implausible | None], accept: b
                       stacklevel=3)
 
 
+def turning_remap(world_axes: tuple[str, str, str]) -> np.ndarray:
+    """The remap M of a truth's world frame (``--pos-axes``, :func:`axis_matrix`) that an
+    attitude is turned by; one that mirrors the frame (determinant −1) is refused: M·C
+    would be no rotation."""
+    remap = axis_matrix(world_axes)
+    if np.linalg.det(remap) < 0:
+        raise InputError("--pos-axes", f"{','.join(world_axes)} mirrors the truth's frame, "
+                                       "which turns an attitude (--quat-cols) into no "
+                                       "rotation at all: give a remap that only turns it "
+                                       "(an even number of minus signs and swaps), or "
+                                       "import the positions without --quat-cols")
+    return remap
+
+
+def sensor_attitude(body_xyzw: np.ndarray,
+                    sensor_in_body_rpy_deg: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                    world_axes: tuple[str, str, str] = ("x", "y", "z")) -> np.ndarray:
+    """The sensor's attitude C_world_sensor = M · C_world_body · C_body_sensor, (N, 4) unit
+    quaternions (x, y, z, w; w >= 0), from the tracked body's attitude ``body_xyzw`` (N, 4)
+    (x, y, z, w; normalised here), the sensor frame's orientation in the body frame
+    ``sensor_in_body_rpy_deg`` (ZYX roll, pitch, yaw [deg]: C_body_sensor =
+    Rz(yaw)·Ry(pitch)·Rx(roll)) and the remap M of the world frame ``world_axes``
+    (:func:`turning_remap`)."""
+    remap = Rotation.from_matrix(turning_remap(world_axes))
+    sensor_in_body = rotation_from_euler(*np.radians(np.asarray(sensor_in_body_rpy_deg, float)))
+    return quaternion_xyzw(remap * Rotation.from_quat(body_xyzw) * sensor_in_body).reshape(-1, 4)
+
+
+def imu_batch(stamp_ns: np.ndarray, frame: str, acc: np.ndarray,
+              gyro: np.ndarray | None) -> MessageBatch:
+    """sensor_msgs/Imu of specific force [m/s²] and angular rate [rad/s] (None: the log
+    has no gyroscope, rates unknown: ``angular_velocity_covariance[0] = -1``), (N, 3) each,
+    stamped ``stamp_ns`` (N,) in ``frame``; no orientation (``orientation_covariance[0] =
+    -1``), covariances unknown (0)."""
+    n = len(stamp_ns)
+    no_estimate = np.zeros((n, 9))
+    no_estimate[:, 0] = -1.0
+    return MessageBatch(IMU, stamp_ns, frame, {
+        "orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)),
+        "orientation_covariance": no_estimate,
+        "angular_velocity": np.zeros((n, 3)) if gyro is None else gyro,
+        "angular_velocity_covariance": no_estimate.copy() if gyro is None else np.zeros((n, 9)),
+        "linear_acceleration": acc,
+        "linear_acceleration_covariance": np.zeros((n, 9)),
+    })
+
+
+def pose_batch(stamp_ns: np.ndarray, frame: str, position: np.ndarray,
+               orientation_xyzw: np.ndarray | None = None) -> MessageBatch:
+    """geometry_msgs/PoseStamped of the truth in ``frame``: position [m] (N, 3) and
+    orientation (N, 4, x y z w; None: identity, a truth of positions only)."""
+    if orientation_xyzw is None:
+        orientation_xyzw = np.tile([0.0, 0.0, 0.0, 1.0], (len(stamp_ns), 1))
+    return MessageBatch(POSE_STAMPED, stamp_ns, frame, {
+        "pose.position": position, "pose.orientation": orientation_xyzw})
+
+
+def mag_batch(stamp_ns: np.ndarray, frame: str, field_t: np.ndarray) -> MessageBatch:
+    """sensor_msgs/MagneticField [T] (N, 3) in ``frame``, covariance unknown (0)."""
+    return MessageBatch(MAGNETIC_FIELD, stamp_ns, frame, {
+        "magnetic_field": field_t, "magnetic_field_covariance": np.zeros((len(stamp_ns), 9))})
+
+
+def _check_truth_attitude(fmt: CsvImuFormat) -> None:
+    """Refuse quaternion options that cannot make a truth (module docstring)."""
+    if len(fmt.sensor_in_body_rpy_deg) != 3:
+        raise InputError("--sensor-in-body-rpy-deg", "needs 3 angles (roll,pitch,yaw), got "
+                                                     f"{len(fmt.sensor_in_body_rpy_deg)}")
+    if not fmt.quat_cols:
+        if any(fmt.sensor_in_body_rpy_deg):
+            raise InputError("--sensor-in-body-rpy-deg", "turns a truth attitude: give its "
+                                                         "--quat-cols too")
+        return
+    if len(fmt.quat_cols) != 4:
+        raise InputError("--quat-cols", f"needs 4 columns (in --quat-order {fmt.quat_order}), "
+                                        f"got {len(fmt.quat_cols)}")
+    if fmt.quat_order not in QUATERNION_ORDERS:
+        raise InputError("--quat-order", f"unknown order '{fmt.quat_order}' (choose from "
+                                         f"{', '.join(QUATERNION_ORDERS)})")
+    if not fmt.pos_cols:
+        raise InputError("--quat-cols", "needs --pos-cols too: ground_truth/pose always "
+                                        "carries a position, and a navigator's errors would "
+                                        "be measured against a truth that never moves")
+    turning_remap(fmt.pos_axes)
+
+
 def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     """Read a CSV IMU log into batches (see :class:`CsvImuFormat`)."""
     path = Path(path)
@@ -374,9 +521,10 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
                          ("--pos-cols", fmt.pos_cols), ("--mag-cols", fmt.mag_cols)):
         if cols and len(cols) != 3:
             raise InputError(option, f"needs 3 columns (x,y,z), got {len(cols)}")
+    _check_truth_attitude(fmt)
     acc_remap = axis_matrix(fmt.acc_axes or fmt.axes)
     gyro_remap = axis_matrix(fmt.gyro_axes or fmt.axes)
-    names, table = _read_table(path, fmt.header)
+    names, table = read_table(path, fmt.header)
 
     def columns(cols: tuple[str, ...]) -> np.ndarray:
         return _select(path, names, table, cols)
@@ -388,14 +536,17 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
             else np.zeros_like(acc))
     pos = columns(fmt.pos_cols) * pos_scale @ axis_matrix(fmt.pos_axes).T if fmt.pos_cols \
         else None
+    quat = columns(fmt.quat_cols)[:, QUATERNION_ORDERS[fmt.quat_order]] if fmt.quat_cols \
+        else None
     mag = columns(fmt.mag_cols) * mag_scale @ axis_matrix(fmt.mag_axes or fmt.acc_axes
                                                             or fmt.axes).T \
         if fmt.mag_cols else None
     pressure_read = columns((fmt.pressure_col,))[:, 0] if fmt.pressure_col else None
     pressure = None if pressure_read is None else pressure_read * pressure_scale
-    values = np.hstack([acc, gyro] + [v.reshape(len(t_s), -1) for v in (pos, mag, pressure)
-                                      if v is not None])
-    keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1)
+    values = np.hstack([acc, gyro] + [v.reshape(len(t_s), -1)
+                                      for v in (pos, quat, mag, pressure) if v is not None])
+    keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1,
+                                 quaternion=quat)
     _refuse_constant_axis(path, names, fmt.acc_cols, acc_read[keep])
     if pressure_read is not None:
         warn_constant_pressure(path, str(fmt.pressure_col), pressure_read[keep])
@@ -407,28 +558,17 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
 
     stamp_ns = stamp_ns_from_seconds(t_s[keep])
     n = len(stamp_ns)
-    no_estimate = np.zeros((n, 9))
-    no_estimate[:, 0] = -1.0
-    imu = MessageBatch(IMU, stamp_ns, fmt.imu_frame, {
-        "orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)),
-        "orientation_covariance": no_estimate,
-        "angular_velocity": gyro[keep],
-        "angular_velocity_covariance": np.zeros((n, 9)) if fmt.gyro_cols else no_estimate.copy(),
-        "linear_acceleration": acc[keep],
-        "linear_acceleration_covariance": np.zeros((n, 9)),
-    })
+    imu = imu_batch(stamp_ns, fmt.imu_frame, acc[keep], gyro[keep] if fmt.gyro_cols else None)
     pose = None
     if pos is not None:
-        pose = MessageBatch(POSE_STAMPED, stamp_ns, fmt.map_frame, {
-            "pose.position": pos[keep], "pose.orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1))})
-    mag_batch = None
-    if mag is not None:
-        mag_batch = MessageBatch(MAGNETIC_FIELD, stamp_ns, fmt.imu_frame, {
-            "magnetic_field": mag[keep], "magnetic_field_covariance": np.zeros((n, 9))})
+        orientation = None if quat is None else sensor_attitude(
+            quat[keep], fmt.sensor_in_body_rpy_deg, fmt.pos_axes)
+        pose = pose_batch(stamp_ns, fmt.map_frame, pos[keep], orientation)
+    mag_messages = None if mag is None else mag_batch(stamp_ns, fmt.imu_frame, mag[keep])
     pressure_batch = None
     if pressure is not None:
         pressure_batch = MessageBatch(FLUID_PRESSURE, stamp_ns, fmt.imu_frame, {
             "fluid_pressure": pressure[keep], "variance": np.zeros(n)})
     return CsvImport(imu, pose, rows_read=len(t_s), rows_duplicate=int(duplicate.sum()),
-                     rows_invalid=int((~keep & ~duplicate).sum()), mag=mag_batch,
+                     rows_invalid=int((~keep & ~duplicate).sum()), mag=mag_messages,
                      pressure=pressure_batch)

@@ -5,8 +5,10 @@ Subcommands:
                  barometer's imu/pressure with --pressure).
     allan        Allan deviation and noise parameters of static data (bag or CSV).
     fit-steps    fit the raised-cosine step pattern (Eqs. 3-5) to recorded foot positions.
-    import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose, imu/mag,
-                 imu/pressure).
+    import-csv   CSV IMU log -> rosbag2 MCAP bag (imu/data, ground_truth/pose with
+                 positions and attitudes, imu/mag, imu/pressure).
+    import-oxiod an OxIOD sequence (imuK.csv + viK.csv) -> bag (imu/data, imu/mag,
+                 ground_truth/pose with the phone's attitude).
     export-csv   a bag's imu/data (with imu/mag and ground_truth/pose) -> a phone-style
                  CSV log that import-csv reads back; the true step times with --steps-out.
     info         topics, types, message counts and time span of a bag.
@@ -27,6 +29,7 @@ import yaml
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, add_strict_option, repair, write_batches
+from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.csv_export import export_bag, import_arguments
 from pdr_core.csv_import import (
@@ -36,6 +39,8 @@ from pdr_core.csv_import import (
     POS_UNITS_M,
     PRESSURE_RANGE,
     PRESSURE_UNITS_PA,
+    QUATERNION_NORM_TOLERANCE,
+    QUATERNION_ORDERS,
     TIME_UNITS_S,
     CsvImuFormat,
     import_csv,
@@ -43,6 +48,7 @@ from pdr_core.csv_import import (
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
 from pdr_core.odometry import truth_tf
+from pdr_core.oxiod import GLITCH_STEP_RAD, import_oxiod
 from pdr_sim.allan_report import allan_report
 from pdr_sim.foot_trajectory import level_walk_like
 from pdr_sim.overrides import with_overrides
@@ -287,6 +293,14 @@ def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
                         "column constant over the whole recording is refused even so)")
 
 
+def _angles_deg(text: tuple[str, ...], option: str) -> tuple[float, ...]:
+    try:
+        return tuple(float(angle) for angle in text)
+    except ValueError:
+        raise InputError(option, f"'{','.join(text)}' is not a list of angles in degrees "
+                                 "(e.g. 0,0,180)") from None
+
+
 def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
     for option, axes in (("--axes", args.axes), ("--acc-axes", args.acc_axes),
                          ("--gyro-axes", args.gyro_axes)):
@@ -297,6 +311,10 @@ def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
         acc_unit=args.acc_unit, gyro_cols=args.gyro_cols, gyro_unit=args.gyro_unit,
         pos_cols=getattr(args, "pos_cols", ()), pos_unit=getattr(args, "pos_unit", "m"),
         pos_axes=getattr(args, "pos_axes", ("x", "y", "z")),
+        quat_cols=getattr(args, "quat_cols", ()),
+        quat_order=getattr(args, "quat_order", "xyzw"),
+        sensor_in_body_rpy_deg=_angles_deg(getattr(args, "sensor_in_body_rpy_deg", ()) or
+                                           ("0", "0", "0"), "--sensor-in-body-rpy-deg"),
         mag_cols=getattr(args, "mag_cols", ()), mag_unit=getattr(args, "mag_unit", "ut"),
         mag_axes=getattr(args, "mag_axes", None),
         pressure_col=getattr(args, "pressure_col", None),
@@ -313,7 +331,8 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
         description="Turn a CSV IMU log (one row per sample) into a rosbag2 MCAP bag with "
                     "imu/data (sensor_msgs/Imu, SI units) and, when their columns are given, "
                     "imu/mag (sensor_msgs/MagneticField, tesla), imu/pressure "
-                    "(sensor_msgs/FluidPressure, pascal) and ground_truth/pose. "
+                    "(sensor_msgs/FluidPressure, pascal) and ground_truth/pose (positions, "
+                    "and the sensor's attitude from a quaternion with --quat-cols). "
                     "Columns are header names or 0-based indices. Data implausible in the "
                     "units given (a median |f| far from g, a time column in ms read as s, "
                     "a magnetometer in T read as µT) are refused, naming the unit option "
@@ -327,7 +346,26 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
                    help="unit of the position columns: m, cm or mm")
     p.add_argument("--pos-axes", type=_columns, default=("x", "y", "z"),
                    help="remap of the positions into a right-handed z-up frame, "
-                        "e.g. --pos-axes=-x,y,z")
+                        "e.g. --pos-axes=-x,y,z; with --quat-cols it turns the attitude "
+                        "too, and one that mirrors the frame (an odd number of minus signs "
+                        "and swaps, as -x,y,z) is refused then")
+    p.add_argument("--quat-cols", type=_columns, default=(),
+                   help="the truth's attitude: 4 quaternion columns, in --quat-order, of the "
+                        "tracked body in the truth's world frame (C_world_body, z up); "
+                        "needs --pos-cols. Written normalised as pose.orientation of "
+                        "ground_truth/pose: the sensor's attitude C_world_sensor = "
+                        "C_world_body · C_body_sensor (--sensor-in-body-rpy-deg). A row whose "
+                        f"quaternion's norm is not 1 within {QUATERNION_NORM_TOLERANCE:g} is "
+                        "an invalid row (refused, or dropped with --drop-invalid)")
+    p.add_argument("--quat-order", default="xyzw", choices=sorted(QUATERNION_ORDERS),
+                   help="order of the --quat-cols: xyzw (ROS, scipy, OxIOD's Vicon files) "
+                        "or wxyz (scalar first)")
+    p.add_argument("--sensor-in-body-rpy-deg", type=_columns, default=("0", "0", "0"),
+                   metavar="R,P,Y",
+                   help="the IMU's frame in the tracked body's frame, C_body_sensor = "
+                        "Rz(Y)·Ry(P)·Rx(R): ZYX roll, pitch, yaw [deg], e.g. 0,0,180 for "
+                        "OxIOD's phone in its Vicon object (write the = when the first is "
+                        "negative: --sensor-in-body-rpy-deg=-90,0,0)")
     p.add_argument("--mag-cols", type=_columns, default=(),
                    help="magnetometer x,y,z (written to imu/mag)")
     p.add_argument("--mag-unit", default="ut", choices=sorted(MAG_UNITS_T),
@@ -348,26 +386,82 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
 def _run_import_csv(args: argparse.Namespace) -> int:
     fmt = _csv_format(args)
     result = import_csv(args.csv, fmt)
-    batches = {topics.IMU_DATA: result.imu}
-    if result.pose is not None:
-        batches[topics.GROUND_TRUTH_POSE] = result.pose
-        batches |= truth_tf(result.pose)
-    if result.mag is not None:
-        batches[topics.IMU_MAG] = result.mag
-    if result.pressure is not None:
-        batches[topics.IMU_PRESSURE] = result.pressure
-    command = " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
-    write_batches(args.out, batches, overwrite=args.overwrite, compress=args.compress,
-                  custom_data={"pdr.source": str(args.csv), "pdr.command": command})
-    t = result.imu.t_s
-    rate = (len(t) - 1) / (t[-1] - t[0]) if len(t) > 1 else float("nan")
-    acc_norm = np.linalg.norm(result.imu["linear_acceleration"], axis=1)
-    print(f"{args.out}: {len(result.imu)} imu/data messages"
-          f"{f', {len(result.pose)} ground_truth/pose' if result.pose is not None else ''}; "
-          f"{t[-1] - t[0]:.3f} s at {rate:.1f} Hz mean; "
-          f"median |f| {np.median(acc_norm):.3f} m/s^2; "
+    _write_recording(args, args.csv, result.imu, pose=result.pose, mag=result.mag,
+                     pressure=result.pressure)
+    truth = "" if result.pose is None else \
+        f", {len(result.pose)} ground_truth/pose{' with attitude' if fmt.quat_cols else ''}"
+    print(f"{args.out}: {len(result.imu)} imu/data messages{truth}; {_span(result.imu)}; "
           f"{result.rows_read} rows read, {result.rows_duplicate} exact duplicates and "
           f"{result.rows_invalid} invalid rows dropped")
+    return 0
+
+
+def _write_recording(args: argparse.Namespace, source: Path, imu: MessageBatch,
+                     pose: MessageBatch | None = None, mag: MessageBatch | None = None,
+                     pressure: MessageBatch | None = None) -> None:
+    """Write an imported recording to ``args.out``: its topics, the truth's /tf, and the
+    source and command line in the bag's custom_data."""
+    batches = {topics.IMU_DATA: imu}
+    if pose is not None:
+        batches[topics.GROUND_TRUTH_POSE] = pose
+        batches |= truth_tf(pose)
+    if mag is not None:
+        batches[topics.IMU_MAG] = mag
+    if pressure is not None:
+        batches[topics.IMU_PRESSURE] = pressure
+    command = " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
+    write_batches(args.out, batches, overwrite=args.overwrite, compress=args.compress,
+                  custom_data={"pdr.source": str(source), "pdr.command": command})
+
+
+def _span(imu: MessageBatch) -> str:
+    """What an import summary says of its IMU samples: duration, mean rate, median |f|."""
+    t = imu.t_s
+    rate = (len(t) - 1) / (t[-1] - t[0]) if len(t) > 1 else float("nan")
+    acc_norm = np.linalg.norm(imu["linear_acceleration"], axis=1)
+    return (f"{t[-1] - t[0]:.3f} s at {rate:.1f} Hz mean; "
+            f"median |f| {np.median(acc_norm):.3f} m/s^2")
+
+
+def _add_import_oxiod(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "import-oxiod", help="turn an OxIOD sequence into a bag",
+        description="Turn one sequence of the Oxford Inertial Odometry Dataset (OxIOD: "
+                    "imuK.csv and viK.csv, synchronised, no header) into a bag as "
+                    "import-csv writes it: imu/data (specific force -(gravity + user "
+                    f"acceleration) x {STANDARD_GRAVITY_MPS2} m/s², rotation rate as is), "
+                    "imu/mag (µT -> T) and ground_truth/pose (the Vicon translation, and "
+                    "the phone's attitude C_world_phone = C_world_object · Rz(180°): the "
+                    "Vicon object frame is the phone's turned 180° about z), with the "
+                    "truth's /tf. The time columns are too coarse to use: row k is stamped "
+                    "--start-s + k × 10 ms. The Vicon glitches (marker swaps: attitude "
+                    f"jumps of more than {GLITCH_STEP_RAD:g} rad between consecutive rows) "
+                    "are kept and counted in the summary.")
+    p.add_argument("sequence", type=Path,
+                   help="the sequence's directory, holding one pair imuK.csv/viK.csv (or "
+                        "one of the two files, where a directory holds several pairs)")
+    _add_bag_output(p)
+    p.add_argument("--start-s", type=float, default=0.0,
+                   help="stamp of the first row [s]; row k is 10 ms × k later")
+    p.add_argument("--drop-invalid", action="store_true",
+                   help="drop the rows with a NaN or Inf in either file, or a rotation that "
+                        "is not a unit quaternion, from both, instead of failing")
+    p.set_defaults(func=_run_import_oxiod)
+
+
+def _run_import_oxiod(args: argparse.Namespace) -> int:
+    result = import_oxiod(args.sequence, start_s=args.start_s, drop_invalid=args.drop_invalid)
+    _write_recording(args, result.sequence.imu_csv.parent, result.imu, pose=result.pose,
+                     mag=result.mag)
+    sequence = result.sequence
+    magnetometer = "yes" if result.mag is not None else "none (constant columns)"
+    print(f"{args.out}: OxIOD {sequence.imu_csv.parent.name} ({sequence.imu_csv.name} + "
+          f"{sequence.vicon_csv.name}): {len(result.imu)} samples from "
+          f"{result.imu.t_s[0]:.3f} s, {_span(result.imu)}; magnetometer: {magnetometer}; "
+          f"truth: attitude and position ({len(result.pose)} ground_truth/pose); "
+          f"{result.glitches} truth glitches (attitude jumps > {GLITCH_STEP_RAD:g} rad "
+          f"between rows, kept); {result.repeated_frames} rows repeat the previous Vicon "
+          f"frame; {result.rows_read} rows read, {result.rows_invalid} invalid rows dropped")
     return 0
 
 
@@ -459,6 +553,7 @@ def parser() -> argparse.ArgumentParser:
     _add_allan(sub)
     _add_fit_steps(sub)
     _add_import_csv(sub)
+    _add_import_oxiod(sub)
     _add_export_csv(sub)
     _add_info(sub)
     _add_repair(sub)
