@@ -76,6 +76,20 @@ PHONE_BAROMETER: dict[str, Any] = {
     "offset_duration_s": 60.0,
 }
 
+# A smartphone-class MEMS IMU (typical values of a Bosch BMI160-class datasheet): the
+# gyroscope's white noise 0.007 °/s/√Hz (0.42 °/√h), 1° cross-axis, ±2000 °/s in 16 bits;
+# the accelerometer's 180 µg/√Hz, turn-on bias σ 40 mg, 1 % scale factor, 1° cross-axis,
+# ±8 g in 16 bits. The parts of consumer_phone that calibrated_phone shares.
+PHONE_GYROSCOPE: dict[str, Any] = {
+    "arw_deg_per_sqrt_h": 0.42, "misalignment_mrad": 17.0, "range_deg_per_s": 2000.0,
+    "resolution_deg_per_s": 2000.0 / 32768,
+}
+PHONE_ACCELEROMETER: dict[str, Any] = {
+    "vrw_ug_per_sqrt_hz": 180.0, "bias_sigma_mg": 40.0, "bias_instability_mg": 0.5,
+    "bias_correlation_time_s": 100.0, "scale_factor_ppm": 10000.0, "misalignment_mrad": 17.0,
+    "range_g": 8.0, "resolution_mg": 8000.0 / 32768,
+}
+
 # Sources are cited per profile; "assumed" marks values the cited source does not give.
 PROFILES: dict[str, dict[str, dict[str, Any]]] = {
     "ideal": {"baro": {}},
@@ -121,15 +135,52 @@ PROFILES: dict[str, dict[str, dict[str, Any]]] = {
     # scale factor, 1° cross-axis, ±2000 °/s and ±8 g in 16 bits; magnetometer 0.3 µT RMS
     # at 100 Hz.
     "consumer_phone": {
-        "gyro": {"arw_deg_per_sqrt_h": 0.42, "bias_sigma_deg_per_s": 1.0,
+        "gyro": {**PHONE_GYROSCOPE, "bias_sigma_deg_per_s": 1.0,
                  "bias_instability_deg_per_h": 30.0, "bias_correlation_time_s": 100.0,
-                 "scale_factor_ppm": 10000.0, "misalignment_mrad": 17.0,
-                 "range_deg_per_s": 2000.0, "resolution_deg_per_s": 2000.0 / 32768},
-        "accel": {"vrw_ug_per_sqrt_hz": 180.0, "bias_sigma_mg": 40.0,
-                  "bias_instability_mg": 0.5, "bias_correlation_time_s": 100.0,
-                  "scale_factor_ppm": 10000.0, "misalignment_mrad": 17.0,
-                  "range_g": 8.0, "resolution_mg": 8000.0 / 32768},
+                 "scale_factor_ppm": 10000.0},
+        "accel": PHONE_ACCELEROMETER,
         "mag": {"noise_ut_per_sqrt_hz": 0.03, "bias_sigma_ut": 0.5},
+        "baro": PHONE_BAROMETER,
+    },
+    # The same phone read through its OS's calibrated sensors (Android Sensor.TYPE_GYROSCOPE,
+    # iOS CMDeviceMotion.rotationRate), as most phone recordings are (OxIOD's are):
+    # - gyro: consumer_phone's noise and misalignment; no turn-on bias of a raw MEMS gyro
+    #   but the residual the OS's online calibration leaves. Android's TYPE_GYROSCOPE is
+    #   "gyro-drift compensated", TYPE_GYROSCOPE_UNCALIBRATED "no gyro-drift compensation ...
+    #   Factory calibration and temperature compensation is still applied" (Android SDK,
+    #   Sensor); Apple's rotationRate is gyroscope data "whose bias has been removed by Core
+    #   Motion algorithms" (CMDeviceMotion). Neither says how well. The Android
+    #   Compatibility Definition (7.3.4) strongly recommends a calibration error below
+    #   0.01 rad/s (0.57 °/s) at rest at room temperature; AOSP's runtime calibration
+    #   (device/google/contexthub, calibration/gyroscope/gyro_cal.c) takes the mean rate
+    #   over 5-6 s of stillness as the bias. On OxIOD's three iPhones, integrating the
+    #   gyroscope over 5 s windows against the Vicon attitude leaves 0.01-0.57 °/s per axis
+    #   (RMS 0.24 °/s over the nine axis-sequences; the iPhone 7 Plus -0.34, -0.19,
+    #   -0.57 °/s), moving by about 0.1 °/s (std) from one minute to the next: a residual
+    #   drawn per run with σ 0.25 °/s, and a Gauss-Markov variation of σ 0.1 °/s with a
+    #   correlation time of 100 s (assumed, consumer_phone's). Scale factor 0.3 %: the same
+    #   fit gives -0.26 to +0.31 % (± 0.1-0.2 %) on the axis the phone turns about (an OS
+    #   does not calibrate it), below consumer_phone's datasheet 1 %; assumed the same on
+    #   all axes. The re-estimation at rests is not modelled (the residual is the same before
+    #   and after a stop).
+    # - mag: the OS's calibrated field is smoother than consumer_phone's raw 0.3 µT per
+    #   sample: OxIOD's iPhones give a reading at 50-73 Hz (held on the 100 Hz grid) that
+    #   moves by 0.1-0.16 µT (second differences, walking: an upper bound of the noise),
+    #   and the norm of the field spreads by less than 1 µT over 68-88 % of their 0.5 s
+    #   windows (median 0-0.85 µT); white noise of 0.01 µT/√Hz (0.1 µT per sample at
+    #   100 Hz) gives 66-69 % and a median of 0.8 µT on indoor_loops, held or in the
+    #   pocket (0.03 µT/√Hz: 0-26 %). A phone-fixed offset the OS's calibration leaves
+    #   (hard iron of the phone's own parts, changed since it was last calibrated): on
+    #   OxIOD, fitting a constant body-frame offset o with one room field for the three
+    #   phones gives (-4.8, 2.1, -3.2), (-0.2, 1.5, 3.7), (-3.2, 1.9, -1.2) µT, stable over
+    #   30 s windows to about 1 µT: RMS 2.8 µT per axis, drawn per run with σ 3 µT.
+    # - accel: consumer_phone's (assumed: the OS does not re-estimate it while walking).
+    "calibrated_phone": {
+        "gyro": {**PHONE_GYROSCOPE, "bias_sigma_deg_per_s": 0.25,
+                 "gauss_markov_sigma_deg_per_s": 0.1, "bias_correlation_time_s": 100.0,
+                 "scale_factor_ppm": 3000.0},
+        "accel": PHONE_ACCELEROMETER,
+        "mag": {"noise_ut_per_sqrt_hz": 0.01, "bias_sigma_ut": 3.0},
         "baro": PHONE_BAROMETER,
     },
 }

@@ -28,12 +28,17 @@ A pocket scenario is a YAML mapping (built-in ones in ``pdr_sim/scenarios/pocket
       - {type: lift, direction: up, floors: 3}             # or height_m: 10.5; standing
       - {type: lift, direction: down, floors: 2, floor_height_m: 3.5, speed_mps: 1.6,
          acceleration_mps2: 0.8, jerk_mps3: 1.2, dwell_s: 4}
+      - {type: repeat, times: 3, segments: [{type: walk, steps: 3},     # a lap, 3 times
+                                            {type: turn, angle_deg: 90, steps: 1}]}
 
 A *lift* ride (pdr_sim.lift) carries the standing person ``floors`` × ``floor_height_m``
 (default pdr_core.vocabulary.FLOOR_HEIGHT_M, 3.5 m), or ``height_m``, up or down, the car
 moving with the jerk-limited profile of a passenger lift (defaults: pdr_sim.lift.LiftMotion),
 ``dwell_s`` of standing in the car before it moves and after it stops. The floor index
 follows the ride (``floors``, or the height in floors when only ``height_m`` is given).
+
+A *repeat* walks its segments ``times`` times in place (a lap of a room or a block), as
+in a foot scenario (:func:`pdr_sim.scenario.flattened_segments`); repeats may nest.
 
 A *step* is one gait cycle of the sensor leg (two footfalls), as in the thesis. Walking
 segments take ``speed_kmh`` (default: the previous walking speed, first 3.5); cadence
@@ -54,6 +59,7 @@ from pdr_sim.lift import LiftMotion
 from pdr_sim.scenario import (
     Environment,
     environment_from,
+    flattened_segments,
     number,
     read_scenario_yaml,
     seed_from,
@@ -62,10 +68,11 @@ from pdr_sim.scenario import (
 
 # Built-in pocket scenarios (pdr_sim/scenarios/pocket/<name>.yaml), named after what they
 # reproduce in Muñoz Díaz 2016 (corridor_grid: the street grid of its warning after
-# Table 5.8, for the multi-hypothesis association).
+# Table 5.8, for the multi-hypothesis association; indoor_loops: the loops of the OxIOD
+# recordings around a small room in its own field, issue 53).
 POCKET_BUILTIN = ("h1_rectangle", "h2_rectangle_speeds", "h3_museum", "up_dw",
                   "sit_stand", "theresienhoehe", "building", "out_and_back_39min",
-                  "block_two_laps", "corridor_grid", "building_lift")
+                  "block_two_laps", "corridor_grid", "building_lift", "indoor_loops")
 
 SEGMENT_TYPES = ("standing", "sitting", "walk", "turn", "stairs", "platform", "lift")
 # Human range checked on the scenario (beyond it the key is refused).
@@ -326,7 +333,7 @@ def _segment(data: Any, where: str) -> PocketSegment:
     kind = values.pop("type")
     if kind not in _NEEDS:
         raise InputError(f"{where}.type", f"unknown segment type '{kind}' "
-                                          f"(known: {', '.join(SEGMENT_TYPES)})")
+                                          f"(known: {', '.join(SEGMENT_TYPES)}, repeat)")
     for key in values:
         if key not in _ALLOWED[kind]:
             raise InputError(f"{where}.{key}", f"not a key of a '{kind}' segment (keys: "
@@ -436,16 +443,14 @@ def pocket_scenario_from_dict(data: Any, where: str) -> PocketScenario:
     carried = values.get("carried", "front_pocket")
     if carried not in CARRIED:
         raise InputError(f"{where}: carried", f"one of {', '.join(CARRIED)}, got {carried!r}")
-    segments = values["segments"]
-    if not isinstance(segments, list) or not segments:
-        raise InputError(f"{where}: segments", "expected a non-empty list")
+    segments = flattened_segments(values["segments"], f"{where}: segments")
     initial = check_keys(values.get("initial", {}), InitialPlacement, f"{where}: initial")
     placement = InitialPlacement(
         position_m=vector(initial.get("position_m", [0, 0, 0]), f"{where}: initial.position_m"),
         yaw_deg=number(initial.get("yaw_deg", 0.0), f"{where}: initial.yaw_deg"))
     scenario = PocketScenario(
         name=str(values.get("name", where)),
-        segments=tuple(_segment(s, f"{where}: segments[{i}]") for i, s in enumerate(segments)),
+        segments=tuple(_segment(s, at) for s, at in segments),
         person=_person(values.get("person", {}), f"{where}: person"),
         mounting=_mounting(values.get("mounting", CARRIED[carried].mounting),
                            f"{where}: mounting"),

@@ -22,6 +22,8 @@ A scenario is a YAML mapping (see ``pdr_sim/scenarios/*.yaml`` for the built-in 
         preset: munich       # north_pole | equator | munich, or vector_ut: [e, n, u]
         cylinders: [{east_m: 3, north_m: 1, radius_m: 0.3, permeability: 200}]
         distortion: table_3_3   # or {xi: .., offset: [..], M: [[..], [..], [..]]}
+        indoor: {azimuth_sigma_deg: 7, norm_sigma_ut: 2.4, dip_sigma_deg: 3.5,
+                 correlation_length_m: 1.6, seed: 0}   # a building's own disturbance
     segments:
       - {type: standing, duration_s: 2}
       - {type: straight, steps: 5}
@@ -38,6 +40,11 @@ or right), ``back_steps`` and ``crawl``, each with ``steps`` (strides) and an op
 ``gait:`` mapping over the gait's defaults (the keys of ``GaitSpec``); they take no
 ``step:`` and no per-stride ``variation`` beyond their own stride-time scatter.
 
+``indoor`` adds a building's own field to the Earth's, spatially correlated
+(:class:`pdr_core.magnetic_field.IndoorDisturbance`, whose defaults, from the room of the
+OxIOD recordings, are the values above; ``indoor: {}`` takes them all, ``seed`` picks
+another building).
+
 A segment may carry its own ``step:`` mapping, overriding the defaults. Every key is
 checked: unknown keys, negative durations and impossible steps are refused with the key
 named; nothing is silently defaulted beyond the documented defaults above.
@@ -51,7 +58,7 @@ from typing import Any
 
 from pdr_core.config_files import check_keys, parse_yaml
 from pdr_core.errors import InputError
-from pdr_core.magnetic_field import Cylinder
+from pdr_core.magnetic_field import Cylinder, IndoorDisturbance
 from pdr_sim.foot_gaits import GAIT_TYPES, GaitSpec, gait_defaults, gait_keys, with_overrides
 from pdr_sim.step_pattern import TIMINGS
 
@@ -89,6 +96,7 @@ class MagneticFieldSpec:
     vector_ut: tuple[float, float, float] | None = None
     cylinders: tuple[Cylinder, ...] = ()
     distortion: Any = None
+    indoor: IndoorDisturbance | None = None
 
 
 @dataclass(frozen=True)
@@ -247,7 +255,26 @@ def _magnetic_field(data: Any, where: str) -> MagneticFieldSpec:
     out["cylinders"] = tuple(cylinders)
     if "distortion" in values:
         out["distortion"] = values["distortion"]
+    if values.get("indoor") is not None:
+        out["indoor"] = _indoor(values["indoor"], f"{where}.indoor")
     return MagneticFieldSpec(**out)
+
+
+def _indoor(data: Any, where: str) -> IndoorDisturbance:
+    """An ``indoor:`` mapping: the keys of IndoorDisturbance, each checked."""
+    values = check_keys(data, IndoorDisturbance, where)
+    out: dict[str, Any] = {}
+    for key, value in values.items():
+        at = f"{where}.{key}"
+        if key == "seed":
+            out[key] = seed_from(value, at)
+        elif key.endswith("_deg"):
+            out[key] = number(value, at, 0.0)
+            if out[key] >= 45.0:
+                raise InputError(at, f"must be below 45 degrees, got {value}")
+        else:
+            out[key] = number(value, at, 0.0, strict=key == "correlation_length_m")
+    return IndoorDisturbance(**out)
 
 
 def environment_from(data: Any, where: str) -> Environment:
@@ -265,7 +292,7 @@ def seed_from(value: Any, where: str) -> int:
     return value
 
 
-def _flattened(segments: Any, where: str) -> list[tuple[Any, str]]:
+def flattened_segments(segments: Any, where: str) -> list[tuple[Any, str]]:
     """The segments with every ``repeat`` expanded in place, each with the name errors
     should cite: ``{type: repeat, times: N, segments: [...]}`` walks its segments N times
     (a lap of a block, say), and may hold repeats itself."""
@@ -284,7 +311,7 @@ def _flattened(segments: Any, where: str) -> list[tuple[Any, str]]:
         times = item.get("times")
         if isinstance(times, bool) or not isinstance(times, int) or times < 1:
             raise InputError(f"{at}.times", f"must be a positive integer, got {times!r}")
-        out += _flattened(item.get("segments"), f"{at}.segments") * times
+        out += flattened_segments(item.get("segments"), f"{at}.segments") * times
     return out
 
 
@@ -294,7 +321,7 @@ def scenario_from_dict(data: Any, where: str) -> Scenario:
     step = _step(values.get("step", {}), f"{where}: step", StepSpec())
     variation = _step(values.get("variation", {}), f"{where}: variation",
                       StepSpec(0.0, 0.0, 0.0, 0.0, 0.0), variation=True)
-    segments = _flattened(values["segments"], f"{where}: segments")
+    segments = flattened_segments(values["segments"], f"{where}: segments")
     initial = check_keys(values.get("initial", {}), InitialPose, f"{where}: initial")
     pose = InitialPose(
         position_m=vector(initial.get("position_m", [0, 0, 0]), f"{where}: initial.position_m"),

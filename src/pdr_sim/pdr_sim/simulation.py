@@ -155,7 +155,12 @@ def magnetic_environment(spec: MagneticFieldSpec) -> tuple[MagneticField, IronDi
                              f"needs xi, offset [3], M [3x3] ({exc})") from exc
     elif spec.distortion is not None:
         raise InputError(f"{where}.distortion", f"table_3_3 or a mapping, got {spec.distortion!r}")
-    return MagneticField(tuple(h_inf), spec.cylinders), distortion
+    if spec.indoor is not None:
+        try:
+            spec.indoor.frame(h_inf)
+        except ValueError as exc:
+            raise InputError(f"{where}.indoor.azimuth_sigma_deg", str(exc)) from exc
+    return MagneticField(tuple(h_inf), spec.cylinders, spec.indoor), distortion
 
 
 def trajectory_model(scenario: Scenario | PocketScenario) -> TrajectoryModel:

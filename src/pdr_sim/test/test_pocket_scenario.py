@@ -81,6 +81,7 @@ ENVIRONMENTS = {
     "cylinders": {"preset": "munich", "cylinders": [{"east_m": 5.0, "north_m": 1.0,
                                                      "radius_m": 0.3}]},
     "distorted": {"preset": "north_pole", "distortion": "table_3_3"},
+    "indoor": {"vector_ut": [0.0, 14.3, -34.5], "indoor": {"seed": 2}},
 }
 
 
