@@ -23,6 +23,7 @@ pytestmark = pytest.mark.ros
 DOC = ROOT / "docs" / "reports.md"
 FOOT_WALK, POCKET_WALK = ROOT / "bags" / "foot_walk", ROOT / "bags" / "pocket_walk"
 FOOT_DRIFT = ROOT / "src" / "pdr_ins_ekf" / "config" / "foot_drift.yaml"
+POCKET_THESIS = ROOT / "src" / "pdr_pocket" / "config" / "pocket_pdr_thesis.yaml"
 
 
 def anchor(heading: str) -> str:
@@ -172,11 +173,15 @@ CASES = {
                           ["pdr-pocket", "evaluate", f"{OUT}/pocket_truth", "--distance-m",
                            "150"], {"no pose", "--distance-m"}, False, ("pocket_truth",)),
     "attitude_truth": ("pdr-pocket attitude", ["pdr-pocket", "attitude", POCKET_WALK, "--out",
-                                               f"{OUT}/attitude_truth"], {"pose", "true biases"},
-                       True, ()),
+                                               f"{OUT}/attitude_truth"],
+                       {"pose", "true biases", "ekf"}, True, ()),
     "attitude_no_truth": ("pdr-pocket attitude", ["pdr-pocket", "attitude", f"{OUT}/imu_only",
-                                                  "--out", f"{OUT}/attitude_no_truth"], set(),
+                                                  "--out", f"{OUT}/attitude_no_truth"], {"ekf"},
                           True, ()),
+    "attitude_thesis": ("pdr-pocket attitude", ["pdr-pocket", "attitude", POCKET_WALK, "--out",
+                                                f"{OUT}/attitude_thesis", "--config",
+                                                POCKET_THESIS],
+                        {"pose", "true biases", "thesis"}, True, ()),
     "drift": ("pdr-drift run", ["pdr-drift", "run", f"{OUT}/pocket_truth", "--out",
                                 f"{OUT}/drift"], set(), True, ("pocket_truth",)),
     "analytic": ("pdr-ekf analytic --json", ["pdr-ekf", "analytic", "--json"], set(), False,

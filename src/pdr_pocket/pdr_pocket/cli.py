@@ -49,7 +49,7 @@ from pdr_pocket.inputs import read_pocket_bag
 from pdr_pocket.magnetometer import MIN_COVERAGE, calibrate
 from pdr_pocket.messages import attitude_batches
 from pdr_pocket.orientation import OrientationFilter
-from pdr_pocket.run_report import attitude_errors, attitude_report
+from pdr_pocket.run_report import attitude_errors, attitude_report, truth_heading_error
 
 
 def _add_navigator_options(p: argparse.ArgumentParser) -> None:
@@ -103,8 +103,8 @@ def _run_attitude(args: argparse.Namespace) -> int:
         if args.plot:
             from pdr_pocket import plots
             errors = None if truth is None else np.degrees(attitude_errors(estimate, truth))
-            plots.attitude_png(inputs.t, errors, np.degrees(estimate.euler_sigma),
-                               np.degrees(estimate.bias), np.degrees(estimate.bias_sigma),
+            heading = None if truth is None else np.degrees(truth_heading_error(estimate, truth))
+            plots.attitude_png(estimate, errors, heading,
                                None if true_bias is None else np.degrees(true_bias),
                                writer.staging / "attitude.png", str(args.bag))
     print_report(report)

@@ -89,9 +89,23 @@ from numba import njit
 
 from pdr_core import angles, kernel_cache, small_matrix
 from pdr_core.angles import wrap_angle_jit
-from pdr_core.small_matrix import cholesky, product3, rodrigues
+from pdr_core.small_matrix import cholesky, product3, rodrigues, rotation_increment
+from pdr_pocket import compiled_gait_window
+from pdr_pocket.compiled_gait_window import (
+    GaitWindow,
+    WindowParams,
+    across,
+    add_to_window,
+    force_in_body,
+    forget_window,
+    holds_gravity,
+    new_gait_window,
+    restart_window,
+    swing_marker,
+)
 
-kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__)
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__,
+                               compiled_gait_window.__file__)
 
 # the state's rows: the attitude error δθ (a small rotation in the navigation frame, ENU)
 # and the gyro bias error δb (body frame)
@@ -126,12 +140,9 @@ class FilterParams(NamedTuple):
     mag_var: float                  # [T²] per axis (absolute and differential)
     compass_var: float              # [rad²]
     zaru_var: float                 # [rad²/s²] per axis
-    mean_gravity_window_s: float    # the mean gravity update's window [s]
+    window: WindowParams            # the mean gravity update's windows
     mean_gravity_velocity_var: float    # [m²/s²] of the velocity change over a window
-    cycle_window_min_s: float       # a window from one swing marker to another: at least
-    cycle_velocity_var: float       # ... this long [s], its velocity change's variance
-    swing_time_constant_s: float    # of the swing axis (the principal axis of ω) [s]
-    swing_rate_threshold: float     # a swing lobe this fast [rad/s] arms the next marker
+    cycle_velocity_var: float       # ... and over whole gait cycles
     field_azimuth: float            # γ = π/2 − declination [rad]
     zero_acc_window_s: float
     zero_acc_threshold: float       # [m/s²]
@@ -154,8 +165,8 @@ class FilterState(NamedTuple):
     attitude: np.ndarray            # (3, 3) C_b^n
     bias: np.ndarray                # (3,) [rad/s]
     covariance: np.ndarray          # (N_STATE, N_STATE) of [δθ, δb]
-    scalars: np.ndarray             # (N_SCALARS,) indexed by T_PREV ... WINDOW_FROM_MARKER
-    force_sum: np.ndarray           # (3,) Σ C·f·δt over the mean gravity window
+    scalars: np.ndarray             # (N_SCALARS,) indexed by T_PREV ... GAPS
+    gait: GaitWindow                # the mean gravity update's window
     previous_gyro: np.ndarray       # (3,)
     previous_accel: np.ndarray      # (3,)
     previous_mag: np.ndarray        # (3,); NaN when the last sample had none
@@ -167,8 +178,6 @@ class FilterState(NamedTuple):
     ring_gyro: np.ndarray           # (RING, 3) ω
     rest_rate: np.ndarray           # (2, 3) ω̄, the mean rate over the zero-rate window's
                                     # older half, and the variance of ω over it per axis
-    swing: np.ndarray               # (3, 3) E[ω·ωᵀ], exponentially weighted
-    swing_axis: np.ndarray          # (3,) its principal axis (the thigh's flexion axis)
 
 
 # FilterState.scalars
@@ -178,11 +187,7 @@ RING_COUNT = 2          # samples in the trailing windows' ring
 RING_HEAD = 3           # where the next sample goes in it
 MAG_WAS_STEADY = 4      # 1: the field was steady (and anchored) at the last sample
 GAPS = 5                # gaps longer than max_gap_s seen
-WINDOW_TIME = 6         # the mean gravity window's length so far [s]
-WINDOWS_DONE = 7        # mean gravity windows closed
-SWING_ARMED = 8         # 1: a swing lobe was fast enough: the next zero crossing is a marker
-WINDOW_FROM_MARKER = 9  # 1: the mean gravity window started at a swing marker
-N_SCALARS = 10
+N_SCALARS = 6
 
 
 def initial_state(attitude: np.ndarray, covariance: np.ndarray) -> FilterState:
@@ -191,16 +196,16 @@ def initial_state(attitude: np.ndarray, covariance: np.ndarray) -> FilterState:
     return FilterState(
         attitude=np.ascontiguousarray(attitude, dtype=float), bias=np.zeros(3),
         covariance=np.ascontiguousarray(covariance, dtype=float),
-        scalars=np.zeros(N_SCALARS), force_sum=np.zeros(3), previous_gyro=np.zeros(3),
+        scalars=np.zeros(N_SCALARS), gait=new_gait_window(), previous_gyro=np.zeros(3),
         previous_accel=np.zeros(3), previous_mag=np.full(3, np.nan),
         mag_reference=np.zeros(3), ring_t=np.zeros(RING), ring_acc=np.zeros(RING),
         ring_rate=np.zeros(RING), ring_mag=np.full((RING, 3), np.nan),
-        ring_gyro=np.zeros((RING, 3)), rest_rate=np.zeros((2, 3)),
-        swing=np.zeros((3, 3)), swing_axis=np.full(3, 1.0 / np.sqrt(3.0)))
+        ring_gyro=np.zeros((RING, 3)), rest_rate=np.zeros((2, 3)))
 
 
 class FilterInputs(NamedTuple):
-    """The samples :func:`filter_loop` runs over: N of each, body frame, SI units."""
+    """The samples a filter loop runs over (this module's and pdr_pocket.compiled_attitude's):
+    N of each, body frame, SI units."""
 
     t: np.ndarray                   # (N,) stamps [s]
     gyro: np.ndarray                # (N, 3) ω [rad/s]
@@ -210,13 +215,14 @@ class FilterInputs(NamedTuple):
 
 
 class FilterOutputs(NamedTuple):
-    """What :func:`filter_loop` fills, per sample."""
+    """What a filter loop fills, per sample; the columns of ``detected`` and ``ran`` are the
+    filter's own (here ZERO_ACC ... SATURATED and ABS_GRAVITY ... MEAN_GRAVITY)."""
 
     attitude: np.ndarray            # (N, 3, 3) C_b^n
     bias: np.ndarray                # (N, 3) b [rad/s]
-    covariance: np.ndarray          # (N, N_STATE, N_STATE) of [δθ, δb]
-    detected: np.ndarray            # (N, N_DETECTORS) bool, columns ZERO_ACC ... SATURATED
-    ran: np.ndarray                 # (N, N_UPDATES) bool, columns ABS_GRAVITY ... MEAN_GRAVITY
+    covariance: np.ndarray          # (N, M, M) of [δθ, δb] (M = 6 here)
+    detected: np.ndarray            # (N, D) bool: the detectors
+    ran: np.ndarray                 # (N, U) bool: the updates that ran
 
 
 class Sample(NamedTuple):
@@ -238,14 +244,6 @@ class Detected(NamedTuple):
     mag_steady: bool                # a quasi-constant field: the magnetic updates may run
     mag_anchored: bool              # ... and its reference μ̄_r taken with the tilt known:
                                     # the absolute magnetic update may run
-
-
-class WindowEnd(NamedTuple):
-    """Whether the mean gravity window ends at this sample, and how."""
-
-    marker: bool                    # a swing marker (once per gait cycle) at this sample
-    closes: bool                    # the window closes: the mean gravity update is due
-    cycles: bool                    # ... from one marker to another (whole gait cycles)
 
 
 class Measurement(NamedTuple):
@@ -381,26 +379,9 @@ def _sigma_points(state, work):
 
 # --- prediction ------------------------------------------------------------------------
 @njit(cache=True)
-def _body_increment(c, gyro, previous_gyro, bias, earth_n, dt, out):
-    """A over δt for the rate ω − b − Cᵀ·ω_ie^n, the rotation vector taken by the
-    trapezoidal rule with the coning term, (ω_{k−1} + ω_k)·δt/2 + ω_{k−1} × ω_k·δt²/12
-    (the thesis' ω^k·δt is first order: at 100 Hz it turns a thigh's swing by 0.5°)."""
-    e0 = c[0, 0] * earth_n[0] + c[1, 0] * earth_n[1] + c[2, 0] * earth_n[2]
-    e1 = c[0, 1] * earth_n[0] + c[1, 1] * earth_n[1] + c[2, 1] * earth_n[2]
-    e2 = c[0, 2] * earth_n[0] + c[1, 2] * earth_n[1] + c[2, 2] * earth_n[2]
-    a0, a1, a2 = previous_gyro[0] - bias[0] - e0, previous_gyro[1] - bias[1] - e1, \
-        previous_gyro[2] - bias[2] - e2
-    b0, b1, b2 = gyro[0] - bias[0] - e0, gyro[1] - bias[1] - e1, gyro[2] - bias[2] - e2
-    k = dt * dt / 12.0
-    rodrigues((a0 + b0) * dt / 2 + k * (a1 * b2 - a2 * b1),
-              (a1 + b1) * dt / 2 + k * (a2 * b0 - a0 * b2),
-              (a2 + b2) * dt / 2 + k * (a0 * b1 - a1 * b0), out)
-
-
-@njit(cache=True)
 def predict(state, params, sample, work):
     """Propagate mean and covariance over δt with the (bias-corrected) rate: see
-    :func:`_body_increment`."""
+    :func:`pdr_core.small_matrix.rotation_increment`."""
     gyro, prev, dt = sample.gyro, sample.previous_gyro, sample.dt
     n2 = 2 * N_STATE
     _sigma_points(state, work)
@@ -408,7 +389,7 @@ def predict(state, params, sample, work):
     c_decay = 1.0 if not np.isfinite(params.bias_tau_s) else np.exp(-dt / params.bias_tau_s)
     c_mean = c_decay if params.bias_mean_decays else 1.0
     inc = np.empty((3, 3))
-    _body_increment(state.attitude, gyro, prev, state.bias, params.earth_rate_n, dt, inc)
+    rotation_increment(state.attitude, gyro, prev, state.bias, params.earth_rate_n, dt, inc)
     mean_att = np.empty((3, 3))
     product3(state.attitude, inc, mean_att)
     mean_bias = c_mean * state.bias
@@ -416,7 +397,7 @@ def predict(state, params, sample, work):
     err = np.empty(3)
     moved, rel = work.m2, work.m3
     for i in range(n2):
-        _body_increment(sat[i], gyro, prev, sbias[i], params.earth_rate_n, dt, inc)
+        rotation_increment(sat[i], gyro, prev, sbias[i], params.earth_rate_n, dt, inc)
         product3(sat[i], inc, moved)
         _mul_bt(moved, mean_att, rel)
         rotation_log(rel, err)
@@ -471,7 +452,7 @@ def _measure(measurement, sample, earth_n, attitude, bias, sigma_att, sigma_bias
             h[0], h[1] = e[0], e[1]
         elif kind in (DIFF_GRAVITY, DIFF_MAG):    # A(ω − b)ᵀ·v^{k−1}
             before = vectors[0]
-            _body_increment(att, sample.gyro, sample.previous_gyro, b, earth_n, sample.dt, inc)
+            rotation_increment(att, sample.gyro, sample.previous_gyro, b, earth_n, sample.dt, inc)
             for m in range(3):
                 h[m] = inc[0, m] * before[0] + inc[1, m] * before[1] + inc[2, m] * before[2]
         elif kind == ABS_MAG:                     # Cᵀ·μ̄_r
@@ -649,7 +630,7 @@ def mean_gravity(params, attitude, force_sum, window_s, cycles):
     r = np.zeros((2, 2))
     r[0, 0] = r[1, 1] = velocity_var / (total * total)
     vectors = np.empty((2, 3))
-    vectors[0], vectors[1] = _across(_force_in_body(attitude, force_sum))
+    vectors[0], vectors[1] = across(force_in_body(attitude, force_sum))
     return Measurement(MEAN_GRAVITY, np.zeros(2), r, vectors)
 
 
@@ -840,96 +821,9 @@ def detect(state, params, t, sample):
     return Detected(zero_acc, zero_rate, steady, anchored)
 
 
-# --- the mean gravity window ------------------------------------------------------------
-@njit(cache=True)
-def swing_marker(state, params, gyro, dt):
-    """True once per gait cycle, at the same phase of each: where the rate about the swing
-    axis turns from a lobe faster than ``swing_rate_threshold`` back through zero. The
-    swing axis is the principal axis of E[ω·ωᵀ] (time constant ``swing_time_constant_s``),
-    one power iteration per sample; a thigh's swing and stance turn it about one axis, the
-    flexion axis, so its sign stays and the marker keeps its phase."""
-    s = state.scalars
-    alpha = min(dt / params.swing_time_constant_s, 1.0)
-    m, u = state.swing, state.swing_axis
-    for a in range(3):
-        for b in range(3):
-            m[a, b] += alpha * (gyro[a] * gyro[b] - m[a, b])
-    v0 = m[0, 0] * u[0] + m[0, 1] * u[1] + m[0, 2] * u[2]
-    v1 = m[1, 0] * u[0] + m[1, 1] * u[1] + m[1, 2] * u[2]
-    v2 = m[2, 0] * u[0] + m[2, 1] * u[1] + m[2, 2] * u[2]
-    norm = np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
-    if norm > 0.0:
-        u[0], u[1], u[2] = v0 / norm, v1 / norm, v2 / norm
-    rate = gyro[0] * u[0] + gyro[1] * u[1] + gyro[2] * u[2]
-    if rate > params.swing_rate_threshold:
-        s[SWING_ARMED] = 1.0
-    elif rate < 0.0 and s[SWING_ARMED] == 1.0:
-        s[SWING_ARMED] = 0.0
-        return True
-    return False
-
-
-@njit(cache=True)
-def _across(v):
-    """Two unit vectors orthogonal to v and to each other."""
-    d = v / np.sqrt(v @ v)
-    e = np.zeros(3)
-    e[np.argmin(np.abs(d))] = 1.0
-    b1 = np.cross(d, e)
-    b1 /= np.sqrt(b1 @ b1)
-    return b1, np.cross(d, b1)
-
-
-@njit(cache=True)
-def _force_in_body(attitude, force_sum):
-    """The window's summed force Σ C·α·δt turned to the body frame with C."""
-    c, f = attitude, force_sum
-    body = np.empty(3)
-    for m in range(3):
-        body[m] = c[0, m] * f[0] + c[1, m] * f[1] + c[2, m] * f[2]
-    return body
-
-
-@njit(cache=True)
-def _holds_gravity(params, attitude, force_sum, window_s):
-    """Whether the summed force of a window of ``window_s`` seconds is a gravity reference:
-    not far from g·W (free fall or a sensor giving zeros is not)."""
-    body = _force_in_body(attitude, force_sum)
-    return np.sqrt(body[0] ** 2 + body[1] ** 2 + body[2] ** 2) > 0.5 * (params.gravity * window_s)
-
-
-@njit(cache=True)
-def _add_to_window(scalars, force_sum, attitude, params, sample, marker):
-    """Add C·α·δt to the window's sum; whether it closes now. The first windows are short
-    (2, 4, 8 s ... up to W): a start while walking leaves the first sample's tilt up to
-    15° off. A window from one swing marker to another spans whole gait cycles, over
-    which the velocity comes back: it closes at the first marker after
-    ``cycle_window_min_s``, with the smaller variance."""
-    s, c, a, dt = scalars, attitude, sample.accel, sample.dt
-    s[WINDOW_TIME] += dt
-    for m in range(3):
-        force_sum[m] += dt * (c[m, 0] * a[0] + c[m, 1] * a[1] + c[m, 2] * a[2])
-    window = min(params.mean_gravity_window_s, 2.0 * 2.0 ** s[WINDOWS_DONE])
-    cycles = marker and s[WINDOW_FROM_MARKER] == 1.0 and \
-        s[WINDOW_TIME] >= params.cycle_window_min_s
-    return WindowEnd(marker, cycles or s[WINDOW_TIME] >= window, cycles)
-
-
-@njit(cache=True)
-def _restart_window(scalars, force_sum, end):
-    """A new window after one closed, or from the first swing marker of one that did not
-    start at a marker."""
-    s = scalars
-    if end.closes or (end.marker and s[WINDOW_FROM_MARKER] == 0.0):
-        s[WINDOW_TIME] = 0.0
-        s[WINDOWS_DONE] += 1.0 if end.closes else 0.0
-        s[WINDOW_FROM_MARKER] = 1.0 if end.marker else 0.0
-        force_sum[:] = 0.0
-
-
 # --- the loop ----------------------------------------------------------------------------
 @njit(cache=True)
-def _elapsed(scalars, force_sum, max_gap_s, t):
+def _elapsed(scalars, gait, max_gap_s, t):
     """δt from the last sample to ``t`` [s] (0 at the first sample ever). After a gap the
     attitude across it is a guess (predict widens P), and a mean gravity window that
     straddles it would average two attitudes: the window starts anew."""
@@ -941,9 +835,7 @@ def _elapsed(scalars, force_sum, max_gap_s, t):
         dt = t - s[T_PREV]
         if dt > max_gap_s:
             s[GAPS] += 1.0
-            s[WINDOW_TIME] = 0.0
-            s[WINDOW_FROM_MARKER] = 0.0
-            force_sum[:] = 0.0
+            forget_window(gait)
     s[T_PREV] = t
     return dt
 
@@ -957,7 +849,7 @@ def filter_loop(state, params, inputs, out):
     s, use, work = state.scalars, params.use, workspace()
     for k in range(inputs.t.shape[0]):
         t = inputs.t[k]
-        dt = _elapsed(s, state.force_sum, params.max_gap_s, t)
+        dt = _elapsed(s, state.gait, params.max_gap_s, t)
         sample = Sample(dt, inputs.gyro[k], state.previous_gyro, inputs.accel[k],
                         inputs.mag[k], inputs.saturated[k])
         if dt > 0.0:
@@ -986,15 +878,16 @@ def filter_loop(state, params, inputs, out):
             if use[COMPASS] and found.mag_steady:
                 update(state, params, compass(params, sample, state.attitude), sample, work)
                 ran[COMPASS] = True
-            end = _add_to_window(s, state.force_sum, state.attitude, params, sample,
-                                 swing_marker(state, params, sample.gyro, dt))
-            window_s = s[WINDOW_TIME]
-            if use[MEAN_GRAVITY] and end.closes and _holds_gravity(
-                    params, state.attitude, state.force_sum, window_s):
-                update(state, params, mean_gravity(params, state.attitude, state.force_sum,
-                                                   window_s, end.cycles), sample, work)
+            gait = state.gait
+            end = add_to_window(gait, params.window, state.attitude, sample.accel, dt,
+                                swing_marker(gait, params.window, sample.gyro, dt))
+            if use[MEAN_GRAVITY] and end.closes and holds_gravity(gait, params.window,
+                                                                  state.attitude):
+                update(state, params, mean_gravity(params, state.attitude, gait.force_sum,
+                                                   gait.scalars[0].time_s, end.cycles),
+                       sample, work)
                 ran[MEAN_GRAVITY] = True
-            _restart_window(s, state.force_sum, end)
+            restart_window(gait, end)
             if use[ZARU] and found.zero_rate:
                 rest = rest_zaru(state, params)
                 if zaru_nis(state, params, rest.r) <= params.zaru_gate_nis:

@@ -1,17 +1,24 @@
-"""The orientation filter of the pocket navigator (Muñoz Díaz 2016, chapter 3).
+"""The orientation filter of the pocket navigator: two filters behind one interface.
 
-:class:`OrientationFilter` wraps the compiled loop (:mod:`pdr_pocket.compiled_orientation`,
-whose docstring gives the equations): :meth:`~OrientationFilter.run` processes whole
-arrays or any run of samples after the last, with the same state and the same result
-(the live path feeds it in chunks), :meth:`~OrientationFilter.correct_yaw` and
-:meth:`~OrientationFilter.correct_bias_z` apply external corrections (Eq. (6.2)) as
-Kalman updates, refused when they fail a χ² gate (:meth:`~OrientationFilter.gate` and
-:meth:`~OrientationFilter.apply` do the two apart).
+:class:`OrientationFilter` runs the filter its configuration names (``orientation.filter``,
+:data:`FILTERS`): ``ekf``, the phone's error-state filter (pdr_pocket.compiled_attitude,
+the default), or ``thesis``, the unscented filter of Muñoz Díaz 2016, chapter 3
+(pdr_pocket.compiled_orientation). :meth:`~OrientationFilter.run` processes whole arrays
+or any run of samples after the last, with the same state and the same result (the live
+path feeds it in chunks), :meth:`~OrientationFilter.correct_yaw` and
+:meth:`~OrientationFilter.correct_bias_z` apply external corrections (Eq. (6.2)) as Kalman
+updates, refused when they fail a χ² gate (:meth:`~OrientationFilter.gate` and
+:meth:`~OrientationFilter.apply` do the two apart). Each filter's kernel data and its
+loop stay in its compiled module; :class:`EkfKernel` and :class:`ThesisKernel` start its
+state and run it.
 
 Frames and units: body (sensor) frame as the IMU gives it, ENU navigation frame; SI
-inside (rad, rad/s, m/s², T). The filter starts on its first sample: roll and pitch from
-that sample's specific force (Eqs. (3.12)-(3.13)), yaw from the compass when a
-magnetometer reading comes with it and no ``initial_yaw_deg`` is set (else 0), biases 0.
+inside (rad, rad/s, m/s², T). Both filters carry the attitude error as a small rotation in
+the navigation frame, and the first six rows of their covariance are the same:
+[δθ_east, δθ_north, δθ_up, δb_x, δb_y, δb_z]. The filter starts on its first sample: roll
+and pitch from that sample's specific force (Eqs. (3.12)-(3.13)), yaw from the
+magnetometer's first reading when no ``initial_yaw_deg`` is set (else that yaw, or 0
+without a magnetometer), biases 0.
 """
 from __future__ import annotations
 
@@ -19,10 +26,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pdr_core import units
 from pdr_core.angles import wrap_angle
 from pdr_core.chi2 import chi2_quantile
 from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
-from pdr_pocket import compiled_orientation as kernel
+from pdr_pocket import compiled_attitude, compiled_orientation
 from pdr_pocket.compiled_orientation import (
     ATT_EAST,
     ATT_NORTH,
@@ -31,15 +39,8 @@ from pdr_pocket.compiled_orientation import (
     BIAS_ROWS,
     BIAS_Z,
     BIAS_Z_CORRECTION,
-    N_DETECTORS,
-    N_STATE,
-    N_UPDATES,
     YAW_CORRECTION,
-    FilterInputs,
-    FilterOutputs,
-    FilterState,
     compass_yaw,
-    initial_state,
 )
 from pdr_pocket.config import OrientationConfig
 
@@ -47,16 +48,18 @@ GATE_PROBABILITY = 0.999            # χ² gate of external corrections (1 dof)
 # the external corrections' names and units, in messages
 CORRECTION_NAMES = {YAW_CORRECTION: ("yaw", "rad"), BIAS_Z_CORRECTION: ("z gyro bias", "rad/s")}
 FLAT_TOP_MIN_RADPS = 2.0            # a repeated reading above this is a saturated flat top
-UPDATE_NAMES = ("absolute_gravity", "differential_gravity", "absolute_magnetic",
-                "differential_magnetic", "compass", "zaru", "mean_gravity")
+N_OUTPUT = 6                        # the covariance rows written per sample: δθ and δb
+THESIS_UPDATE_NAMES = ("absolute_gravity", "differential_gravity", "absolute_magnetic",
+                       "differential_magnetic", "compass", "zaru", "mean_gravity")
+THESIS_DETECTOR_NAMES = ("zero_acceleration", "zero_rate", "steady_field", "saturated")
 
 
 @dataclass(frozen=True)
 class AttitudeEstimate:
     """Per sample: C_b^n (N, 3, 3), gyro bias (N, 3) [rad/s], covariance (N, 6, 6) of
-    [δθ (navigation frame, rad), δb (rad/s)], the detectors (N, 4: zero acceleration,
-    zero rate, steady field, saturated gyro) and the updates that ran (N, 7, in the order
-    of :data:`UPDATE_NAMES`)."""
+    [δθ (navigation frame, rad), δb (rad/s)], the detectors (N, D) and the updates that ran
+    (N, U), their columns named by ``detector_names`` and ``update_names`` (the filter's
+    own)."""
 
     t: np.ndarray
     attitude: np.ndarray
@@ -64,6 +67,8 @@ class AttitudeEstimate:
     covariance: np.ndarray
     detected: np.ndarray
     ran: np.ndarray
+    update_names: tuple[str, ...] = ()
+    detector_names: tuple[str, ...] = ()
 
     @property
     def euler(self) -> np.ndarray:
@@ -90,12 +95,26 @@ class AttitudeEstimate:
         return np.sqrt(np.maximum(np.diagonal(cov, axis1=1, axis2=2), 0.0))
 
     @property
+    def heading_sigma(self) -> np.ndarray:
+        """1σ [rad] of the heading, the vertical component δθ_up of the attitude error."""
+        return np.sqrt(np.maximum(self.covariance[:, ATT_UP, ATT_UP], 0.0))
+
+    @property
     def bias_sigma(self) -> np.ndarray:
         return np.sqrt(np.maximum(np.diagonal(self.covariance[:, BIAS_ROWS, BIAS_ROWS],
                                               axis1=1, axis2=2), 0.0))
 
     def fraction_ran(self) -> dict[str, float]:
-        return {name: float(self.ran[:, i].mean()) for i, name in enumerate(UPDATE_NAMES)}
+        """The share of samples each update ran, by name."""
+        return {name: float(self.ran[:, i].mean()) if len(self.ran) else 0.0
+                for i, name in enumerate(self.update_names)}
+
+    def detector(self, name: str) -> np.ndarray:
+        """The detector ``name``'s output per sample (N,) bool; all False when this
+        filter has none of that name."""
+        if name not in self.detector_names:
+            return np.zeros(len(self.t), dtype=bool)
+        return self.detected[:, self.detector_names.index(name)]
 
 
 def saturation_flags(gyro: np.ndarray, range_radps: float | None,
@@ -111,33 +130,118 @@ def saturation_flags(gyro: np.ndarray, range_radps: float | None,
     return out
 
 
-class OrientationFilter:
-    """The UKF of chapter 3 over a stream or a record of IMU (and magnetometer) samples."""
+def _first_attitude(accel: np.ndarray, yaw: float) -> np.ndarray:
+    """C_b^n of roll and pitch from the specific force α (body) and ``yaw`` [rad]."""
+    roll, pitch = tilt_from_specific_force(accel)
+    return rotation_from_euler(roll, pitch, yaw).as_matrix()
+
+
+def _initial_yaw(config: OrientationConfig) -> float:
+    return 0.0 if config.initial_yaw_deg is None else float(np.radians(config.initial_yaw_deg))
+
+
+class EkfKernel:
+    """``filter: ekf``: pdr_pocket.compiled_attitude."""
+
+    update_names = compiled_attitude.UPDATE_NAMES
+    detector_names = compiled_attitude.DETECTOR_NAMES
 
     def __init__(self, config: OrientationConfig) -> None:
         self.config = config
-        self.params = config.params()
-        self.state: FilterState | None = None
-        self.previous_gyro: np.ndarray | None = None
-        self.corrections = {"accepted": 0, "refused": 0}
+        self.params = config.ekf_params()
 
-    # --- state ----------------------------------------------------------------------
-    def _start(self, accel: np.ndarray, mag: np.ndarray) -> FilterState:
+    def start(self, accel: np.ndarray, mag: np.ndarray) -> compiled_attitude.AttitudeState:
+        """The state at the first sample. With the field update on, the kernel takes the
+        yaw from the field's first reading, with its covariance against the offset;
+        without it, a reading with the first sample gives the compass yaw, as the thesis'
+        filter takes it."""
+        c, k = self.config, compiled_attitude
+        yaw = _initial_yaw(c)
+        if c.initial_yaw_deg is None and not c.ekf.field and np.isfinite(mag).all():
+            yaw = compass_yaw(_first_attitude(accel, 0.0), np.asarray(mag, float),
+                              self.params.field_azimuth)
+        variances = np.zeros(k.N_STATE)
+        variances[[k.ATT_EAST, k.ATT_NORTH]] = np.radians(c.initial_tilt_sigma_deg) ** 2
+        variances[k.ATT_UP] = np.radians(c.initial_yaw_sigma_deg) ** 2
+        variances[k.BIAS:k.BIAS + 3] = np.radians(c.noise("initial_bias_sigma_deg_per_s")) ** 2
+        variances[k.OFFSET:k.OFFSET + 3] = (c.ekf.mag_offset_sigma_ut * 1e-6) ** 2
+        variances[[k.FIELD_HORIZONTAL, k.FIELD_DOWN]] = (c.ekf.field_sigma_ut * 1e-6) ** 2
+        variances[k.ACCEL_BIAS:k.ACCEL_BIAS + 3] = units.mg_to_si(c.ekf.accel_bias_sigma_mg) ** 2
+        return k.initial_state(_first_attitude(accel, yaw), np.diag(variances))
+
+    def run(self, state, t, gyro, accel, mag, saturated) -> dict:
+        n, k = len(t), compiled_attitude
+        out = compiled_orientation.FilterOutputs(
+            np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, N_OUTPUT, N_OUTPUT)),
+            np.zeros((n, k.N_DETECTORS), dtype=bool), np.zeros((n, k.N_UPDATES), dtype=bool))
+        k.filter_loop(state, self.params,
+                      compiled_orientation.FilterInputs(t, gyro, accel, mag, saturated), out)
+        return out._asdict()
+
+    def correct(self, state, kind: int, value: float, variance: float) -> None:
+        compiled_attitude.correct(state, self.params, kind, value, variance)
+
+    @staticmethod
+    def gaps(state) -> int:
+        return int(state.scalars[0]["gaps"])
+
+
+class ThesisKernel:
+    """``filter: thesis``: pdr_pocket.compiled_orientation, the UKF of chapter 3."""
+
+    update_names = THESIS_UPDATE_NAMES
+    detector_names = THESIS_DETECTOR_NAMES
+
+    def __init__(self, config: OrientationConfig) -> None:
+        self.config = config
+        self.params = config.thesis_params()
+
+    def start(self, accel: np.ndarray, mag: np.ndarray) -> compiled_orientation.FilterState:
+        """The state at the first sample: yaw from the compass when the sample has a
+        magnetometer reading and no ``initial_yaw_deg`` is set."""
         c = self.config
-        roll, pitch = tilt_from_specific_force(accel)
-        tilt = rotation_from_euler(roll, pitch, 0.0).as_matrix()
-        if c.initial_yaw_deg is not None:
-            yaw = np.radians(c.initial_yaw_deg)
-        elif np.isfinite(mag).all():
+        yaw = _initial_yaw(c)
+        if c.initial_yaw_deg is None and np.isfinite(mag).all():
+            tilt = _first_attitude(accel, 0.0)
             yaw = compass_yaw(tilt, np.asarray(mag, float), self.params.field_azimuth)
-        else:
-            yaw = 0.0
-        attitude = rotation_from_euler(roll, pitch, yaw).as_matrix()
-        variances = np.zeros(N_STATE)
+        variances = np.zeros(compiled_orientation.N_STATE)
         variances[[ATT_EAST, ATT_NORTH]] = np.radians(c.initial_tilt_sigma_deg) ** 2
         variances[ATT_UP] = np.radians(c.initial_yaw_sigma_deg) ** 2
         variances[BIAS_ROWS] = np.radians(c.noise("initial_bias_sigma_deg_per_s")) ** 2
-        return initial_state(attitude, np.diag(variances))
+        return compiled_orientation.initial_state(_first_attitude(accel, yaw),
+                                                  np.diag(variances))
+
+    def run(self, state, t, gyro, accel, mag, saturated) -> dict:
+        n, k = len(t), compiled_orientation
+        out = k.FilterOutputs(np.empty((n, 3, 3)), np.empty((n, 3)),
+                              np.empty((n, k.N_STATE, k.N_STATE)),
+                              np.zeros((n, k.N_DETECTORS), dtype=bool),
+                              np.zeros((n, k.N_UPDATES), dtype=bool))
+        k.filter_loop(state, self.params, k.FilterInputs(t, gyro, accel, mag, saturated), out)
+        return out._asdict()
+
+    def correct(self, state, kind: int, value: float, variance: float) -> None:
+        compiled_orientation.correct(state, self.params, kind, value, variance)
+
+    @staticmethod
+    def gaps(state) -> int:
+        return int(state.scalars[compiled_orientation.GAPS])
+
+
+FILTERS = {"ekf": EkfKernel, "thesis": ThesisKernel}
+
+
+class OrientationFilter:
+    """The configured filter over a stream or a record of IMU (and magnetometer) samples
+    (the module docstring)."""
+
+    def __init__(self, config: OrientationConfig) -> None:
+        self.config = config
+        self.kernel = FILTERS[config.filter](config)
+        self.params = self.kernel.params
+        self.state = None
+        self.previous_gyro: np.ndarray | None = None
+        self.corrections = {"accepted": 0, "refused": 0}
 
     def reset(self) -> None:
         self.state = None
@@ -153,21 +257,25 @@ class OrientationFilter:
         accel = np.ascontiguousarray(accel, dtype=float)
         mag = np.full((n, 3), np.nan) if mag is None else np.ascontiguousarray(mag, dtype=float)
         if self.state is None and n:
-            self.state = self._start(accel[0], mag[0])
+            self.state = self.kernel.start(accel[0], mag[0])
         saturated = saturation_flags(gyro, self._range(), self.previous_gyro)
-        t = np.ascontiguousarray(t, dtype=float)
-        out = FilterOutputs(np.empty((n, 3, 3)), np.empty((n, 3)),
-                            np.empty((n, N_STATE, N_STATE)), np.zeros((n, N_DETECTORS), dtype=bool),
-                            np.zeros((n, N_UPDATES), dtype=bool))
-        kernel.filter_loop(self.state, self.params, FilterInputs(t, gyro, accel, mag, saturated),
-                           out)
+        out = self.kernel.run(self.state, np.ascontiguousarray(t, dtype=float), gyro, accel,
+                              mag, saturated)
         if n:
             self.previous_gyro = gyro[-1].copy()
-        return AttitudeEstimate(t, **out._asdict())
+        out["covariance"] = out["covariance"][:, :N_OUTPUT, :N_OUTPUT]
+        return AttitudeEstimate(t, **out, update_names=self.kernel.update_names,
+                                detector_names=self.kernel.detector_names)
 
     def _range(self) -> float | None:
         r = self.config.gyro_range_deg_per_s
         return None if r is None else np.radians(r)
+
+    @property
+    def gaps(self) -> int:
+        """Gaps longer than ``max_gap_s`` the filter propagated over so far (0 before its
+        first sample)."""
+        return 0 if self.state is None else self.kernel.gaps(self.state)
 
     # --- external corrections (Eq. (6.2)) ---------------------------------------------
     def correct_yaw(self, yaw_rad: float, variance_rad2: float) -> tuple[bool, str]:
@@ -202,7 +310,7 @@ class OrientationFilter:
         """The Kalman update of a correction that :meth:`gate` passed, not gated again: a
         correction of several parts is gated, every part, against the covariance before
         any is applied (PocketNavigator.apply_correction)."""
-        kernel.correct(self.state, self.params, kind, value, variance)
+        self.kernel.correct(self.state, kind, value, variance)
         self.corrections["accepted"] += 1
 
     def _nis(self, kind: int, value: float, variance: float) -> tuple[float, float, float]:

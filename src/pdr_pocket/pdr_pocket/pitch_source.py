@@ -32,7 +32,6 @@ from pdr_pocket.compiled_mounting import (
     new_mounting_state,
     thigh_angles,
 )
-from pdr_pocket.compiled_orientation import N_UPDATES
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
 from pdr_pocket.samples import Samples
@@ -76,6 +75,33 @@ def mounting_params(config: PocketConfig) -> MountingParams:
                           np.radians(m.walking_pitch_deg), True)
 
 
+def sample_turns(t: np.ndarray, gyro: np.ndarray | None, attitude: AttitudeEstimate,
+                 previous: tuple | None) -> np.ndarray:
+    """The phone's own turn over each sample, ω·δt in the sensor frame [rad], (N, 3):
+    with a gyroscope the trapezoid of its rate less the filter's bias estimate, so that
+    the filter's corrections (a tilt set right by a window of gait cycles, a heading by
+    the field) are no turn of the phone in the pocket, and 0 where the gyroscope
+    saturated (its turn there is unknown, the clipped rate short of it); without one,
+    from consecutive attitudes, C_{k−1}ᵀ·C_k ≈ I + [ω·δt×]. ``previous``:
+    (t, ω, C_b^n) of the sample before the first (None: the first turn is 0)."""
+    n = len(t)
+    c = attitude.attitude
+    if previous is None:
+        first_t, first_gyro, first_c = (t[0] if n else 0.0), None, (c[0] if n else None)
+    else:
+        first_t, first_gyro, first_c = previous
+    dt = np.diff(t, prepend=first_t)[:, None]
+    if gyro is not None:
+        before = np.vstack([gyro[:1] if first_gyro is None else first_gyro[None], gyro[:-1]])
+        turn = 0.5 * (before + gyro) * dt - attitude.bias * dt
+        turn[attitude.detector("saturated")] = 0.0
+        return turn
+    last = np.concatenate([c[:1] if first_c is None else first_c[None], c[:-1]])
+    r = np.einsum("nij,nik->njk", last, c)
+    return 0.5 * np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0],
+                           r[:, 1, 0] - r[:, 0, 1]], axis=1)
+
+
 def configured_axes(rpy_deg) -> tuple[np.ndarray, np.ndarray]:
     """u and f in the sensor frame of a mounting C_s^t given as ZYX roll, pitch, yaw."""
     c_s_t = rotation_from_euler(*np.radians(rpy_deg)).as_matrix()
@@ -98,6 +124,7 @@ class PitchSource:
         self.changes_seen = 0.0
         self.seen_s = self.moving_s = 0.0       # data seen, and moving [s]
         self.last_t: float | None = None
+        self.previous: tuple | None = None      # (t, ω, C_b^n) of the last sample seen
 
     def run(self, samples: Samples) -> PitchChunk:
         """The chunk's attitude, pitch and detector stream (:class:`PitchChunk`)."""
@@ -117,8 +144,11 @@ class PitchSource:
         params = self.mounting_params if gyro is not None else \
             self.mounting_params._replace(turned_angle=np.inf, turned_min_s=np.inf,
                                           skew_check=False)
+        turn = sample_turns(t, gyro, attitude, self.previous)
+        self.previous = (t[-1], None if gyro is None else gyro[-1].copy(),
+                         attitude.attitude[-1].copy()) if n else self.previous
         mounting_loop(self.mounting, params, MountingInputs(
-            t, np.ascontiguousarray(rate), accel, attitude.attitude), thigh)
+            t, np.ascontiguousarray(rate), accel, attitude.attitude, turn), thigh)
         self._count_motion(t, rate)
         remounts_t = t[np.flatnonzero(np.diff(changes, prepend=self.changes_seen))].tolist()
         self.changes_seen = changes[-1] if n else self.changes_seen
@@ -177,8 +207,7 @@ class PitchSource:
         covariance[:, 0, 0] = covariance[:, 1, 1] = GRAVITY_TILT_SIGMA_RAD**2
         covariance[:, 2, 2] = np.pi**2
         attitude = AttitudeEstimate(t, c, np.zeros((n, 3)), covariance,
-                                    np.zeros((n, 4), dtype=bool),
-                                    np.zeros((n, N_UPDATES), dtype=bool))
+                                    np.zeros((n, 0), dtype=bool), np.zeros((n, 0), dtype=bool))
         scale = np.radians(m.moving_rate_deg_per_s) / m.accel_motion_mps2
         return attitude, motion * scale
 

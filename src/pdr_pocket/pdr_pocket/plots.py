@@ -1,6 +1,6 @@
-"""PNG figures of pdr_pocket (Matplotlib, Agg backend): the attitude errors and the gyro
-biases with their ±σ, as Muñoz Díaz 2016, Figs. 3.10 and 3.14-3.17; the magnetometer's
-raw cloud and the fitted sphere, as Fig. 3.20."""
+"""PNG figures of pdr_pocket (Matplotlib, Agg backend): the attitude errors, the heading
+error and the gyro biases with their ±σ, as Muñoz Díaz 2016, Figs. 3.10 and 3.14-3.17;
+the magnetometer's raw cloud and the fitted sphere, as Fig. 3.20."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,42 +15,62 @@ from matplotlib.collections import LineCollection
 
 from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
 from pdr_core.vocabulary import Activity
+from pdr_pocket.orientation import AttitudeEstimate
 
 AXES = ("x", "y", "z")
 COLOURS = ("tab:blue", "tab:red", "tab:green")
 
 
-def attitude_png(t_s: np.ndarray, errors_deg: np.ndarray | None, sigma_deg: np.ndarray,
-                 bias_deg_per_s: np.ndarray, bias_sigma: np.ndarray,
-                 true_bias: np.ndarray | None, path: Path, source: str | Path) -> None:
-    """Top: roll, pitch, yaw errors [°] with ±σ (or ±σ alone without a truth); bottom:
-    the three gyro biases [°/s] with ±σ and the true values, against minutes. The
-    title: ``source``'s name and the final attitude errors (or "no truth")."""
+def attitude_png(estimate: AttitudeEstimate, errors_deg: np.ndarray | None,
+                 heading_deg: np.ndarray | None, true_bias: np.ndarray | None, path: Path,
+                 source: str | Path) -> None:
+    """Three panels against minutes: roll and pitch errors [°] with ±σ (±σ alone without
+    a truth); the heading error [°] (pdr_core.attitude_metrics) with ±σ, the samples whose
+    field reading was refused as disturbed shaded; the three gyro biases [°/s] with ±σ and
+    the true values. The title: ``source``'s name and the final roll, pitch, yaw and
+    heading errors (or "no truth")."""
+    t_s = estimate.t
     step = max(1, len(t_s) // 20000)
     t = t_s[::step] / 60.0
-    fig, ax = plt.subplots(2, 1, figsize=(12, 9), sharex=True)
-    for i, name in enumerate(("roll", "pitch", "yaw")):
-        s = sigma_deg[::step, i]
+    sigma = np.degrees(estimate.euler_sigma)[::step]
+    fig, ax = plt.subplots(3, 1, figsize=(12, 11), sharex=True)
+    for i, name in enumerate(("roll", "pitch")):
         if errors_deg is not None:
             ax[0].plot(t, errors_deg[::step, i], color=COLOURS[i], lw=0.8, label=f"{name} error")
-        ax[0].plot(t, s, ":", color=COLOURS[i], lw=0.8)
-        ax[0].plot(t, -s, ":", color=COLOURS[i], lw=0.8)
-    ax[0].set(ylabel="[deg]", title="attitude error (dotted: ±σ)" if errors_deg is not None
-              else "attitude ±σ (no truth in the bag)")
+        ax[0].plot(t, sigma[:, i], ":", color=COLOURS[i], lw=0.8)
+        ax[0].plot(t, -sigma[:, i], ":", color=COLOURS[i], lw=0.8)
+    ax[0].set(ylabel="[deg]", title="tilt: roll and pitch error (dotted: ±σ)"
+              if errors_deg is not None else "roll and pitch ±σ (no truth in the bag)")
     if errors_deg is not None:
         ax[0].legend(loc="upper left")
+    heading_sigma = np.degrees(estimate.heading_sigma)[::step]
+    if heading_deg is not None:
+        ax[1].plot(t, heading_deg[::step], color="tab:green", lw=0.8, label="heading error")
+    ax[1].plot(t, heading_sigma, ":", color="tab:green", lw=0.8)
+    ax[1].plot(t, -heading_sigma, ":", color="tab:green", lw=0.8)
+    disturbed = estimate.detector("field_disturbed")[::step]
+    if disturbed.any():
+        ax[1].fill_between(t, 0, 1, where=disturbed, color="tab:red", alpha=0.15, lw=0,
+                           transform=ax[1].get_xaxis_transform(),
+                           label="field refused as disturbed")
+    ax[1].set(ylabel="[deg]", title="heading error of the most level axis, relative to the "
+              "first seconds (dotted: ±σ)" if heading_deg is not None else "heading ±σ")
+    if heading_deg is not None or disturbed.any():
+        ax[1].legend(loc="upper left")
+    bias, bias_sigma = np.degrees(estimate.bias)[::step], np.degrees(estimate.bias_sigma)[::step]
     for i, name in enumerate(AXES):
-        b, s = bias_deg_per_s[::step, i], bias_sigma[::step, i]
-        ax[1].plot(t, b, color=COLOURS[i], label=f"b_{name}")
-        ax[1].plot(t, b + s, ":", color=COLOURS[i], lw=0.8)
-        ax[1].plot(t, b - s, ":", color=COLOURS[i], lw=0.8)
+        ax[2].plot(t, bias[:, i], color=COLOURS[i], label=f"b_{name}")
+        ax[2].plot(t, bias[:, i] + bias_sigma[:, i], ":", color=COLOURS[i], lw=0.8)
+        ax[2].plot(t, bias[:, i] - bias_sigma[:, i], ":", color=COLOURS[i], lw=0.8)
         if true_bias is not None:
-            ax[1].axhline(true_bias[i], color=COLOURS[i], ls="--", lw=0.8)
-    ax[1].set(xlabel="t [min]", ylabel="[deg/s]", title="gyroscope biases (dotted: ±σ, "
+            ax[2].axhline(true_bias[i], color=COLOURS[i], ls="--", lw=0.8)
+    ax[2].set(xlabel="t [min]", ylabel="[deg/s]", title="gyroscope biases (dotted: ±σ, "
               "dashed: truth)")
-    ax[1].legend(loc="upper left")
+    ax[2].legend(loc="upper left")
     final = "no truth" if errors_deg is None else "final error " + ", ".join(
         f"{name} {errors_deg[-1, i]:+.2f}°" for i, name in enumerate(("roll", "pitch", "yaw")))
+    if heading_deg is not None:
+        final += f", heading {heading_deg[-1]:+.2f}°"
     fig.suptitle(figure_title(source, "the orientation filter's attitude and gyro biases",
                               f"{t_s[-1] - t_s[0]:.0f} s, {final}"))
     fig.tight_layout()

@@ -13,15 +13,23 @@
   estimated over total true), the riser height error % per staircase (Table 4.5,
   :func:`riser_errors`) and the floor error. Every field, its unit and when it is there:
   docs/reports.md;
-- :func:`attitude_report`: ``pdr-pocket attitude``'s roll, pitch and yaw RMSE against
-  ``ground_truth/pose``, the final gyro bias errors against the simulation's true biases,
-  and the share of samples each update ran.
+- :func:`attitude_report`: ``pdr-pocket attitude``'s roll, pitch and yaw RMSE, the tilt
+  and the heading error (pdr_core.attitude_metrics) against ``ground_truth/pose``, the
+  gyro bias estimates and their final errors against the simulation's true biases, and
+  the share of samples each update ran.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from pdr_core.angles import wrap_angle
+from pdr_core.attitude_metrics import (
+    HEADING_REFERENCE_S,
+    error_summary,
+    heading_error,
+    level_axis,
+    tilt_error,
+)
 from pdr_core.batch import MessageBatch
 from pdr_core.metrics import error_report
 from pdr_core.vocabulary import ACTIVITY_NAMES
@@ -171,22 +179,46 @@ def attitude_errors(estimate: AttitudeEstimate, truth_quat: np.ndarray) -> np.nd
     return wrap_angle(estimate.euler - truth)
 
 
+def truth_heading_error(estimate: AttitudeEstimate, truth_quat: np.ndarray) -> np.ndarray:
+    """The heading error [rad] of pdr_core.attitude_metrics (the truth's most level body
+    axis, relative to the first seconds), (N,)."""
+    from scipy.spatial.transform import Rotation
+
+    return heading_error(estimate.t, estimate.attitude,
+                         Rotation.from_quat(truth_quat).as_matrix())
+
+
 def attitude_report(inputs: PocketInputs, estimate: AttitudeEstimate,
                     truth_quat: np.ndarray | None,
                     true_bias_radps: np.ndarray | None) -> dict:
-    """The report of ``pdr-pocket attitude`` (angles in degrees, biases in °/s)."""
+    """The report of ``pdr-pocket attitude`` (angles in degrees, biases in °/s): the
+    updates that ran and the detectors' shares, the bias estimates (final, with σ, and
+    the largest |b| of the walk), and with a truth the roll, pitch and yaw RMSE and final
+    errors, the tilt error and the heading error of pdr_core.attitude_metrics (every
+    field: docs/reports.md)."""
     report: dict = {"samples": len(inputs.t), "duration_s": float(inputs.t[-1]),
                     "dropped": inputs.counts,
                     "update_fraction": estimate.fraction_ran(),
-                    "saturated_fraction": float(estimate.detected[:, 3].mean()),
+                    "detector_fraction": {name: float(estimate.detector(name).mean())
+                                          for name in estimate.detector_names},
+                    "saturated_fraction": float(estimate.detector("saturated").mean()),
                     "final_bias_deg_per_s": np.degrees(estimate.bias[-1]).tolist(),
-                    "final_bias_sigma_deg_per_s": np.degrees(estimate.bias_sigma[-1]).tolist()}
+                    "final_bias_sigma_deg_per_s": np.degrees(estimate.bias_sigma[-1]).tolist(),
+                    "largest_bias_deg_per_s": np.degrees(
+                        np.abs(estimate.bias).max(axis=0)).tolist()}
     if truth_quat is not None:
+        from scipy.spatial.transform import Rotation
+
         err = np.degrees(attitude_errors(estimate, truth_quat))
         report["rmse_deg"] = dict(zip(("roll", "pitch", "yaw"),
                                       np.sqrt(np.mean(err**2, axis=0)).tolist(), strict=True))
         report["final_error_deg"] = dict(zip(("roll", "pitch", "yaw"), err[-1].tolist(),
                                              strict=True))
+        truth = Rotation.from_quat(truth_quat).as_matrix()
+        report["tilt_error"] = error_summary(tilt_error(estimate.attitude, truth))
+        report["heading_error"] = {"axis": "xyz"[level_axis(truth)],
+                                   "reference_s": HEADING_REFERENCE_S} | error_summary(
+            truth_heading_error(estimate, truth_quat))
     if true_bias_radps is not None:
         report["final_bias_error_deg_per_s"] = np.degrees(
             estimate.bias[-1] - np.asarray(true_bias_radps)).tolist()

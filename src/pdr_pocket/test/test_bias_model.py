@@ -49,12 +49,24 @@ def test_allan_sigma_is_the_gauss_markov_bias_of_the_allan_minimum_and_thesis_eq
 
 def test_the_profile_fills_the_noise_keys_not_given_and_a_key_given_wins():
     phone = PROFILES["consumer_phone"]["gyro"]
+    raw = OrientationConfig(imu_profile="consumer_phone")
+    assert raw.noise("gyro_arw_deg_per_sqrt_h") == phone["arw_deg_per_sqrt_h"]
+    assert raw.noise("bias_instability_deg_per_h") == phone["bias_instability_deg_per_h"]
+    assert raw.noise("bias_instability_time_s") == phone["bias_correlation_time_s"]
+    assert raw.noise("initial_bias_sigma_deg_per_s") == phone["bias_sigma_deg_per_s"]
+
+
+def test_a_profile_given_by_its_gauss_markov_sigma_has_that_sigma_back():
+    """calibrated_phone, the default, gives the simulator the Gauss-Markov σ of its gyro
+    bias directly: the filter reads the β of its Allan minimum, from which the allan bias
+    model gives the same σ, and its own initial σ (0.25 °/s)."""
+    gyro = PROFILES["calibrated_phone"]["gyro"]
     default = OrientationConfig()
-    assert default.imu_profile == "consumer_phone"
-    assert default.noise("gyro_arw_deg_per_sqrt_h") == phone["arw_deg_per_sqrt_h"]
-    assert default.noise("bias_instability_deg_per_h") == phone["bias_instability_deg_per_h"]
-    assert default.noise("bias_instability_time_s") == phone["bias_correlation_time_s"]
-    assert default.noise("initial_bias_sigma_deg_per_s") == phone["bias_sigma_deg_per_s"]
+    assert default.imu_profile == "calibrated_phone"
+    assert default.bias_sigma_radps == pytest.approx(
+        np.radians(gyro["gauss_markov_sigma_deg_per_s"]), rel=1e-3)
+    assert default.noise("bias_instability_time_s") == gyro["bias_correlation_time_s"]
+    assert default.noise("initial_bias_sigma_deg_per_s") == 0.25
     given = OrientationConfig(imu_profile="xsens_mtw", bias_instability_deg_per_h=5.0)
     assert given.noise("bias_instability_deg_per_h") == 5.0
     assert given.noise("gyro_arw_deg_per_sqrt_h") == profile_noise("xsens_mtw")[
@@ -65,7 +77,7 @@ def test_the_profile_fills_the_noise_keys_not_given_and_a_key_given_wins():
 
 @pytest.mark.parametrize(("orientation", "names"), [
     ({"bias_model": "random_walk"}, ("config.orientation", "bias_model", "allan, thesis")),
-    ({"imu_profile": "vn200"}, ("imu_profile", "consumer_phone, xsens_mtw")),
+    ({"imu_profile": "vn200"}, ("imu_profile", "calibrated_phone, consumer_phone, xsens_mtw")),
     ({"bias_instability_deg_per_h": 0.5},
      ("bias_instability_deg_per_h 0.5", "gyro_arw_deg_per_sqrt_h 0.42", "bias_model allan")),
     ({"zaru_gate_probability": 1.0}, ("zaru_gate_probability",)),
@@ -95,7 +107,8 @@ def test_rest_is_found_whatever_the_bias_and_teaches_it():
     3 °/s, yet a rest; the ZARU learns the bias within 0.01 °/s in 20 s."""
     bias = np.array([2.0, -2.5, 1.5])
     t, gyro, accel = still(20.0, bias)
-    est = OrientationFilter(OrientationConfig(updates=ZARU_ONLY)).run(t, gyro, accel)
+    est = OrientationFilter(OrientationConfig(filter="thesis", imu_profile="consumer_phone",
+                                          updates=ZARU_ONLY)).run(t, gyro, accel)
     assert est.detected[t > 1.0, k.ZERO_RATE].all()
     assert np.abs(np.degrees(est.bias[-1]) - bias).max() < 0.01
 
@@ -106,7 +119,8 @@ def test_a_slow_steady_turn_is_refused_by_the_zaru_gate():
     the χ² gate refuses it and the bias stays."""
     t1, g1, a1 = still(20.0, [0.0, 0.0, 0.3])
     t2, g2, a2 = still(20.0, [0.0, 0.0, 0.3], turn_deg_per_s=6.0, seed=1)
-    f = OrientationFilter(OrientationConfig(updates=ZARU_ONLY))
+    f = OrientationFilter(OrientationConfig(filter="thesis", imu_profile="consumer_phone",
+                                          updates=ZARU_ONLY))
     f.run(t1, g1, a1)
     turning = f.run(t2 + 20.0, g2, a2)
     assert turning.detected[:, k.ZERO_RATE].mean() > 0.9

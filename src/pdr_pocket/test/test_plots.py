@@ -10,6 +10,7 @@ from matplotlib.inset import InsetIndicator
 
 from pdr_core.plot_layout import MIN_HEIGHT_SPAN_M
 from pdr_pocket import plots
+from pdr_pocket.orientation import AttitudeEstimate
 from wstest import kept_figures
 
 CYCLE_S = 1.1
@@ -92,13 +93,17 @@ def test_a_short_pitch_trace_has_no_zoom(figures, tmp_path):
 
 def test_the_attitude_figure_is_titled_by_name_and_final_error(figures, tmp_path):
     t = np.linspace(0, 60, 601)
-    errors = np.tile([0.1, -0.2, 1.5], (len(t), 1))
-    sigma = np.ones((len(t), 3))
-    plots.attitude_png(t, errors, sigma, np.zeros((len(t), 3)), sigma, None,
-                       tmp_path / "a.png", tmp_path / "walk")
+    n = len(t)
+    errors = np.tile([0.1, -0.2, 1.5], (n, 1))
+    estimate = AttitudeEstimate(t, np.tile(np.eye(3), (n, 1, 1)), np.zeros((n, 3)),
+                                np.tile(np.eye(6) * 1e-4, (n, 1, 1)),
+                                np.zeros((n, 1), dtype=bool), np.zeros((n, 0), dtype=bool),
+                                detector_names=("field_disturbed",))
+    plots.attitude_png(estimate, errors, np.full(n, -2.25), None, tmp_path / "a.png",
+                       tmp_path / "walk")
     title = figures[0]._suptitle.get_text()
     assert title.startswith("walk: ") and str(tmp_path) not in title
-    assert "final error roll +0.10°, pitch -0.20°, yaw +1.50°" in title
+    assert "final error roll +0.10°, pitch -0.20°, yaw +1.50°, heading -2.25°" in title
 
 
 def test_wide_ellipses_leave_the_path_its_extent(figures, tmp_path):

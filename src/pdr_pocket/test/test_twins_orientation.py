@@ -65,7 +65,7 @@ from pdr_pocket.config import OrientationConfig
 
 RTOL = 1e-12
 TWINS = settings(max_examples=40, deadline=None)
-DEFAULTS = OrientationConfig().params()
+DEFAULTS = OrientationConfig(filter="thesis").params()
 TILT = [ATT_EAST, ATT_NORTH]                            # the tilt rows of δθ
 BIASES = list(range(BIAS_ROWS.start, BIAS_ROWS.stop))   # the rows of δb
 

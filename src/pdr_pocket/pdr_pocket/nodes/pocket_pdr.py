@@ -73,7 +73,6 @@ from pdr_core.ros_types import message_class
 from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
-from pdr_pocket.compiled_orientation import GAPS
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.magnetometer import MagCalibration
@@ -129,7 +128,7 @@ class PocketPdrNode(Node):
         window_s = declare(self, "correction_window_s", CORRECTION_WINDOW_S, "how far back a "
                            "stamped correction may reach [s of IMU data]")
         config = load_pocket_config(path or None)
-        self.mag_updates = config.orientation.updates.magnetic
+        self.mag_updates = config.orientation.magnetic
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
         self.navigator = StreamingPocket(config, calibration, mag_wait_s, window_s)
@@ -408,8 +407,7 @@ def filter_gaps(navigator) -> int:
     """Gaps longer than ``max_gap_s`` the orientation filter of ``navigator``
     (pdr_pocket.navigator.PocketNavigator) propagated over so far (0 before its first
     sample)."""
-    state = navigator.orientation.state
-    return 0 if state is None else int(state.scalars[GAPS])
+    return navigator.orientation.gaps
 
 
 def path_pose(pose: PoseWithCovarianceStamped, heading: float) -> PoseStamped:
