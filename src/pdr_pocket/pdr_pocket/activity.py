@@ -53,7 +53,10 @@ Two classifiers of a step's activity, chosen by ``activity.model`` (:data:`MODEL
   - the cycle's duration: stairs are walked, not run (a cycle shorter than
     ``stairs_cycle_min_s`` counts against them);
   - a step's pitch is no surer than the attitude's tilt: its σ over the cycle (large
-    across a gap in the data) widens every state's spread of the mid pitch and θ_min;
+    across a gap in the data) widens every state's spread of the mid pitch and θ_min,
+    and a step whose tilt σ exceeds ``learn_max_tilt_sigma_deg`` teaches the person's
+    level gait nothing (its pitch may be off by the tilt's error: steps right after a gap
+    in the data, read as level, would shift the level gait and hide the next staircase);
   - the level state's evidence has heavy tails (a mixture, :meth:`_likelihood`), and a
     step that turned by more than ``turn_max_deg`` from the last one (the end of a
     corridor, a landing) is level with ``turn_sigma_factor`` times the spread: the pitch
@@ -193,11 +196,10 @@ class LevelPriorActivity:
         posterior = predicted * likelihood * self._cadence(shape.duration)
         self.posterior = posterior / posterior.sum()
         state = int(np.argmax(self.posterior))
-        if state == 0 and not turning and \
-                self.posterior[0] >= self.config.learn_min_probability:
+        if state == 0 and not turning and tilt_deg <= self.config.learn_max_tilt_sigma_deg \
+                and self.posterior[0] >= self.config.learn_min_probability:
             self.level.append(features)
         return STATES[state]
-
 
     def _cadence(self, duration_s: float) -> np.ndarray:
         """p(cycle duration | state), relative: stairs are walked, not run, at a steady

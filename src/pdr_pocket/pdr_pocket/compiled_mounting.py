@@ -64,6 +64,8 @@ FOREIGN_TAU_S = 1.0             # leak of the turn integrated outside the thigh'
 TURN_HOLD_S = 2.0               # a phone is turned in the pocket within this
 FLIP_MIN_S = 5.0                # walking with a negative mean pitch this long: f flipped
 SEATED_MIN_S = 2.0              # walking this far above standing this long: u was seated
+CHANGE_WAIT_S = 1.5             # new axes wait this long at most for the swing's minimum
+NO_CHANGE, REORIENT, REORIENT_FLIPPED, REMOUNT = range(4)   # MOUNTING_SCALARS.change_due
 SKEW_TAU_S = 4.0                # the pitch rate's moments, over about three gait cycles
 SKEW_FLIP = 0.3                 # a pitch-rate skewness below −SKEW_FLIP: f is reversed
 ANCHOR_RING = 80                # the checks of the last 8 s of walking (see _anchor)
@@ -94,6 +96,10 @@ MOUNTING_SCALARS = np.dtype([
     ("rate2", np.float64),          # the pitch rate's weighted second moment [rad²/s²]
     ("rate3", np.float64),          # ... and third [rad³/s³]
     ("last_pitch", np.float64),     # the last θ given, NaN before any and after new axes [rad]
+    ("change_due", np.int64),       # new axes decided, waiting for the swing's minimum:
+                                    # NO_CHANGE, REORIENT, REORIENT_FLIPPED or REMOUNT
+    ("change_t", np.float64),       # when they were decided [s]
+    ("falling", np.bool_),          # θ fell from the sample before to the last one
 ], align=True)
 CHANGES = "changes"                 # the field counting the mounting changes
 
@@ -130,7 +136,6 @@ class MountingState(NamedTuple):
     recent: np.ndarray          # (3, 3) the same over turned_tau_s
     recent_mean: np.ndarray     # (3,)
     anchors: np.ndarray         # (ANCHOR_RING, 3) φ, thigh heading and t of the last checks
-    last_attitude: np.ndarray   # (3, 3) C_b^n of the previous sample
 
 
 class MountingInputs(NamedTuple):
@@ -141,6 +146,8 @@ class MountingInputs(NamedTuple):
                                 # accelerometer's motion measure scaled to it
     accel: np.ndarray           # (N, 3) specific force, sensor frame [m/s²]
     attitude: np.ndarray        # (N, 3, 3) C_b^n, sensor → ENU
+    turn: np.ndarray            # (N, 3) the phone's turn over each sample, ω·δt in the
+                                # sensor frame [rad] (pdr_pocket.pitch_source.sample_turns)
 
 
 class MountingOutputs(NamedTuple):
@@ -166,7 +173,7 @@ def new_mounting_state(up=None, flexion=None) -> MountingState:
     scalars["last_pitch"] = np.nan
     state = MountingState(scalars, np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((3, 3)),
                           np.zeros(3), np.zeros((3, 3)), np.zeros(3),
-                          np.zeros((ANCHOR_RING, 3)), np.eye(3))
+                          np.zeros((ANCHOR_RING, 3)))
     if up is not None:
         state.up[:] = up
         state.flex_raw[:] = flexion
@@ -228,10 +235,9 @@ def mounting_loop(state, params, inputs, out):
                 s.up_provisional = True
                 s.started = True
             _rest(state, params, w, a, dt)
-            _foreign_turn(state, params, w, dt, attitude[k],
-                          _sample_turn(state.last_attitude, attitude[k]))
-            state.last_attitude[:, :] = attitude[k]
+            _foreign_turn(state, params, w, dt, attitude[k], inputs.turn[k])
             _motion(state, params, w, dt, attitude[k])
+            _change_when_due(state, params, attitude[k])
         if s.changes != changes:            # new axes: θ starts afresh from them
             s.last_pitch = np.nan
         known = s.flex_known
@@ -243,6 +249,7 @@ def mounting_loop(state, params, inputs, out):
         if known:
             pitch, out.heading[k] = thigh_angles(attitude[k], up, flex)
             out.pitch[k] = _continued(s.last_pitch, pitch)
+            s.falling = out.pitch[k] < s.last_pitch
             s.last_pitch = out.pitch[k]
         else:
             out.pitch[k], out.heading[k] = np.nan, np.nan
@@ -337,7 +344,8 @@ def _check_turned(state, params, c):
     CHECK_PERIOD_S."""
     s = state.scalars[()]
     now = s.last_t
-    if s.recent_s < params.turned_tau_s or now - s.last_check_t < CHECK_PERIOD_S:
+    if s.change_due or s.recent_s < params.turned_tau_s or \
+            now - s.last_check_t < CHECK_PERIOD_S:
         return
     s.last_check_t = now
     values, vectors = np.linalg.eigh(state.recent)
@@ -346,7 +354,7 @@ def _check_turned(state, params, c):
     up, flex = _thigh_axes(state.up, state.flex_raw, s.flex_sign)
     axis = vectors[:, 0].copy()
     if s.turn_seen:
-        _remount(state, params, c, axis, up, flex)
+        _change_at_minimum(state, REMOUNT)
         return
     phi = _swing_angle(state.recent_mean, up, flex)
     skew = s.rate2 ** 1.5 * SKEW_FLIP if params.skew_check else np.inf
@@ -354,7 +362,7 @@ def _check_turned(state, params, c):
     s.seated_s = s.seated_s + CHECK_PERIOD_S if -phi > params.turned_pitch_angle else 0.0
     if s.seated_s >= SEATED_MIN_S:
         s.seated_s = 0.0
-        _reorient(state, False, params.walking_pitch, flex)
+        _change_at_minimum(state, REORIENT)
         return
     same_axis = abs(axis @ flex) >= np.cos(params.turned_min_angle) and \
         abs(axis @ up) <= np.sin(params.turned_min_angle)
@@ -364,7 +372,7 @@ def _check_turned(state, params, c):
     if same_axis and same_pitch:
         s.turned_s = 0.0
         if s.flip_s >= FLIP_MIN_S:
-            _reorient(state, s.rate3 <= skew, params.walking_pitch, flex)
+            _change_at_minimum(state, REORIENT_FLIPPED if s.rate3 <= skew else REORIENT)
             return
         _anchor(state, c, up, flex)
         return
@@ -374,22 +382,10 @@ def _check_turned(state, params, c):
 
 
 @njit(cache=True)
-def _sample_turn(last, c):
-    """The turn over a sample, ω·δt in the sensor frame [rad], from the attitudes C_b^n
-    before and after it: twice it is the antisymmetric part of C_{k−1}ᵀ·C_k."""
-    r = np.zeros(3)
-    for i in range(3):
-        r[0] += 0.5 * (last[i, 1] * c[i, 2] - last[i, 2] * c[i, 1])
-        r[1] += 0.5 * (last[i, 2] * c[i, 0] - last[i, 0] * c[i, 2])
-        r[2] += 0.5 * (last[i, 0] * c[i, 1] - last[i, 1] * c[i, 0])
-    return r
-
-
-@njit(cache=True)
 def _foreign_turn(state, params, wn, dt, c, turn):
     """The phone turning in the pocket, seen at once: the thigh turns only about f (its
     pitch) and the vertical (its yaw), so a turn about n = f × (vertical ⊥ f), outside
-    that span, is the phone's own. Its rate (``turn``, :func:`_sample_turn`) integrated
+    that span, is the phone's own. Its rate (``turn``, the sample's ω·δt) integrated
     with a leak of FOREIGN_TAU_S beyond ``turned_angle`` is a turn: the thigh's own
     abduction swings back and forth and integrates to a few degrees. Integrated while
     moving (``wn`` above ``moving_rate``).
@@ -404,7 +400,8 @@ def _foreign_turn(state, params, wn, dt, c, turn):
         s.foreign = np.exp(-dt / FOREIGN_TAU_S) * s.foreign + turn @ normal
         if not s.turn_seen and abs(s.foreign) > params.turned_angle:
             _seen_turn(state, s.last_t)
-        _pitch_rate_moments(state, dt, turn @ f / dt)
+        _pitch_rate_moments(state, dt, -(turn @ f) / dt)   # θ̇ = −ω·f: a swing forward
+                                                            # turns about −f (f left)
     if s.turn_seen and s.last_t - s.turn_t < TURN_HOLD_S:
         _forget_recent(state)
 
@@ -465,6 +462,38 @@ def _anchor(state, c, up, flex):
     state.anchors[k, ANCHOR_T] = s.last_t
     s.ring_pos = (k + 1) % ANCHOR_RING
     s.ring_n = min(s.ring_n + 1, ANCHOR_RING)
+
+
+@njit(cache=True)
+def _change_at_minimum(state, change):
+    """Decide on new axes (``change``: REORIENT, REORIENT_FLIPPED, REMOUNT), to be taken
+    at the swing's next minimum (:func:`_change_when_due`)."""
+    s = state.scalars[()]
+    s.change_due = change
+    s.change_t = s.last_t
+
+
+@njit(cache=True)
+def _change_when_due(state, params, c):
+    """Take the new axes decided (:func:`_reorient`, :func:`_remount`) at the swing's
+    minimum (θ, in the axes still in use, stops falling) or after CHANGE_WAIT_S: θ jumps
+    with the new axes where the step detector seeks a minimum anyway, not in the middle
+    of a step's rise, which a fresh detector would cut in two and lose (a walk from a
+    chair, the timed up-and-go)."""
+    s = state.scalars[()]
+    if s.change_due == NO_CHANGE:
+        return
+    up, flex = _thigh_axes(state.up, state.flex_raw, s.flex_sign)
+    pitch, _ = thigh_angles(c, up, flex)
+    at_minimum = s.falling and _continued(s.last_pitch, pitch) >= s.last_pitch
+    if not (at_minimum or s.last_t - s.change_t >= CHANGE_WAIT_S):
+        return
+    if s.change_due == REMOUNT:
+        _, vectors = np.linalg.eigh(state.recent)
+        _remount(state, params, c, vectors[:, 0].copy(), up, flex)
+    else:
+        _reorient(state, s.change_due == REORIENT_FLIPPED, params.walking_pitch, flex)
+    s.change_due = NO_CHANGE
 
 
 @njit(cache=True)
@@ -556,7 +585,8 @@ def _least_swung_axis(spread, up):
     ref = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     e1 = _unit(np.cross(up, ref))
     e2 = np.cross(up, e1)
-    s11, s22, s12 = e1 @ spread @ e1, e2 @ spread @ e2, e1 @ spread @ e2
+    e1_spread = e1 @ spread
+    s11, s22, s12 = e1_spread @ e1, e2 @ spread @ e2, e1_spread @ e2
     phi = 0.5 * np.arctan2(2.0 * s12, s11 - s22)
     return _unit(np.cross(up, np.cos(phi) * e1 + np.sin(phi) * e2))
 

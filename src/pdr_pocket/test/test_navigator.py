@@ -73,11 +73,13 @@ def test_pitch_maximum_finds_every_step_and_nothing_else(name):
     assert len(out.steps) == len(match)
 
 
-@pytest.mark.parametrize(("name", "wrong"), [("up_dw", 2), ("sit_stand", 0)])
+@pytest.mark.parametrize(("name", "wrong"), [("up_dw", 3), ("sit_stand", 0)])
 def test_activities_of_the_steps(name, wrong):
-    """docs/pocket.md: 176 of 178 steps right on UP/DW (the first step of two of its 16
+    """docs/pocket.md: 175 of 178 steps right on UP/DW (the first step of three of its 16
     flights read as level: against the level gait at the step's amplitude one step up is
-    about 2σ of level), 66 of 66 on sit/stand."""
+    about 2σ of level; the thesis' filter, 0.43° off in tilt against the default's 0.25°,
+    got one of the three right by its error there: 176 before issue 53), 66 of 66 on
+    sit/stand."""
     sim, out = navigated(name)
     match = matched(sim, out)
     truth = sim.model.true_steps.activity
