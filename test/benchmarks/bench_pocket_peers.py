@@ -172,15 +172,17 @@ INITIAL_YAW_SIGMA_DEG = 1.0
 
 
 def heading_filters(profile: str) -> dict[str, OrientationConfig | None]:
-    """The filters of the heading table for a sensor of ``profile`` (None: VQF 6D)."""
-    from pdr_pocket.config import OrientationConfig, Updates
+    """The filters of the heading table for a sensor of ``profile`` (None: VQF 6D): the
+    default filter and the thesis' (the Allan bias model), each with and without its rest
+    update, none reading the magnetometer."""
+    from pdr_pocket.config import EkfConfig, OrientationConfig, Updates
 
     no_mag = Updates(absolute_magnetic=False, differential_magnetic=False, compass=False)
-    return {"ours, thesis (today)": OrientationConfig(imu_profile="xsens_mtw",
-                                                      bias_model="thesis", updates=no_mag),
-            "ours, allan": OrientationConfig(imu_profile=profile, updates=no_mag),
-            "ours, allan, no ZARU": OrientationConfig(imu_profile=profile,
-                                                      updates=replace(no_mag, zaru=False)),
+    thesis = OrientationConfig(filter="thesis", imu_profile=profile, updates=no_mag)
+    return {"ekf": OrientationConfig(imu_profile=profile),
+            "ekf, no rest": OrientationConfig(imu_profile=profile, ekf=EkfConfig(rest=False)),
+            "thesis": thesis,
+            "thesis, no ZARU": replace(thesis, updates=replace(no_mag, zaru=False)),
             "VQF 6D": None}
 
 
