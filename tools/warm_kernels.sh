@@ -28,6 +28,9 @@ foot() {
 }
 pocket() {
   ws pdr-pocket run bags/pocket_walk --out "$out/pocket" --drift online
+  # the thesis' unscented filter (filter: thesis), which the tests of its tables run
+  ws pdr-pocket run bags/pocket_walk --out "$out/thesis" --drift online \
+    --config src/pdr_pocket/config/pocket_pdr_no_mag.yaml
   ws pdr-sim import-csv bags/pyshoe_vicon_2018-02-22-10-10-29.csv --out "$out/no_gyro" \
     --time-col t_s --acc-cols acc_x_mps2,acc_y_mps2,acc_z_mps2
   ws pdr-pocket run "$out/no_gyro" --out "$out/no_gyro_run"
