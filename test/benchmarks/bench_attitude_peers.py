@@ -44,7 +44,7 @@ from scipy.spatial.transform import Rotation
 from pdr_core.attitude_metrics import heading_error, tilt_error
 from pdr_core.oxiod import import_oxiod
 from pdr_pocket.config import EkfConfig, OrientationConfig, load_pocket_config
-from pdr_pocket.orientation import OrientationFilter
+from pdr_pocket.orientation import FIELD_JUDGEMENTS, OrientationFilter
 
 ROOT = Path(__file__).resolve().parents[2]
 SHARED = Path(os.environ.get("PDR_SHARED_DATA", ROOT.parent / "shared" / "data"))
@@ -189,20 +189,6 @@ def table(title: str, records: dict[str, tuple], plot: Path | None = None) -> No
             print(f"| {name} | {np.median(values):.1f} | {np.mean(values):.1f} |")
 
 
-JUDGEMENTS = ("field_undisturbed", "field_disturbed", "field_implausible")
-
-
-def reading_judgements(est, names: tuple[str, ...]) -> np.ndarray:
-    """Per sample, the index in ``names`` of what the filter made of the last magnetometer
-    reading (−1 before the first): a phone's field comes at its own rate, often held
-    between readings, so each judgement holds until the next reading."""
-    judged = np.full(len(est.attitude), -1)
-    for i, name in enumerate(names):
-        judged[est.detector(name)] = i
-    last = np.maximum.accumulate(np.where(judged >= 0, np.arange(len(judged)), 0))
-    return judged[last]
-
-
 def heading_figure(record: str, data: tuple, results: dict, path: Path) -> None:
     """The heading error of every filter against time, and below it the field in the
     truth's frame (norm and dip) with what ours did with each reading."""
@@ -227,9 +213,9 @@ def heading_figure(record: str, data: tuple, results: dict, path: Path) -> None:
     twin = ax[1].twinx()
     twin.plot(t, dip, color="tab:purple", lw=0.6)
     twin.set_ylabel("dip [°]", color="tab:purple")
-    judged = reading_judgements(est, JUDGEMENTS)
+    judged = est.field_judgement()
     colours = ("tab:green", "tab:red", "tab:grey")
-    for i, (name, colour) in enumerate(zip(JUDGEMENTS, colours, strict=True)):
+    for i, (name, colour) in enumerate(zip(FIELD_JUDGEMENTS, colours, strict=True)):
         ax[2].fill_between(t, 0, 1, where=judged == i, color=colour, alpha=0.3, lw=0,
                            transform=ax[2].get_xaxis_transform(), label=name)
     ax[2].plot(t, np.degrees(est.bias), lw=0.8)

@@ -54,6 +54,9 @@ THESIS_UPDATE_NAMES = ("absolute_gravity", "differential_gravity", "absolute_mag
 THESIS_DETECTOR_NAMES = ("zero_acceleration", "zero_rate", "steady_field", "saturated")
 
 
+# what the default filter made of a magnetometer reading (compiled_attitude's detectors)
+FIELD_JUDGEMENTS = ("field_undisturbed", "field_disturbed", "field_implausible")
+
 @dataclass(frozen=True)
 class AttitudeEstimate:
     """Per sample: C_b^n (N, 3, 3), gyro bias (N, 3) [rad/s], covariance (N, 6, 6) of
@@ -115,6 +118,18 @@ class AttitudeEstimate:
         if name not in self.detector_names:
             return np.zeros(len(self.t), dtype=bool)
         return self.detected[:, self.detector_names.index(name)]
+
+    def field_judgement(self) -> np.ndarray:
+        """Per sample (N,), what the filter made of the last magnetometer reading: the
+        index in :data:`FIELD_JUDGEMENTS` (undisturbed, disturbed, implausible), −1 before
+        the first. A phone's magnetometer comes at its own rate (50–73 Hz on the OxIOD
+        iPhones) and holds its output between readings, so each judgement holds until the
+        next reading (the thesis' filter, which judges none, gives −1 throughout)."""
+        judged = np.full(len(self.t), -1)
+        for i, name in enumerate(FIELD_JUDGEMENTS):
+            judged[self.detector(name)] = i
+        last = np.maximum.accumulate(np.where(judged >= 0, np.arange(len(judged)), 0))
+        return judged[last]
 
 
 def saturation_flags(gyro: np.ndarray, range_radps: float | None,

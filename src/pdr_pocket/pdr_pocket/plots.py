@@ -15,7 +15,7 @@ from matplotlib.collections import LineCollection
 
 from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
 from pdr_core.vocabulary import Activity
-from pdr_pocket.orientation import AttitudeEstimate
+from pdr_pocket.orientation import FIELD_JUDGEMENTS, AttitudeEstimate
 
 AXES = ("x", "y", "z")
 COLOURS = ("tab:blue", "tab:red", "tab:green")
@@ -48,7 +48,8 @@ def attitude_png(estimate: AttitudeEstimate, errors_deg: np.ndarray | None,
         ax[1].plot(t, heading_deg[::step], color="tab:green", lw=0.8, label="heading error")
     ax[1].plot(t, heading_sigma, ":", color="tab:green", lw=0.8)
     ax[1].plot(t, -heading_sigma, ":", color="tab:green", lw=0.8)
-    disturbed = estimate.detector("field_disturbed")[::step]
+    disturbed = (estimate.field_judgement() ==
+                 FIELD_JUDGEMENTS.index("field_disturbed"))[::step]
     if disturbed.any():
         ax[1].fill_between(t, 0, 1, where=disturbed, color="tab:red", alpha=0.15, lw=0,
                            transform=ax[1].get_xaxis_transform(),

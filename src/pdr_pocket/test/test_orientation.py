@@ -300,3 +300,23 @@ def test_each_update_has_a_builder_that_cites_its_equation():
     for builder in builders.values():
         doc = " ".join(builder.__doc__.split())
         assert "Muñoz Díaz 2016, Eq" in doc or doc.startswith("Beyond the thesis"), builder
+
+
+def test_a_field_judgement_holds_until_the_next_reading():
+    """docs/pocket.md: a phone's magnetometer comes at half the IMU's rate here (NaN
+    between readings, as pdr_pocket.inputs aligns it): each reading is judged once, and
+    field_judgement holds that judgement over the samples until the next one; a reading
+    far from the field (a magnet) is judged disturbed and held as such."""
+    n = 400
+    t = np.arange(n) * 0.01
+    gyro, accel = np.zeros((n, 3)), np.tile([0.0, 0.0, 9.80665], (n, 1))
+    noise = np.random.default_rng(1).normal(0.0, 0.05e-6, (n, 3))
+    mag = np.array([0.0, 20e-6, -40e-6]) + noise
+    mag[300:310] += [30e-6, 0.0, 0.0]                    # a magnet passes
+    mag[1::2] = np.nan
+    est = OrientationFilter(OrientationConfig()).run(t, gyro, accel, mag)
+    judged = est.field_judgement()
+    undisturbed = est.detector("field_undisturbed")
+    assert not undisturbed[1::2].any() and undisturbed[0:300:2].all()
+    assert (judged[:300] == 0).all()
+    assert (judged[301:310] == 1).all() and est.detector("field_disturbed")[300:310:2].all()
