@@ -52,10 +52,10 @@ N_OUTPUT = 6                        # the covariance rows written per sample: δ
 THESIS_UPDATE_NAMES = ("absolute_gravity", "differential_gravity", "absolute_magnetic",
                        "differential_magnetic", "compass", "zaru", "mean_gravity")
 THESIS_DETECTOR_NAMES = ("zero_acceleration", "zero_rate", "steady_field", "saturated")
+# what the default filter made of a magnetometer reading: its detectors' names
+FIELD_JUDGEMENTS = compiled_attitude.DETECTOR_NAMES[compiled_attitude.FIELD_UNDISTURBED:
+                                                    compiled_attitude.FIELD_IMPLAUSIBLE + 1]
 
-
-# what the default filter made of a magnetometer reading (compiled_attitude's detectors)
-FIELD_JUDGEMENTS = ("field_undisturbed", "field_disturbed", "field_implausible")
 
 @dataclass(frozen=True)
 class AttitudeEstimate:
