@@ -43,6 +43,10 @@ PYSHOE_CLIMB = SHARED_DATA / "foot" / "pyshoe_vicon" / "2018-02-09-11-19-39.csv"
 XIO = SHARED_DATA / "foot" / "xio_gait_tracking" / "short_walk.csv"
 OXFORD = SHARED_DATA / "pocket" / "oxford_step_counter" / "user1_frontpocket_1506422223341.csv"
 THIGH = SHARED_DATA / "pocket" / "thigh_revalew"
+# Two phones' own Sensor Logger exports, held in the hand (pdr-sim import-phone)
+SENSOR_LOGGER = SHARED_DATA / "phone" / "sensor_logger"
+SENSOR_LOGGER_EXPORTS = {"android": SENSOR_LOGGER / "inhand-27-steps-Matan",
+                         "ios": SENSOR_LOGGER / "inhand-28-steps-Ido"}
 
 # Import arguments of the recordings (README, "Evaluate on your own recording")
 PYSHOE_ARGS = ["--time-col", "t_s", "--acc-cols", "acc_x_mps2,acc_y_mps2,acc_z_mps2",

@@ -9,6 +9,8 @@ Subcommands:
                  positions and attitudes, imu/mag, imu/pressure).
     import-oxiod an OxIOD sequence (imuK.csv + viK.csv) -> bag (imu/data, imu/mag,
                  ground_truth/pose with the phone's attitude).
+    import-phone a phone's own export, one CSV per sensor (Sensor Logger's folder or zip,
+                 or files you name) -> bag (imu/data, imu/mag, imu/pressure).
     export-csv   a bag's imu/data (with imu/mag and ground_truth/pose) -> a phone-style
                  CSV log that import-csv reads back; the true step times with --steps-out.
     info         topics, types, message counts and time span of a bag.
@@ -49,9 +51,11 @@ from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
 from pdr_core.odometry import truth_tf
 from pdr_core.oxiod import GLITCH_STEP_RAD, import_oxiod
+from pdr_core.phone_import import CONVENTION_SIGNS, import_phone
 from pdr_sim.allan_report import allan_report
 from pdr_sim.foot_trajectory import level_walk_like
 from pdr_sim.overrides import with_overrides
+from pdr_sim.phone_layouts import phone_layout
 from pdr_sim.pocket_scenario import POCKET_BUILTIN
 from pdr_sim.scenario import BUILTIN
 from pdr_sim.simulation import (
@@ -465,6 +469,65 @@ def _run_import_oxiod(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_import_phone(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "import-phone", help="turn a phone's own export (one CSV per sensor) into a bag",
+        description="Turn a phone's recording, one CSV file per sensor at its own rate, into "
+                    "a bag: imu/data (the accelerometer and the gyroscope paired at the "
+                    "slower one's stamps, the faster one averaged over each sample's "
+                    "interval: nothing interpolated), imu/mag and imu/pressure (each reading "
+                    "at its own stamp). A Sensor Logger export (its folder, or the zip it "
+                    "shares) is read as it is: a gravity-removed Accelerometer.csv is added "
+                    "to Gravity.csv, iOS's sign is turned to the specific force's, units are "
+                    "the app's. Any other layout: name each file with --acc FILE:TIME:X,Y,Z "
+                    "(and --gravity, --gyro, --mag the same way, --pressure FILE:TIME:COL), "
+                    "FILE relative to DIR, columns by header name or 0-based index. See "
+                    "docs/phone.md.")
+    p.add_argument("folder", type=Path, help="the export's folder (or a Sensor Logger .zip)")
+    _add_bag_output(p)
+    for name, what in (("acc", "accelerometer (gravity included, or removed with --gravity)"),
+                       ("gravity", "gravity part of a gravity-removed accelerometer"),
+                       ("gyro", "gyroscope"), ("mag", "magnetometer")):
+        p.add_argument(f"--{name}", metavar="FILE:TIME:X,Y,Z", help=f"the {what} file")
+    p.add_argument("--pressure", metavar="FILE:TIME:COL", help="the barometer file")
+    p.add_argument("--convention", choices=sorted(CONVENTION_SIGNS),
+                   help="the accelerometer's sign: android (a phone lying face up reads "
+                        "+9.8 m/s² on z, the specific force) or ios (−9.8, Core Motion's); "
+                        "default for Sensor Logger: from the phone's own attitude, else its "
+                        "Metadata.csv; for named files: android")
+    p.add_argument("--time-unit", default=None, choices=sorted(TIME_UNITS_S),
+                   help="unit of every time column (default: ns, Sensor Logger's)")
+    p.add_argument("--acc-unit", default="mps2", choices=sorted(ACC_UNITS_MPS2),
+                   help="unit of the accelerometer and gravity columns")
+    p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS),
+                   help="unit of the gyroscope columns")
+    p.add_argument("--mag-unit", default="ut", choices=sorted(MAG_UNITS_T),
+                   help="unit of the magnetometer columns")
+    p.add_argument("--pressure-unit", default="hpa", choices=sorted(PRESSURE_UNITS_PA),
+                   help="unit of the pressure column")
+    p.add_argument("--drop-invalid", action="store_true",
+                   help="drop rows with an empty, NaN or Inf cell and stamps that do not "
+                        "increase, instead of failing")
+    p.add_argument("--force", action="store_true",
+                   help="import data that fail a plausibility check of their units, each "
+                        "with a warning")
+    p.set_defaults(func=_run_import_phone)
+
+
+def _run_import_phone(args: argparse.Namespace) -> int:
+    with phone_layout(args) as layout:
+        result = import_phone(layout)
+        _write_recording(args, args.folder, result.imu, mag=result.mag,
+                         pressure=result.pressure)
+    print(f"{args.out}: {_span(result.imu)}")
+    for line in result.lines:
+        print(f"  {line}")
+    for topic, batch in ((topics.IMU_MAG, result.mag), (topics.IMU_PRESSURE, result.pressure)):
+        if batch is None:
+            print(f"  {topic.lstrip('/')}: none (the export has no such sensor)")
+    return 0
+
+
 def _add_export_csv(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "export-csv", help="write a bag's IMU data as a CSV log",
@@ -554,6 +617,7 @@ def parser() -> argparse.ArgumentParser:
     _add_fit_steps(sub)
     _add_import_csv(sub)
     _add_import_oxiod(sub)
+    _add_import_phone(sub)
     _add_export_csv(sub)
     _add_info(sub)
     _add_repair(sub)
