@@ -176,12 +176,13 @@ def _unit(value: str, units: dict[str, float], option: str) -> float:
     return units[value]
 
 
-def read_sensor(sensor: SensorFile, time_unit: str, scale: float, drop_invalid: bool
-                ) -> _Readings:
+def read_sensor(sensor: SensorFile, time_unit: str, scale: float, drop_invalid: bool,
+                check_rate: bool = True) -> _Readings:
     """The kept rows of ``sensor``'s file: stamps [ns], values × ``scale`` (SI). Rows with
     a NaN or Inf (an empty cell) or a stamp not later than every row before are refused
     naming the file and the row, or dropped with ``drop_invalid``; a file without a valid
-    row is refused."""
+    row is refused, and with ``check_rate`` one whose median interval lies beyond 5-10000
+    Hz in ``time_unit`` (a barometer, at 1-25 Hz on phones, is not checked)."""
     names, table = read_table(sensor.path, header=True)
     columns = [_index(sensor.path, names, c) for c in (sensor.time_col, *sensor.value_cols)]
     if max(columns) >= table.shape[1]:
@@ -202,6 +203,10 @@ def read_sensor(sensor: SensorFile, time_unit: str, scale: float, drop_invalid: 
     keep &= later
     if not keep.any():
         raise InputError(sensor.path, "no valid row")
+    if check_rate:
+        refuse_implausible(sensor.path, [implausible(
+            sensor.time_col, SAMPLE_INTERVAL_RANGE, median_interval_s(t_s[keep]), time_unit,
+            TIME_UNITS_S, "--time-unit")], accept=False)
     stamp_ns = exact_ns[keep] if exact_ns is not None else np.rint(t_s[keep] * 1e9).astype(
         np.int64)
     return _Readings(stamp_ns, picked[keep, 1:] * scale, len(picked), int((~keep).sum()))
@@ -225,22 +230,12 @@ def _index(path: Path, names: list[str] | None, col: str) -> int:
     raise InputError(path, f"no column '{col}' (columns: {', '.join(names or [])})")
 
 
-def _check_rate(sensor: SensorFile, readings: _Readings, time_unit: str) -> None:
-    """Refuse a file whose median interval lies beyond 5-10000 Hz in ``time_unit``; a
-    barometer (1-25 Hz on phones) is not checked."""
-    problem = implausible(sensor.time_col, SAMPLE_INTERVAL_RANGE,
-                          median_interval_s(readings.stamp_ns * 1e-9), time_unit,
-                          TIME_UNITS_S, "--time-unit")
-    refuse_implausible(sensor.path, [problem], accept=False)
-
-
 def paired_specific_force(layout: PhoneLayout, scale: float
                           ) -> tuple[_Readings, str]:
     """The specific force [m/s²] f = s · (a + g) at the accelerometer's stamps (module
     docstring), and what went in, in words; accelerometer samples without a gravity
     reading in their interval are dropped."""
     acc = read_sensor(layout.accelerometer, layout.time_unit, scale, layout.drop_invalid)
-    _check_rate(layout.accelerometer, acc, layout.time_unit)
     sign = "" if layout.acc_sign > 0 else "−"
     if layout.gravity is None:
         return (_Readings(acc.stamp_ns, layout.acc_sign * acc.values, acc.rows_read,
@@ -289,7 +284,6 @@ def _magnetometer(layout: PhoneLayout) -> tuple[MessageBatch, str]:
     sensor = layout.magnetometer
     scale = _unit(layout.mag_unit, MAG_UNITS_T, "--mag-unit")
     readings = read_sensor(sensor, layout.time_unit, scale, layout.drop_invalid)
-    _check_rate(sensor, readings, layout.time_unit)
     refuse_implausible(sensor.path, [implausible(",".join(sensor.value_cols), FIELD_RANGE,
                                                  median_field_t(readings.values),
                                                  layout.mag_unit, MAG_UNITS_T, "--mag-unit")],
@@ -305,7 +299,8 @@ def _barometer(layout: PhoneLayout) -> tuple[MessageBatch, str]:
     if len(sensor.value_cols) != 1:
         raise InputError("--pressure", f"needs 1 value column, got {len(sensor.value_cols)}")
     scale = _unit(layout.pressure_unit, PRESSURE_UNITS_PA, "--pressure-unit")
-    readings = read_sensor(sensor, layout.time_unit, scale, layout.drop_invalid)
+    readings = read_sensor(sensor, layout.time_unit, scale, layout.drop_invalid,
+                           check_rate=False)
     pressure = readings.values[:, 0]
     refuse_implausible(sensor.path, [implausible(sensor.value_cols[0], PRESSURE_RANGE,
                                                  float(np.median(pressure)),
@@ -333,7 +328,6 @@ def import_phone(layout: PhoneLayout) -> PhoneImport:
         gyro = read_sensor(layout.gyroscope, layout.time_unit,
                            _unit(layout.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit"),
                            layout.drop_invalid)
-        _check_rate(layout.gyroscope, gyro, layout.time_unit)
         refuse_implausible(layout.gyroscope.path, [implausible(
             ",".join(layout.gyroscope.value_cols), ANGULAR_RATE_RANGE,
             angular_rate_p99_radps(gyro.values), layout.gyro_unit, GYRO_UNITS_RADPS,
