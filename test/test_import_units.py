@@ -9,7 +9,7 @@ import pytest
 
 from pdr_core.bag import BagReader
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from wstest import cli
+from wstest import SHARED_DATA, cli, needs_shared
 
 COLUMNS = ["--time-col", "t", "--acc-cols", "ax,ay,az", "--gyro-cols", "gx,gy,gz",
            "--mag-cols", "mx,my,mz"]
@@ -156,3 +156,28 @@ def test_calibrate_mag_refuses_a_csv_in_t_read_as_ut_unless_forced(tmp_path):
     fixed = cli("pdr-pocket", "calibrate-mag", str(csv), "--out", out, "--mag-unit", "t")
     assert fixed.returncode == 0 and fixed.stderr == "", fixed.stderr
     assert "|H| 48.00 µT" in fixed.stdout
+
+
+# Sensor Logger's Accelerometer.csv of a phone held in the hand (Android): gravity removed,
+# in m/s², columns time,z,y,x, time in ns (../shared/data/README.md)
+LINEAR_ACCELERATION = (SHARED_DATA / "phone" / "sensor_logger" / "inhand-27-steps-Matan"
+                       / "Accelerometer.csv")
+
+
+@needs_shared(LINEAR_ACCELERATION)
+def test_a_phones_gravity_removed_accelerometer_is_named_so_never_g(tmp_path):
+    """Issue 54, defect 1: import-csv told the user to pass --acc-unit g."""
+    result = cli("pdr-sim", "import-csv", str(LINEAR_ACCELERATION), "--out",
+                 str(tmp_path / "bag"), "--time-col", "time", "--time-unit", "ns",
+                 "--acc-cols", "x,y,z")
+    assert result.returncode == 2, result.stdout
+    [line] = result.stderr.splitlines()
+    assert line == (f"pdr-sim: error: {LINEAR_ACCELERATION}: columns x,y,z: median |f| 2.06 "
+                    "m/s² (0.21 g), and the median norm of its slow part (1 s moving mean) "
+                    "0.889 m/s², 0.43 times the median |f| (data with gravity give about 1, "
+                    "in any unit): the accelerometer looks gravity-removed (a phone app's "
+                    "linear or user acceleration): import the raw accelerometer (gravity "
+                    "included) instead, or add the gravity part to it (Sensor Logger's "
+                    "Gravity.csv: pdr-sim import-phone DIR); a unit option cannot fix it "
+                    "(--force accepts it as read)")
+    assert "--acc-unit g" not in line and not (tmp_path / "bag").exists()

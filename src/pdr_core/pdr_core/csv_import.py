@@ -6,16 +6,30 @@ is SI and REP-145: specific force in m/s², angular rate in rad/s, stamps in ns.
 ``orientation_covariance[0] = -1`` (no orientation); without gyroscope columns,
 ``angular_velocity_covariance[0] = -1`` too (rates unknown).
 
-Rows with NaN/Inf or stamps that do not increase are errors naming the file and the row,
-unless ``drop_invalid`` is set, in which case they are dropped and counted. Rows that
-repeat the previous row exactly (same time, same values) are refused unless
-``drop_duplicates`` is set; dropping them loses no information.
+An empty cell is a missing value, NaN (:func:`read_table`); a cell that is not a number
+is refused naming its row (the file's line, the header line 1) and its column. A log
+holds up to four sensors, each written at the stamps of its own rows (loggers that write
+a row whenever any sensor fires leave the others' cells empty): the IMU (accelerometer
+and gyroscope columns together, one ``sensor_msgs/Imu``), the magnetometer, the
+barometer, and the truth (positions and quaternion). A row where all of one sensor's
+cells are empty (or NaN) holds no reading of it. Invalid rows (:func:`sensor_rows`): a
+sensor's cells partly empty (a sensor not yet started) or Inf, no time, no reading of
+any sensor, a truth quaternion not of unit norm, a stamp not later than the same
+sensor's previous reading. They are errors naming the file, the row and the column by
+its header name, unless ``drop_invalid`` is set, in which case they are dropped and
+counted. Rows that repeat the previous row exactly (same time, same cells) are refused
+unless ``drop_duplicates`` is set; dropping them loses no information. The checks below
+judge each sensor on its own rows (the sample interval is the IMU's).
 
 Data that no walk or rest gives in the units they were read in (a median |f| far from g,
 a sample rate beyond 5-10000 Hz, a 99th percentile of |ω| above 50 rad/s, a median |B|
 beyond 1-1000 µT: pdr_core.imu_checks) are refused naming the file, the columns, the
 value in the unit read and the unit option that fixes them (:func:`implausible_columns`),
-unless ``accept_implausible`` is set (``--force``): then each is an InputWarning.
+unless ``accept_implausible`` is set (``--force``): then each is an InputWarning. An
+accelerometer whose gravity was removed (a phone app's linear acceleration: median |f|
+below 0.5 g, and the slow part of the vector near zero, pdr_core.imu_checks.
+gravity_removed) is refused as such, naming the gravity as the remedy and never a unit
+(:func:`gravity_removed_problem`).
 
 An accelerometer column that holds one value in every kept row, over at least
 :data:`MIN_ROWS_CONSTANT_AXIS` rows, is refused whatever ``accept_implausible`` says
@@ -23,10 +37,10 @@ An accelerometer column that holds one value in every kept row, over at least
 an axis of an accelerometer.
 
 A barometer column (``pressure_col``, in hPa or Pa, :data:`PRESSURE_UNITS_PA`) becomes
-``sensor_msgs/FluidPressure`` [Pa], one message per kept row; its NaN cells are invalid
-rows like any column's. A median beyond :data:`PRESSURE_RANGE` (30-110 kPa: from the
-height of Everest to above the highest sea-level pressure ever measured) in the unit
-read is refused like the other units (hPa read as Pa is 1 kPa); a pressure column that
+``sensor_msgs/FluidPressure`` [Pa], one message per kept row with a reading. A median
+beyond :data:`PRESSURE_RANGE` (30-110 kPa: from the height of Everest to above the
+highest sea-level pressure ever measured) in the unit read is refused like the other
+units (hPa read as Pa is 1 kPa); a pressure column that
 holds one value over at least :data:`MIN_ROWS_CONSTANT_AXIS` rows is imported with an
 InputWarning (:func:`warn_constant_pressure`): a coarse barometer at rest may hold one
 reading, but more often it is another column.
@@ -44,9 +58,10 @@ a navigator against zeros. A row whose quaternion's norm is not 1 within
 :data:`QUATERNION_NORM_TOLERANCE` (a tracker that lost the body writes zeros) is an
 invalid row like a NaN (:func:`valid_rows`); the others are normalised.
 
-The pieces serve other importers too (pdr_core.oxiod): :func:`read_table`,
-:func:`valid_rows`, :func:`sensor_attitude` and the batch builders :func:`imu_batch`,
-:func:`pose_batch` and :func:`mag_batch`.
+The pieces serve other importers too (pdr_core.oxiod, pdr_core.phone_import):
+:func:`read_table`, :func:`valid_rows`, :func:`gravity_removed_problem`,
+:func:`sensor_attitude` and the batch builders :func:`imu_batch`, :func:`pose_batch` and
+:func:`mag_batch`.
 """
 from __future__ import annotations
 
@@ -61,21 +76,26 @@ from scipy.spatial.transform import Rotation
 from pdr_core.atmosphere import SEA_LEVEL_PRESSURE_PA
 from pdr_core.barometry import PA_PER_HPA, PRESSURE_MAX_PA, PRESSURE_MIN_PA
 from pdr_core.batch import MessageBatch, stamp_ns_from_seconds
+from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError, InputWarning
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.imu_checks import (
     ANGULAR_RATE_RANGE,
     FIELD_RANGE,
     SAMPLE_INTERVAL_RANGE,
+    SLOW_PART_WINDOW_S,
     SPECIFIC_FORCE_RANGE,
     PlausibleRange,
     angular_rate_p99_radps,
+    gravity_removed,
     median_field_t,
     median_interval_s,
     median_specific_force_mps2,
+    slow_part_median_norm,
 )
 from pdr_core.msgtypes import FLUID_PRESSURE, IMU, MAGNETIC_FIELD, POSE_STAMPED
 from pdr_core.rotations import quaternion_xyzw, rotation_from_euler
+from pdr_core.topics import GROUND_TRUTH_POSE, IMU_DATA, IMU_MAG, IMU_PRESSURE
 from pdr_core.units import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
@@ -217,9 +237,13 @@ def _column_index(path: Path, names: list[str] | None, col: str) -> int:
 
 
 def read_table(path: Path, header: bool) -> tuple[list[str] | None, np.ndarray]:
-    """The column names (None without a header) and the numbers (N, M) of a CSV file;
-    InputError names the file and what is wrong with it (none, empty, not numbers, rows
-    of different lengths: numpy names the row)."""
+    """The column names (None without a header) and the numbers (N, M) of a CSV file.
+
+    An empty cell is a missing value: NaN. Row i of the table is line i + 2 of the file
+    with a header (the header is line 1), i + 1 without: the rows the importers' messages
+    name. InputError names the file and what is wrong with it: none, empty, no data rows,
+    a row of another length than the first (its line), a cell that is not a number (its
+    line, and its column by header name, by 0-based index without a header)."""
     if not path.is_file():
         raise InputError(path, "no such file")
     with path.open(newline="") as stream:
@@ -227,16 +251,60 @@ def read_table(path: Path, header: bool) -> tuple[list[str] | None, np.ndarray]:
     if first is None:
         raise InputError(path, "empty file")
     names = [c.strip() for c in first] if header else None
+    lines = path.read_bytes().rstrip().count(b"\n") + 1 - int(header)
     try:
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", "loadtxt: input contained no data")
             table = np.loadtxt(path, delimiter=",", skiprows=1 if header else 0, ndmin=2,
                                dtype=np.float64)
-    except ValueError as exc:
-        raise InputError(path, f"cannot parse as numbers ({exc})") from exc
+    except ValueError:
+        table = None
+    if table is None or (len(table) and len(table) != lines):
+        table = _cells_as_numbers(path, names, header)
     if table.shape[0] == 0:
         raise InputError(path, "no data rows")
     return names, table
+
+
+def _cells_as_numbers(path: Path, names: list[str] | None, header: bool) -> np.ndarray:
+    """:func:`read_table`'s slow path, for what np.loadtxt refuses or skips (empty cells,
+    blank or comment lines, rows of other lengths, words): every line up to the last
+    non-blank one is a row, a blank line a row of empty cells."""
+    with path.open(newline="") as stream:
+        rows = list(csv.reader(stream))[int(header):]
+    while rows and not any(cell.strip() for cell in rows[-1]):
+        rows.pop()
+    if not rows:
+        return np.empty((0, 0))
+    blank = [not any(cell.strip() for cell in row) for row in rows]
+    width = next((len(row) for row, empty in zip(rows, blank, strict=True) if not empty), 0)
+    for i, row in enumerate(rows):
+        if blank[i]:
+            rows[i] = [""] * width
+        elif len(row) != width:
+            raise InputError(path, f"row {i + 1 + int(header)}: {len(row)} cells, but the first "
+                                   f"data row has {width}")
+    cells = np.char.strip(np.array(rows, dtype=str).reshape(len(rows), width))
+    cells[cells == ""] = "nan"
+    try:
+        return cells.astype(np.float64)
+    except ValueError:
+        i, j = next((i, j) for (i, j), cell in np.ndenumerate(cells) if not _is_number(cell))
+        raise InputError(path, f"row {i + 1 + int(header)}, column {column_label(names, j)}: "
+                               f"'{cells[i, j]}' is not a number") from None
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        np.float64(cell)
+    except ValueError:
+        return False
+    return True
+
+
+def column_label(names: list[str] | None, index: int) -> str:
+    """How messages name column ``index``: its header name, or its 0-based index."""
+    return names[index] if names is not None and index < len(names) else str(index)
 
 
 def _select(path: Path, names: list[str] | None, table: np.ndarray,
@@ -295,56 +363,131 @@ def warn_constant_pressure(path: Path, column: str, pressure_read: np.ndarray) -
                                      "noise rarely is; check --pressure-col"), stacklevel=3)
 
 
-def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str) -> None:
+def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str,
+            column: str | None = None) -> None:
     row = int(np.flatnonzero(bad)[0])
-    raise InputError(path, f"row {row + first_row}: {what} ({int(bad.sum())} such rows; "
-                           f"{flag} drops them)")
+    where = f"row {row + first_row}" + ("" if column is None else f", column {column}")
+    raise InputError(path, f"{where}: {what} ({int(bad.sum())} such rows; {flag} drops them)")
+
+
+def _refuse_cells(path: Path, bad: np.ndarray, first_row: int, labels: list[str],
+                  values: np.ndarray, nan_note: str = "") -> None:
+    """Refuse ``path`` for the first row of ``bad`` (N, M) cells, naming it (numbered from
+    ``first_row``), the first such cell's column (``labels``, M) and its value in
+    ``values`` (N, M): Inf, or empty or NaN followed by ``nan_note``."""
+    rows = bad.any(axis=1)
+    row = int(np.flatnonzero(rows)[0])
+    col = int(np.flatnonzero(bad[row])[0])
+    value = values[row, col]
+    what = "empty or NaN" + nan_note if np.isnan(value) else f"{value:g}"
+    _refuse(path, rows, first_row, what, "--drop-invalid", labels[col])
 
 
 def valid_rows(path: Path, values: np.ndarray, first_row: int, drop_invalid: bool,
-               quaternion: np.ndarray | None = None) -> np.ndarray:
-    """(N,) bool: the rows of ``values`` (N, M) that hold no NaN or Inf and, with
-    ``quaternion`` (N, 4), whose quaternion's norm is 1 within
+               quaternion: np.ndarray | None = None,
+               labels: list[str] | None = None) -> np.ndarray:
+    """(N,) bool: the rows of ``values`` (N, M) that hold no NaN (an empty cell) or Inf
+    and, with ``quaternion`` (N, 4), whose quaternion's norm is 1 within
     :data:`QUATERNION_NORM_TOLERANCE`. Unless ``drop_invalid``, any other row is refused:
-    an InputError naming ``path``, the first such row (numbered from ``first_row``) and
-    ``--drop-invalid``."""
-    finite = np.isfinite(values).all(axis=1)
+    an InputError naming ``path``, the first such row (numbered from ``first_row``), its
+    column (``labels``, M names; 0-based indices without) and ``--drop-invalid``."""
+    finite = np.isfinite(values)
     if not drop_invalid and not finite.all():
-        _refuse(path, ~finite, first_row, "NaN or Inf value", "--drop-invalid")
-    if quaternion is None:
-        return finite
+        _refuse_cells(path, ~finite, first_row,
+                      labels or [str(i) for i in range(values.shape[1])], values)
+    keep = finite.all(axis=1)
+    if quaternion is not None:
+        keep &= _unit_quaternions(path, quaternion, first_row, drop_invalid)
+    return keep
+
+
+def _unit_quaternions(path: Path, quaternion: np.ndarray, first_row: int,
+                      drop_invalid: bool) -> np.ndarray:
+    """(N,) bool: False for the rows of ``quaternion`` (N, 4) whose norm is further than
+    :data:`QUATERNION_NORM_TOLERANCE` from 1 (a NaN row is judged elsewhere), refused
+    unless ``drop_invalid`` (:func:`valid_rows`)."""
     norm = np.linalg.norm(quaternion, axis=1)
-    off = finite & (np.abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE)
+    with np.errstate(invalid="ignore"):
+        off = np.abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE
     if off.any() and not drop_invalid:
         _refuse(path, off, first_row, f"quaternion norm {norm[np.flatnonzero(off)[0]]:.4g}, "
                                       f"not 1 (±{QUATERNION_NORM_TOLERANCE:g})", "--drop-invalid")
-    return finite & ~off
+    return ~off
 
 
-def _kept_rows(path: Path, t_s: np.ndarray, values: np.ndarray, fmt: CsvImuFormat,
-               first_row: int, quaternion: np.ndarray | None = None
-               ) -> tuple[np.ndarray, np.ndarray]:
-    """Masks (keep, duplicate) over the rows; raises InputError for refused rows.
+@dataclass(frozen=True)
+class SensorColumns:
+    """One sensor of a log: ``name`` (what messages call it), the ``labels`` of its
+    columns (header names, or 0-based indices) and its ``cells`` (N, k) as read, NaN where
+    empty. A row holds a reading of it when any of its cells is not empty."""
 
-    A duplicate repeats the previous row exactly (time and every value): it carries no
-    information, and some loggers emit them. Other rows must be valid (:func:`valid_rows`,
-    with the truth's ``quaternion`` (N, 4) when there is one) and strictly later than
-    every kept row before them.
-    """
-    duplicate = np.concatenate(([False], (t_s[1:] == t_s[:-1])
-                                & (values[1:] == values[:-1]).all(axis=1)))
-    if duplicate.any() and not fmt.drop_duplicates:
-        _refuse(path, duplicate, first_row, "exact duplicate of the previous row",
-                "--drop-duplicates")
-    valid = valid_rows(path, np.column_stack([t_s, values]), first_row, fmt.drop_invalid,
-                       quaternion) & ~duplicate
-    kept_t = np.where(valid, t_s, -np.inf)
-    increasing = np.concatenate(([True], kept_t[1:] > np.maximum.accumulate(kept_t)[:-1]))
-    late = valid & ~increasing
-    if late.any() and not fmt.drop_invalid:
-        _refuse(path, late, first_row, f"time {t_s[np.flatnonzero(late)[0]]:.9f} does not "
-                                       "increase", "--drop-invalid")
-    return valid & increasing, duplicate
+    name: str
+    labels: list[str]
+    cells: np.ndarray
+
+    @property
+    def reading(self) -> np.ndarray:
+        return ~np.isnan(self.cells).all(axis=1)
+
+
+def sensor_rows(path: Path, t_s: np.ndarray, time_label: str, sensors: list[SensorColumns],
+                first_row: int, drop_invalid: bool, quaternion: np.ndarray | None = None,
+                judged: np.ndarray | None = None) -> np.ndarray:
+    """(N,) bool: the valid rows of a log of ``sensors`` stamped ``t_s`` [s] (N,) by the
+    column ``time_label`` (module docstring: a sensor's cells all empty is no reading of
+    it; partly empty, an Inf, no time, no reading of any sensor, a truth ``quaternion``
+    (N, 4) not of unit norm, or a stamp not later than the sensor's previous reading make
+    an invalid row). Unless ``drop_invalid``, an invalid row is refused: an InputError
+    naming ``path``, the row (numbered from ``first_row``), the column and
+    ``--drop-invalid``. Only the rows ``judged`` (N,) bool (default: all) can be valid
+    (the others, e.g. exact duplicates, are left out)."""
+    judged = np.ones(len(t_s), bool) if judged is None else judged
+    no_time = judged & ~np.isfinite(t_s)
+    if no_time.any() and not drop_invalid:
+        _refuse_cells(path, no_time[:, None], first_row, [time_label], t_s[:, None],
+                      " (no time)")
+    valid = judged & ~no_time
+    for sensor in sensors:
+        partly = np.isnan(sensor.cells) & sensor.reading[:, None]
+        bad = (partly | np.isinf(sensor.cells)) & judged[:, None]
+        if bad.any() and not drop_invalid:
+            _refuse_cells(path, bad, first_row, sensor.labels, sensor.cells,
+                          f", while other columns of {sensor.name} ({','.join(sensor.labels)})"
+                          " hold values (a sensor not yet started, or a value lost?)")
+        valid &= ~bad.any(axis=1)
+    silent = judged & ~np.any([sensor.reading for sensor in sensors], axis=0)
+    if silent.any() and not drop_invalid:
+        labels = ",".join(label for sensor in sensors for label in sensor.labels)
+        _refuse(path, silent, first_row, f"no reading of any sensor (every cell of {labels} "
+                                         "is empty)", "--drop-invalid")
+    valid &= ~silent
+    if quaternion is not None:
+        valid &= _unit_quaternions(path, np.where(judged[:, None], quaternion, np.nan),
+                                   first_row, drop_invalid)
+    for sensor in sensors:
+        late = _not_later(t_s, valid & sensor.reading)
+        if late.any() and not drop_invalid:
+            _refuse(path, late, first_row, f"time {t_s[np.flatnonzero(late)[0]]:.9f} does "
+                                           f"not increase over {sensor.name}'s previous "
+                                           "reading", "--drop-invalid", time_label)
+        valid &= ~late
+    return valid
+
+
+def _not_later(t_s: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """(N,) bool: the ``rows`` whose stamp ``t_s`` is not later than that of every one of
+    the ``rows`` before."""
+    kept_t = np.where(rows, t_s, -np.inf)
+    earlier_max = np.concatenate(([-np.inf], np.maximum.accumulate(kept_t)[:-1]))
+    return rows & ~(t_s > earlier_max)
+
+
+def duplicate_rows(t_s: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """(N,) bool: the rows that repeat the previous row exactly, stamp ``t_s`` (N,) and
+    every cell of ``cells`` (N, M) (an empty cell repeats an empty cell)."""
+    values = np.column_stack([t_s, cells])
+    same = (values[1:] == values[:-1]) | (np.isnan(values[1:]) & np.isnan(values[:-1]))
+    return np.concatenate(([False], same.all(axis=1)))
 
 
 @dataclass(frozen=True)
@@ -371,9 +514,10 @@ def implausible_columns(fmt: CsvImuFormat, t_s: np.ndarray, acc: np.ndarray,
                                     fmt.time_unit, TIME_UNITS_S, "--time-unit",
                                     f" ({1.0 / interval:.3g} Hz)" if interval > 0 else ""))
     if len(acc):
-        problems.append(implausible(",".join(fmt.acc_cols), SPECIFIC_FORCE_RANGE,
-                                    median_specific_force_mps2(acc), fmt.acc_unit,
-                                    ACC_UNITS_MPS2, "--acc-unit"))
+        acc_cols = ",".join(fmt.acc_cols)
+        problems.append(gravity_removed_problem(acc_cols, t_s, acc) or implausible(
+            acc_cols, SPECIFIC_FORCE_RANGE, median_specific_force_mps2(acc), fmt.acc_unit,
+            ACC_UNITS_MPS2, "--acc-unit"))
     if gyro is not None and len(gyro):
         problems.append(implausible(",".join(fmt.gyro_cols), ANGULAR_RATE_RANGE,
                                     angular_rate_p99_radps(gyro), fmt.gyro_unit,
@@ -386,6 +530,29 @@ def implausible_columns(fmt: CsvImuFormat, t_s: np.ndarray, acc: np.ndarray,
                                     float(np.median(pressure)), fmt.pressure_unit,
                                     PRESSURE_UNITS_PA, "--pressure-unit"))
     return [problem for problem in problems if problem is not None]
+
+
+def gravity_removed_problem(columns: str, t_s: np.ndarray,
+                            acc_mps2: np.ndarray) -> Implausible | None:
+    """What is wrong with an accelerometer whose gravity was taken out, or None: the
+    specific forces ``acc_mps2`` (N, 3) [m/s², as read] of ``columns`` (comma-separated)
+    at the stamps ``t_s`` [s] (N,) have a median |f| below :data:`SPECIFIC_FORCE_RANGE`
+    and look gravity-removed (pdr_core.imu_checks.gravity_removed). The problem names the
+    median |f| and the median norm of the slow part; the fix the gravity, never a unit."""
+    median = median_specific_force_mps2(acc_mps2)
+    if median >= SPECIFIC_FORCE_RANGE.low_si or not gravity_removed(t_s, acc_mps2):
+        return None
+    slow = slow_part_median_norm(t_s, acc_mps2)
+    what = "column" if "," not in columns else "columns"
+    return Implausible(
+        f"{what} {columns}: median |f| {median:.3g} m/s² ({median / STANDARD_GRAVITY_MPS2:.2g} "
+        f"g), and the median norm of its slow part ({SLOW_PART_WINDOW_S:g} s moving mean) "
+        f"{slow:.3g} m/s², {slow / median:.2f} times the median |f| (data with gravity give "
+        "about 1, in any unit): the accelerometer looks gravity-removed (a phone app's "
+        "linear or user acceleration)",
+        "import the raw accelerometer (gravity included) instead, or add the gravity part to "
+        "it (Sensor Logger's Gravity.csv: pdr-sim import-phone DIR); a unit option cannot fix "
+        "it (--force accepts it as read)")
 
 
 def implausible(columns: str, plausible_range: PlausibleRange, value_si: float, unit: str,
@@ -509,7 +676,8 @@ def _check_truth_attitude(fmt: CsvImuFormat) -> None:
 
 
 def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
-    """Read a CSV IMU log into batches (see :class:`CsvImuFormat`)."""
+    """Read a CSV IMU log into batches (see :class:`CsvImuFormat`), each sensor's topic at
+    the stamps of its own rows (module docstring)."""
     path = Path(path)
     time_scale = _check_choice(fmt.time_unit, TIME_UNITS_S, "--time-unit")
     acc_scale = _check_choice(fmt.acc_unit, ACC_UNITS_MPS2, "--acc-unit")
@@ -529,46 +697,62 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     def columns(cols: tuple[str, ...]) -> np.ndarray:
         return _select(path, names, table, cols)
 
+    def sensor(name: str, cols: tuple[str, ...]) -> SensorColumns:
+        labels = [column_label(names, _column_index(path, names, c)) for c in cols]
+        return SensorColumns(name, labels, columns(cols))
+
     t_s = columns((fmt.time_col,))[:, 0] * time_scale + fmt.time_offset_s
-    acc_read = columns(fmt.acc_cols)
-    acc = acc_read * acc_scale @ acc_remap.T
-    gyro = (columns(fmt.gyro_cols) * gyro_scale @ gyro_remap.T if fmt.gyro_cols
-            else np.zeros_like(acc))
-    pos = columns(fmt.pos_cols) * pos_scale @ axis_matrix(fmt.pos_axes).T if fmt.pos_cols \
-        else None
+    sensors = {IMU_DATA: sensor("the IMU", fmt.acc_cols + fmt.gyro_cols)}
+    if fmt.mag_cols:
+        sensors[IMU_MAG] = sensor("the magnetometer", fmt.mag_cols)
+    if fmt.pressure_col:
+        sensors[IMU_PRESSURE] = sensor("the barometer", (fmt.pressure_col,))
+    if fmt.pos_cols:
+        sensors[GROUND_TRUTH_POSE] = sensor("the truth", fmt.pos_cols + fmt.quat_cols)
+    acc_read = sensors[IMU_DATA].cells[:, :3]
     quat = columns(fmt.quat_cols)[:, QUATERNION_ORDERS[fmt.quat_order]] if fmt.quat_cols \
         else None
-    mag = columns(fmt.mag_cols) * mag_scale @ axis_matrix(fmt.mag_axes or fmt.acc_axes
-                                                            or fmt.axes).T \
-        if fmt.mag_cols else None
-    pressure_read = columns((fmt.pressure_col,))[:, 0] if fmt.pressure_col else None
+    first_row = 2 if fmt.header else 1
+    duplicate = duplicate_rows(t_s, np.hstack([s.cells for s in sensors.values()]))
+    if duplicate.any() and not fmt.drop_duplicates:
+        _refuse(path, duplicate, first_row, "exact duplicate of the previous row",
+                "--drop-duplicates")
+    keep = sensor_rows(path, t_s, column_label(names, _column_index(path, names, fmt.time_col)),
+                       list(sensors.values()), first_row, fmt.drop_invalid, quat, ~duplicate)
+    rows = {topic: keep & s.reading for topic, s in sensors.items()}
+    for topic, s in sensors.items():
+        if not rows[topic].any():
+            raise InputError(path, f"no valid row with a reading of {s.name} "
+                                   f"({','.join(s.labels)})")
+    imu_rows = rows[IMU_DATA]
+    acc = acc_read[imu_rows] * acc_scale @ acc_remap.T
+    gyro = (sensors[IMU_DATA].cells[imu_rows, 3:] * gyro_scale @ gyro_remap.T
+            if fmt.gyro_cols else None)
+    mag = None if IMU_MAG not in rows else sensors[IMU_MAG].cells[rows[IMU_MAG]] * mag_scale \
+        @ axis_matrix(fmt.mag_axes or fmt.acc_axes or fmt.axes).T
+    pressure_read = None if IMU_PRESSURE not in rows else \
+        sensors[IMU_PRESSURE].cells[rows[IMU_PRESSURE], 0]
     pressure = None if pressure_read is None else pressure_read * pressure_scale
-    values = np.hstack([acc, gyro] + [v.reshape(len(t_s), -1)
-                                      for v in (pos, quat, mag, pressure) if v is not None])
-    keep, duplicate = _kept_rows(path, t_s, values, fmt, first_row=2 if fmt.header else 1,
-                                 quaternion=quat)
-    _refuse_constant_axis(path, names, fmt.acc_cols, acc_read[keep])
+    _refuse_constant_axis(path, names, fmt.acc_cols, acc_read[imu_rows])
     if pressure_read is not None:
-        warn_constant_pressure(path, str(fmt.pressure_col), pressure_read[keep])
-    refuse_implausible(path, implausible_columns(fmt, t_s[keep], acc[keep],
-                                                 gyro[keep] if fmt.gyro_cols else None,
-                                                 None if mag is None else mag[keep],
-                                                 None if pressure is None else pressure[keep]),
+        warn_constant_pressure(path, str(fmt.pressure_col), pressure_read)
+    refuse_implausible(path, implausible_columns(fmt, t_s[imu_rows], acc, gyro, mag, pressure),
                        accept=fmt.accept_implausible)
 
-    stamp_ns = stamp_ns_from_seconds(t_s[keep])
-    n = len(stamp_ns)
-    imu = imu_batch(stamp_ns, fmt.imu_frame, acc[keep], gyro[keep] if fmt.gyro_cols else None)
+    stamp_ns = {topic: stamp_ns_from_seconds(t_s[r]) for topic, r in rows.items()}
     pose = None
-    if pos is not None:
+    if GROUND_TRUTH_POSE in rows:
+        truth = rows[GROUND_TRUTH_POSE]
         orientation = None if quat is None else sensor_attitude(
-            quat[keep], fmt.sensor_in_body_rpy_deg, fmt.pos_axes)
-        pose = pose_batch(stamp_ns, fmt.map_frame, pos[keep], orientation)
-    mag_messages = None if mag is None else mag_batch(stamp_ns, fmt.imu_frame, mag[keep])
-    pressure_batch = None
-    if pressure is not None:
-        pressure_batch = MessageBatch(FLUID_PRESSURE, stamp_ns, fmt.imu_frame, {
-            "fluid_pressure": pressure[keep], "variance": np.zeros(n)})
-    return CsvImport(imu, pose, rows_read=len(t_s), rows_duplicate=int(duplicate.sum()),
-                     rows_invalid=int((~keep & ~duplicate).sum()), mag=mag_messages,
+            quat[truth], fmt.sensor_in_body_rpy_deg, fmt.pos_axes)
+        pose = pose_batch(stamp_ns[GROUND_TRUTH_POSE], fmt.map_frame, columns(fmt.pos_cols)[
+            truth] * pos_scale @ axis_matrix(fmt.pos_axes).T, orientation)
+    pressure_batch = None if pressure is None else MessageBatch(
+        FLUID_PRESSURE, stamp_ns[IMU_PRESSURE], fmt.imu_frame,
+        {"fluid_pressure": pressure, "variance": np.zeros(len(pressure))})
+    return CsvImport(imu_batch(stamp_ns[IMU_DATA], fmt.imu_frame, acc, gyro), pose,
+                     rows_read=len(t_s), rows_duplicate=int(duplicate.sum()),
+                     rows_invalid=int((~keep & ~duplicate).sum()),
+                     mag=None if mag is None else mag_batch(stamp_ns[IMU_MAG], fmt.imu_frame,
+                                                            mag),
                      pressure=pressure_batch)

@@ -15,6 +15,19 @@ a CSV log's units.
   statistic of any walk's or rest's data lies, and which unit would bring data there
   (the fix a refusal names). The statistics: :func:`median_specific_force_mps2`,
   :func:`angular_rate_p99_radps`, :func:`median_field_t`, :func:`median_interval_s`.
+- :func:`gravity_removed`: an accelerometer with gravity taken out (a phone app's "linear
+  acceleration" or "user acceleration"), from :func:`slow_part_median_norm`.
+
+Gravity-removed accelerometers. With gravity, the slow part of the specific force (its
+moving mean over :data:`SLOW_PART_WINDOW_S`) is gravity seen from the turning sensor:
+its norm stays near g whatever the motion, so its median is about the median |f| (0.88 to
+1.13 times it in every shared recording, a foot's run at 2.2 g included: the run raises
+|f| but averages out of the mean). Without gravity, walking's accelerations average out
+over a stride: the slow part keeps only what the app's gravity estimate got wrong, and
+its median norm falls to 0.19-0.43 times the median |f| (Sensor Logger's two exports).
+Both are ratios of the same data, so the test holds in whatever unit the data were read:
+data in g read as m/s² keep a ratio of 1 and get the unit hint, gravity-removed data
+never do.
 """
 from __future__ import annotations
 
@@ -47,6 +60,11 @@ MAX_PLAUSIBLE_RATE_RADPS = 350.0
 MAX_WALK_RATE_RADPS = 50.0
 # The median |f| of data in g (about 1) read as m/s² falls between these [m/s²]
 G_LIKE_MEDIAN_MPS2 = (0.5, 2.0)
+# The slow part of a specific force: its moving mean over this window [s], a stride or two
+SLOW_PART_WINDOW_S = 1.0
+# Below this ratio of the slow part's median norm to the median |f|, gravity is missing:
+# with gravity 0.88-1.13, without 0.19-0.43 (module docstring)
+GRAVITY_REMOVED_SLOW_RATIO = 0.5
 
 
 @dataclass(frozen=True)
@@ -95,6 +113,31 @@ SAMPLE_INTERVAL_RANGE = PlausibleRange("median sample interval", "s", 1e-4, 0.2,
 def median_specific_force_mps2(accel: np.ndarray) -> float:
     """Median |f| [m/s²] of (N, 3) specific forces [m/s²]: about g for any walk or rest."""
     return float(np.median(np.linalg.norm(accel, axis=1)))
+
+
+def slow_part_median_norm(t_s: np.ndarray, accel: np.ndarray) -> float:
+    """Median norm of the slow part of (N, 3) specific forces ``accel`` (any unit; the
+    result is in it) sampled at the increasing stamps ``t_s`` [s] (N,): their moving mean
+    over :data:`SLOW_PART_WINDOW_S` (a window of round(window / median interval) samples,
+    whole windows only). NaN when the data do not fill one window."""
+    if len(t_s) < 2:
+        return float("nan")
+    interval = median_interval_s(t_s)
+    window = max(1, round(SLOW_PART_WINDOW_S / interval)) if interval > 0 else len(t_s) + 1
+    if window > len(accel):
+        return float("nan")
+    sums = np.cumsum(np.vstack([np.zeros((1, 3)), accel]), axis=0)
+    slow = (sums[window:] - sums[:-window]) / window
+    return float(np.median(np.linalg.norm(slow, axis=1)))
+
+
+def gravity_removed(t_s: np.ndarray, accel: np.ndarray) -> bool:
+    """Whether the (N, 3) accelerometer readings ``accel`` (any unit) at the stamps ``t_s``
+    [s] look gravity-removed: the median norm of their slow part
+    (:func:`slow_part_median_norm`) below :data:`GRAVITY_REMOVED_SLOW_RATIO` times their
+    median |f| (module docstring). False when the data do not fill one window."""
+    slow = slow_part_median_norm(t_s, accel)
+    return bool(slow < GRAVITY_REMOVED_SLOW_RATIO * median_specific_force_mps2(accel))
 
 
 def angular_rate_p99_radps(gyro: np.ndarray) -> float:

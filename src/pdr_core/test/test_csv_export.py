@@ -1,6 +1,6 @@
-"""CSV export (pdr_core.csv_export): the columns a bag's topics give, the magnetometer
-paired as the pocket navigator pairs it, and a log that pdr_core.csv_import reads back to
-the same samples."""
+"""CSV export (pdr_core.csv_export): the columns a bag's topics give, each topic at its
+own stamps with empty cells between, and a log that pdr_core.csv_import reads back to the
+same samples."""
 import numpy as np
 import pytest
 
@@ -46,40 +46,42 @@ def test_without_gyroscope_the_rates_are_left_out():
     assert "--gyro-cols" not in import_arguments(table)
 
 
-def test_each_row_takes_the_latest_reading_at_most_50_ms_old(tmp_path):
+def test_each_topic_is_written_at_its_own_stamps_with_empty_cells_between(tmp_path):
     imu = imu_batch()
     t = imu.stamp_ns
-    # a reading 0.02 s before the 10th sample, the next at the 40th
-    first, second = t[10] - 20_000_000, t[40]
+    # one reading 0.02 s before the first sample, one at the 40th
+    first, second = t[0] - 20_000_000, t[40]
     table = log_table(imu, mag_batch(np.array([first, second]), growth=1.0))
-    values = table.values[:, table.columns.index("mag_x_ut")]
-    age_first, age_second = t - first, t - second
-    assert np.allclose(values[(age_first >= 0) & (age_first <= 50_000_000)], 21.0)
-    assert np.allclose(values[(age_second >= 0) & (age_second <= 50_000_000)], 42.0)
-    stale = ((age_first < 0) | (age_first > 50_000_000)) & \
-        ((age_second < 0) | (age_second > 50_000_000))
-    assert np.isnan(values[stale]).all() and stale[:5].all() and stale[-1]
+    assert table.origin_ns == first and len(table.values) == len(imu) + 1
+    assert np.array_equal(table.values[:, 0], (np.sort(np.r_[t, first]) - first) * 1e-9)
+    mag = table.values[:, table.columns.index("mag_x_t")]
+    acc = table.values[:, table.columns.index("acc_x_mps2")]
+    assert np.array_equal(mag[[0, 41]], [21e-6, 42e-6])
+    assert np.isnan(np.delete(mag, [0, 41])).all() and np.isnan(acc[0])
+    assert np.array_equal(acc[1:], imu["linear_acceleration"][:, 0])
     write_csv(tmp_path / "log.csv", table)
     lines = (tmp_path / "log.csv").read_text().splitlines()
-    assert lines[1].endswith(",,,") and not lines[41].endswith(",")
-    assert lines[-1].endswith(",,,")
+    assert lines[1] == "0.0,,,,,,,2.1e-05,-4.3e-05,1e-08"
+    assert lines[2].endswith(",,,") and not lines[42].endswith(",")
 
 
 def test_the_log_reads_back_to_the_same_samples(tmp_path):
     imu = imu_batch()
-    mag = mag_batch(imu.stamp_ns)
+    mag = mag_batch(imu.stamp_ns[::2] + 3_000_000)
     table = log_table(imu, mag)
     write_csv(tmp_path / "log.csv", table)
     args = import_arguments(table)
-    cols = {name: tuple(value.split(",")) for name, value in zip(args[::2], args[1::2],
-                                                                   strict=True)}
+    opts = dict(zip(args[::2], args[1::2], strict=True))
+    cols = {name: tuple(value.split(",")) for name, value in opts.items()}
     fmt = CsvImuFormat(time_col="t_s", acc_cols=cols["--acc-cols"],
-                       gyro_cols=cols["--gyro-cols"], mag_cols=cols["--mag-cols"])
+                       gyro_cols=cols["--gyro-cols"], mag_cols=cols["--mag-cols"],
+                       mag_unit=opts["--mag-unit"])
     back = import_csv(tmp_path / "log.csv", fmt)
     assert np.array_equal(back.imu.stamp_ns, imu.stamp_ns - imu.stamp_ns[0])
+    assert np.array_equal(back.mag.stamp_ns, mag.stamp_ns - imu.stamp_ns[0])
     assert np.array_equal(back.imu["linear_acceleration"], imu["linear_acceleration"])
     assert np.array_equal(back.imu["angular_velocity"], imu["angular_velocity"])
-    assert np.allclose(back.mag["magnetic_field"], mag["magnetic_field"], rtol=1e-15, atol=0)
+    assert np.array_equal(back.mag["magnetic_field"], mag["magnetic_field"])
 
 
 def test_an_existing_file_is_kept_unless_overwrite(tmp_path):

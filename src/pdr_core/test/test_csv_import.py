@@ -76,12 +76,16 @@ def test_bad_axes(axes):
         axis_matrix(axes)
 
 
-def test_nan_row_is_refused_with_its_row_number(tmp_path):
+def test_nan_cell_is_refused_with_its_row_and_column(tmp_path):
     data = rows()
     data[3][2] = float("nan")
     path = write_csv(tmp_path / "d.csv", data)
-    with pytest.raises(InputError, match=r"d.csv: row 5: NaN or Inf value \(1 such rows"):
+    with pytest.raises(InputError) as refused:
         import_csv(path, FMT)
+    assert str(refused.value) == (
+        f"{path}: row 5, column ay: empty or NaN, while other columns of the IMU "
+        "(ax,ay,az,gx,gy,gz) hold values (a sensor not yet started, or a value lost?) (1 such "
+        "rows; --drop-invalid drops them)")
     result = import_csv(path, CsvImuFormat(**{**FMT.__dict__, "drop_invalid": True}))
     assert len(result.imu) == 4 and result.rows_invalid == 1
 
@@ -90,7 +94,8 @@ def test_time_going_backwards_is_refused(tmp_path):
     data = rows()
     data[2][0] = 0.0
     path = write_csv(tmp_path / "e.csv", data)
-    with pytest.raises(InputError, match=r"row 4: time 0\.000000000 does not increase"):
+    with pytest.raises(InputError, match=r"row 4, column time: time 0\.000000000 does not "
+                                         r"increase over the IMU's previous reading \(1 such"):
         import_csv(path, FMT)
     result = import_csv(path, CsvImuFormat(**{**FMT.__dict__, "drop_invalid": True}))
     np.testing.assert_array_equal(result.imu.stamp_ns, [0, 10_000_000, 30_000_000, 40_000_000])
@@ -123,8 +128,12 @@ def test_unknown_column_lists_the_columns(tmp_path):
 
 def test_unparsable_and_missing_files(tmp_path):
     path = tmp_path / "i.csv"
-    path.write_text(HEADER + "0,1,2,oops,4,5,6,7,8,9\n")
-    with pytest.raises(InputError, match=r"i\.csv: cannot parse"):
+    path.write_text(HEADER + "0,1,2,3,4,5,6,7,8,9\n0.01,1,2,oops,4,5,6,7,8,9\n")
+    with pytest.raises(InputError, match=r"i\.csv: row 3, column az: 'oops' is not a number$"):
+        import_csv(path, FMT)
+    path.write_text(HEADER + "0,1,2,3,4,5,6,7,8,9\n0.01,1,2,3,4,5,6,7,8\n")
+    with pytest.raises(InputError, match=r"i\.csv: row 3: 9 cells, but the first data row "
+                                         r"has 10$"):
         import_csv(path, FMT)
     with pytest.raises(InputError, match="no such file"):
         import_csv(tmp_path / "none.csv", FMT)
@@ -228,12 +237,13 @@ def test_a_pressure_in_the_wrong_unit_is_refused_naming_column_and_option(tmp_pa
         import_csv(path, replace(PRESSURE_FMT, pressure_unit=unit, accept_implausible=True))
 
 
-def test_a_pressure_nan_is_an_invalid_row_like_any_column(tmp_path):
+def test_an_empty_pressure_cell_is_no_barometer_reading_at_that_row(tmp_path):
+    """The barometer is a sensor of its own: a row without its reading is an IMU row."""
     path = pressure_log(tmp_path / "p.csv", nan_row=4)
-    with pytest.raises(InputError, match="row 6: NaN or Inf value"):
-        import_csv(path, PRESSURE_FMT)
-    kept = import_csv(path, replace(PRESSURE_FMT, drop_invalid=True))
-    assert len(kept.pressure) == len(kept.imu) == 19 and kept.rows_invalid == 1
+    kept = import_csv(path, PRESSURE_FMT)
+    assert len(kept.imu) == 20 and len(kept.pressure) == 19 and kept.rows_invalid == 0
+    np.testing.assert_array_equal(kept.pressure.stamp_ns,
+                                  np.delete(kept.imu.stamp_ns, 4))
 
 
 def test_a_constant_pressure_column_is_imported_with_a_warning(tmp_path):
@@ -248,3 +258,70 @@ def test_a_constant_pressure_column_is_imported_with_a_warning(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         import_csv(short, PRESSURE_FMT)
+
+
+SPARSE_HEADER = "t,ax,ay,az,gx,gy,gz,mx,my,mz,p\n"
+SPARSE_FMT = CsvImuFormat(time_col="t", acc_cols=("ax", "ay", "az"),
+                          gyro_cols=("gx", "gy", "gz"), mag_cols=("mx", "my", "mz"),
+                          pressure_col="p")
+
+
+def sparse_log(path, extra=()):
+    """A logger's one row per sensor event: the IMU at 100 Hz (rows 2-21), the
+    magnetometer every 0.05 s 3 ms after an IMU row, the barometer in the IMU's rows
+    every 0.1 s; ``extra`` rows appended."""
+    lines = []
+    for i in range(20):
+        p = f"{1000.0 + 0.01 * i:g}" if i % 10 == 0 else ""
+        lines.append(f"{0.01 * i:.3f},0.1,0.2,9.8,0.01,0.02,{0.01 * i},,,,{p}")
+        if i % 5 == 0:
+            lines.append(f"{0.01 * i + 0.003:.3f},,,,,,,20,{i},-40,")
+    path.write_text(SPARSE_HEADER + "\n".join(lines + list(extra)) + "\n")
+    return path
+
+
+def test_sparse_sensors_are_each_written_at_their_own_rows(tmp_path):
+    result = import_csv(sparse_log(tmp_path / "s.csv"), SPARSE_FMT)
+    assert (len(result.imu), len(result.mag), len(result.pressure)) == (20, 4, 2)
+    assert result.rows_read == 24 and result.rows_invalid == 0
+    np.testing.assert_array_equal(result.imu.stamp_ns, np.arange(20) * 10_000_000)
+    np.testing.assert_array_equal(result.mag.stamp_ns, np.arange(4) * 50_000_000 + 3_000_000)
+    np.testing.assert_array_equal(result.pressure.stamp_ns, [0, 100_000_000])
+    np.testing.assert_allclose(result.mag["magnetic_field"][:, 1], [0, 5e-6, 10e-6, 15e-6])
+    np.testing.assert_array_equal(result.pressure["fluid_pressure"], [100_000.0, 100_010.0])
+
+
+@pytest.mark.parametrize("row, problem", [
+    ("0.2,0.1,0.2,9.8,,,,,,,", "row 26, column gx: empty or NaN, while other columns of the "
+                               "IMU (ax,ay,az,gx,gy,gz) hold values (a sensor not yet started, "
+                               "or a value lost?)"),
+    ("0.2,0.1,0.2,9.8,0,0,0,20,,-40,", "row 26, column my: empty or NaN, while other columns "
+                                       "of the magnetometer (mx,my,mz) hold values"),
+    ("0.2,,,,,,,,,,", "row 26: no reading of any sensor (every cell of ax,ay,az,gx,gy,gz,mx,my,"
+                      "mz,p is empty)"),
+    ("0.2,0.1,0.2,inf,0,0,0,,,,", "row 26, column az: inf"),
+    ("0.1,,,,,,,,,,1000.5", "row 26, column t: time 0.100000000 does not increase over the "
+                            "barometer's previous reading"),
+])
+def test_a_sensor_partly_empty_or_no_sensor_at_all_is_an_invalid_row(tmp_path, row, problem):
+    path = sparse_log(tmp_path / "s.csv", [row, "0.3,0.1,0.2,9.8,0,0,0,,,,"])
+    with pytest.raises(InputError) as refused:
+        import_csv(path, SPARSE_FMT)
+    assert str(refused.value).startswith(f"{path}: {problem}")
+    assert str(refused.value).endswith("(1 such rows; --drop-invalid drops them)")
+    kept = import_csv(path, replace(SPARSE_FMT, drop_invalid=True))
+    assert kept.rows_invalid == 1 and len(kept.imu) == 21 and len(kept.mag) == 4
+    assert len(kept.pressure) == 2
+
+
+def test_blank_lines_are_rows_numbered_as_the_files_lines(tmp_path):
+    fast = import_csv(write_csv(tmp_path / "fast.csv", rows()), FMT)
+    path = tmp_path / "blank.csv"
+    path.write_text((tmp_path / "fast.csv").read_text().replace("\n", "\n\n", 2) + "\n\n")
+    with pytest.raises(InputError, match=r"blank\.csv: row 2, column time: empty or NaN \(no "
+                                         r"time\) \(2 such rows"):
+        import_csv(path, FMT)
+    slow = import_csv(path, replace(FMT, drop_invalid=True))
+    assert slow.rows_invalid == 2 and slow.rows_read == 7
+    for name in ("linear_acceleration", "angular_velocity"):
+        np.testing.assert_array_equal(slow.imu[name], fast.imu[name])

@@ -99,7 +99,9 @@ def test_a_mirroring_remap_is_refused_with_quaternions(tmp_path):
 
 
 @pytest.mark.parametrize("bad, problem", [
-    ([np.nan, 0.0, 0.0, 1.0], "NaN or Inf value"),
+    ([np.nan, 0.0, 0.0, 1.0], "column q0: empty or NaN, while other columns of the truth "
+                              "(px,py,pz,q0,q1,q2,q3) hold values (a sensor not yet started, "
+                              "or a value lost?)"),
     ([0.0, 0.0, 0.0, 0.0], "quaternion norm 0, not 1 (±0.01)"),       # tracking lost
     ([0.0, 0.0, 0.0, 1.5], "quaternion norm 1.5, not 1 (±0.01)"),
 ])
@@ -109,8 +111,9 @@ def test_an_invalid_quaternion_is_an_invalid_row(tmp_path, bad, problem):
     path = write_log(tmp_path / "log.csv", quaternions)
     with pytest.raises(InputError) as refused:
         import_csv(path, fmt())
+    where = "row 5: " if problem.startswith("quaternion") else "row 5, "
     assert str(refused.value) == \
-        f"{path}: row 5: {problem} (1 such rows; --drop-invalid drops them)"
+        f"{path}: {where}{problem} (1 such rows; --drop-invalid drops them)"
     result = import_csv(path, fmt(drop_invalid=True))
     assert result.rows_invalid == 1 and len(result.pose) == N - 1
     np.testing.assert_array_equal(result.pose.stamp_ns, np.delete(np.arange(N), 3) * 10_000_000)

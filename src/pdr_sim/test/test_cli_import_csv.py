@@ -26,8 +26,14 @@ def test_good_file(tmp_path):
 
 
 @pytest.mark.parametrize("content, problem", [
-    (GOOD + "0.03,0,nan,9.8\n", "row 5: NaN or Inf value"),
-    (GOOD + "0.015,0,0,9.8\n", "row 5: time 0.015000000 does not increase"),
+    (GOOD + "0.03,0,nan,9.8\n", "row 5, column ay: empty or NaN, while other columns of "
+                                "the IMU (ax,ay,az) hold values"),
+    (GOOD + "0.03,0,,9.8\n", "row 5, column ay: empty or NaN, while"),
+    (GOOD + "0.03,0,x,9.8\n", "row 5, column ay: 'x' is not a number"),
+    (GOOD + "0.03,,,\n", "row 5: no reading of any sensor (every cell of ax,ay,az is empty)"),
+    (GOOD + ",0,0,9.8\n", "row 5, column t: empty or NaN (no time)"),
+    (GOOD + "0.015,0,0,9.8\n", "row 5, column t: time 0.015000000 does not increase over "
+                               "the IMU's previous reading"),
     ("t,ax,ay,az\n", "no data rows"),
 ])
 def test_bad_rows(tmp_path, content, problem):
