@@ -11,8 +11,9 @@ Subcommands:
                  ground_truth/pose with the phone's attitude).
     import-phone a phone's own export, one CSV per sensor (Sensor Logger's folder or zip,
                  or files you name) -> bag (imu/data, imu/mag, imu/pressure).
-    export-csv   a bag's imu/data (with imu/mag and ground_truth/pose) -> a phone-style
-                 CSV log that import-csv reads back; the true step times with --steps-out.
+    export-csv   a bag's imu/data, imu/mag, imu/pressure and ground_truth/pose -> one
+                 CSV log, each topic at its own stamps, that import-csv reads back; the
+                 true step times with --steps-out.
     info         topics, types, message counts and time span of a bag.
     repair       a bag cut short -> a new bag with its index and metadata rebuilt.
 
@@ -378,8 +379,8 @@ def _add_import_csv(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--mag-axes", type=_columns, default=None,
                    help="remap of the magnetometer only (default: the accelerometer's)")
     p.add_argument("--pressure-col", default=None, metavar="NAME",
-                   help="barometer column (written to imu/pressure, one message per row; "
-                        "a row without a reading is an invalid row, as in any column)")
+                   help="barometer column (written to imu/pressure, one message per row "
+                        "with a reading; an empty cell is no reading at that row)")
     p.add_argument("--pressure-unit", default="hpa", choices=sorted(PRESSURE_UNITS_PA),
                    help="unit of the pressure column: hpa (hPa, as Android reports it, = "
                         f"mbar) or pa (Pa); a median beyond {PRESSURE_RANGE.expected} in "
@@ -392,9 +393,13 @@ def _run_import_csv(args: argparse.Namespace) -> int:
     result = import_csv(args.csv, fmt)
     _write_recording(args, args.csv, result.imu, pose=result.pose, mag=result.mag,
                      pressure=result.pressure)
-    truth = "" if result.pose is None else \
-        f", {len(result.pose)} ground_truth/pose{' with attitude' if fmt.quat_cols else ''}"
-    print(f"{args.out}: {len(result.imu)} imu/data messages{truth}; {_span(result.imu)}; "
+    written = [f"{len(result.imu)} imu/data messages"]
+    written += [f"{len(batch)} {topics.graph_name(topic)}" for topic, batch in (
+        (topics.IMU_MAG, result.mag), (topics.IMU_PRESSURE, result.pressure),
+        (topics.GROUND_TRUTH_POSE, result.pose)) if batch is not None]
+    if fmt.quat_cols:
+        written[-1] += " with attitude"
+    print(f"{args.out}: {', '.join(written)}; {_span(result.imu)}; "
           f"{result.rows_read} rows read, {result.rows_duplicate} exact duplicates and "
           f"{result.rows_invalid} invalid rows dropped")
     return 0
@@ -530,14 +535,16 @@ def _run_import_phone(args: argparse.Namespace) -> int:
 
 def _add_export_csv(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
-        "export-csv", help="write a bag's IMU data as a CSV log",
-        description="Write the imu/data of a bag (simulated or not) as a phone-style CSV "
-                    "log, one row per message, the unit in each column's name: t_s (from "
-                    "the first message), acc_x_mps2.., gyr_x_radps.. (left out without a "
-                    "gyroscope), with imu/mag mag_x_ut.. (the latest reading at most "
-                    "0.05 s old, empty cells when none) and with ground_truth/pose "
-                    "gt_x_m.. (interpolated at the rows' stamps). Prints the import-csv "
-                    "options that read it back.")
+        "export-csv", help="write a bag's sensors and truth as one CSV log",
+        description="Write a bag (simulated or not) as one CSV log, each topic at its own "
+                    "stamps: a row per stamp at which any of imu/data, imu/mag, "
+                    "imu/pressure and ground_truth/pose has a message, the other topics' "
+                    "cells empty, the unit in each column's name: t_s (from the first "
+                    "message), acc_x_mps2.., gyr_x_radps.. (left out without a gyroscope), "
+                    "mag_x_t.. (tesla), pressure_pa, gt_x_m.. and gt_qx..gt_qw (the "
+                    "truth's attitude). Prints the import-csv command that reads it back "
+                    "(every topic, stamps to the ns from t_s = 0) and names the bag's "
+                    "topics it does not write.")
     p.add_argument("bag", type=Path, help="bag with imu/data")
     p.add_argument("--out", type=Path, required=True, help="the CSV log to write")
     p.add_argument("--steps-out", type=Path, metavar="CSV",
@@ -553,8 +560,10 @@ def _run_export_csv(args: argparse.Namespace) -> int:
     exported = export_bag(args.bag, args.out, args.steps_out, overwrite=args.overwrite,
                           strict=args.strict)
     table = exported.table
-    print(f"{args.out}: {len(table.values)} rows of {args.bag}'s {topics.IMU_DATA}, columns "
-          f"{', '.join(table.columns)}")
+    print(f"{args.out}: {len(table.values)} rows of {args.bag}, columns "
+          f"{', '.join(table.columns)}; t_s = 0 at the stamp {table.origin_ns} ns")
+    if exported.unwritten:
+        print(f"not written: {', '.join(exported.unwritten)}")
     if exported.steps is not None:
         print(f"{args.steps_out}: {exported.steps} true steps ({topics.GROUND_TRUTH_STEP})")
     print("read it back with: pdr-sim import-csv " + shlex.join(
