@@ -144,7 +144,8 @@ def refused(tmp_path, *args):
 
 
 @pytest.mark.parametrize("spoil, file, problem", [
-    (nan_row, "imu3.csv", "row 8: NaN or Inf value (1 such rows; --drop-invalid drops them)"),
+    (nan_row, "imu3.csv", "row 8, column 9: empty or NaN (1 such rows; --drop-invalid drops "
+                          "them)"),
     (lost_tracking, "vi3.csv", "row 8: quaternion norm 0, not 1 (±0.01) (1 such rows; "
                                "--drop-invalid drops them)"),
     (lambda imu, vicon: (imu, vicon[:-1]), "vi3.csv",
@@ -179,8 +180,7 @@ def test_a_ragged_row_is_refused_with_its_row(tmp_path):
     lines[4] = lines[4].rsplit(",", 1)[0]
     (folder / "imu3.csv").write_text("\n".join(lines) + "\n")
     line = refused(tmp_path, folder)
-    assert line.startswith(f"{folder / 'imu3.csv'}: cannot parse as numbers (") \
-        and "at row 5" in line
+    assert line == f"{folder / 'imu3.csv'}: row 5: 15 cells, but the first data row has 16"
 
 
 def test_folders_without_exactly_one_pair_are_refused(tmp_path):
