@@ -52,6 +52,8 @@ from pdr_core.batch import MessageBatch
 from pdr_core.csv_import import (
     PRESSURE_RANGE,
     PRESSURE_UNITS_PA,
+    Implausible,
+    gravity_removed_problem,
     implausible,
     imu_batch,
     mag_batch,
@@ -230,6 +232,19 @@ def _index(path: Path, names: list[str] | None, col: str) -> int:
     raise InputError(path, f"no column '{col}' (columns: {', '.join(names or [])})")
 
 
+def _refuse_gravity_removed(layout: PhoneLayout, acc: _Readings) -> None:
+    """Refuse an accelerometer given without its gravity file that looks gravity-removed
+    (pdr_core.csv_import.gravity_removed_problem), naming ``--gravity`` as the remedy."""
+    problem = gravity_removed_problem(",".join(layout.accelerometer.value_cols),
+                                      acc.stamp_ns * 1e-9, acc.values)
+    if problem is not None:
+        problem = Implausible(problem.what, "name its gravity file with --gravity "
+                                            "FILE:TIME:X,Y,Z (Sensor Logger's Gravity.csv), "
+                                            "or import the raw accelerometer instead (--force "
+                                            "accepts it as read)")
+    refuse_implausible(layout.accelerometer.path, [problem], accept=layout.accept_implausible)
+
+
 def paired_specific_force(layout: PhoneLayout, scale: float
                           ) -> tuple[_Readings, str]:
     """The specific force [m/s²] f = s · (a + g) at the accelerometer's stamps (module
@@ -238,6 +253,7 @@ def paired_specific_force(layout: PhoneLayout, scale: float
     acc = read_sensor(layout.accelerometer, layout.time_unit, scale, layout.drop_invalid)
     sign = "" if layout.acc_sign > 0 else "−"
     if layout.gravity is None:
+        _refuse_gravity_removed(layout, acc)
         return (_Readings(acc.stamp_ns, layout.acc_sign * acc.values, acc.rows_read,
                           acc.rows_dropped), f"= {sign}{layout.accelerometer.path.name}")
     gravity = read_sensor(layout.gravity, layout.time_unit, scale, layout.drop_invalid)

@@ -176,6 +176,18 @@ def test_named_files_in_seconds_with_their_own_columns(tmp_path):
     np.testing.assert_allclose(result.imu["angular_velocity"][:, 2], 0.1)
 
 
+def test_a_gravity_removed_accelerometer_alone_names_the_gravity_file(tmp_path):
+    folder = sensor_logger_export(tmp_path / "r", "android")
+    layout = PhoneLayout(accelerometer=SensorFile(folder / "Accelerometer.csv", "time",
+                                                  ("x", "y", "z")))
+    with pytest.raises(InputError, match=r"looks gravity-removed.*--gravity FILE") as refused:
+        import_phone(layout)
+    assert "--acc-unit" not in str(refused.value)
+    gravity = SensorFile(folder / "Gravity.csv", "time", ("x", "y", "z"))
+    assert len(import_phone(PhoneLayout(accelerometer=layout.accelerometer,
+                                        gravity=gravity)).imu) == 600
+
+
 def test_a_time_column_in_another_unit_is_refused_with_the_fix(tmp_path):
     folder = sensor_logger_export(tmp_path / "n", "android")
     layout = sensor_logger_layout(folder)
