@@ -28,9 +28,18 @@ fixes every realisation.
 A barometer (:class:`BarometerErrors`, pressures in Pa) is one scalar channel at its own
 output rate; :func:`barometer_readings` turns the true pressure into its readings:
 
-    p̃(t) = q( p(t) + ḋ·t + Σ_k o_k·[t_k ≤ t < t_k + T_k] + w )
+    p̃_k = hold( q( L( p(t_k) + ḋ·t_k + b_w(t_k) + Σ_j o_j·[t_j ≤ t_k < t_j + T_j] + w_k ) ) )
 
 - w: white noise of std ``noise_pa`` per reading;
+- b_w: the settling after the start, ``warmup_pa``·(1 − e^{−t/τ}) with τ =
+  ``warmup_tau_s`` [s], as the triads' warm-up (an iPhone's Barometer.csv, Sensor Logger,
+  rises 0.095 hPa with τ ≈ 3 s over its first seconds: 0.8 m of barometric height);
+- L: the phone's own low-pass (its fusion or the app's filtering), first order with time
+  constant ``lag_s`` [s], run on the readings: y_k = y_{k−1} + α·(x_k − y_{k−1}),
+  α = 1 − e^{−Δt/lag_s}, y_0 = x_0 (0: none);
+- hold: a reading repeats the one before with probability ``hold_share`` (the app sampled
+  the sensor before it had a new value: 4 of 15 of an iPhone's 1 Hz readings, 25 of 176
+  of an Android's 10 Hz ones, repeat exactly);
 - ḋ: the weather's drift of the ambient pressure [Pa/s], ``drift_pa_per_s`` plus a per-run
   draw with std ``drift_sigma_pa_per_s`` (like a turn-on bias);
 - o_k: sudden offsets of ``size_pa`` from ``start_s`` for ``duration_s`` (a ventilated
@@ -112,7 +121,10 @@ class BarometerErrors:
     per-run drift rate added to it [Pa/s]; offsets: sudden offsets at given times;
     offsets_per_s: the rate of random sudden offsets [1/s]; offset_size_pa: (least,
     largest) size of a random one [Pa]; offset_duration_s: how long a random one lasts
-    [s]. The defaults are an ideal barometer at 25 Hz.
+    [s]; warmup_pa, warmup_tau_s: the settling after the start [Pa] and its time
+    constant [s]; lag_s: the phone's own low-pass time constant [s] (0: none);
+    hold_share: the probability that a reading repeats the one before. The defaults are
+    an ideal barometer at 25 Hz.
     """
 
     rate_hz: float = 25.0
@@ -125,11 +137,20 @@ class BarometerErrors:
     offsets_per_s: float = 0.0
     offset_size_pa: tuple[float, float] = (0.0, 0.0)
     offset_duration_s: float = 60.0
+    warmup_pa: float = 0.0
+    warmup_tau_s: float = 1.0
+    lag_s: float = 0.0
+    hold_share: float = 0.0
 
     def __post_init__(self) -> None:
-        if self.rate_hz <= 0 or self.reference_pa <= 0 or self.offset_duration_s <= 0:
-            raise ValueError("rate_hz, reference_pa and offset_duration_s must be > 0")
-        for name in ("noise_pa", "quantum_pa", "drift_sigma_pa_per_s", "offsets_per_s"):
+        if self.rate_hz <= 0 or self.reference_pa <= 0 or self.offset_duration_s <= 0 \
+                or self.warmup_tau_s <= 0:
+            raise ValueError("rate_hz, reference_pa, offset_duration_s and warmup_tau_s "
+                             "must be > 0")
+        if not 0 <= self.hold_share < 1:
+            raise ValueError(f"hold_share must be within [0, 1), got {self.hold_share}")
+        for name in ("noise_pa", "quantum_pa", "drift_sigma_pa_per_s", "offsets_per_s",
+                     "lag_s"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
         low, high = self.offset_size_pa
@@ -251,15 +272,35 @@ def barometer_readings(true_pa: np.ndarray, t_s: np.ndarray, errors: BarometerEr
                        rng: np.random.Generator) -> tuple[np.ndarray, BarometerRun]:
     """Readings [Pa] (N,) of the true pressures ``true_pa`` [Pa] (N,) at the times ``t_s``
     [s from the start of the run] (N,), and what the run drew (:func:`barometer_run`,
-    drawn from ``rng`` before the white noise)."""
+    drawn from ``rng`` before the white noise, the holds drawn last)."""
     t_s = np.asarray(t_s, float)
     run = barometer_run(errors, float(t_s[-1]) if len(t_s) else 0.0, rng)
-    out = np.asarray(true_pa, float) + run.drift_pa_per_s * t_s
+    out = np.asarray(true_pa, float) + run.drift_pa_per_s * t_s \
+        - errors.warmup_pa * np.expm1(-t_s / errors.warmup_tau_s)
     for offset in run.offsets:
         out[(t_s >= offset.start_s) & (t_s < offset.start_s + offset.duration_s)] += \
             offset.size_pa
     if errors.noise_pa > 0:
         out += rng.standard_normal(len(t_s)) * errors.noise_pa
+    if errors.lag_s > 0:
+        out = low_passed(out, t_s, errors.lag_s)
     if errors.quantum_pa > 0:
         out = np.round(out / errors.quantum_pa) * errors.quantum_pa
+    if errors.hold_share > 0 and len(out):
+        held = rng.random(len(out)) < errors.hold_share
+        held[0] = False
+        out = out[np.maximum.accumulate(np.where(held, 0, np.arange(len(out))))]
     return out, run
+
+
+def low_passed(x: np.ndarray, t_s: np.ndarray, tau_s: float) -> np.ndarray:
+    """A first-order low-pass of time constant ``tau_s`` [s] run on samples ``x`` (N,)
+    at times ``t_s`` [s] (N,): y_k = y_{k−1} + α_k·(x_k − y_{k−1}), α_k =
+    1 − e^{−(t_k − t_{k−1})/τ} (pdr_core.lowpass), y_0 = x_0."""
+    # numba: only a lagging barometer needs it
+    from pdr_core.lowpass import lowpass_gain
+
+    y = np.array(x, float)
+    for k in range(1, len(y)):
+        y[k] = y[k - 1] + lowpass_gain(t_s[k] - t_s[k - 1], tau_s) * (y[k] - y[k - 1])
+    return y

@@ -20,7 +20,9 @@ baro:  rate_hz, noise_hpa (std per reading), resolution_hpa, reference_hpa (the 
        pressure at the map's z = 0 at the start, default 1013.25), drift_hpa_per_h
        (signed), drift_sigma_hpa_per_h (std of a per-run drift), offsets (a list of
        {at_s, size_hpa, duration_s}), offsets_per_h (random offsets), offset_size_hpa
-       ([least, largest]), offset_duration_s
+       ([least, largest]), offset_duration_s, warmup_hpa and warmup_time_constant_s (the
+       settling after the start), lag_s (the phone's own low-pass), hold_share (readings
+       that repeat the one before)
 
 A profile without a ``baro`` section takes :data:`PHONE_BAROMETER` (``consumer_phone``'s):
 the sources give no barometer figures for the others (``ideal`` has an ideal one).
@@ -74,6 +76,23 @@ PHONE_BAROMETER: dict[str, Any] = {
     "rate_hz": 25.0, "noise_hpa": 0.03, "resolution_hpa": 0.01,
     "drift_sigma_hpa_per_h": 0.3, "offsets_per_h": 0.0, "offset_size_hpa": [0.2, 0.4],
     "offset_duration_s": 60.0,
+}
+
+# An iPhone's barometer as the Sensor Logger app exports it (Barometer.csv of
+# ../shared/data/phone/sensor_logger/inhand-28-steps-Ido, 16 readings of a level walk):
+# - rate_hz 1: its readings come once a second (Core Motion's altimeter; the Android
+#   phone of the same app gives 10 Hz);
+# - noise_hpa 0.002: its level readings differ by 0.001-0.004 hPa (a filtered output; the
+#   Android's 10 Hz ones by 0.009 hPa RMS), resolution_hpa 0: floats;
+# - warmup_hpa 0.095, warmup_time_constant_s 3: its pressure rises 0.095 hPa (0.8 m down)
+#   over the first 6 s of a level walk: 0.095·(1 − e^{−t/3 s}) through the lag below
+#   fits it within 0.011 hPa (0.012 hPa without the lag);
+# - lag_s 1: assumed (a file of 16 readings cannot tell it better), the phone's own
+#   filtering smooths a climb over about a reading;
+# - hold_share 0.25: 4 of its 15 readings repeat the one before exactly.
+IPHONE_BAROMETER: dict[str, Any] = PHONE_BAROMETER | {
+    "rate_hz": 1.0, "noise_hpa": 0.002, "resolution_hpa": 0.0, "warmup_hpa": 0.095,
+    "warmup_time_constant_s": 3.0, "lag_s": 1.0, "hold_share": 0.25,
 }
 
 # A smartphone-class MEMS IMU (typical values of a Bosch BMI160-class datasheet): the
@@ -291,12 +310,15 @@ PA_PER_HPA = 100.0
 _BARO_SCALES = {"rate_hz": 1.0, "noise_hpa": PA_PER_HPA, "resolution_hpa": PA_PER_HPA,
                 "reference_hpa": PA_PER_HPA, "drift_hpa_per_h": PA_PER_HPA / 3600.0,
                 "drift_sigma_hpa_per_h": PA_PER_HPA / 3600.0, "offsets_per_h": 1 / 3600.0,
-                "offset_duration_s": 1.0}
+                "offset_duration_s": 1.0, "warmup_hpa": PA_PER_HPA,
+                "warmup_time_constant_s": 1.0, "lag_s": 1.0, "hold_share": 1.0}
 _BARO_FIELDS = {"rate_hz": "rate_hz", "noise_hpa": "noise_pa", "resolution_hpa": "quantum_pa",
                 "reference_hpa": "reference_pa", "drift_hpa_per_h": "drift_pa_per_s",
                 "drift_sigma_hpa_per_h": "drift_sigma_pa_per_s",
-                "offsets_per_h": "offsets_per_s", "offset_duration_s": "offset_duration_s"}
-_BARO_POSITIVE = {"rate_hz", "reference_hpa", "offset_duration_s"}
+                "offsets_per_h": "offsets_per_s", "offset_duration_s": "offset_duration_s",
+                "warmup_hpa": "warmup_pa", "warmup_time_constant_s": "warmup_tau_s",
+                "lag_s": "lag_s", "hold_share": "hold_share"}
+_BARO_POSITIVE = {"rate_hz", "reference_hpa", "offset_duration_s", "warmup_time_constant_s"}
 _OFFSET_KEYS = ("at_s", "size_hpa", "duration_s")
 
 
@@ -324,9 +346,11 @@ def barometer_errors(config: Mapping[str, Any], where: str = "baro") -> Baromete
     fields: dict[str, Any] = {}
     for key, scale in _BARO_SCALES.items():
         if key in config:
-            low = None if key == "drift_hpa_per_h" else 0.0
+            low = None if key in ("drift_hpa_per_h", "warmup_hpa") else 0.0
             fields[_BARO_FIELDS[key]] = _number(config[key], f"{where}.{key}", low,
                                                 strict=key in _BARO_POSITIVE) * scale
+    if fields.get("hold_share", 0.0) >= 1:
+        raise InputError(f"{where}.hold_share", f"must be < 1, got {config['hold_share']!r}")
     if "offset_size_hpa" in config:
         size = config["offset_size_hpa"]
         at = f"{where}.offset_size_hpa"

@@ -13,8 +13,8 @@ from pdr_core.bag import BagReader
 from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.imu_errors import BarometerErrors, barometer_readings, barometer_run
-from pdr_core.imu_profiles import PHONE_BAROMETER, barometer_errors, profile
+from pdr_core.imu_errors import BarometerErrors, barometer_readings, barometer_run, low_passed
+from pdr_core.imu_profiles import IPHONE_BAROMETER, PHONE_BAROMETER, barometer_errors, profile
 from pdr_core.msgtypes import FLUID_PRESSURE, typestore
 from pdr_core.vocabulary import FLOOR_HEIGHT_M, LandmarkType
 from pdr_sim.lift import LiftMotion, LiftRide
@@ -112,6 +112,9 @@ def test_random_drift_and_offsets_have_their_statistics():
     ({"offsets": [{"at_s": 5, "size_hpa": 0.3, "duration_s": 0}]},
      "p.offsets[0].duration_s: must be > 0"),
     ({"offset_size_hpa": [0.4, 0.2]}, "p.offset_size_hpa: the least is larger"),
+    ({"hold_share": 1}, "p.hold_share: must be < 1"),
+    ({"lag_s": -1}, "p.lag_s: must be >= 0"),
+    ({"warmup_time_constant_s": 0}, "p.warmup_time_constant_s: must be > 0"),
 ])
 def test_bad_barometer_keys_are_named(config, message):
     with pytest.raises(InputError) as err:
@@ -280,3 +283,39 @@ def test_generate_writes_imu_pressure_only_when_asked(tmp_path):
     for topic in without.topics:
         a, b = without.read(topic), with_baro.read(topic)
         assert all(np.array_equal(a.fields[k], b.fields[k]) for k in a.fields), topic
+
+
+def test_the_iphone_barometer_settles_lags_and_holds_as_the_shared_file_does():
+    """IPHONE_BAROMETER at rest: 1 Hz, the settling 0.095·(1 − e^{−t/3 s}) hPa, a quarter
+    of the readings repeating the one before, level readings within 0.004 hPa of each
+    other (the iPhone's Barometer.csv of ../shared/data/phone/sensor_logger)."""
+    errors = barometer_errors(IPHONE_BAROMETER | NO_WEATHER)
+    assert errors.rate_hz == 1.0
+    t, error, _ = long_readings(errors, 600.0)
+    settling = low_passed(9.5 * -np.expm1(-t / 3.0), t, 1.0)
+    held = np.r_[False, np.diff(error) == 0]
+    assert np.abs(error - settling)[~held].max() < 0.6  # Pa: three σ of the noise
+    steps = np.diff(error[20:])
+    assert np.mean(steps == 0) == pytest.approx(0.25, abs=0.05)
+    assert np.abs(steps).max() < 0.4 * PHONE_BAROMETER["noise_hpa"] * 100
+
+
+def test_the_lag_follows_a_step_of_the_pressure_with_its_time_constant():
+    """A first-order low-pass: a step of 100 Pa is 63 % through after lag_s."""
+    t = np.arange(0.0, 20.0, 0.1)
+    true = 95_000.0 + 100.0 * (t >= 5.0)
+    readings, _ = barometer_readings(true, t, BarometerErrors(rate_hz=10.0, lag_s=2.0),
+                                     np.random.default_rng(0))
+    at_lag = readings[np.searchsorted(t, 5.0 + 2.0 - 0.05)] - 95_000.0
+    assert at_lag == pytest.approx(100.0 * (1 - np.exp(-2.0 / 2.0)), abs=3.0)
+    assert readings[t < 5.0] == pytest.approx(95_000.0)
+
+
+def test_without_the_new_errors_the_readings_are_as_before():
+    """warmup, lag and holds off: the same draws and readings (no realisation changes)."""
+    errors = barometer_errors(PHONE_BAROMETER)
+    _, before, _ = long_readings(errors, 200.0)
+    _, after, _ = long_readings(BarometerErrors(**{**errors.__dict__, "lag_s": 0.0,
+                                                   "hold_share": 0.0, "warmup_pa": 0.0}),
+                                200.0)
+    assert np.array_equal(before, after)
