@@ -17,8 +17,17 @@ drift. Each sensor comes in through its own entry point, as VQF's updateGyr/upda
   z = pdr_core.atmosphere.height_m(p) and are averaged over epochs of ``epoch_s``
   (a fixed grid of absolute time, so any chunking cuts them alike); each epoch's mean is
   one measurement z = h + b + n of the height at the epoch's middle, R = σ_z²/N + σ_c² with
-  σ_z² = (σ_p² + q²/12)·(dh/dp)² (σ_p the reading's noise, q its step, dh/dp at the first
-  reading), σ_c the slow noise the mean keeps (``correlated_noise_hpa``);
+  σ_z² = (σ_p² + q²/12)·(dh/dp)² (σ_p a reading's noise at 25 Hz, q its step, dh/dp at the
+  first reading), σ_c the slow noise the mean keeps (``correlated_noise_hpa``) and N the
+  epoch's readings counted by the time they span: N = 25 Hz·Σ s_i
+  (pdr_core.barometry.PRESSURE_NOISE_RATE_HZ), s_i the time since the last new reading
+  (at most 1 s, READING_SPAN_MAX_S), 0 for a reading that repeats the one before. A
+  barometer read at 1 Hz averages a second (its noise is 5 times smaller than at 25 Hz),
+  so an epoch of it weighs what the same time at 25 Hz weighs; a held value repeated
+  (an app that samples faster than its sensor, readings filled in between real ones)
+  adds nothing. Counted as readings, 1 Hz readings weighed a 25th of what they are worth,
+  and a wrong climb (a lone step the flight check held back as stairs and then refused,
+  whose climb the filter has) stayed in h four times longer than at 25 Hz;
 - :meth:`HeightFilter.vertical_force`: f_up [m/s²], the specific force along the
   navigation frame's up axis (≈ g at rest), averaged per epoch for the lift test below.
 
@@ -36,10 +45,16 @@ measures a climb's height while level walking pins h and leaves every slow chang
 A sudden offset (a door to a pressurised stairwell, a lift lobby's ventilation: 0.2-0.4 hPa,
 2-3 m, for a minute) is a jump of b: an innovation ν = z − h − b beyond the χ² gate
 (``offset_jump_gate_probability``, 1 dof) adds a jump's variance σ_j² to P_bb before the
-update, so b takes the jump and h keeps its value. (Muralidharan et al. 2014 found a
-phone's absolute pressure a poor guide to its floor, as it differs between phones and
-drifts with time and place, while its changes over a short time are good ones; B-Loc,
-Ye et al. 2014, counts floors from such changes.)
+update, so b takes the jump and h keeps its value. More than
+pdr_core.barometry.OFFSET_JUMPS_MAX_PER_MIN (4) jumps within 60 s while the barometric
+height is still (no change in progress below: a lift ride jumps at every epoch until it is
+judged) is no barometer to trust: from then on the filter stops fusing it (no update, no
+change judged; h goes on from the steps alone, as without a barometer) and says so once
+(an InputWarning, and :meth:`HeightFilter.status`).
+
+(Muralidharan et al. 2014 found a phone's absolute pressure a poor guide to its floor, as
+it differs between phones and drifts with time and place, while its changes over a short
+time are good ones; B-Loc, Ye et al. 2014, counts floors from such changes.)
 
 **Changes of the barometric height and the rides.** The filter alone would give b every
 change no step explains, a lift ride included. A detector watches the epochs' barometric
@@ -91,25 +106,32 @@ h ← h + v and σ² ← σ² + σ_v² exactly, the navigator's own height.
 
 - :class:`HeightFilter`: the filter; :class:`StepHeight`: what a step gets back;
   :class:`HeightChange`: a change of the barometric height, judged;
+  :class:`BarometerStatus`: whether the barometer is fused, and why not;
 - :class:`HeightCoefficients`: the configuration in SI units per epoch, derived once.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import Literal, NamedTuple
 
 import numpy as np
 
 from pdr_core.atmosphere import height_m, metres_per_pascal
 from pdr_core.barometry import (
     MISGIVEN_UNITS_PA,
+    OFFSET_JUMPS_MAX_PER_MIN,
     PA_PER_HPA,
+    PRESSURE_NOISE_RATE_HZ,
+    READING_SPAN_MAX_S,
     RIDE_KINDS,
     HeightChangeKind,
     misgiven_unit,
     plausible_pressure,
 )
 from pdr_core.chi2 import chi2_quantile
+from pdr_core.errors import InputWarning
+from pdr_core.topics import IMU_PRESSURE
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_pocket.config import BarometerConfig
 
@@ -120,6 +142,7 @@ START_SHARE, END_SHARE = 0.1, 0.9
 H, B, BDOT = range(3)           # the state's indices
 EPOCH_COLUMNS = ("start_s", "z", "n", "force", "still", "h")
 SECONDS_PER_HOUR = 3600.0
+SECONDS_PER_MINUTE = 60.0
 
 
 class HeightCoefficients(NamedTuple):
@@ -127,7 +150,7 @@ class HeightCoefficients(NamedTuple):
     the first reading's dh/dp [m/Pa]."""
 
     epoch_s: float
-    reading_var_m2: float       # one reading's variance: (σ_p² + q²/12)·(dh/dp)²
+    reading_var_m2: float       # a 25 Hz reading's variance: (σ_p² + q²/12)·(dh/dp)²
     correlated_var_m2: float    # what an epoch's mean keeps: σ_c²·(dh/dp)²
     offset_walk_var_m2: float   # var(w_b) per epoch
     drift_var_m2ps2: float      # σ_w², the drift rate's stationary variance
@@ -178,6 +201,23 @@ class HeightChange:
         return self.kind in RIDE_KINDS
 
 
+@dataclass(frozen=True)
+class BarometerStatus:
+    """Whether the barometer goes into the height: ``status`` "fused", "not fused" (turned
+    off, not trusted, or its readings not yet processed) or "absent" (no reading); ``why``
+    in words ("" when fused); the offset jumps let in so far; the readings' rate [Hz]
+    (0 with fewer than two)."""
+
+    status: Literal["fused", "not fused", "absent"]
+    why: str
+    offset_jumps: int
+    rate_hz: float
+
+    def as_dict(self) -> dict:
+        return {"status": self.status, "why": self.why, "offset_jumps": self.offset_jumps,
+                "rate_hz": round(self.rate_hz, 2)}
+
+
 class StepHeight(NamedTuple):
     """A step's height above the start [m] and its σ [m], its floor, and the rides that
     ended since the step before (the module docstring)."""
@@ -195,6 +235,7 @@ class _Samples:
     t: list = field(default_factory=list)
     values: list = field(default_factory=list)
     last_t: float = -np.inf
+    columns: int = 0            # the values' columns (0: one value per reading)
 
     def add(self, t: np.ndarray, values: np.ndarray) -> None:
         if len(t):
@@ -206,7 +247,7 @@ class _Samples:
         """The readings of epochs [first_epoch, end_epoch): their epoch's offset from
         ``first_epoch`` and values; later ones stay, earlier ones are dropped."""
         if not self.t:
-            return np.empty(0, np.int64), np.empty(0)
+            return np.empty(0, np.int64), np.empty((0, self.columns) if self.columns else 0)
         t, values = np.concatenate(self.t), np.concatenate(self.values)
         epoch = np.floor(t / epoch_s).astype(np.int64)
         later = epoch >= end_epoch
@@ -301,7 +342,9 @@ class HeightFilter:
     ``config`` (default BarometerConfig()); ``floor_height_m`` the floors' height [m], the
     navigator's StairsConfig.floor_height_m. Attributes: :attr:`changes` every judged
     change, :attr:`rides` the lifts and escalators among them, :attr:`jumps` the offset
-    jumps the gate let in, :attr:`dropped` the readings dropped by reason."""
+    jumps the gate let in, :attr:`dropped` the readings dropped by reason,
+    :attr:`distrusted_s` when it stopped fusing a barometer that jumped too often (None
+    while it fuses); :meth:`status` says which."""
 
     def __init__(self, config: BarometerConfig | None = None,
                  floor_height_m: float = FLOOR_HEIGHT_M) -> None:
@@ -311,7 +354,12 @@ class HeightFilter:
         self._h, self._var = 0.0, 0.0           # the height while there is no barometer
         self.x: np.ndarray | None = None        # [h, b, ḃ] once the barometer is on
         self.P: np.ndarray | None = None
-        self._pressure, self._force = _Samples(), _Samples()
+        # per pressure reading its barometric height [m] and the time it spans [s]
+        self._pressure, self._force = _Samples(columns=2), _Samples()
+        self._last_z, self._last_new_s = np.nan, -np.inf     # the last new reading's
+        self._readings, self._first_reading_s = 0, np.nan
+        self._jumps_s: list[float] = []         # when the offset jumps came [s]
+        self.distrusted_s: float | None = None  # when the filter stopped fusing it [s]
         self._through = None                    # epochs before this one are processed
         self._epochs = _Epochs()
         self._change: _Change | None = None
@@ -331,6 +379,30 @@ class HeightFilter:
     def fused(self) -> bool:
         """Whether the barometer is in (a reading has been processed)."""
         return self.x is not None
+
+    def status(self) -> BarometerStatus:
+        """Whether the barometer goes into the height, and why not
+        (:class:`BarometerStatus`)."""
+        span = self._pressure.last_t - self._first_reading_s
+        rate = (self._readings - 1) / span if self._readings > 1 and span > 0 else 0.0
+        if not self.config.enabled:
+            state, why = "not fused", "turned off (barometer.enabled: false)"
+        elif not self._readings:
+            state, why = "absent", f"no {IMU_PRESSURE} reading"
+        elif self.distrusted_s is not None:
+            state, why = "not fused", self._distrust_reason()
+        elif not self.fused:
+            state, why = "not fused", "its readings wait for the first step (the height " \
+                "is fused at each step)"
+        else:
+            state, why = "fused", ""
+        return BarometerStatus(state, why, self.jumps, rate)
+
+    def _distrust_reason(self) -> str:
+        return (f"its offset jumped {OFFSET_JUMPS_MAX_PER_MIN + 1} times within a minute by "
+                f"{self.distrusted_s:.1f} s (more than {OFFSET_JUMPS_MAX_PER_MIN} a minute is "
+                f"no barometer to trust): not fused from then on, the height from the steps "
+                f"alone")
 
     @property
     def height_m(self) -> float:
@@ -381,10 +453,28 @@ class HeightFilter:
             self.dropped["pressure_implausible"] += int(np.count_nonzero(~plausible))
             t, p = t[plausible], p[plausible]
         ordered = self._ordered(t, self._pressure, "pressure")
-        if self.coefficients is None and ordered.any():
+        t, p = t[ordered], p[ordered]
+        if not len(t):
+            return
+        if self.coefficients is None:
             self.coefficients = HeightCoefficients.from_config(
-                self.config, float(metres_per_pascal(p[ordered][0])))
-        self._pressure.add(t[ordered], height_m(p[ordered]))
+                self.config, float(metres_per_pascal(p[0])))
+            self._first_reading_s = float(t[0])
+        self._readings += len(t)
+        z = height_m(p)
+        self._pressure.add(t, np.column_stack([z, self._spans(t, z)]))
+
+    def _spans(self, t: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """The time [s] each reading (stamps ``t``, heights ``z``) spans (the module
+        docstring): since the last new reading, at most READING_SPAN_MAX_S; 1/25 s for the
+        first ever; 0 for a reading that repeats the one before."""
+        new = z != np.concatenate([[self._last_z], z[:-1]])
+        since = np.maximum.accumulate(np.concatenate([[self._last_new_s],
+                                                      np.where(new, t, -np.inf)]))
+        span = np.minimum(t - since[:-1], READING_SPAN_MAX_S)
+        span[~np.isfinite(span)] = 1.0 / PRESSURE_NOISE_RATE_HZ
+        self._last_z, self._last_new_s = float(z[-1]), float(since[-1])
+        return np.where(new, span, 0.0)
 
     def vertical_force(self, t_s, f_up_mps2) -> None:
         """The accelerometer's specific force along the navigation frame's up axis: stamps
@@ -456,13 +546,14 @@ class HeightFilter:
             return
         self._through = end
         count = end - first
-        zi, z = self._pressure.take(first, end, epoch_s)
+        zi, readings = self._pressure.take(first, end, epoch_s)
         fi, f = self._force.take(first, end, epoch_s)
-        nz, z_mean, _ = _epoch_means(zi, z, count)
+        _, z_mean, _ = _epoch_means(zi, readings[:, 0], count)
+        nz = np.bincount(zi, weights=readings[:, 1], minlength=count) * PRESSURE_NOISE_RATE_HZ
         nf, f_mean, f_sigma = _epoch_means(fi, f, count)
         still = (nf > 1) & (f_sigma < self.config.still_force_sigma_mps2)
         for i in range(count):
-            self._epoch(first + i, float(z_mean[i]), int(nz[i]), float(f_mean[i]),
+            self._epoch(first + i, float(z_mean[i]), float(nz[i]), float(f_mean[i]),
                         bool(still[i]))
 
     # --- the readings --------------------------------------------------------------------
@@ -497,24 +588,26 @@ class HeightFilter:
         return first if through is None else max(first, through)
 
     # --- the filter ----------------------------------------------------------------------
-    def _epoch(self, k: int, z: float, n: int, force: float, still: bool) -> None:
-        """One epoch k: predict, update with its mean barometric height, look for
-        changes."""
+    def _epoch(self, k: int, z: float, n: float, force: float, still: bool) -> None:
+        """One epoch k with ``n`` readings' worth (the module docstring): predict, update
+        with its mean barometric height, look for changes (not once the barometer is
+        distrusted)."""
         c = self.coefficients
         if self.fused:
             self._predict()
         self._climb((k + 0.5) * c.epoch_s)      # z is the height at the epoch's middle
-        r = c.reading_var_m2 / max(n, 1) + c.correlated_var_m2
+        r = c.reading_var_m2 / max(n, 1.0 / PRESSURE_NOISE_RATE_HZ) + c.correlated_var_m2
         if not self.fused:                      # the first epoch with readings
             self.x = np.array([self._h, z - self._h, 0.0])
             self.P = np.diag([self._var, r, c.drift_var_m2ps2])
-        elif n:
-            self._update(z, r)
+        elif n > 0 and self.distrusted_s is None:
+            self._update(z, r, (k + 0.5) * c.epoch_s)
         self._climb((k + 1) * c.epoch_s)
         e = self._epochs
         e.append(start_s=k * c.epoch_s, z=z, n=n, force=force, still=still,
                  h=float(self.x[H]))
-        self._detect(len(e) - 1)
+        if self.distrusted_s is None:
+            self._detect(len(e) - 1)
 
     def _predict(self) -> None:
         c = self.coefficients
@@ -540,19 +633,36 @@ class HeightFilter:
             self._h += dv
             self._var += dvar
 
-    def _update(self, z: float, r: float) -> None:
-        """z = h + b + n, var(n) = r; an innovation beyond the gate is a jump of b."""
+    def _update(self, z: float, r: float, t_s: float) -> None:
+        """z = h + b + n at ``t_s`` [s], var(n) = r; an innovation beyond the gate is a
+        jump of b, and too many of them end the fusion (the module docstring)."""
         nu = z - self.x[H] - self.x[B]
         ph = self.P[:, H] + self.P[:, B]            # P·Hᵀ, H = [1, 1, 0]
         s = ph[H] + ph[B] + r
         if nu * nu > self.coefficients.gate_nis * s:
+            if self._jumped(t_s):
+                return
             self.P[B, B] += self.coefficients.jump_var_m2
-            self.jumps += 1
             ph = self.P[:, H] + self.P[:, B]
             s = ph[H] + ph[B] + r
         gain = ph / s
         self.x = self.x + gain * nu
         self.P = self.P - np.outer(gain, ph)
+
+    def _jumped(self, t_s: float) -> bool:
+        """Count an offset jump at ``t_s`` [s]; True when, the barometric height still
+        (no change in progress: a ride jumps at every epoch until it is judged), it makes
+        more than OFFSET_JUMPS_MAX_PER_MIN such jumps within a minute: the barometer is
+        distrusted from then on (said once, as an InputWarning)."""
+        self.jumps += 1
+        if self._change is not None:
+            return False
+        self._jumps_s = [t for t in self._jumps_s if t > t_s - SECONDS_PER_MINUTE] + [t_s]
+        if len(self._jumps_s) <= OFFSET_JUMPS_MAX_PER_MIN:
+            return False
+        self.distrusted_s = t_s
+        warnings.warn(InputWarning(IMU_PRESSURE, self._distrust_reason()), stacklevel=2)
+        return True
 
     # --- changes of the barometric height ------------------------------------------------
     def _detect(self, e: int) -> None:
@@ -674,7 +784,7 @@ class HeightFilter:
         """The variance of a change's height from its levels' means [m²]."""
         c = self.coefficients
         n = self._epochs.columns["n"][-len(after):]
-        per_epoch = c.reading_var_m2 / max(1.0, float(np.mean(n))) \
+        per_epoch = c.reading_var_m2 / max(1.0 / PRESSURE_NOISE_RATE_HZ, float(np.mean(n))) \
             + c.correlated_var_m2
         return per_epoch * (1.0 / np.isfinite(before).sum() + 1.0 / np.isfinite(after).sum())
 

@@ -27,6 +27,7 @@ import numpy as np
 from pdr_core.correction import Correction
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.corrections import CorrectionTaker
+from pdr_pocket.height_filter import BarometerStatus
 from pdr_pocket.pitch_source import PitchSource
 from pdr_pocket.records import NavigatorOutput
 from pdr_pocket.samples import Samples
@@ -158,6 +159,11 @@ class PocketNavigator:
                 "changes": {kind: kinds.count(kind) for kind in sorted(set(kinds))},
                 "offset_jumps": h.jumps, "dropped": dict(h.dropped),
                 "late_steps": h.late_steps}
+
+    def barometer_status(self) -> BarometerStatus:
+        """Whether the barometer goes into the height, and why not (the report's
+        ``inputs``, the node's /diagnostics; pdr_pocket.height_filter)."""
+        return self.assembly.height.status()
 
     def no_step_reason(self) -> str | None:
         """Why no step was found, when none was (None otherwise)."""
