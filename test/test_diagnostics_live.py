@@ -2,7 +2,10 @@
 ``pocket_pdr`` (and ``zupt_ekf``) fed IMU samples from this process at 100 Hz, one of them
 poisoned (NaN), and a correction refused (a negative variance). An
 rclpy subscriber reads ``/diagnostics``: the node's status goes WARN naming the counter
-and how many, and back to OK after a clean report period (pdr_core.diagnostics)."""
+and how many, and back to OK after a clean report period (pdr_core.diagnostics). The
+pocket node's key-values name the inputs fused (issue 54): the barometer absent, then, once
+``imu/pressure`` comes at 1 Hz, waiting for a step (a person at rest takes none), its
+offset jumps, and the magnetometer fused."""
 from __future__ import annotations
 
 import math
@@ -35,13 +38,16 @@ class Feed:
     def __init__(self, ros, name: str, mag: bool) -> None:
         from diagnostic_msgs.msg import DiagnosticArray
         from rclpy.qos import QoSProfile, ReliabilityPolicy
-        from sensor_msgs.msg import Imu, MagneticField
+        from sensor_msgs.msg import FluidPressure, Imu, MagneticField
 
         self.node, self.executor = ros
         qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
         self.imu_pub = self.node.create_publisher(Imu, topics.graph_name(topics.IMU_DATA), qos)
         self.mag_pub = self.node.create_publisher(
             MagneticField, topics.graph_name(topics.IMU_MAG), qos) if mag else None
+        self.pressure_pub = self.node.create_publisher(
+            FluidPressure, topics.graph_name(topics.IMU_PRESSURE), qos)
+        self.pressure = False       # imu/pressure at 1 Hz with the IMU's stamps
         self.statuses: list = []        # (the array's stamp [ns], the status)
         self.node.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, lambda array: (
             self.statuses.extend((array.header.stamp.sec * 1_000_000_000
@@ -61,7 +67,7 @@ class Feed:
 
     def publish_due(self) -> None:
         """The samples due by now (at most a second's worth at once)."""
-        from sensor_msgs.msg import Imu, MagneticField
+        from sensor_msgs.msg import FluidPressure, Imu, MagneticField
 
         due = int((time.monotonic() - self.start) * RATE_HZ) - self.sent
         for _ in range(min(due, int(RATE_HZ))):
@@ -83,6 +89,9 @@ class Feed:
                 mag.header = imu.header
                 mag.magnetic_field.x, mag.magnetic_field.y, mag.magnetic_field.z = FIELD_T
                 self.mag_pub.publish(mag)
+            if self.pressure and self.sent % int(RATE_HZ) == 0:
+                self.pressure_pub.publish(FluidPressure(header=imu.header,
+                                                        fluid_pressure=101_325.0))
             self.sent += 1
 
     def spin(self) -> None:
@@ -133,6 +142,10 @@ def test_pocket_pdr_goes_warn_on_a_poisoned_sample_and_a_refused_correction(proc
     assert abs(stamp_ns * 1e-9 - time.time()) < 60      # the node's clock: ROS time
     assert clean.hardware_id == SENSOR_FRAME
     assert values(clean)["navigating"] == "true" and values(clean)["mag_paused"] == "false"
+    assert values(clean)["barometer"] == f"absent: no {topics.IMU_PRESSURE} reading"
+    assert values(clean)["barometer_offset_jumps"] == "0"
+    assert values(clean)["magnetometer"] == "fused"
+    assert values(clean)["barometer_distrusted"] == "false"
 
     feed.poison_next = True
     warned, _ = feed.next_status(Level.WARN, proc, "non_finite +1 since the last report")
@@ -147,7 +160,14 @@ def test_pocket_pdr_goes_warn_on_a_poisoned_sample_and_a_refused_correction(proc
                                  "report")
     assert values(warned)["corrections_refused"] == "1"
     assert values(warned)["non_finite"] == "1"
+    feed.pressure = True
     back, _ = feed.next_status(Level.OK, proc, "navigating")
+    for _ in range(3):          # the report before the first reading came may say absent
+        if not values(back)["barometer"].startswith("absent"):
+            break
+        back, _ = feed.next_status(Level.OK, proc, "navigating")
+    assert values(back)["barometer"] == "not fused: its readings wait for the first step " \
+        "(the height is fused at each step)", values(back)
     assert int(values(back)["samples_in"]) > int(values(clean)["samples_in"])
     # a whole period fed at 100 Hz (the loop catches up when it runs late)
     assert 30.0 < float(values(back)["input_rate_hz"]) < 300.0, values(back)

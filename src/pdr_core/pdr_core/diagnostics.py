@@ -63,6 +63,8 @@ class Counters:
         conditions: condition name -> its reason while it holds, None while it does not
             (``mag_paused``, ``mag_off``): a WARN for as long as it holds.
         failed: why the node is not navigating (an ERROR), or None.
+        inputs: input name -> what the navigator does with it ("fused", "not fused: why"),
+            reported as key-values after the counters, never warned of.
     """
 
     samples_in: int = 0
@@ -70,6 +72,7 @@ class Counters:
     tallies: Mapping[str, int] = field(default_factory=dict)
     conditions: Mapping[str, str | None] = field(default_factory=dict)
     failed: str | None = None
+    inputs: Mapping[str, str] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -116,6 +119,7 @@ def status(previous: Counters, current: Counters, period_s: float) -> Status:
     values += [(name, str(count)) for name, count in
                {**current.problems, **current.tallies}.items()]
     values += [(name, _flag(why is not None)) for name, why in current.conditions.items()]
+    values += list(current.inputs.items())
     return Status(level, message, values)
 
 

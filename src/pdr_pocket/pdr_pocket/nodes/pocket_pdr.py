@@ -43,7 +43,12 @@ magnetometer quiet for ``mag_wait_s`` of IMU data pauses them with a warning nam
 topic, and its next reading resumes them (logged too). The node's health, with those
 counters and the corrections', goes on ``/diagnostics`` once a second
 (pdr_core.node_diagnostics: OK, WARN when something was dropped or a correction refused
-since the last report or while the magnetometer is paused, ERROR while not navigating).
+since the last report, while the magnetometer is paused or once the barometer is no
+longer trusted, ERROR while not navigating), with the inputs fused: ``barometer``
+("fused", "not fused: why", "absent: why"), ``barometer_offset_jumps`` and
+``magnetometer`` (its magnetic updates, the first reading's heading only, paused or off).
+A barometer whose offset jumps more than pdr_core.barometry.OFFSET_JUMPS_MAX_PER_MIN times
+a minute is no longer fused (pdr_pocket.height_filter): a throttled warning says so.
 """
 from __future__ import annotations
 
@@ -82,7 +87,7 @@ from pdr_pocket.messages import (
     pose_fields,
     step_fields,
 )
-from pdr_pocket.placement import UNKNOWN, stride_choice
+from pdr_pocket.placement import UNKNOWN, stride_choice, walk_placement
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
 from pdr_pocket.streaming import (
     CORRECTION_WINDOW_S,
@@ -342,6 +347,10 @@ class PocketPdrNode(Node):
             self.no_gait_told = True
         self.report_strides()
         self.report_magnetometer()
+        barometer = navigator.barometer_status()
+        if navigator.assembly.height.distrusted_s is not None:
+            self.get_logger().warning(f"{topics.IMU_PRESSURE}: {barometer.why}",
+                                      throttle_duration_sec=IMPLAUSIBLE_WARN_S)
 
     def report_strides(self) -> None:
         """The placement found, once each time it changes, with its stride model and why;
@@ -353,7 +362,7 @@ class PocketPdrNode(Node):
             self.get_logger().warning(bound, throttle_duration_sec=IMPLAUSIBLE_WARN_S)
         if speed is not None:
             self.get_logger().warning(speed, throttle_duration_sec=IMPLAUSIBLE_WARN_S)
-        found = navigator.placement.current
+        found = walk_placement(navigator)
         if found.placement != self.placement_told:
             self.get_logger().info(f"placement: {found.placement} ({found.why}); strides "
                                    f"from the {found.model} model")
@@ -390,9 +399,28 @@ class PocketPdrNode(Node):
             conditions["mag_paused"] = (
                 f"no reading on {self.mag_topic} for {nav.mag_wait_s:g} s of IMU data, "
                 "magnetic updates paused") if nav.mag_paused and nav.mag_error is None else None
+        barometer = nav.navigator.barometer_status()
+        conditions["barometer_distrusted"] = barometer.why \
+            if nav.navigator.assembly.height.distrusted_s is not None else None
         return Counters(self.diagnostics.samples_in, problems,
                         {"corrections_accepted": corrections["accepted"],
-                         "mag_missing": nav.counts["mag_missing"]}, conditions, nav.failed)
+                         "mag_missing": nav.counts["mag_missing"]}, conditions, nav.failed,
+                        {"barometer": _said(barometer.status, barometer.why),
+                         "barometer_offset_jumps": str(barometer.offset_jumps),
+                         "magnetometer": self.magnetometer_use()})
+
+    def magnetometer_use(self) -> str:
+        """What the navigator does with the magnetometer, for ``/diagnostics``."""
+        nav = self.navigator
+        if nav.mag_error is not None:
+            return _said("not fused", nav.mag_error)
+        if not self.mag_updates:
+            return _said("not fused", "the first reading's heading only (no magnetic "
+                                      "update configured)")
+        if nav.mag_paused:
+            return _said("not fused", f"no reading on {self.mag_topic} for "
+                                      f"{nav.mag_wait_s:g} s of IMU data (paused)")
+        return "fused"
 
     def on_reset(self, request: Trigger.Request, response: Trigger.Response):
         self.navigator.reset()
@@ -401,6 +429,11 @@ class PocketPdrNode(Node):
         self.path.poses = []
         response.success, response.message = True, "navigator reset"
         return response
+
+
+def _said(state: str, why: str) -> str:
+    """An input's state with its reason: "fused", "not fused: turned off"."""
+    return f"{state}: {why}" if why else state
 
 
 def filter_gaps(navigator) -> int:
