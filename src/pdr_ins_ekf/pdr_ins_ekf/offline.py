@@ -70,7 +70,10 @@ def alignment_window(stance: np.ndarray, t_s: np.ndarray, min_s: float) -> slice
     for start, stop in zip(edges[::2], edges[1::2], strict=True):
         if t_s[stop - 1] - t_s[start] >= min_s:
             return slice(int(start), int(stop))
-    raise InputError(IMU_GRAPH, f"no stationary period of {min_s:g} s to align on")
+    raise InputError(IMU_GRAPH, f"no stationary period of {min_s:g} s to align on (a "
+                                "foot-mounted IMU stands still at each stance; a phone in a "
+                                "pocket is for `pdr-pocket run` or `pdr-eval --navigator "
+                                "pocket`)")
 
 
 def check_rest(accel: np.ndarray, gyro: np.ndarray) -> None:
