@@ -10,8 +10,12 @@ import signal
 import subprocess
 import time
 
+import numpy as np
 import pytest
 
+from pdr_core.bag import write_batches
+from pdr_core.batch import MessageBatch
+from pdr_core.msgtypes import IMU
 from wstest import ROOT, cli, installed_cli
 
 REPORTS = ROOT / "docs" / "reports.md"
@@ -19,19 +23,40 @@ TRUTH_CONDITIONS = {"pose", "steps", "floors", "stance truth"}
 RUN_SECTIONS = ("Trajectory figures", "`pdr-ekf run`", "The pocket walk", "`pdr-pocket run`")
 
 
+POCKET_WALK_FOOTFALLS = 200      # a known count for the manifest to score against
+
+
+def still_bag(path) -> None:
+    """10 s of an IMU lying still at 100 Hz: nothing for ``auto`` to tell apart."""
+    n = 1000
+    stamps = 1_700_000_000_000_000_000 + np.arange(n, dtype=np.int64) * 10_000_000
+    rng = np.random.default_rng(0)
+    write_batches(path, {"/imu/data": MessageBatch(IMU, stamps, "imu_link", {
+        "orientation": np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)),
+        "orientation_covariance": np.zeros((n, 9)),
+        "angular_velocity": 0.01 * rng.standard_normal((n, 3)),
+        "angular_velocity_covariance": np.zeros((n, 9)),
+        "linear_acceleration": [0.0, 0.0, 9.81] + 0.02 * rng.standard_normal((n, 3)),
+        "linear_acceleration_covariance": np.zeros((n, 9))})})
+
+
 def dataset(tmp_path):
-    """Two datasets of links to the sample bags: ``sim`` (a foot and a pocket walk), and
-    ``vicon`` (the real VICON walk), plus a corrupt bag and a missing one in ``bad``."""
+    """Two datasets of links to the sample bags: ``sim`` (a foot and a pocket walk, their
+    navigator chosen by ``auto``, the pocket walk with a known footfall count), and
+    ``vicon`` (the real VICON walk), plus a corrupt bag, a missing one and a still one
+    (``auto`` refuses it) in ``bad``."""
     for folder, bags in (("sim", ("foot_walk", "pocket_walk")), ("vicon", ("vicon_walk",))):
         (tmp_path / folder).mkdir()
         for bag in bags:
             (tmp_path / folder / bag).symlink_to(ROOT / "bags" / bag)
     (tmp_path / "bad").mkdir()
     (tmp_path / "bad" / "corrupt.mcap").write_bytes(b"\x89MCAP0\r\n" + b"\0" * 64)
+    still_bag(tmp_path / "bad" / "still")
     manifest = tmp_path / "manifest.csv"
-    manifest.write_text("recording,dataset,navigator\n"
-                        "sim/foot_walk,,foot\nsim/pocket_walk,,pocket\nvicon/vicon_walk,,foot\n"
-                        "bad/corrupt.mcap,bad,foot\nbad/missing,bad,pocket\n")
+    manifest.write_text("recording,dataset,navigator,true_footfalls\n"
+                        f"sim/foot_walk,,,\nsim/pocket_walk,,,{POCKET_WALK_FOOTFALLS}\n"
+                        "vicon/vicon_walk,,foot,\nbad/corrupt.mcap,bad,foot,\n"
+                        "bad/missing,bad,pocket,\nbad/still,bad,auto,\n")
     return manifest
 
 
@@ -55,16 +80,19 @@ def evaluated(tmp_path_factory):
 
 
 def test_failures_are_listed_and_the_rest_summarised(evaluated):
-    """A corrupt bag and a missing one: both failed with their reason, the other three
-    run and summarised per dataset, exit status 1 (acceptance 3)."""
+    """A corrupt bag, a missing one and one too still to choose a navigator for: failed
+    with their reason, the other three run and summarised per dataset, exit status 1
+    (issue 43, acceptance 3)."""
     tmp_path, _, result = evaluated
     assert result.returncode == 1, result.stderr
-    assert "5 recordings: 3 run, 0 kept from an earlier run, 2 failed" in result.stdout
+    assert "6 recordings: 3 run, 0 kept from an earlier run, 3 failed" in result.stdout
     rows = {r["recording"]: r for r in summary_rows(tmp_path / "out") if r["recording"]}
     assert {k: r["status"] for k, r in rows.items()} == {
         "foot_walk": "done", "pocket_walk": "done", "vicon_walk": "done",
-        "corrupt": "failed", "missing": "failed"}
+        "corrupt": "failed", "missing": "failed", "still": "failed"}
     assert "corrupt.mcap" in rows["corrupt"]["error"]
+    assert "too little to tell" in rows["still"]["error"] and \
+        "--navigator foot" in rows["still"]["error"]
     assert rows["missing"]["error"].endswith("missing: no such file or directory")
     assert f"failed: missing: {tmp_path / 'bad' / 'missing'}" in result.stderr
     for name in ("foot_walk", "pocket_walk", "vicon_walk"):
@@ -78,7 +106,42 @@ def test_failures_are_listed_and_the_rest_summarised(evaluated):
         max(float(rows[n]["armse_3d_m"]) for n in ("foot_walk", "pocket_walk")))
     assert sim_max["recordings"] == "2"
     text = (tmp_path / "out" / "summary.md").read_text()
-    assert "5 recordings, 2 failed" in text and "| corrupt |" in text
+    assert "6 recordings, 3 failed, 0 not pocket walks" in text and "| corrupt |" in text
+
+
+def test_auto_chooses_and_the_summary_says_what_each_walk_was(evaluated):
+    """Without a truth too (issue 54, point 4): the navigator ``auto`` chose, steps,
+    footfalls, distance, floor, placement, barometer and warnings per recording, as the
+    reports say; the known footfall count scored; per dataset their statistics."""
+    tmp_path, _, _ = evaluated
+    out = tmp_path / "out"
+    rows = {r["recording"]: r for r in summary_rows(out) if r["recording"]}
+    assert rows["foot_walk"]["navigator"] == "foot"
+    assert rows["pocket_walk"]["navigator"] == "pocket"
+    for name in ("foot_walk", "pocket_walk", "vicon_walk"):
+        report = json.loads((out / name / "run" / "report.json").read_text())
+        walk, row = report["eval"]["walk"], rows[name]
+        assert int(row["steps"]) == walk["steps"] > 0
+        assert int(row["footfalls"]) == walk["footfalls"] >= 2 * walk["steps"] - 1
+        assert walk["distance_m"] > 0
+        assert float(row["distance_m"]) == pytest.approx(walk["distance_m"])
+        assert int(row["final_floor"]) == walk["final_floor"]
+        assert row["placement"] == walk["placement"] and row["barometer"] == walk["barometer"]
+        assert int(row["warnings"]) == len(report["eval"]["warnings"])
+    pocket = json.loads((out / "pocket_walk" / "run" / "report.json").read_text())
+    assert pocket["eval"]["walk"]["steps"] == pocket["steps"]
+    assert rows["foot_walk"]["placement"] == "foot" and \
+        rows["pocket_walk"]["placement"] == pocket["placement"]["placement"]
+    assert pocket["eval"]["navigator_why"].startswith("auto: ")
+    assert float(rows["pocket_walk"]["footfall_error"]) == \
+        pocket["footfalls"] - POCKET_WALK_FOOTFALLS
+    assert rows["foot_walk"]["footfall_error"] == ""
+    stats = [r for r in summary_rows(out) if not r["recording"]]
+    sim_median = next(r for r in stats if r["dataset"] == "sim" and r["statistic"] == "median")
+    assert float(sim_median["steps"]) == np.median([int(rows[n]["steps"])
+                                                    for n in ("foot_walk", "pocket_walk")])
+    text = (out / "summary.md").read_text()
+    assert "| placement | barometer | steps | footfalls | distance_m | final_floor |" in text
 
 
 def test_a_dask_cluster_gives_the_same_summary(evaluated, tmp_path):

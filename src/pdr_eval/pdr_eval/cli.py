@@ -1,15 +1,17 @@
 """``pdr-eval``: a navigator over a whole dataset, in parallel, with one summary.
 
-    pdr-eval RECORDINGS... --navigator foot|pocket --out OUT [--config YAML]
+    pdr-eval RECORDINGS... [--navigator auto|foot|pocket] --out OUT [--config YAML]
     pdr-eval --manifest MANIFEST.csv --out OUT [--scheduler tcp://HOST:8786]
 
 Each recording (a bag directory, an ``.mcap`` file, or a CSV with its ``pdr-sim
 import-csv`` options in a manifest; paths, globs or a manifest: pdr_eval.recordings) is
-navigated by ``pdr-ekf run`` or ``pdr-pocket run`` into ``OUT/<name>/run`` (the output
-bag and ``report.json``), in parallel: a process per core here, or the workers of a Dask
-cluster with ``--scheduler``. ``OUT/summary.csv`` and ``OUT/summary.md`` hold a line per
-recording and, per dataset, the median, mean and maximum of every figure its reports
-have against a truth (pdr_eval.summary). A recording that fails is listed with its
+navigated by ``pdr-ekf run`` or ``pdr-pocket run`` (``auto``, the default: the one its
+data fit, pdr_core.navigator_choice) into ``OUT/<name>/run`` (the output bag and
+``report.json``), in parallel: a process per core here, or the workers of a Dask cluster
+with ``--scheduler``. ``OUT/summary.csv`` and ``OUT/summary.md`` hold a line per
+recording (steps, footfalls, distance, floor, placement, barometer, warnings, the
+manifest's known figures scored, the figures against a truth) and, per dataset, the
+median, mean and maximum of each (pdr_eval.summary). A recording that fails is listed with its
 reason and stops no other; the exit status is 1 when any failed, 2 for a bad command
 line or manifest. A second run over the same OUT keeps each report made from the same
 input, configuration and package versions (its ``eval.input_hash``); ``--overwrite``
@@ -36,9 +38,12 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("recordings", nargs="*", help="bag directories, .mcap files or globs "
                                                  "(quoted, so that pdr-eval expands them)")
     p.add_argument("--manifest", type=Path, help="CSV of recordings: recording, dataset, "
-                                                 "navigator, import_options")
-    p.add_argument("--navigator", choices=NAVIGATORS, default="foot",
-                   help="the navigator of the recordings a manifest row does not name")
+                                                 "navigator, import_options, true_footfalls, "
+                                                 "true_steps, true_distance_m")
+    p.add_argument("--navigator", choices=NAVIGATORS, default="auto",
+                   help="the navigator of the recordings a manifest row does not name: "
+                        "auto, the foot's for a foot's still stances or swing, else the "
+                        "pocket's (a recording with too little motion is refused)")
     p.add_argument("--config", type=Path, help="the navigator's YAML (default: its shipped one)")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--workers", type=int, default=os.cpu_count() or 1,

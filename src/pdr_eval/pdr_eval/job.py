@@ -1,6 +1,8 @@
-"""One recording of a dataset run: imported if it is a CSV, navigated by ``pdr-ekf run`` or
-``pdr-pocket run`` (their ``main``, in the worker's process) into ``OUT/<name>/run``, its
-``report.json`` stamped with the hash of what made it.
+"""One recording of a dataset run: imported if it is a CSV, its navigator chosen from the
+data for ``auto`` (pdr_eval.auto_navigator), navigated by ``pdr-ekf run`` or ``pdr-pocket
+run`` (their ``main``, in the worker's process) into ``OUT/<name>/run``, its
+``report.json`` stamped (``eval``) with the hash of what made it, the navigator and why,
+the warnings the commands printed and what the walk was (pdr_eval.walk_figures).
 
 :func:`run_recording` never raises: a recording that fails comes back with the last line
 its command said (or the exception), and the others go on. A run whose report carries the
@@ -19,7 +21,10 @@ from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
 
+from pdr_core.walk_plausibility import EXIT_REFUSED
+from pdr_eval.auto_navigator import bag_navigator, refusal
 from pdr_eval.recordings import Recording
+from pdr_eval.walk_figures import foot_walk, pocket_walk
 
 CLI_MODULES = {"foot": "pdr_ins_ekf.cli", "pocket": "pdr_pocket.cli"}
 PACKAGES = ("pdr_core", "pdr_sim", "pdr_ins_ekf", "pdr_pocket", "pdr_eval")
@@ -82,6 +87,14 @@ def _call(module: str, argv: list[str]) -> tuple[int, str]:
     return code, err.getvalue()
 
 
+WARNING = ": warning: "
+
+
+def warnings_of(text: str) -> list[str]:
+    """The warnings a command printed (its lines ``PROG: warning: TEXT``), as TEXT."""
+    return [line.split(WARNING, 1)[1] for line in text.splitlines() if WARNING in line]
+
+
 def _last_line(text: str, fallback: str) -> str:
     lines = [line for line in text.strip().splitlines() if line.strip()]
     return lines[-1] if lines else fallback
@@ -109,7 +122,7 @@ def run_recording(recording: Recording, out: Path, config: Path | None,
         digest = input_hash(recording, config)
         if not overwrite and (report := kept_report(recording, out, digest)) is not None:
             return Outcome(recording, report, "", time.perf_counter() - start, skipped=True)
-        bag = recording.source
+        bag, warnings = recording.source, []
         if recording.is_csv:
             bag = folder / "input"
             code, err = _call("pdr_sim.cli", ["import-csv", str(recording.source),
@@ -118,16 +131,25 @@ def run_recording(recording: Recording, out: Path, config: Path | None,
             if code:
                 return Outcome(recording, None, _last_line(err, f"import-csv exit {code}"),
                                time.perf_counter() - start)
+            warnings += warnings_of(err)
+        navigator, why = recording.navigator, "given"
+        if navigator == "auto":
+            choice = bag_navigator(bag)
+            if choice.navigator is None:
+                return Outcome(recording, None, refusal(choice), time.perf_counter() - start)
+            navigator, why = choice.navigator, f"auto: {choice.why} ({choice.figures()})"
         argv = ["run", str(bag), "--out", str(folder / "run"), "--overwrite"]
-        code, err = _call(CLI_MODULES[recording.navigator],
+        code, err = _call(CLI_MODULES[navigator],
                           argv + (["--config", str(config)] if config else []))
-        if code:
+        if code and not (code == EXIT_REFUSED and (folder / REPORT).is_file()):
             return Outcome(recording, None, _last_line(err, f"exit {code}"),
                            time.perf_counter() - start)
         report = json.loads((folder / REPORT).read_text())
+        walk = foot_walk(folder / "run") if navigator == "foot" else pocket_walk(report)
         report["eval"] = {"input_hash": digest, "versions": versions(),
-                          "navigator": recording.navigator, "dataset": recording.dataset,
-                          "worker_pid": os.getpid()}
+                          "navigator": navigator, "navigator_why": why,
+                          "dataset": recording.dataset, "worker_pid": os.getpid(),
+                          "warnings": warnings + warnings_of(err), "walk": walk}
         stamped = (folder / REPORT).with_suffix(".stamped")
         stamped.write_text(json.dumps(report, indent=2) + "\n")
         stamped.replace(folder / REPORT)      # at once: a run killed here keeps no half

@@ -7,10 +7,14 @@ A manifest is a CSV file with a header and one row per recording:
   to the manifest's folder unless absolute;
 - ``dataset``: the name its figures are grouped under (default: the recording's parent
   folder, as for paths given on the command line);
-- ``navigator``: ``foot`` or ``pocket`` (default: ``--navigator``);
+- ``navigator``: ``auto`` (chosen from the data: pdr_core.navigator_choice), ``foot`` or
+  ``pocket`` (default: ``--navigator``);
 - ``import_options``: for a CSV, the ``pdr-sim import-csv`` options that read it, as one
   shell-quoted string (``--time-col t_s --acc-cols ax,ay,az``); its truth columns
-  (``--pos-cols``) are what the run is scored against.
+  (``--pos-cols``) are what the run is scored against;
+- ``true_footfalls``, ``true_steps``, ``true_distance_m``: what the walker knows of the
+  walk (the footfalls of both feet, the gait cycles of the sensor leg, the distance [m]),
+  each scored when given (pdr_eval.summary).
 
 A recording that does not exist is kept: its run fails, named, and the rest go on.
 """
@@ -24,20 +28,23 @@ from pathlib import Path
 
 from pdr_core.errors import InputError
 
-NAVIGATORS = ("foot", "pocket")
-MANIFEST_COLUMNS = ("recording", "dataset", "navigator", "import_options")
+NAVIGATORS = ("auto", "foot", "pocket")
+KNOWN_COLUMNS = ("true_footfalls", "true_steps", "true_distance_m")
+MANIFEST_COLUMNS = ("recording", "dataset", "navigator", "import_options", *KNOWN_COLUMNS)
 
 
 @dataclass(frozen=True)
 class Recording:
     """One recording to navigate: its output folder's ``name`` (unique in the run), its
-    ``source`` path, ``dataset``, ``navigator`` and, for a CSV, the import options."""
+    ``source`` path, ``dataset``, ``navigator`` (``auto``, ``foot`` or ``pocket``), for a
+    CSV the import options, and what is known of the walk (``KNOWN_COLUMNS``: number)."""
 
     name: str
     source: Path
     dataset: str
     navigator: str
     import_options: tuple[str, ...] = ()
+    known: tuple[tuple[str, float], ...] = ()
 
     @property
     def is_csv(self) -> bool:
@@ -56,7 +63,7 @@ def from_paths(patterns: list[str], navigator: str) -> list[Recording]:
             found += [Path(m) for m in matches]
         else:
             found.append(Path(pattern))
-    return named([(path, path.absolute().parent.name, navigator, ()) for path in found])
+    return named([(path, path.absolute().parent.name, navigator, (), ()) for path in found])
 
 
 def from_manifest(manifest: Path, navigator: str) -> list[Recording]:
@@ -82,11 +89,34 @@ def from_manifest(manifest: Path, navigator: str) -> list[Recording]:
             raise InputError(manifest, f"line {line}: navigator {chosen!r} is not one of "
                                        f"{', '.join(NAVIGATORS)}")
         entries.append((path, row.get("dataset") or path.absolute().parent.name, chosen,
-                        tuple(shlex.split(row.get("import_options") or ""))))
+                        tuple(shlex.split(row.get("import_options") or "")),
+                        known_figures(manifest, line, row)))
     return named(entries)
 
 
-def named(entries: list[tuple[Path, str, str, tuple[str, ...]]]) -> list[Recording]:
+def known_figures(manifest: Path, line: int, row: dict) -> tuple[tuple[str, float], ...]:
+    """The ``KNOWN_COLUMNS`` a manifest row fills, as numbers (a negative or non-numeric
+    cell is refused, naming its line and column)."""
+    known = []
+    for column in KNOWN_COLUMNS:
+        cell = (row.get(column) or "").strip()
+        if not cell:
+            continue
+        try:
+            value = float(cell)
+        except ValueError:
+            value = -1.0
+        if not value >= 0:
+            raise InputError(manifest, f"line {line}: {column} {cell!r} is not a number "
+                                       "of at least 0")
+        known.append((column, value))
+    return tuple(known)
+
+
+Entry = tuple[Path, str, str, tuple[str, ...], tuple[tuple[str, float], ...]]
+
+
+def named(entries: list[Entry]) -> list[Recording]:
     """Recordings with unique folder names: the file's stem, prefixed by its dataset
     where two stems meet, and numbered where that is not enough."""
     stems = [path.stem if path.suffix else path.name for path, *_ in entries]
@@ -94,8 +124,8 @@ def named(entries: list[tuple[Path, str, str, tuple[str, ...]]]) -> list[Recordi
              for stem, (_, dataset, *_) in zip(stems, entries, strict=True)]
     seen: dict[str, int] = {}
     recordings = []
-    for name, (path, dataset, navigator, options) in zip(names, entries, strict=True):
+    for name, (path, dataset, navigator, options, known) in zip(names, entries, strict=True):
         seen[name] = seen.get(name, 0) + 1
         unique = name if names.count(name) == 1 else f"{name}_{seen[name]}"
-        recordings.append(Recording(unique, path, dataset, navigator, options))
+        recordings.append(Recording(unique, path, dataset, navigator, options, known))
     return recordings
