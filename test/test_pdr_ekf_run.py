@@ -24,6 +24,7 @@ def test_sample_bag_outputs_and_report(procs, tmp_path):
     report = json.loads((tmp_path / "out" / "report.json").read_text())
     assert report.keys() >= REPORT_KEYS
     assert report["armse_3d_m"] < 0.05 and report["final_error_pct"] < 0.5
+    assert report["warnings"] == [] and result.stderr == ""    # a walk's median |f|
     reader = BagReader(tmp_path / "out")
     assert set(reader.topics) == {"/pdr/foot/pose", "/pdr/foot/velocity", "/pdr/foot/stance",
                                   "/pdr/foot/path", "/pdr/foot/odometry", "/tf", "/tf_static",

@@ -17,13 +17,17 @@ Subcommands:
     study sweep           analytic against EKF error levels over ARW, VRW, RRW
                           (Wang et al. 2020, Figs. 3–6): table, CSV, PNG.
 
-Errors in the input exit with status 2 and one line naming the problem. Plotting modules
+Errors in the input exit with status 2 and one line naming the problem. ``run`` on input
+no walk gives (a median |f| beyond 0.5-2.5 g, pdr_core.walk_plausibility) warns on the
+first line of its output and in the report's ``warnings``; --strict refuses it (status 2).
+Plotting modules
 are imported only when a figure is asked for (Matplotlib alone costs 0.4 s of start-up).
 """
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -35,6 +39,7 @@ from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.metrics import error_report, truth_at, within_step_rmse
 from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
 from pdr_core.report_files import print_report, write_report
+from pdr_core.walk_plausibility import implausible_input, specific_force_problem
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import (
     navigate,
@@ -87,6 +92,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                    help="also write OUT/path.png (and OUT/smoothing.png when smoothing)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output")
     add_strict_option(p)
+    p.epilog = ("--strict also refuses input no walk gives (a median |f| beyond 0.5-2.5 g), "
+                "exit 2; without it that is a warning.")
     p.set_defaults(func=_run_run)
 
 
@@ -101,6 +108,10 @@ def _run_run(args: argparse.Namespace) -> int:
     wanted = ([args.imu_topic] + ([args.truth_topic] if has_truth else [])
               + ([args.stance_truth_topic] if has_stance else []))
     batches = reader.read_batches(wanted)
+    warnings = implausible_input(args.bag, [specific_force_problem(
+        batches[args.imu_topic]["linear_acceleration"])], args.strict)
+    for warning in warnings:
+        print(f"pdr-ekf: warning: {args.bag}: {warning}", file=sys.stderr, flush=True)
     if args.drift == "none":
         result, drift_report = navigate(batches[args.imu_topic], config), None
     else:
@@ -111,7 +122,7 @@ def _run_run(args: argparse.Namespace) -> int:
     t_s = (result.stamp_ns - result.stamp_ns[0]) * 1e-9
     report = step_report(t_s, result.output.position, truth, result.stance)
     report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
-               "dropped": result.counts}
+               "dropped": result.counts, "warnings": warnings}
     if has_stance:
         report["stance"] = stance_scores(result, batches[args.stance_truth_topic])
     smoothed = []
