@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.bag import BagReader
+from pdr_core.bag import BagReader, write_batches
 from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, homogeneous
 from wstest import ROOT, log_text, wait_for_log
 
@@ -400,30 +400,92 @@ def test_table_4_4_and_calibrate_step(chapter_4_bags, tmp_path):
     assert fitted["a_h_m_per_deg"] == pytest.approx(0.025, rel=0.05)
 
 
-@pytest.mark.parametrize(("scenario", "placement", "warning"), [
-    ("standing", "pocket", "no walking found: the signals were still"),
-    ("h1_rectangle", "hand", "motion but no thigh gait")])
-def test_a_walk_without_steps_is_reported_and_says_why(procs, tmp_path, scenario, placement,
-                                                        warning):
-    """Issue 28, acceptance 4: 20 s of standing, and a phone held in the hand (pdr_sim's
-    hand placement): 0 steps, the report and one warning line say which case it is, exit
-    0 and no traceback."""
-    source = scenario
-    if scenario == "standing":
-        source = tmp_path / "standing.yaml"
-        source.write_text("segments:\n  - {type: standing, duration_s: 20}\n")
+def generated_and_run(procs, tmp_path, placement: str, scenario: str):
+    """``pdr-sim generate`` of the YAML ``scenario`` carried at ``placement`` into
+    TMP/walk, and ``pdr-pocket run`` of it into TMP/run: the run's result."""
+    source = tmp_path / "scenario.yaml"
+    source.write_text(scenario)
     generated = procs.run("pdr-sim", "generate", "--placement", placement, "--scenario",
                           str(source), "--out", str(tmp_path / "walk"))
     assert generated.returncode == 0, generated.stderr
-    result = procs.run("pdr-pocket", "run", str(tmp_path / "walk"), "--out",
-                       str(tmp_path / "run"))
+    return procs.run("pdr-pocket", "run", str(tmp_path / "walk"), "--out",
+                     str(tmp_path / "run"))
+
+
+def test_a_walk_without_steps_is_reported_and_says_why(procs, tmp_path):
+    """Issue 28, acceptance 4: 20 s of standing: 0 steps, the report and one warning line
+    say which case it is, exit 0 and no traceback."""
+    result = generated_and_run(procs, tmp_path, "pocket",
+                               "segments:\n  - {type: standing, duration_s: 20}\n")
     assert result.returncode == 0, result.stderr
     report = json.loads((tmp_path / "run" / "report.json").read_text())
-    assert report["steps"] == 0 and report["footfalls"] == 0
+    assert report["steps"] == 0 and report["footfalls"] == 0 and not report["refused"]
     [line] = result.stderr.strip().splitlines()
-    assert line.startswith(f"pdr-pocket: warning: {tmp_path / 'walk'}: {warning}")
+    assert line.startswith(f"pdr-pocket: warning: {tmp_path / 'walk'}: no walking found: the "
+                           "signals were still")
     assert report["warnings"] == [line.split(": ", 3)[3]]
     assert len(BagReader(tmp_path / "run").read("/pdr/pocket/step")) == 0
+
+
+def test_a_phone_in_the_hand_is_refused_on_the_first_line_with_no_path(procs, tmp_path):
+    """Issue 54, acceptance 1: a phone held in the hand (pdr_sim's hand placement, a walk
+    of 40 m): the first line says it is not in a pocket and why, the report says so with no
+    step, footfall nor distance, the output has the attitude but no step, pose or path,
+    and the exit status is 3 (a refusal: not bad input, 2, nor a crash, 1)."""
+    result = generated_and_run(procs, tmp_path, "hand",
+                               "segments:\n  - {type: standing, duration_s: 3}\n"
+                               "  - {type: walk, distance_m: 40, speed_kmh: 3.5}\n")
+    assert result.returncode == 3, result.stderr
+    first = result.stderr.splitlines()[0]
+    assert first.startswith(f"pdr-pocket: refused: {tmp_path / 'walk'}: not in a pocket: the "
+                            "accelerometer heard ")
+    assert first.endswith("; no step written")
+    report = json.loads((tmp_path / "run" / "report.json").read_text())
+    assert report["refused"] and report["placement"]["placement"] == "not in a pocket"
+    assert report["steps"] == report["footfalls"] == report["placement"]["gait_cycles"] == 0
+    assert report["step_distance_m"] == 0.0 and report["placement"]["footfalls_heard"] > 16
+    assert report["placement"]["why"] in first
+    reader = BagReader(tmp_path / "run")
+    assert len(reader.read("/pdr/pocket/attitude")) == report["samples"]
+    for topic in ("/pdr/pocket/step", "/pdr/pocket/pose"):
+        assert len(reader.read(topic)) == 0
+    assert "/pdr/pocket/path" not in reader.topics
+
+
+def several_g(source: Path, out: Path) -> Path:
+    """``source``'s imu/data with the specific force times 4 (a median of about 3.9 g, as
+    a gravity-removed accelerometer read in g gave the user: 38.7 m/s²)."""
+    imu = BagReader(source).read("/imu/data")
+    imu["linear_acceleration"][:] *= 4.0
+    write_batches(out, {"/imu/data": imu})
+    return out
+
+
+@pytest.mark.parametrize(("cli", "bag"), [("pdr-pocket", "pocket_walk"),
+                                          ("pdr-ekf", "foot_walk")])
+def test_several_g_warns_first_and_fails_under_strict(procs, tmp_path, cli, bag):
+    """Issue 54, acceptance 2, for both navigators (pdr_core.walk_plausibility): a median
+    |f| of several g is a warning on the first line (the pocket navigator then navigates,
+    the warning first in its report; the foot's finds no stance to align on, its own error
+    after the warning), and --strict refuses it: exit 2, one line naming the file, no
+    output."""
+    walk = several_g(ROOT / "bags" / bag, tmp_path / "walk")
+    result = procs.run(cli, "run", str(walk), "--out", str(tmp_path / "run"))
+    prefix = f"{cli}: warning: {walk}: median |f| "
+    assert result.stderr.splitlines()[0].startswith(prefix), result.stderr
+    assert "is no walk's (0.5-2.5 g" in result.stderr.splitlines()[0]
+    if cli == "pdr-pocket":
+        assert result.returncode == 0, result.stderr
+        report = json.loads((tmp_path / "run" / "report.json").read_text())
+        assert report["warnings"][0] == result.stderr.splitlines()[0].split(": ", 3)[3]
+    else:
+        assert result.returncode == 2
+        assert "no stationary period" in result.stderr.splitlines()[-1]
+    strict = procs.run(cli, "run", str(walk), "--out", str(tmp_path / "strict"), "--strict")
+    assert strict.returncode == 2
+    [line] = strict.stderr.strip().splitlines()
+    assert line.startswith(f"{cli}: error: {walk}: median |f| ") and "--strict" in line
+    assert not (tmp_path / "strict").exists()
 
 
 def test_the_pose_is_on_tf(procs, ros, tmp_path):

@@ -21,7 +21,7 @@ FOOT_WALK = ROOT / "bags" / "foot_walk"
 # What only pdr-pocket run can tell (the navigator's inputs and set-up), and what only
 # evaluate says (where its truth came from): docs/reports.md
 RUN_ONLY = {"samples", "dropped", "mounting_changes", "detection", "step_length", "placement",
-            "stairs_refused", "warnings"}
+            "stairs_refused", "warnings", "inputs", "refused"}
 EVALUATE_ONLY = {"run", "truth_bag", "truth_time_offset_s", "warnings"}
 
 

@@ -244,3 +244,26 @@ def test_a_back_pocket_phone_walks_strides_a_person_walks():
     assert navigator.placement.summary()["stride_model"] == "frequency"
     assert navigator.bound_warning().startswith(
         f"{navigator.bounded_steps} of {len(out.steps)} strides")
+
+
+@pytest.mark.parametrize("name", ["fast_thigh_1", "tug_thigh_1"])
+def test_the_live_node_names_the_placement_the_report_names(runs, name):
+    """Issue 54, point 7: the live navigator (pdr_pocket.streaming, 37 samples a batch)
+    ends on the placement, reason and figures of the run's report: fast_thigh_1 a front
+    pocket, the 7 level cycles of the timed up-and-go unknown, said for a finished walk."""
+    from pdr_pocket.placement import placement_summary, walk_placement
+    from pdr_pocket.streaming import StreamingPocket
+
+    report, _, bag = runs[0][name]
+    _, _, inputs = read_pocket_bag(bag, None)
+    live = StreamingPocket(PocketConfig())
+    for i in range(0, len(inputs.t), 37):
+        live.push_imus(inputs.stamp_ns[i:i + 37], inputs.accel[i:i + 37], inputs.gyro[i:i + 37])
+    live.flush()
+    said = walk_placement(live.navigator)
+    assert (said.placement, said.why) == (report["placement"]["placement"],
+                                          report["placement"]["why"])
+    assert placement_summary(live.navigator)["footfalls_heard"] == \
+        report["placement"]["footfalls_heard"]
+    assert said.placement == ("front pocket" if name == "fast_thigh_1" else "unknown")
+    assert "so far" not in said.why and not report["refused"]

@@ -24,6 +24,13 @@ Subcommands:
                                 the sphere coverage, draws the raw cloud and the sphere.
 
 Errors in the input exit with status 2 and one line naming the file and the problem.
+``run`` on a phone that is not in a trouser pocket (held in the hand: its pitch does not
+swing once every two footfalls, pdr_pocket.placement) says so on the first line of its
+output, ``pdr-pocket: refused: BAG: not in a pocket: WHY``, writes OUT/report.json
+(``refused`` true, no step) and the attitude but no step, pose or path, and exits with
+status 3: a refusal, told apart from bad input (2) and a crash (1). Input no walk gives
+(a median |f| beyond 0.5-2.5 g, a pitch swing over twice a thigh's) is a warning on the
+first line, with --strict an error (status 2).
 """
 from __future__ import annotations
 
@@ -43,6 +50,7 @@ from pdr_core.imu_checks import FIELD_RANGE, median_field_t
 from pdr_core.magnetic_field import homogeneous
 from pdr_core.metrics import truth_orientation_at
 from pdr_core.report_files import print_report, write_report, write_report_file
+from pdr_core.walk_plausibility import EXIT_REFUSED
 from pdr_pocket.config import load_pocket_config, orientation_from_allan
 from pdr_pocket.evaluation import STEPS_PER
 from pdr_pocket.inputs import read_pocket_bag
@@ -141,16 +149,20 @@ def _run_navigator(args: argparse.Namespace) -> int:
                      args.mag_calibration, plot=args.plot, overwrite=args.overwrite,
                      drift=args.drift, drift_config=load_drift_config(args.drift_config),
                      strict=args.strict)
+    if report["refused"]:
+        print(f"pdr-pocket: refused: {args.bag}: {report['placement']['placement']}: "
+              f"{report['placement']['why']}; no step written", file=sys.stderr)
     _print_report(report, f"{args.bag}: ")
-    return 0
+    return EXIT_REFUSED if report["refused"] else 0
 
 
 def _print_report(report: dict, source: str = "") -> None:
-    """The report as JSON on stdout, and each of its warnings as one stderr line, after
-    ``source`` (the file it is about, when the warnings do not name it)."""
-    print_report(report)
+    """Each of the report's warnings as one stderr line, after ``source`` (the file it is
+    about, when the warnings do not name it), then the report as JSON on stdout."""
     for warning in report["warnings"]:
         print(f"pdr-pocket: warning: {source}{warning}", file=sys.stderr)
+    sys.stderr.flush()
+    print_report(report)
 
 
 def _add_evaluate(sub: argparse._SubParsersAction) -> None:

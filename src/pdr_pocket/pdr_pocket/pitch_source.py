@@ -10,7 +10,10 @@ and heading, and the stream the step detector sees.
 - the thigh frame and pitch (:mod:`pdr_pocket.compiled_mounting`); samples seen while the
   axes are still being learned (the first ``flexion_min_s`` of walking) are kept for
   ``replay_s`` and given the axes once known, so the first steps are not lost;
-- the time seen and moving, which say why no step was found.
+- the time seen and moving, which say why no step was found;
+- with a gyroscope, the footfalls the accelerometer hears apart from the pitch
+  (pdr_pocket.steps.FootfallDetector on |f|): two per swing of a thigh's pitch, many more
+  on a phone held in the hand (pdr_pocket.placement's "not in a pocket").
 
 :class:`PitchSource` does it chunk by chunk (the same result whatever the chunks);
 :class:`PitchChunk` is what it gives.
@@ -35,6 +38,7 @@ from pdr_pocket.compiled_mounting import (
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.orientation import AttitudeEstimate, OrientationFilter
 from pdr_pocket.samples import Samples
+from pdr_pocket.steps import FootfallDetector
 
 THIGH_UP, THIGH_FLEXION = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
 GRAVITY_TILT_SIGMA_RAD = np.radians(5.0)    # tilt from the low-passed specific force
@@ -125,6 +129,8 @@ class PitchSource:
         self.seen_s = self.moving_s = 0.0       # data seen, and moving [s]
         self.last_t: float | None = None
         self.previous: tuple | None = None      # (t, ω, C_b^n) of the last sample seen
+        self.footfall_ear = FootfallDetector(c.steps)   # |f|'s footfalls, with a gyroscope
+        self.hears_footfalls = False            # a chunk with a gyroscope came
 
     def run(self, samples: Samples) -> PitchChunk:
         """The chunk's attitude, pitch and detector stream (:class:`PitchChunk`)."""
@@ -150,11 +156,15 @@ class PitchSource:
         mounting_loop(self.mounting, params, MountingInputs(
             t, np.ascontiguousarray(rate), accel, attitude.attitude, turn), thigh)
         self._count_motion(t, rate)
+        norm = np.linalg.norm(accel, axis=1)
+        if gyro is not None:
+            self.footfall_ear.push(t, pitch, norm)
+            self.hears_footfalls = True
         remounts_t = t[np.flatnonzero(np.diff(changes, prepend=self.changes_seen))].tolist()
         self.changes_seen = changes[-1] if n else self.changes_seen
         # the vertical specific force (the stride model's range) and the norm (footfalls)
         forces = np.column_stack([np.einsum("nj,nj->n", attitude.attitude[:, 2, :], accel),
-                                  np.linalg.norm(accel, axis=1)])
+                                  norm])
         # per sample: the yaw's variance (the step's heading) and the tilt's (how far the
         # pitch can be trusted)
         variances = np.column_stack([attitude.covariance[:, 2, 2],
@@ -175,6 +185,12 @@ class PitchSource:
         self.seen_s += float(dt.sum())
         self.moving_s += float(dt[rate > np.radians(
             self.config.mounting.moving_rate_deg_per_s)].sum())
+
+    @property
+    def heard_footfalls(self) -> int | None:
+        """The footfalls the accelerometer heard so far, apart from the pitch (None
+        without a gyroscope: then they are the steps themselves)."""
+        return self.footfall_ear.footfalls if self.hears_footfalls else None
 
     def no_step_reason(self, stepped: bool) -> str | None:
         """Why no step was found, when none was (``stepped`` False; None otherwise): the

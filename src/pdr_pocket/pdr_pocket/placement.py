@@ -20,6 +20,19 @@ The swing ratio ρ = median Δθ / Δθ_thigh(median f), over the last
   line (Eq. (4.3), scaled by ``person.height_m`` as every uncalibrated line is);
 - fewer level cycles than the window: **unknown**, the pitch line (the thesis').
 
+A phone that rides on no leg (held in the hand, in a bag) is **not in a pocket**: the
+accelerometer hears the footfalls (pdr_pocket.steps.FootfallDetector on |f|, run beside
+the pitch maximum with a gyroscope, pdr_pocket.pitch_source), two per gait cycle, but
+the pitch does not swing once per cycle. A thigh's pitch swings through a cycle every two
+footfalls (1.92-2.04 footfalls per cycle on every shared pocket walk, the simulated front
+and back pockets and the stairs); phones held in the hand give 3.2-27 (the two shared
+Sensor Logger walks, two OxIOD handheld sequences; 588 and none on the simulated hand).
+With at least :data:`NOT_A_THIGH_MIN_FOOTFALLS` footfalls heard and more than
+:data:`THIGH_FOOTFALLS_PER_CYCLE_MAX` per cycle of the pitch, the walk is not a pocket
+walk: ``pdr-pocket run`` writes no step. A limit: a phone swung in the hand like a
+pendulum swings once per cycle too (OxIOD's multi_users_user2_seq4: 2.0 footfalls per
+cycle, a swing of 0.7 of a thigh's) and is taken for a back pocket.
+
 It is judged only at a cadence of at least :data:`~pdr_core.gait.PLACEMENT_MIN_CADENCE_HZ`
 (90 steps/min): slower, the cadence line does not hold and a slow thigh swings as little
 as a back pocket, so the placement stays as it was judged last (unknown at first).
@@ -46,7 +59,14 @@ from pdr_pocket.config import StepLengthConfig
 from pdr_pocket.step_length import AUTO_MODEL, StrideInputs
 
 FRONT_POCKET, BACK_POCKET, UNKNOWN = "front pocket", "back pocket", "unknown"
-MODEL_AT = {FRONT_POCKET: "pitch", BACK_POCKET: "frequency", UNKNOWN: "pitch"}
+NOT_IN_POCKET = "not in a pocket"
+MODEL_AT = {FRONT_POCKET: "pitch", BACK_POCKET: "frequency", UNKNOWN: "pitch",
+            NOT_IN_POCKET: "none"}
+# a thigh's gait: two footfalls per swing of the pitch; above this many, the pitch misses
+# a third of the cycles the accelerometer hears (the module docstring's evidence)
+THIGH_FOOTFALLS_PER_CYCLE_MAX = 3.0
+# the fewest footfalls heard to judge by: a placement window's gait cycles
+NOT_A_THIGH_MIN_FOOTFALLS = 2 * PLACEMENT_WINDOW_STEPS
 
 
 @dataclass(frozen=True)
@@ -86,7 +106,7 @@ class PlacementClassifier:
         self.current = self._decide()
         self.counts: Counter[str] = Counter()     # level cycles per placement
         self.models: Counter[str] = Counter()     # level cycles per stride model
-        self.last: dict[str, Placement] = {}      # the last decision of each placement
+        self.last: dict[str, Placement] = {}      # the last judgement of each placement
 
     def add(self, x: StrideInputs) -> Placement:
         """The placement with this level cycle in the window."""
@@ -94,7 +114,8 @@ class PlacementClassifier:
         self.current = self._decide()
         self.counts[self.current.placement] += 1
         self.models[self.current.model] += 1
-        self.last[self.current.placement] = self.current
+        if self.current is self.judged:
+            self.last[self.current.placement] = self.current
         return self.current
 
     def _decide(self) -> Placement:
@@ -128,18 +149,63 @@ class PlacementClassifier:
             return Placement(UNKNOWN, self.current.model, float("nan"), slow)
         return Placement(last.placement, last.model, last.swing_ratio, f"{last.why}; now {slow}")
 
-    def summary(self) -> dict:
-        """report.json's ``placement``: the placement of most judged level cycles (unknown
-        when fewer than a window's were judged) with its last swing ratio and reason, the
-        stride model of most cycles, and the cycles per placement and per model."""
+    def verdict(self, cycles: int = 0, heard_footfalls: int | None = None) -> Placement:
+        """The walk's placement so far, worded for the walk as a whole (the final report's
+        and the live node's, the same): not in a pocket when the ``heard_footfalls`` (the
+        accelerometer's, None: not counted apart) outnumber the pitch's gait ``cycles``
+        (module docstring); else the placement of most judged level cycles, with its last
+        swing ratio and reason; unknown when none was judged, and why."""
+        if heard_footfalls is not None and heard_footfalls >= NOT_A_THIGH_MIN_FOOTFALLS \
+                and heard_footfalls > THIGH_FOOTFALLS_PER_CYCLE_MAX * cycles:
+            return Placement(NOT_IN_POCKET, MODEL_AT[NOT_IN_POCKET], self._last_ratio(),
+                             self._no_thigh_gait(cycles, heard_footfalls))
         decided = Counter({k: n for k, n in self.counts.items() if k != UNKNOWN})
-        placement = decided.most_common(1)[0][0] \
-            if decided.total() >= PLACEMENT_WINDOW_STEPS else UNKNOWN
-        last = self.last.get(placement, self.current)
-        return {"placement": placement,
+        if decided:
+            return self.last[decided.most_common(1)[0][0]]
+        level = self.counts.total()
+        if level < PLACEMENT_WINDOW_STEPS:
+            return Placement(UNKNOWN, self.current.model, float("nan"),
+                             f"{level} level gait cycles, fewer than the "
+                             f"{PLACEMENT_WINDOW_STEPS} the placement is judged over")
+        return self.current
+
+    def _last_ratio(self) -> float:
+        return float("nan") if self.judged is None else self.judged.swing_ratio
+
+    def _no_thigh_gait(self, cycles: int, heard: int) -> str:
+        """Why the phone is not in a pocket: the footfalls against the pitch's cycles,
+        and the swing when it was judged."""
+        why = (f"the accelerometer heard {heard} footfalls but the pitch swung through "
+               f"{cycles} gait cycles; a thigh's swings once every two footfalls (at most "
+               f"{THIGH_FOOTFALLS_PER_CYCLE_MAX:g}): these steps are no thigh's gait")
+        if self.judged is not None:
+            why += f", and the pitch swing is {100 * self.judged.swing_ratio:.0f} % of a thigh's"
+        return why + " (held in the hand? in a bag?)"
+
+    def summary(self, cycles: int = 0, heard_footfalls: int | None = None) -> dict:
+        """report.json's ``placement``: the :meth:`verdict` with its swing ratio and
+        reason, the stride model of most level cycles, the footfalls heard apart, and the
+        level cycles per placement and per model."""
+        verdict = self.verdict(cycles, heard_footfalls)
+        ratio = verdict.swing_ratio
+        return {"placement": verdict.placement,
                 "stride_model": self.models.most_common(1)[0][0] if self.models
-                else last.model,
+                else verdict.model,
                 "configured_model": self.config.model,
-                "swing_ratio": None if np.isnan(last.swing_ratio) else round(last.swing_ratio, 3),
-                "why": last.why,
+                "swing_ratio": None if np.isnan(ratio) else round(ratio, 3),
+                "why": verdict.why, "gait_cycles": cycles, "footfalls_heard": heard_footfalls,
                 "cycles": dict(self.counts), "cycles_by_model": dict(self.models)}
+
+
+def walk_placement(navigator) -> Placement:
+    """The :meth:`PlacementClassifier.verdict` of a
+    :class:`~pdr_pocket.navigator.PocketNavigator` so far: what ``pdr-pocket run``
+    reports at the end and the live node says as it changes."""
+    return navigator.placement.verdict(len(navigator.steps),
+                                       navigator.pitch_source.heard_footfalls)
+
+
+def placement_summary(navigator) -> dict:
+    """:meth:`PlacementClassifier.summary` of a navigator (as :func:`walk_placement`)."""
+    return navigator.placement.summary(len(navigator.steps),
+                                       navigator.pitch_source.heard_footfalls)

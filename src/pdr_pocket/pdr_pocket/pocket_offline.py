@@ -3,9 +3,16 @@ drift corrections, writing its messages (:mod:`pdr_pocket.messages`), its report
 (:mod:`pdr_pocket.run_report`, and the drift's against the truth,
 :mod:`pdr_drift.drift_report`) and optionally its plot.
 
-- :func:`run_bag`: the run;
+- :func:`run_bag`: the run. Its input is checked first (pdr_core.walk_plausibility: a
+  median |f| no walk gives, a swing many times a thigh's): each problem a warning, the
+  first of the report's, or with ``strict`` an InputError. A phone that is not in a
+  pocket (pdr_pocket.placement's verdict) is refused: its report and attitude are
+  written, no step, pose or path (``report["refused"]``; the CLI exits
+  pdr_core.walk_plausibility.EXIT_REFUSED, 3);
 - :func:`run_record`: what ``pdr-pocket evaluate`` (pdr_pocket.evaluation) needs beyond
-  the messages, kept in the output's metadata.yaml.
+  the messages, kept in the output's metadata.yaml;
+- :func:`magnetometer_use`: the report's ``inputs.magnetometer`` (``inputs.barometer``:
+  pdr_pocket.height_filter.BarometerStatus).
 """
 from __future__ import annotations
 
@@ -15,7 +22,9 @@ import numpy as np
 
 from pdr_core.frames import MAP_FRAME
 from pdr_core.report_files import write_report
+from pdr_core.walk_plausibility import implausible_input, specific_force_problem, swing_problem
 from pdr_pocket.compiled_mounting import CHANGES
+from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.messages import (
     attitude_batches,
     path_batch,
@@ -24,8 +33,11 @@ from pdr_pocket.messages import (
     step_stamps,
     step_tf,
 )
-from pdr_pocket.records import StepRecord
+from pdr_pocket.orientation import AttitudeEstimate
+from pdr_pocket.placement import NOT_IN_POCKET, placement_summary
+from pdr_pocket.records import NavigatorOutput, StepRecord
 from pdr_pocket.run_report import navigation_report, true_floors
+from pdr_pocket.stairs import Staircases
 from pdr_pocket.step_length import height_scale
 
 
@@ -63,6 +75,21 @@ def _drift_against_truth(log, reader, truth, inputs, corrected, truth_positions,
 
 
 RUN_RECORD = "pdr.pocket_run"
+# the orientation filters' updates that use the magnetometer (pdr_pocket.orientation)
+MAGNETIC_UPDATES = ("field", "absolute_magnetic", "differential_magnetic", "compass")
+
+
+def magnetometer_use(inputs: PocketInputs, attitude: AttitudeEstimate) -> str:
+    """``absent`` (no reading), ``fused`` (a magnetic update ran) or ``not fused``."""
+    if not np.isfinite(inputs.mag).any():
+        return "absent"
+    ran = attitude.fraction_ran()
+    return "fused" if any(ran.get(name, 0.0) > 0 for name in MAGNETIC_UPDATES) else "not fused"
+
+
+def refused(result: NavigatorOutput) -> NavigatorOutput:
+    """The output of a walk refused: its attitude, no step."""
+    return NavigatorOutput(result.attitude, result.pitch, result.heading, result.activity, [])
 
 
 def run_record(steps: list[StepRecord], imu_stamp_ns: np.ndarray, start_ns: int,
@@ -112,6 +139,12 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
         loop = navigate_online if drift == "online" else navigate_offline
         navigator, result, drift_log = loop(config, drift_config or DriftConfig(),
                                             inputs.samples)
+    placement = placement_summary(navigator)
+    problems = implausible_input(bag, [specific_force_problem(inputs.accel),
+                                       swing_problem(placement["swing_ratio"])], strict)
+    refusal = placement["placement"] == NOT_IN_POCKET
+    if refusal:
+        result = refused(result)
     steps = result.steps
     stamps = step_stamps(steps, inputs.stamp_ns, inputs.t)
     truth_steps = batches.get(topics.GROUND_TRUTH_STEP)
@@ -120,20 +153,23 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     if truth_pose is not None:
         truth_positions = truth_at(truth_pose, np.r_[inputs.stamp_ns[0], stamps])
     record = reader.custom_data("pdr.simulation") or {}
-    report = navigation_report(steps, navigator.staircases, truth_steps, truth_positions,
-                               int(inputs.stamp_ns[0]), true_floors(record),
-                               navigator.footfalls)
-    report |= {"samples": len(inputs.t), "dropped": inputs.counts,
+    footfalls = 0 if refusal else navigator.footfalls
+    report = navigation_report(steps, Staircases() if refusal else navigator.staircases,
+                               truth_steps, truth_positions, int(inputs.stamp_ns[0]),
+                               true_floors(record), footfalls)
+    report |= {"refused": refusal, "samples": len(inputs.t), "dropped": inputs.counts,
                "mounting_changes": int(navigator.mounting.scalars[CHANGES]),
                "detection": navigator.detection(),
-               "placement": navigator.placement.summary(),
+               "placement": placement,
+               "inputs": {"magnetometer": magnetometer_use(inputs, result.attitude),
+                          "barometer": navigator.barometer_status().as_dict()},
                "stairs_refused": dict(navigator.staircases.check.refused),
                "step_length": {"model": config.step_length.model,
                                "calibrated": config.step_length.calibrated,
                                "height_m": config.person.height_m,
                                "scale": height_scale(config.step_length, config.person.height_m),
                                "bounded_steps": navigator.bounded_steps},
-               "warnings": navigator.warnings()}
+               "warnings": problems + ([] if refusal else navigator.warnings())}
     if navigator.barometer() is not None:
         report["barometer"] = navigator.barometer()
     if drift_log is not None:
@@ -145,7 +181,7 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     import yaml
 
     record_text = yaml.safe_dump(run_record(
-        steps, batches[topics.IMU_DATA].stamp_ns, int(inputs.stamp_ns[0]), navigator.footfalls,
+        steps, batches[topics.IMU_DATA].stamp_ns, int(inputs.stamp_ns[0]), footfalls,
         config.stairs.floor_height_m), default_flow_style=None, sort_keys=False)
     with BagWriter(out, overwrite=overwrite, custom_data={RUN_RECORD: record_text}) as writer:
         writer.write_merged(attitude_batches(inputs, result.attitude,
