@@ -121,10 +121,14 @@ def flight_problem(direction: int, heights_m, config: StairsConfig, *, whole: bo
 class FlightCheck:
     """The rule of the module docstring, one step at a time: :meth:`step` turns the
     pitch's activity and v of each step into those published. ``refused`` counts the
-    runs that never became a staircase and the stairs steps that climbed nothing."""
+    runs that never became a staircase and the stairs steps that climbed nothing;
+    ``withdrawn_m`` sums the climbs of the held steps refused since it was last taken
+    (:meth:`take_withdrawn`): a height filter given them at their own steps must take them
+    back."""
 
     def __init__(self, config: StairsConfig) -> None:
         self.config = config
+        self.withdrawn_m = 0.0              # v [m] of held steps refused, not yet taken
         self.direction: int | None = None   # the pitch's run of stairs steps, if one is open
         self.held: list[float] = []         # v [m] of its steps held back
         self.heights: list[float] = []      # ... and of those it climbed
@@ -154,6 +158,7 @@ class FlightCheck:
             if not self.heights:
                 self.refused["staircases"] += 1
                 self.refused["steps"] += len(self.held)
+                self.withdrawn_m += sum(self.held)
                 self.held = []
             return self._refuse()
         if not shown:
@@ -162,6 +167,11 @@ class FlightCheck:
         climbed = v_m + sum(self.held)
         self.heights, self.held = run, []
         return activity, climbed
+
+    def take_withdrawn(self) -> float:
+        """The climbs [m] of the held steps refused since the last call (then 0)."""
+        withdrawn, self.withdrawn_m = self.withdrawn_m, 0.0
+        return withdrawn
 
     def _landed(self) -> bool:
         """The heading turned by a landing's turn over the run's last flight (rule 5)."""
@@ -180,6 +190,7 @@ class FlightCheck:
         if self.held:
             self.refused["staircases"] += 1
             self.refused["steps"] += len(self.held)
+            self.withdrawn_m += sum(self.held)
         self.direction, self.held, self.heights, self.refusing = None, [], [], False
         self.headings = []
 

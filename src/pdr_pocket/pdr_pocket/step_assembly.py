@@ -169,9 +169,13 @@ class StepAssembly:
         on_stairs = activity in STAIRS_ACTIVITIES
         vertical_var = c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2
         # the height filter takes each stairs step's own climb over its own cycle, the one
-        # the flight check holds back included (it publishes it a step late)
-        fused = self.height.step(t_max, climbed if on_stairs else 0.0, vertical_var,
-                                 on_stairs, duration) if self.barometer else None
+        # the flight check holds back included (it publishes it a step late); the climbs of
+        # held steps it refuses are taken back at the step that refuses them
+        withdrawn = self.staircases.check.take_withdrawn()
+        climb = (climbed if on_stairs else 0.0) - withdrawn
+        climb_var = c.stairs.vertical_sigma_m**2 if withdrawn else vertical_var
+        fused = self.height.step(t_max, climb, climb_var, on_stairs,
+                                 duration) if self.barometer else None
         if fused is not None and self.height.fused:
             vertical, self.height_m = fused.height_m - self.height_m, fused.height_m
         self.position.step(length, vertical, heading, yaw_var, c.step_length.length_sigma_m**2,
