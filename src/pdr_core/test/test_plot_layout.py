@@ -1,6 +1,7 @@
 """The figures' shared layout (issue 29, "Pictures that answer the question"): short
-titles with the steps and the final error, top views to scale unless they are strips,
-height axes a floor high."""
+titles with the steps and the final error, top views to scale unless they are strips;
+issue 54: height axes fitted to the heights (a floor high only with floors), titles and
+warnings inside the figure."""
 import matplotlib
 
 matplotlib.use("Agg")
@@ -9,10 +10,14 @@ import numpy as np
 import pytest
 
 from pdr_core.plot_layout import (
+    HEIGHT_MARGIN,
     MAX_EQUAL_RATIO,
-    MIN_HEIGHT_SPAN_M,
+    MAX_WARNINGS_SHOWN,
+    MIN_FLOORS_SPAN_M,
+    MIN_LEVEL_SPAN_M,
     figure_title,
     height_axis,
+    lay_out,
     source_name,
     top_view,
     walk_summary,
@@ -66,11 +71,71 @@ def test_a_straight_line_is_not_blown_up_to_its_noise():
     assert high - low >= 1.0
 
 
-def test_a_level_walk_is_drawn_a_floor_high_and_stairs_in_full():
+def test_a_level_walk_is_drawn_about_its_heights_and_floors_a_floor_high():
+    """Issue 54: a foot's 0-0.2 m was drawn on 0-2.7 m. A level walk's axis is centred on
+    its heights, as high as they span with HEIGHT_MARGIN above and below, or
+    MIN_LEVEL_SPAN_M for less (millimetres of noise are drawn flat)."""
     fig, ax = plt.subplots()
+    foot = 0.2 * np.abs(np.sin(np.arange(300) / 7.0))
+    low, high = height_axis(ax, foot, "y")
+    assert ax.get_ylim() == (low, high)
+    assert (low + high) / 2 == pytest.approx(0.1)
+    assert high - low == pytest.approx(MIN_LEVEL_SPAN_M)
     low, high = height_axis(ax, 0.003 * np.sin(np.arange(100)), "y")
-    assert high - low == pytest.approx(MIN_HEIGHT_SPAN_M)
-    assert low < -0.003 and high > 0.003 and ax.get_ylim() == (low, high)
-    low, high = height_axis(ax, np.r_[0.0, 14.4, np.nan], "y")
+    assert (low, high) == pytest.approx((-MIN_LEVEL_SPAN_M / 2, MIN_LEVEL_SPAN_M / 2),
+                                        abs=1e-3)
+    drift = np.r_[np.linspace(0.0, 1.2, 50), np.nan]
+    low, high = height_axis(ax, drift, "y")
+    assert (low, high) == pytest.approx((-HEIGHT_MARGIN * 1.2, 1.2 + HEIGHT_MARGIN * 1.2))
+    # stairs: a floor high at least, from just below the lowest, and 14.4 m in full
+    low, high = height_axis(ax, np.r_[0.0, 0.8], "y", floors=True)
+    assert -0.2 < low < 0 and high - low == pytest.approx(MIN_FLOORS_SPAN_M)
+    low, high = height_axis(ax, np.r_[0.0, 14.4, np.nan], "y", floors=True)
     assert low < 0 and high > 14.4 and high - low < 16
+    plt.close(fig)
+
+
+def warning_boxes(fig) -> list:
+    return [text for text in fig.texts if text.get_bbox_patch() is not None]
+
+
+def inside(extent, box) -> bool:
+    return box.x0 <= extent.x0 and extent.x1 <= box.x1 and box.y0 <= extent.y0 and \
+        extent.y1 <= box.y1
+
+
+def test_a_long_title_and_long_warnings_are_wrapped_inside_the_figure_below_the_axes():
+    """Issue 54: a warning in the title was cut at the figure's edge. The title wraps; the
+    warnings go whole into a box below the axes, beyond MAX_WARNINGS_SHOWN counted."""
+    fig, axes = plt.subplots(1, 2, figsize=(8, 5))
+    for ax in axes:
+        ax.plot([0, 1], [0, 1])
+        ax.set(title="a panel", xlabel="x [m]")
+    long = "2 of 102 strides were longer than a person walks at their cadence " * 4
+    warnings = [long, "walks 8.2 m/s", *(f"warning {k}" for k in range(4))]
+    lay_out(fig, figure_title("walk", "the pocket navigator " * 6, "13 steps, no truth"),
+            warnings)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    title = fig._suptitle
+    assert inside(title.get_window_extent(renderer), fig.bbox)
+    assert title.get_text().count("\n") >= 2 and title.get_text().endswith("13 steps, no truth")
+    [box] = warning_boxes(fig)
+    assert inside(box.get_bbox_patch().get_window_extent(renderer), fig.bbox)
+    text = box.get_text()
+    assert " ".join(text.split()) == " ".join(
+        [f"warning: {w.strip()}" for w in warnings[:MAX_WARNINGS_SHOWN]]
+        + [f"and {len(warnings) - MAX_WARNINGS_SHOWN} more warnings in the report"])
+    assert len(text.split("\n")) > MAX_WARNINGS_SHOWN + 1, "the long warning is wrapped"
+    top_of_box = box.get_bbox_patch().get_window_extent(renderer).y1
+    for ax in axes:
+        assert ax.get_tightbbox(renderer).y0 > top_of_box, "the axes clear the box"
+        assert title.get_window_extent(renderer).y0 > ax.get_tightbbox(renderer).y1
+    plt.close(fig)
+
+
+def test_without_warnings_no_box():
+    fig, _ = plt.subplots()
+    lay_out(fig, "walk: a path")
+    assert not warning_boxes(fig) and fig._suptitle.get_text() == "walk: a path"
     plt.close(fig)

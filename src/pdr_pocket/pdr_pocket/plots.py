@@ -4,7 +4,6 @@ the magnetometer's raw cloud and the fitted sphere, as Fig. 3.20."""
 from __future__ import annotations
 
 from pathlib import Path
-from textwrap import shorten
 
 import matplotlib
 import numpy as np
@@ -13,8 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.collections import LineCollection
 
-from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
-from pdr_core.vocabulary import Activity
+from pdr_core.plot_layout import figure_title, height_axis, lay_out, top_view, walk_summary
+from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
 from pdr_pocket.orientation import FIELD_JUDGEMENTS, AttitudeEstimate
 
 AXES = ("x", "y", "z")
@@ -72,9 +71,8 @@ def attitude_png(estimate: AttitudeEstimate, errors_deg: np.ndarray | None,
         f"{name} {errors_deg[-1, i]:+.2f}°" for i, name in enumerate(("roll", "pitch", "yaw")))
     if heading_deg is not None:
         final += f", heading {heading_deg[-1]:+.2f}°"
-    fig.suptitle(figure_title(source, "the orientation filter's attitude and gyro biases",
+    lay_out(fig, figure_title(source, "the orientation filter's attitude and gyro biases",
                               f"{t_s[-1] - t_s[0]:.0f} s, {final}"))
-    fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
 
@@ -94,18 +92,17 @@ def magnetometer_png(raw_ut: np.ndarray, calibrated_ut: np.ndarray, path: Path,
             ax.plot_wireframe(radius * np.cos(u) * np.sin(v), radius * np.sin(u) * np.sin(v),
                               radius * np.cos(v), color="grey", lw=0.3)
         ax.set(xlabel="x [µT]", ylabel="y [µT]", zlabel="z [µT]", title=name)
-    fig.suptitle(figure_title(source, "magnetometer calibration, the raw cloud and the "
+    lay_out(fig, figure_title(source, "magnetometer calibration, the raw cloud and the "
                                       "fitted sphere", f"{len(raw_ut)} readings"))
-    fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
 ACTIVITY_COLOURS = ("tab:gray", "tab:blue", "tab:green", "tab:orange", "tab:purple")
-ELLIPSE_EVERY_STEPS = 20
+ELLIPSES_PER_WALK = 10  # about as many 1σ ellipses in a top view, the last step's among them
+ELLIPSE_INTERVALS = (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000)   # steps between ellipses
 ZOOM_ABOVE_S = 60.0     # a longer pitch trace gets a zoom on a few gait cycles
 ZOOM_CYCLES = 4         # gait cycles (the sensor leg's steps) in the zoom
-TITLE_WARNING_CHARS = 120   # a warning in the title, shortened to a line
 
 
 def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.ndarray,
@@ -116,19 +113,19 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
                    final_error_m: float | None = None, loop_gap_m: float | None = None,
                    warnings: list[str] = ()) -> None:
     """The 3D path (``positions`` (N + 1, 3) [m] from the start, one point per step,
-    coloured by activity: level blue, up green, down orange; the height axis a floor at
-    least, pdr_core.plot_layout), the top view with the 1σ position ellipse every
-    :data:`ELLIPSE_EVERY_STEPS` steps (to scale unless it is a strip, then stretched and
-    labelled so; the limits are the path's and the truth's, so ellipses wider than the walk
-    are cut at the frame rather than shrinking the path to a line), and the thigh pitch
-    [deg] against ``t_s`` [s] with the detected steps (``step_t``) and the true ones, and
-    beyond :data:`ZOOM_ABOVE_S` a zoom on
+    coloured by activity: level blue, up green, down orange; the height axis fitted to
+    them, a floor high at least with stairs steps, pdr_core.plot_layout), the top view
+    with the 1σ position ellipses of :func:`ellipse_steps` (to scale unless it is a strip,
+    then stretched and labelled so; the limits are the path's and the truth's, so
+    ellipses wider than the walk are cut at the frame rather than shrinking the path to a
+    line), and the thigh pitch [deg] against ``t_s`` [s] with the detected steps
+    (``step_t``) and the true ones, and beyond :data:`ZOOM_ABOVE_S` a zoom on
     :data:`ZOOM_CYCLES` gait cycles in the middle. Decimated to at most 20,000 points per
     line, so an hour plots in seconds. With the drift estimator's ``landmarks`` (N, 3)
     and ``associations`` (pairs of positions), the top view marks them, as Muñoz Díaz
     2016, Figs. 6.8-6.9. The title: ``source``'s name, the steps and ``final_error_m``
-    (against a truth) or ``loop_gap_m`` (the report's), and the report's ``warnings``, each
-    shortened to a line."""
+    (against a truth) or ``loop_gap_m`` (the report's); the report's ``warnings`` in full
+    in a box below the axes (pdr_core.plot_layout.lay_out)."""
     fig = plt.figure(figsize=(15, 10))
     grid = fig.add_gridspec(2, 4)
     ax3 = fig.add_subplot(grid[0, :2], projection="3d")
@@ -143,18 +140,20 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
         ax3.plot(*truth.T, color="k", lw=0.6, label="truth")
         top.plot(truth[:, 0], truth[:, 1], color="k", lw=0.6, label="truth")
     ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="3D path")
-    height_axis(ax3, positions[:, 2] if truth is None else np.r_[positions[:, 2], truth[:, 2]])
+    height_axis(ax3, positions[:, 2] if truth is None else np.r_[positions[:, 2], truth[:, 2]],
+                floors=bool(np.isin(activity, STAIRS_ACTIVITIES).any()))
     ax3.legend(loc="upper left", fontsize=8)
     top.plot(positions[:, 0], positions[:, 1], color="tab:blue", lw=1, label="estimate")
-    top.add_collection(LineCollection(_ellipses(positions, covariances), colors="tab:red",
-                                      linewidths=0.6), autolim=False)
+    marked = ellipse_steps(len(positions) - 1)
+    top.add_collection(LineCollection(_ellipses(positions[marked], covariances[marked]),
+                                      colors="tab:red", linewidths=0.6), autolim=False)
     if landmarks is not None and len(landmarks):
         top.plot(landmarks[:, 0], landmarks[:, 1], "o", mfc="none", color="tab:green", ms=8,
                  label="landmarks")
     for k, (first, revisit) in enumerate(associations):
         top.plot([first[0], revisit[0]], [first[1], revisit[1]], "-", color="tab:green", lw=2,
                  label="associations" if k == 0 else None)
-    top.set_title(f"top view, 1σ ellipses every {ELLIPSE_EVERY_STEPS} steps")
+    top.set_title(f"top view, {_ellipses_said(marked)}")
     top_view(top)
     top.legend(loc="best", fontsize=8)
     step = max(1, len(t_s) // 20000)
@@ -164,26 +163,47 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     pitch_ax.legend(loc="upper right", fontsize=8)
     if zoom:
         _pitch_zoom(fig.add_subplot(grid[1, 3]), pitch_ax, t_s, pitch_deg, step_t, true_step_t)
-    steps = len(positions) - 1
-    summary = "\n".join([walk_summary(steps, final_error_m, loop_gap_m),
-                         *(f"warning: {shorten(w, TITLE_WARNING_CHARS)}" for w in warnings)])
-    fig.suptitle(figure_title(source, "the pocket navigator" + (
-        ", landmarks and associations" if landmarks is not None else ""), summary))
-    fig.tight_layout()
+    lay_out(fig, figure_title(source, "the pocket navigator" + (
+        ", landmarks and associations" if landmarks is not None else ""),
+        walk_summary(len(positions) - 1, final_error_m, loop_gap_m)), list(warnings))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
+def ellipse_steps(steps: int) -> np.ndarray:
+    """The steps (indices into the N + 1 positions of ``steps`` steps) whose 1σ ellipse the
+    top view draws: every n-th, n the first of :data:`ELLIPSE_INTERVALS` that gives at
+    most :data:`ELLIPSES_PER_WALK`, and the last step (13 steps: 2, 4, ..., 12, 13; none
+    without a step: the start's ellipse is a point)."""
+    if steps <= 0:
+        return np.zeros(0, int)
+    every = next((n for n in ELLIPSE_INTERVALS if steps <= n * ELLIPSES_PER_WALK),
+                 ELLIPSE_INTERVALS[-1])
+    return np.unique(np.r_[np.arange(every, steps + 1, every), steps])
+
+
+def _ellipses_said(marked: np.ndarray) -> str:
+    """What the top view's title says of the ellipses at steps ``marked``
+    (:func:`ellipse_steps`)."""
+    if len(marked) == 0:
+        return "no steps, no 1σ ellipse"
+    every = int(marked[0])
+    if every == 1:
+        return "1σ ellipse at every step"
+    last = "" if marked[-1] % every == 0 else f" and at the last ({marked[-1]})"
+    return f"1σ ellipses every {every} steps{last}"
+
+
 def _ellipses(positions: np.ndarray, covariances: np.ndarray) -> list[np.ndarray]:
-    """The 1σ horizontal ellipse (60, 2) [m] about every :data:`ELLIPSE_EVERY_STEPS`-th
-    position, from its covariance's upper 2×2."""
+    """The 1σ horizontal ellipse (60, 2) [m] about each of ``positions`` (K, 3) [m], from
+    its covariance's upper 2×2 (``covariances`` (K, 3, 3) [m²])."""
     angles = np.linspace(0, 2 * np.pi, 60)
     circle = np.stack([np.cos(angles), np.sin(angles)])
     rings = []
-    for k in range(0, len(positions), ELLIPSE_EVERY_STEPS):
-        values, vectors = np.linalg.eigh(covariances[k][:2, :2])
+    for position, covariance in zip(positions, covariances, strict=True):
+        values, vectors = np.linalg.eigh(covariance[:2, :2])
         ring = vectors @ (np.sqrt(np.maximum(values, 0))[:, None] * circle)
-        rings.append((positions[k, :2, None] + ring).T)
+        rings.append((position[:2, None] + ring).T)
     return rings
 
 

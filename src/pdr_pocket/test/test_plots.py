@@ -1,14 +1,17 @@
 """pdr-pocket's figures answer their question (issue 29): a short title with the steps
-and the final error, a strip's top view stretched and labelled so, a level walk's height
-axis a floor high, and a zoom on a few gait cycles of a long pitch trace with the
-detected steps. Checked on the figure itself, not on pixels."""
+and the final error, a strip's top view stretched and labelled so, and a zoom on a few
+gait cycles of a long pitch trace with the detected steps. Issue 54: the 1σ ellipses the
+top view's title promises are drawn on a short walk too, a level walk's height axis fits
+its heights, the warnings are whole in a box below the axes. Checked on the figure
+itself, not on pixels."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from matplotlib.inset import InsetIndicator
 
-from pdr_core.plot_layout import MIN_HEIGHT_SPAN_M
+from pdr_core.plot_layout import MIN_FLOORS_SPAN_M, MIN_LEVEL_SPAN_M
+from pdr_core.vocabulary import Activity
 from pdr_pocket import plots
 from pdr_pocket.orientation import AttitudeEstimate
 from wstest import kept_figures
@@ -47,6 +50,11 @@ def draw(figures, tmp_path, walk, **kwargs):
     return fig, {ax.get_title(): ax for ax in fig.axes}
 
 
+def top_view(axes: dict):
+    [top] = [ax for title, ax in axes.items() if title.startswith("top view")]
+    return top
+
+
 def test_the_title_is_the_walks_name_its_steps_and_final_error(figures, tmp_path):
     walk = strip_walk(2)
     fig, _ = draw(figures, tmp_path, walk, final_error_m=1.234)
@@ -61,12 +69,50 @@ def test_without_truth_the_title_gives_the_loop_gap(figures, tmp_path):
     assert "no truth, final loop gap 1.75 m" in fig._suptitle.get_text()
 
 
-def test_a_strip_is_stretched_and_a_level_walk_drawn_a_floor_high(figures, tmp_path):
-    _, axes = draw(figures, tmp_path, strip_walk(2))
-    top = axes["top view, 1σ ellipses every 20 steps"]
+def test_a_strip_is_stretched_and_a_level_walks_height_fits_it(figures, tmp_path):
+    """Its heights are ±2 mm: the height axis MIN_LEVEL_SPAN_M about them; with a stairs
+    step, a floor."""
+    walk = strip_walk(2)
+    _, axes = draw(figures, tmp_path, walk)
+    top = top_view(axes)
     assert top.get_aspect() > 5 and "stretched" in top.get_ylabel()
     low, high = axes["3D path"].get_zlim()
-    assert high - low >= MIN_HEIGHT_SPAN_M - 1e-9
+    assert (low, high) == pytest.approx((-MIN_LEVEL_SPAN_M / 2, MIN_LEVEL_SPAN_M / 2),
+                                        abs=0.003)
+    walk["activity"][5] = Activity.UPSTAIRS
+    figures.clear()
+    _, axes = draw(figures, tmp_path, walk)
+    low, high = axes["3D path"].get_zlim()
+    assert high - low == pytest.approx(MIN_FLOORS_SPAN_M)
+
+
+def test_the_ellipses_are_spaced_for_the_walks_length_and_the_last_step_has_one():
+    np.testing.assert_array_equal(plots.ellipse_steps(13), [2, 4, 6, 8, 10, 12, 13])
+    np.testing.assert_array_equal(plots.ellipse_steps(5), [1, 2, 3, 4, 5])
+    np.testing.assert_array_equal(plots.ellipse_steps(200), np.arange(20, 201, 20))
+    assert len(plots.ellipse_steps(0)) == 0
+    for steps in (1, 9, 13, 104, 999, 5000):
+        marked = plots.ellipse_steps(steps)
+        assert marked[-1] == steps and 1 <= len(marked) <= plots.ELLIPSES_PER_WALK + 1
+
+
+def test_a_thirteen_step_walk_shows_the_ellipses_its_title_promises(figures, tmp_path):
+    """Issue 54: "1σ ellipses every 20 steps" and none drawn on a 13-step walk."""
+    walk = strip_walk(20 / 60)
+    steps = len(walk["positions"]) - 1
+    assert steps == 13
+    walk["covariances"] *= np.arange(steps + 1)[:, None, None]   # σ grows with the steps
+    _, axes = draw(figures, tmp_path, walk)
+    top = top_view(axes)
+    assert top.get_title() == "top view, 1σ ellipses every 2 steps and at the last (13)"
+    [rings] = top.collections
+    rings = rings.get_segments()
+    assert len(rings) == 7
+    for ring, k in zip(rings, [2, 4, 6, 8, 10, 12, 13], strict=True):
+        np.testing.assert_allclose(ring[:-1].mean(axis=0), walk["positions"][k, :2],
+                                   atol=1e-9)   # a closed ring: its last point its first
+        radius = np.linalg.norm(ring - walk["positions"][k, :2], axis=1)
+        np.testing.assert_allclose(radius, np.sqrt(0.01 * k))
 
 
 def test_a_seven_minute_pitch_trace_has_a_zoom_on_a_few_gait_cycles(figures, tmp_path):
@@ -112,17 +158,27 @@ def test_wide_ellipses_leave_the_path_its_extent(figures, tmp_path):
     walk = strip_walk(2)
     walk["covariances"] = np.tile(np.diag([400.0, 400.0, 0.01]), (len(walk["positions"]), 1, 1))
     _, axes = draw(figures, tmp_path, walk)
-    top = axes["top view, 1σ ellipses every 20 steps"]
+    top = top_view(axes)
     left, right = top.get_xlim()
     assert right - left < 1.5 * 80.2            # the strip's length, not the 40 m ellipses
     [rings] = top.collections
-    assert len(rings.get_segments()) == len(range(0, len(walk["positions"]), 20))
+    assert len(rings.get_segments()) == len(plots.ellipse_steps(len(walk["positions"]) - 1))
 
 
-def test_the_warnings_are_in_the_title(figures, tmp_path):
+def test_the_warnings_are_whole_in_a_box_below_the_axes(figures, tmp_path):
+    """Issue 54: a warning shortened into the title was cut; now it is whole, wrapped in
+    a box inside the figure, below the axes, and the title is the walk's."""
     long = "2 of 102 strides were longer than a person walks at their cadence " * 4
     fig, _ = draw(figures, tmp_path, strip_walk(2), warnings=[long, "walks 8.2 m/s"])
-    lines = fig._suptitle.get_text().split("\n")
-    assert lines[-2].startswith("warning: 2 of 102 strides") and lines[-2].endswith("[...]")
-    assert len(lines[-2]) <= len("warning: ") + plots.TITLE_WARNING_CHARS
-    assert lines[-1] == "warning: walks 8.2 m/s"
+    assert fig._suptitle.get_text().count("\n") == 1, "no warning in the title"
+    fig.canvas.draw()       # at the figure's dpi (the file's was 110)
+    renderer = fig.canvas.get_renderer()
+    [box] = [text for text in fig.texts if text.get_bbox_patch() is not None]
+    assert " ".join(box.get_text().split()) == \
+        f"warning: {long.strip()} warning: walks 8.2 m/s"
+    extent = box.get_bbox_patch().get_window_extent(renderer)
+    title = fig._suptitle.get_window_extent(renderer)
+    assert fig.bbox.x0 <= extent.x0 and extent.x1 <= fig.bbox.x1 and extent.y0 >= 0
+    assert fig.bbox.x0 <= title.x0 and title.x1 <= fig.bbox.x1 and title.y1 <= fig.bbox.y1
+    for ax in fig.axes:
+        assert ax.get_tightbbox(renderer).y0 > extent.y1

@@ -11,7 +11,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from pdr_core.plot_layout import figure_title, height_axis, top_view, walk_summary
+from pdr_core.plot_layout import figure_title, height_axis, lay_out, top_view, walk_summary
+from pdr_core.vocabulary import STAIRS_ACTIVITIES
 from pdr_sim.trajectory import Trajectory
 
 
@@ -37,11 +38,34 @@ def _route_title(title: str, shows: str, traj: Trajectory, steps: int | None) ->
     return figure_title(title, shows, walk_summary(steps, loop_gap_m=gap, of_truth=True))
 
 
+SPEED_WINDOW_S = 5.0        # the speed panel's window [s]: a few strides, whose mean varies little
+MAX_SPEED_WINDOWS = 300     # a longer walk gets longer windows
+
+
+def windowed_speed(t: np.ndarray, speed: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                             np.ndarray, float]:
+    """The mean and the peak of ``speed`` (N,) [m/s] at ``t`` (N,) [s] over consecutive
+    windows of :data:`SPEED_WINDOW_S` (longer when the walk would have more than
+    :data:`MAX_SPEED_WINDOWS`): a foot's speed at the sample rate swings from 0 to 5 m/s
+    every stride, drawn whole it is a solid block. Returns the windows' centres [s], their
+    mean and peak speeds [m/s] and the window [s]."""
+    window = max(SPEED_WINDOW_S, (t[-1] - t[0]) / MAX_SPEED_WINDOWS)
+    index = ((t - t[0]) // window).astype(int)
+    counts = np.bincount(index)
+    filled = counts > 0
+    mean = np.bincount(index, speed)[filled] / counts[filled]
+    peak = np.full(len(counts), -np.inf)
+    np.maximum.at(peak, index, speed)
+    centres = t[0] + (np.flatnonzero(filled) + 0.5) * window
+    return centres, mean, peak[filled], window
+
+
 def trajectory_png(traj: Trajectory, path: Path, title: str, *, steps: int | None = None,
                    foot: bool = True) -> None:
     """Top view (to scale unless it is a strip, pdr_core.plot_layout), position and
-    attitude against time, speed. ``foot``: a foot's trajectory, whose position and
-    attitude panels are Zampella et al. 2011's Figs. 1a and 1b (a thigh's are not)."""
+    attitude against time, the speed's mean and peak per window (:func:`windowed_speed`).
+    ``foot``: a foot's trajectory, whose position and attitude panels are Zampella et al.
+    2011's Figs. 1a and 1b (a thigh's are not)."""
     paper = (" (Fig. 1a)", " (Fig. 1b)") if foot else ("", "")
     fig, ax = plt.subplots(2, 2, figsize=(12, 8))
     ax[0, 0].plot(traj.position[:, 0], traj.position[:, 1])
@@ -55,11 +79,14 @@ def trajectory_png(traj: Trajectory, path: Path, title: str, *, steps: int | Non
         ax[1, 0].plot(traj.t, np.degrees(traj.euler[:, i]), label=name)
     ax[1, 0].set(xlabel="t [s]", ylabel="[deg]", title="attitude" + paper[1])
     ax[1, 0].legend()
-    ax[1, 1].plot(traj.t, np.linalg.norm(traj.velocity, axis=1))
-    ax[1, 1].set(xlabel="t [s]", ylabel="|v| [m/s]", title="speed")
-    fig.suptitle(_route_title(title, f"the simulated {'foot' if foot else 'sensor'}'s "
+    centres, mean, peak, window = windowed_speed(traj.t, np.linalg.norm(traj.velocity, axis=1))
+    ax[1, 1].plot(centres, peak, color="tab:orange", lw=0.8, label="peak")
+    ax[1, 1].plot(centres, mean, color="tab:blue", label="mean")
+    ax[1, 1].set(xlabel="t [s]", ylabel="|v| [m/s]", ylim=(0, None),
+                 title=f"speed, per {window:.3g} s window")
+    ax[1, 1].legend()
+    lay_out(fig, _route_title(title, f"the simulated {'foot' if foot else 'sensor'}'s "
                                      "trajectory", traj, steps))
-    fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -87,7 +114,8 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
                     label=ACTIVITY_LABELS[int(activity)])
     ax3.plot(*traj.position[::10].T, color="grey", lw=0.4)
     ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="route (3D)")
-    height_axis(ax3, np.r_[points[:, 2], traj.position[:, 2]])
+    height_axis(ax3, np.r_[points[:, 2], traj.position[:, 2]],
+                floors=bool(np.isin(steps.activity, STAIRS_ACTIVITIES).any()))
     ax3.legend(fontsize=8)
     top = fig.add_subplot(3, 2, 2)
     top.plot(traj.position[:, 0], traj.position[:, 1], color="grey", lw=0.6)
@@ -114,8 +142,7 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
             window = traj.t[(traj.t >= start) & (traj.t <= steps.end_s[middle] + 2.0)]
             _pitch_panel(ax, model, window)
         ax.set_title("level steps" if column == 1 else "stairs steps")
-    fig.suptitle(_route_title(title, "the simulated pocket walk", traj, len(steps.length)))
-    fig.tight_layout()
+    lay_out(fig, _route_title(title, "the simulated pocket walk", traj, len(steps.length)))
     fig.savefig(path, dpi=90)
     plt.close(fig)
 

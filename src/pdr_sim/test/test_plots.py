@@ -1,13 +1,15 @@
 """pdr-sim generate --plot (issue 29): only a foot's trajectory carries Zampella et al.
 2011's "Fig. 1a/1b"; titles give the steps and where the route ends; a strip's top view
-is stretched and labelled so, a level walk's height axis a floor high."""
+is stretched and labelled so; issue 54: a level walk's height axis fits its heights, the
+speed panel is a line per window, not a solid block of every sample."""
 from __future__ import annotations
 
 from functools import cache
 
+import numpy as np
 import pytest
 
-from pdr_core.plot_layout import MIN_HEIGHT_SPAN_M
+from pdr_core.plot_layout import MIN_LEVEL_SPAN_M
 from pdr_sim import plots
 from pdr_sim.foot_trajectory import FootTrajectory
 from pdr_sim.pocket_scenario import pocket_scenario_from_dict
@@ -51,6 +53,37 @@ def test_a_foot_trajectory_carries_the_papers_figure_labels(figures, tmp_path):
     assert top.get_title() == "top view" and "stretched" in top.get_ylabel()
 
 
+def test_the_speed_panel_is_the_mean_and_peak_per_window(figures, tmp_path):
+    """A foot at 100 Hz swings from 0 to 5 m/s every stride: drawn whole, the panel was a
+    block of thousands of vertical strokes. Now two lines of a point per SPEED_WINDOW_S,
+    a point per few pixels at most; the mean is the samples' mean in each window and the
+    peak their maximum."""
+    scenario, _ = load_scenario("long_mixed_walk")
+    traj = FootTrajectory(scenario).sample(100.0)
+    plots.trajectory_png(traj, tmp_path / "t.png", "long_mixed_walk")
+    [fig] = figures
+    [speed] = [ax for ax in fig.axes if ax.get_title().startswith("speed")]
+    assert speed.get_title() == f"speed, per {plots.SPEED_WINDOW_S:g} s window"
+    peak, mean = speed.get_lines()
+    width_px = speed.get_window_extent().width
+    duration = traj.t[-1] - traj.t[0]
+    assert len(mean.get_xdata()) == np.ceil(duration / plots.SPEED_WINDOW_S) < width_px / 4
+    samples = np.linalg.norm(traj.velocity, axis=1)
+    first = traj.t < traj.t[0] + plots.SPEED_WINDOW_S
+    assert mean.get_ydata()[0] == pytest.approx(samples[first].mean())
+    assert peak.get_ydata().max() == pytest.approx(samples.max())
+    walking = mean.get_ydata()[len(mean.get_ydata()) // 2]
+    assert 0.7 < walking < 1.8 < peak.get_ydata()[len(mean.get_ydata()) // 2]
+
+
+def test_a_long_walk_gets_longer_windows():
+    t = np.arange(0.0, 3600.0, 0.01)
+    centres, mean, peak, window = plots.windowed_speed(t, np.abs(np.sin(t)))
+    assert window == pytest.approx(3600.0 / plots.MAX_SPEED_WINDOWS, rel=1e-3)
+    assert len(centres) == len(mean) == len(peak) <= plots.MAX_SPEED_WINDOWS + 1
+    np.testing.assert_allclose(mean[:-1], 2 / np.pi, atol=0.03)   # 12 s of a π s period
+
+
 def test_a_pocket_trajectory_has_no_foot_paper_labels(figures, tmp_path):
     sim = pocket_walk()
     steps = plots.step_count(sim.model)
@@ -65,6 +98,8 @@ def test_a_pocket_trajectory_has_no_foot_paper_labels(figures, tmp_path):
         assert f"{steps} steps, the truth" in fig._suptitle.get_text()
     [route] = [ax for ax in pocket.axes if ax.get_title() == "route (3D)"]
     low, high = route.get_zlim()
-    assert high - low >= MIN_HEIGHT_SPAN_M - 1e-9
+    heights = np.r_[sim.trajectory.position[:, 2], sim.model.route["step"][:, 2]]
+    assert high - low == pytest.approx(max(MIN_LEVEL_SPAN_M, 1.1 * np.ptp(heights)))
+    assert low < heights.min() and heights.max() < high
     [top] = [ax for ax in pocket.axes if ax.get_title().startswith("top view")]
     assert "stretched" in top.get_ylabel()
