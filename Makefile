@@ -34,7 +34,7 @@ test: lint warm
 check: lint warm
 	@$(ENV) && python -m pytest $(PYTEST_PARALLEL) $(wildcard src/*/test) $(PYTEST_ARGS)
 
-demo: build
+demo: warm
 	@$(ENV) && tools/demo.sh
 
 demo-pocket: build

@@ -4,7 +4,10 @@
 # offline tools on the sample bags, which reach every compiled module: the foot kernels
 # and the pocket and simulator kernels in two processes at once (they share none).
 # Skipped while the packages' sources are unchanged since the last warm-up (a stamp in
-# install/).
+# install/). Says what it compiles and about how long it takes before it starts, then each
+# command as it starts ("[warm foot 1/3] ...") and each kernel compiled, with its seconds
+# (pdr_core.kernel_cache.CompileProgress, on through PDR_COMPILE_PROGRESS); a command's
+# other output only if it fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -13,28 +16,39 @@ want="$(find src -path '*/test' -prune -o -name '*.py' -print | sort | xargs cat
 if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
   exit 0
 fi
-echo "[warm] compiling the numba kernels once (about a minute on a fresh clone)" >&2
+started=$SECONDS
+echo "[warm] compiling the numba kernels to machine code once, into caches beside the" \
+  "sources: the foot navigator's (pdr_ins_ekf) and, at the same time, the pocket" \
+  "navigator's and the simulator's (pdr_pocket, pdr_sim); about 75 s on a fresh clone," \
+  "seconds after an edit" >&2
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-ws() {  # ./ws quietly; its output only if it fails
-  local log="$out/$1-$2-$RANDOM.log"
-  ./ws "$@" > "$log" 2>&1 || { cat "$log" >&2; return 1; }
+export PDR_COMPILE_PROGRESS=1
+ws() {  # ws GROUP K N CMD...: says "[warm GROUP K/N] CMD", runs ./ws CMD and passes on
+  # the kernels it compiles; its whole output only if it fails
+  local group="$1" k="$2" n="$3" log="$out/$RANDOM.log"
+  shift 3
+  echo "[warm $group $k/$n] $*" >&2
+  local status=0
+  ./ws "$@" 2>&1 | tee "$log" | { grep --line-buffered '^\[numba\]' || true; } \
+    | sed -u "s/^\[numba\]/[warm $group]/" >&2 || status=$?
+  [ "$status" = 0 ] || { cat "$log" >&2; return 1; }
 }
 foot() {
-  ws pdr-ekf run bags/foot_walk --out "$out/segmented" --smoother segmented
-  ws pdr-ekf run bags/foot_walk --out "$out/full" --smoother full
-  ws pdr-ekf montecarlo --source all --runs 2 --steps 3 \
+  ws foot 1 3 pdr-ekf run bags/foot_walk --out "$out/segmented" --smoother segmented
+  ws foot 2 3 pdr-ekf run bags/foot_walk --out "$out/full" --smoother full
+  ws foot 3 3 pdr-ekf montecarlo --source all --runs 2 --steps 3 \
     --estimator ins,ekf_original,ekf_limited,ekf_retarded --out "$out/montecarlo"
 }
 pocket() {
-  ws pdr-pocket run bags/pocket_walk --out "$out/pocket" --drift online
+  ws pocket 1 5 pdr-pocket run bags/pocket_walk --out "$out/pocket" --drift online
   # the thesis' unscented filter (filter: thesis), which the tests of its tables run
-  ws pdr-pocket run bags/pocket_walk --out "$out/thesis" --drift online \
+  ws pocket 2 5 pdr-pocket run bags/pocket_walk --out "$out/thesis" --drift online \
     --config src/pdr_pocket/config/pocket_pdr_no_mag.yaml
-  ws pdr-sim import-csv bags/pyshoe_vicon_2018-02-22-10-10-29.csv --out "$out/no_gyro" \
-    --time-col t_s --acc-cols acc_x_mps2,acc_y_mps2,acc_z_mps2
-  ws pdr-pocket run "$out/no_gyro" --out "$out/no_gyro_run"
-  ws pdr-sim generate --placement pocket --scenario sit_stand --out "$out/sit_stand"
+  ws pocket 3 5 pdr-sim import-csv bags/pyshoe_vicon_2018-02-22-10-10-29.csv \
+    --out "$out/no_gyro" --time-col t_s --acc-cols acc_x_mps2,acc_y_mps2,acc_z_mps2
+  ws pocket 4 5 pdr-pocket run "$out/no_gyro" --out "$out/no_gyro_run"
+  ws pocket 5 5 pdr-sim generate --placement pocket --scenario sit_stand --out "$out/sit_stand"
 }
 foot & foot_pid=$!
 pocket & pocket_pid=$!
@@ -43,3 +57,4 @@ wait "$foot_pid" || failed=1
 wait "$pocket_pid" || failed=1
 [ "$failed" = 0 ] || exit 1
 echo "$want" > "$stamp"
+echo "[warm] done in $((SECONDS - started)) s" >&2
