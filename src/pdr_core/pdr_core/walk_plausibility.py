@@ -3,10 +3,12 @@ the checks both navigators (``pdr-ekf run``, ``pdr-pocket run``) share, each a w
 the first line of the run's output, and with ``--strict`` a refusal (exit 2).
 
 - :data:`WALK_SPECIFIC_FORCE_RANGE`: the median |f| [m/s²] of a walk, a run or a rest,
-  and :func:`specific_force_problem`: what is wrong with one outside it. The import's
-  unit check (pdr_core.imu_checks.SPECIFIC_FORCE_RANGE, 0.5-5 g) only catches data a
-  unit away; this one is the navigator's, tighter: a gravity-removed accelerometer read
-  in g (a phone's "linear acceleration" file) has a median of several g at walking pace.
+  and :func:`specific_force_problem`: what is wrong with one outside it, or with a
+  gravity-removed accelerometer in any unit. The import's unit check
+  (pdr_core.imu_checks.SPECIFIC_FORCE_RANGE, 0.5-5 g) only catches data a unit away; this
+  one is the navigator's: a gravity-removed accelerometer read in g (a phone's "linear
+  acceleration" file) has a median of 2-4 g at walking pace, which its slow part tells
+  from a run's (pdr_core.imu_checks.gravity_removed).
 - :data:`THIGH_SWING_MAX_RATIO` and :func:`swing_problem`: a thigh's pitch swing many
   times the one the walking lines give (pdr_pocket.placement's swing ratio ρ).
 - :func:`implausible_input`: the problems found as warnings, or with ``strict`` an
@@ -21,7 +23,13 @@ import numpy as np
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import PlausibleRange, median_specific_force_mps2
+from pdr_core.imu_checks import (
+    SLOW_PART_WINDOW_S,
+    PlausibleRange,
+    gravity_removed,
+    median_specific_force_mps2,
+    slow_part_median_norm,
+)
 
 # The median |f| of a walk is about 1 g (the legs' accelerations come and go about it):
 # 1.00-1.31 g on the shared foot walks, 1.00-1.18 g on the shared thigh walks and jog; a
@@ -40,24 +48,34 @@ THIGH_SWING_MAX_RATIO = 2.0
 EXIT_REFUSED = 3
 
 
-def specific_force_problem(accel_mps2) -> str | None:
-    """What is wrong with specific forces (N, 3) [m/s²] whose median |f| (over the finite
-    samples) lies outside :data:`WALK_SPECIFIC_FORCE_RANGE` (None: nothing, or no sample)."""
-    accel_mps2 = np.asarray(accel_mps2, float)
-    finite = accel_mps2[np.isfinite(accel_mps2).all(axis=1)]
-    if not len(finite):
+def specific_force_problem(t_s, accel_mps2) -> str | None:
+    """What is wrong with specific forces (N, 3) [m/s²] at the stamps ``t_s`` [s] (N,)
+    (None: nothing, or no finite sample), over the finite samples:
+
+    - they look gravity-removed (pdr_core.imu_checks.gravity_removed: their 1 s mean is
+      far below their median norm, in whatever unit they were read), whatever their
+      median: a phone's "linear acceleration" read in g is about 2-4 g at walking pace,
+      read in m/s² about 0.2 g;
+    - else a median |f| outside :data:`WALK_SPECIFIC_FORCE_RANGE`: another unit."""
+    t_s, accel_mps2 = np.asarray(t_s, float), np.asarray(accel_mps2, float)
+    finite = np.isfinite(accel_mps2).all(axis=1) & np.isfinite(t_s)
+    if not finite.any():
         return None
-    f = median_specific_force_mps2(finite)
+    t_s, accel_mps2 = t_s[finite], accel_mps2[finite]
+    f = median_specific_force_mps2(accel_mps2)
+    told = f"{WALK_SPECIFIC_FORCE_RANGE.statistic} {f:.1f} m/s² ({f / STANDARD_GRAVITY_MPS2:.2f} g)"
+    if gravity_removed(t_s, accel_mps2):
+        slow = slow_part_median_norm(t_s, accel_mps2)
+        return (f"{told}, its {SLOW_PART_WINDOW_S:g} s mean {slow / f:.2f} times that (with "
+                "gravity about 1): gravity is missing, the accelerometer is gravity-removed "
+                "(a phone's linear or user acceleration; read in g it looks like several g): "
+                "import the raw accelerometer, or add its gravity file (pdr-sim import-phone); "
+                "the steps and distance are not to be trusted")
     if WALK_SPECIFIC_FORCE_RANGE.contains(f):
         return None
-    told = (f"{WALK_SPECIFIC_FORCE_RANGE.statistic} {f:.1f} m/s² ({f / STANDARD_GRAVITY_MPS2:.2f} "
-            f"g) is no walk's ({WALK_SPECIFIC_FORCE_RANGE.expected})")
-    if f < WALK_SPECIFIC_FORCE_MIN_MPS2:
-        return (f"{told}: gravity is missing (an accelerometer with gravity removed? add the "
-                "gravity file's values back on import)")
-    return (f"{told}: the accelerometer is in another unit or not a specific force (a "
-            "gravity-removed accelerometer imported with --acc-unit g?); the steps and "
-            "distance are not to be trusted")
+    return (f"{told} is no walk's ({WALK_SPECIFIC_FORCE_RANGE.expected}): the accelerometer "
+            "is in another unit (g read as m/s², or m/s² read as g?) or not a specific "
+            "force; the steps and distance are not to be trusted")
 
 
 def swing_problem(swing_ratio: float | None) -> str | None:

@@ -14,28 +14,51 @@ from pdr_core.walk_plausibility import (
     swing_problem,
 )
 
+RATE_HZ = 100.0
 
-def forces(median_mps2: float, n: int = 101) -> np.ndarray:
-    """(n, 3) specific forces whose median |f| is ``median_mps2``, a NaN row among them."""
+
+def stamps(n: int = 1001) -> np.ndarray:
+    """The stamps [s] of :func:`forces` at :data:`RATE_HZ`."""
+    return np.arange(n + 1) / RATE_HZ
+
+
+def forces(median_mps2: float, n: int = 1001) -> np.ndarray:
+    """(n, 3) specific forces with gravity whose median |f| is ``median_mps2``, a NaN row
+    among them."""
     out = np.zeros((n, 3))
     out[:, 2] = median_mps2 * np.linspace(0.8, 1.2, n)
     return np.vstack([[np.nan, 0.0, 0.0], out])
 
 
+def linear_acceleration(scale: float, n: int = 1001) -> np.ndarray:
+    """(n, 3) gravity-removed readings of a walk (zero mean over a stride), × ``scale``."""
+    t = np.arange(n) / RATE_HZ
+    return scale * np.column_stack([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t),
+                                    2.0 * np.sin(4 * np.pi * t)])
+
+
 @pytest.mark.parametrize("median_g", [0.9, 1.0, 1.3, 2.2])
 def test_a_walk_or_a_run_passes(median_g):
-    assert specific_force_problem(forces(median_g * STANDARD_GRAVITY_MPS2)) is None
+    assert specific_force_problem(stamps(), forces(median_g * STANDARD_GRAVITY_MPS2)) is None
 
 
 def test_several_g_at_walking_pace_is_named_with_its_figure():
-    """The user's gravity-removed accelerometer read in g: median 38.7 m/s²."""
-    problem = specific_force_problem(forces(38.7))
+    """Data 4 g away from a walk's: another unit."""
+    problem = specific_force_problem(stamps(), forces(38.7))
     assert problem.startswith("median |f| 38.7 m/s² (3.95 g) is no walk's (0.5-2.5 g")
-    assert "--acc-unit g" in problem
+    assert "another unit" in problem
 
 
-def test_gravity_missing_is_named_with_the_remedy():
-    problem = specific_force_problem(forces(1.2))
+def test_data_in_g_read_as_mps2_are_another_unit_not_missing_gravity():
+    problem = specific_force_problem(stamps(), forces(1.0))
+    assert "another unit" in problem and "gravity" not in problem
+
+
+@pytest.mark.parametrize("scale", [1.0, STANDARD_GRAVITY_MPS2])
+def test_a_gravity_removed_accelerometer_in_any_unit_is_named(scale):
+    """The user's linear acceleration read in g (2-4 g) or in m/s² (0.2 g)."""
+    t = np.arange(1001) / RATE_HZ
+    problem = specific_force_problem(t, linear_acceleration(scale))
     assert "gravity is missing" in problem and "gravity file" in problem
 
 

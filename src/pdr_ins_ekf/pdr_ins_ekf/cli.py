@@ -108,8 +108,9 @@ def _run_run(args: argparse.Namespace) -> int:
     wanted = ([args.imu_topic] + ([args.truth_topic] if has_truth else [])
               + ([args.stance_truth_topic] if has_stance else []))
     batches = reader.read_batches(wanted)
+    imu = batches[args.imu_topic]
     warnings = implausible_input(args.bag, [specific_force_problem(
-        batches[args.imu_topic]["linear_acceleration"])], args.strict)
+        imu.t_s, imu["linear_acceleration"])], args.strict)
     for warning in warnings:
         print(f"pdr-ekf: warning: {args.bag}: {warning}", file=sys.stderr, flush=True)
     if args.drift == "none":

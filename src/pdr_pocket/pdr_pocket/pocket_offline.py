@@ -140,7 +140,7 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
         navigator, result, drift_log = loop(config, drift_config or DriftConfig(),
                                             inputs.samples)
     placement = placement_summary(navigator)
-    problems = implausible_input(bag, [specific_force_problem(inputs.accel),
+    problems = implausible_input(bag, [specific_force_problem(inputs.t, inputs.accel),
                                        swing_problem(placement["swing_ratio"])], strict)
     refusal = placement["placement"] == NOT_IN_POCKET
     if refusal:
