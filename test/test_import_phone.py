@@ -16,7 +16,9 @@ What holds, measured on the exports (docs/phone.md):
 """
 from __future__ import annotations
 
+import csv
 import json
+import shlex
 import shutil
 
 import numpy as np
@@ -26,9 +28,13 @@ from pdr_core import topics
 from pdr_core.bag import BagReader
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.walk_plausibility import EXIT_REFUSED
-from wstest import SENSOR_LOGGER_EXPORTS, cli, needs_shared
+from wstest import OXFORD, OXFORD_ARGS, SENSOR_LOGGER_EXPORTS, THIGH, cli, needs_shared
 
-pytestmark = needs_shared(*SENSOR_LOGGER_EXPORTS.values())
+NORM_THIGH = THIGH / "norm_thigh_1" / "imu.csv"
+NORM_THIGH_ARGS = ["--time-col", "time", "--acc-cols", "accel_x,accel_y,accel_z",
+                   "--gyro-cols", "gyro_x,gyro_y,gyro_z", "--mag-cols", "mag_x,mag_y,mag_z",
+                   "--mag-unit", "ut"]
+pytestmark = needs_shared(*SENSOR_LOGGER_EXPORTS.values(), OXFORD, NORM_THIGH)
 
 FORCE_MEDIAN_TOLERANCE_MPS2 = 0.5      # a phone swung in the hand: |f| about g
 IMU_SAMPLES = {"android": 1741, "ios": 1742}
@@ -92,3 +98,36 @@ def test_a_phone_held_in_the_hand_is_not_walked_as_a_pocket(imported, platform, 
     assert report["steps"] == 0 and report["step_distance_m"] == 0.0
     assert done.returncode == EXIT_REFUSED
     assert "not in a pocket" in done.stderr.splitlines()[0]
+
+
+def test_pdr_eval_runs_the_exports_as_they_are_beside_pocket_walks(tmp_path):
+    """Acceptance 3: ``pdr-eval`` on the two exports' folders (imported with import-phone,
+    the walkers' own footfall counts in the manifest) and on two shared pocket walks, the
+    navigator chosen by ``auto``: summary.md gives each one's steps, footfalls, distance,
+    floor, placement, barometer and warnings; the exports are no pocket walks, unscored."""
+    manifest = tmp_path / "manifest.csv"
+    with manifest.open("w", newline="") as stream:
+        out = csv.writer(stream)
+        out.writerow(["recording", "dataset", "import_options", "true_footfalls"])
+        out.writerow([SENSOR_LOGGER_EXPORTS["android"], "phone", "", 27])
+        out.writerow([SENSOR_LOGGER_EXPORTS["ios"], "phone", "", 28])
+        out.writerow([OXFORD, "pocket", shlex.join(OXFORD_ARGS), ""])
+        out.writerow([NORM_THIGH, "pocket", shlex.join(NORM_THIGH_ARGS), ""])
+    done = cli("pdr-eval", "--manifest", manifest, "--out", tmp_path / "out")
+    assert done.returncode == 0, done.stderr
+    with (tmp_path / "out" / "summary.csv").open(newline="") as stream:
+        rows = {r["recording"]: r for r in csv.DictReader(stream) if r["recording"]}
+    for name in ("inhand-27-steps-Matan", "inhand-28-steps-Ido"):
+        row = rows[name]
+        assert (row["navigator"], row["status"], row["placement"]) == \
+            ("pocket", "not a pocket walk", "not in a pocket")
+        assert row["steps"] == "0" and row["footfall_error"] == ""
+    assert rows["inhand-27-steps-Matan"]["barometer"] == "fused"
+    for name in (OXFORD.stem, "imu"):
+        row = rows[name]
+        assert (row["navigator"], row["status"]) == ("pocket", "done")
+        assert int(row["steps"]) > 20 and float(row["distance_m"]) > 20.0
+        assert row["placement"] in ("front pocket", "back pocket", "unknown")
+    text = (tmp_path / "out" / "summary.md").read_text()
+    assert "| placement | barometer | steps | footfalls | distance_m | final_floor |" in text
+    assert "## Not pocket walks" in text and "not in a pocket: the accelerometer heard" in text

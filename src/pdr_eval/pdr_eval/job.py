@@ -1,6 +1,7 @@
-"""One recording of a dataset run: imported if it is a CSV, its navigator chosen from the
-data for ``auto`` (pdr_eval.auto_navigator), navigated by ``pdr-ekf run`` or ``pdr-pocket
-run`` (their ``main``, in the worker's process) into ``OUT/<name>/run``, its
+"""One recording of a dataset run: imported if it is a CSV or a phone's export, its
+navigator chosen from the data for ``auto`` (pdr_eval.auto_navigator), navigated by
+``pdr-ekf run`` or ``pdr-pocket run`` (their ``main``, in the worker's process) into
+``OUT/<name>/run``, its
 ``report.json`` stamped (``eval``) with the hash of what made it, the navigator and why,
 the warnings the commands printed and what the walk was (pdr_eval.walk_figures).
 
@@ -123,13 +124,14 @@ def run_recording(recording: Recording, out: Path, config: Path | None,
         if not overwrite and (report := kept_report(recording, out, digest)) is not None:
             return Outcome(recording, report, "", time.perf_counter() - start, skipped=True)
         bag, warnings = recording.source, []
-        if recording.is_csv:
+        if recording.importer is not None:
             bag = folder / "input"
-            code, err = _call("pdr_sim.cli", ["import-csv", str(recording.source),
+            code, err = _call("pdr_sim.cli", [recording.importer, str(recording.source),
                                               *recording.import_options, "--out", str(bag),
                                               "--overwrite"])
             if code:
-                return Outcome(recording, None, _last_line(err, f"import-csv exit {code}"),
+                return Outcome(recording, None,
+                               _last_line(err, f"{recording.importer} exit {code}"),
                                time.perf_counter() - start)
             warnings += warnings_of(err)
         navigator, why = recording.navigator, "given"

@@ -1,17 +1,20 @@
-"""The recordings of a dataset run (``pdr-eval``): bag directories, MCAP files or CSV logs,
+"""The recordings of a dataset run (``pdr-eval``): bag directories, MCAP files, CSV logs or
+phones' own exports (a folder of one CSV per sensor, or its zip: ``pdr-sim import-phone``),
 given on the command line (paths and globs) or in a manifest.
 
 A manifest is a CSV file with a header and one row per recording:
 
-- ``recording`` (required): a bag directory, an ``.mcap`` file or a ``.csv`` log, relative
-  to the manifest's folder unless absolute;
+- ``recording`` (required): a bag directory, an ``.mcap`` file, a ``.csv`` log or a phone's
+  export (folder or zip), relative to the manifest's folder unless absolute;
 - ``dataset``: the name its figures are grouped under (default: the recording's parent
   folder, as for paths given on the command line);
 - ``navigator``: ``auto`` (chosen from the data: pdr_core.navigator_choice), ``foot`` or
   ``pocket`` (default: ``--navigator``);
 - ``import_options``: for a CSV, the ``pdr-sim import-csv`` options that read it, as one
   shell-quoted string (``--time-col t_s --acc-cols ax,ay,az``); its truth columns
-  (``--pos-cols``) are what the run is scored against;
+  (``--pos-cols``) are what the run is scored against; for a phone's export, those of
+  ``pdr-sim import-phone`` (none for Sensor Logger's; ``--acc FILE:TIME:X,Y,Z ...`` for
+  another app's);
 - ``true_footfalls``, ``true_steps``, ``true_distance_m``: what the walker knows of the
   walk (the footfalls of both feet, the gait cycles of the sensor leg, the distance [m]),
   each scored when given (pdr_eval.summary).
@@ -49,6 +52,20 @@ class Recording:
     @property
     def is_csv(self) -> bool:
         return self.source.suffix.lower() == ".csv"
+
+    @property
+    def importer(self) -> str | None:
+        """The ``pdr-sim`` command that turns the source into a bag: ``import-csv`` for a
+        CSV log, ``import-phone`` for a phone's own export (a zip, or a folder of CSV
+        files that is no bag: no ``metadata.yaml``, no ``.mcap``), None for a bag."""
+        if self.is_csv:
+            return "import-csv"
+        if self.source.suffix.lower() == ".zip":
+            return "import-phone"
+        if self.source.is_dir() and any(self.source.glob("*.csv")) and not (
+                (self.source / "metadata.yaml").exists() or any(self.source.glob("*.mcap"))):
+            return "import-phone"
+        return None
 
 
 def from_paths(patterns: list[str], navigator: str) -> list[Recording]:
