@@ -192,12 +192,17 @@ def usable_samples(stamp_ns: np.ndarray, accel: np.ndarray, gyro: np.ndarray,
                   "stamp_not_increasing": int((sane & ~later).sum())}
 
 
-def check_units(accel: np.ndarray, gyro: np.ndarray, topic: str = graph_name(IMU_DATA)) -> None:
+def check_units(accel: np.ndarray, gyro: np.ndarray, topic: str = graph_name(IMU_DATA),
+                t_s: np.ndarray | None = None) -> None:
     """Refuse data in the wrong units, naming ``topic``, the value and the fix. The median
     |f| of any walk or rest is near g: one between :data:`G_LIKE_MEDIAN_MPS2` gives away
-    data in g; a 99th percentile of |ω| above :data:`MAX_WALK_RATE_RADPS` data in deg/s."""
+    data in g, unless, with their stamps ``t_s`` [s], they look gravity-removed
+    (:func:`gravity_removed`: a phone's linear acceleration, about 0.1-0.3 g while it
+    moves), which no unit fixes (pdr_core.walk_plausibility names it); a 99th percentile
+    of |ω| above :data:`MAX_WALK_RATE_RADPS` gives away data in deg/s."""
     f = median_specific_force_mps2(accel)
-    if G_LIKE_MEDIAN_MPS2[0] < f < G_LIKE_MEDIAN_MPS2[1]:
+    if G_LIKE_MEDIAN_MPS2[0] < f < G_LIKE_MEDIAN_MPS2[1] and (
+            t_s is None or not gravity_removed(np.asarray(t_s, float), accel)):
         raise InputError(topic, _wrong_unit(SPECIFIC_FORCE_RANGE, f, "the accelerometer", "m/s²",
                                             ACC_UNITS_MPS2, "--acc-unit"))
     w = angular_rate_p99_radps(gyro)

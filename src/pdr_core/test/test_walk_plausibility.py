@@ -7,6 +7,7 @@ import pytest
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
+from pdr_core.imu_checks import check_units
 from pdr_core.walk_plausibility import (
     THIGH_SWING_MAX_RATIO,
     implausible_input,
@@ -72,3 +73,18 @@ def test_strict_refuses_the_first_problem_naming_the_file():
     assert implausible_input("walk", [None], strict=True) == []
     with pytest.raises(InputError, match=r"^walk: a \(refused: --strict\)$"):
         implausible_input("walk", [None, "a", "b"], strict=True)
+
+
+def test_the_unit_check_leaves_gravity_removed_data_to_the_walk_check():
+    """A gravity-removed walk in m/s² has a median |f| a g-read-as-m/s² log could have
+    (1.5 m/s²): without stamps it looks like g; with them it is no unit mistake, and the
+    walk check names it (the navigators pass the stamps)."""
+    t = np.arange(1001) / RATE_HZ
+    walk = linear_acceleration(0.6)
+    gyro = np.zeros_like(walk)
+    with pytest.raises(InputError, match="--acc-unit"):
+        check_units(walk, gyro)
+    check_units(walk, gyro, t_s=t)
+    assert "gravity is missing" in specific_force_problem(t, walk)
+    with pytest.raises(InputError, match="--acc-unit"):
+        check_units(forces(1.0)[1:], np.zeros((1001, 3)), t_s=t)

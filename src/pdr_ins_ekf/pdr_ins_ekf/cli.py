@@ -35,7 +35,9 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, add_strict_option
+from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError, cli_parser, dispatch
+from pdr_core.imu_checks import check_units, clean_samples
 from pdr_core.metrics import error_report, truth_at, within_step_rmse
 from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
 from pdr_core.report_files import print_report, write_report
@@ -97,6 +99,17 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_run_run)
 
 
+def walk_problem(imu: MessageBatch) -> str | None:
+    """What makes ``imu`` no walk (pdr_core.walk_plausibility), once its units are checked:
+    data a unit away are refused first (pdr_core.imu_checks.check_units), with one line,
+    as :func:`~pdr_ins_ekf.offline.navigate` would refuse them."""
+    keep, _ = clean_samples(imu)
+    t_s, accel = imu.t_s[keep], imu["linear_acceleration"][keep]
+    if len(t_s):
+        check_units(accel, imu["angular_velocity"][keep], t_s=t_s - t_s[0])
+    return specific_force_problem(t_s, accel)
+
+
 def _run_run(args: argparse.Namespace) -> int:
     config = load_run_config(args.config, args.imu_profile)
     if args.smoother:
@@ -109,8 +122,7 @@ def _run_run(args: argparse.Namespace) -> int:
               + ([args.stance_truth_topic] if has_stance else []))
     batches = reader.read_batches(wanted)
     imu = batches[args.imu_topic]
-    warnings = implausible_input(args.bag, [specific_force_problem(
-        imu.t_s, imu["linear_acceleration"])], args.strict)
+    warnings = implausible_input(args.bag, [walk_problem(imu)], args.strict)
     for warning in warnings:
         print(f"pdr-ekf: warning: {args.bag}: {warning}", file=sys.stderr, flush=True)
     if args.drift == "none":

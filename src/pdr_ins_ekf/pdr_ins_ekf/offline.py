@@ -94,7 +94,7 @@ def navigate(imu: MessageBatch, config: RunConfig) -> FootRun:
     accel, gyro = imu["linear_acceleration"][keep], imu["angular_velocity"][keep]
     if len(t) < 10 or t[-1] <= 0:
         raise InputError(IMU_GRAPH, f"{len(t)} usable samples are too few")
-    check_units(accel, gyro)
+    check_units(accel, gyro, t_s=t)
     result = config.detector.detect(accel, gyro, sample_rate_hz(stamp_ns))
     window = alignment_window(result.mask, t, config.alignment_min_s)
     check_rest(accel[window], gyro[window])

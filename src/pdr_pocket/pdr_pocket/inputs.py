@@ -73,7 +73,7 @@ def pocket_inputs(imu: MessageBatch, mag: MessageBatch | None,
     accel = imu["linear_acceleration"][keep]
     has_gyro = not bool(np.all(imu["angular_velocity_covariance"][keep, 0] == -1))
     check_sample_interval((stamp_ns - stamp_ns[0]) * 1e-9, topics.IMU_DATA)
-    check_units(accel, gyro)
+    check_units(accel, gyro, t_s=(stamp_ns - stamp_ns[0]) * 1e-9)
     mag_values, counts["mag_non_finite"] = paired_mag(stamp_ns, mag)
     if np.isfinite(mag_values).any():
         check_mag_units(mag_values[np.isfinite(mag_values).all(axis=1)], topics.IMU_MAG)

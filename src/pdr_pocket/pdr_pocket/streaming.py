@@ -348,7 +348,8 @@ class StreamingPocket:
     def _check_units(self) -> None:
         self.checked = True
         try:
-            check_units(np.array([h[1] for h in self.held]), np.array([h[2] for h in self.held]))
+            check_units(np.array([h[1] for h in self.held]), np.array([h[2] for h in self.held]),
+                        t_s=(np.array([h[0] for h in self.held]) - self.held[0][0]) * 1e-9)
         except InputError as exc:
             self.failed = str(exc)
             self.held = []
