@@ -110,11 +110,11 @@ def test_pocket_help_no_longer_fails_on_percent_signs():
 # The one flag vocabulary: --overwrite replaces an existing output, --force accepts data
 # that fail a plausibility check
 WRITES_A_BAG = {("pdr-sim", "generate"), ("pdr-sim", "import-csv"), ("pdr-sim", "import-oxiod"),
-                ("pdr-sim", "repair"),
+                ("pdr-sim", "import-phone"), ("pdr-sim", "repair"),
                 ("pdr-pocket", "run"), ("pdr-pocket", "attitude"), ("pdr-ekf", "run"),
                 ("pdr-drift", "run"), ("pdr-eval",),
                 ("pdr-sim", "export-csv"), ("pdr-pocket", "evaluate")}   # a CSV, a JSON
-CHECKS_PLAUSIBILITY = {("pdr-sim", "import-csv"), ("pdr-sim", "allan"),
+CHECKS_PLAUSIBILITY = {("pdr-sim", "import-csv"), ("pdr-sim", "import-phone"), ("pdr-sim", "allan"),
                        ("pdr-pocket", "calibrate-mag")}
 OTHER_SPELLINGS = re.compile(r"^(-f|-y|--yes|--replace|--clobber|--force-\w+|--accept\w*|"
                              r"--allow\w*|--no-check\w*|--skip-check\w*|--unsafe)$")

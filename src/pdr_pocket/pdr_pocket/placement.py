@@ -60,8 +60,8 @@ from pdr_pocket.step_length import AUTO_MODEL, StrideInputs
 
 FRONT_POCKET, BACK_POCKET, UNKNOWN = "front pocket", "back pocket", "unknown"
 NOT_IN_POCKET = "not in a pocket"
-MODEL_AT = {FRONT_POCKET: "pitch", BACK_POCKET: "frequency", UNKNOWN: "pitch",
-            NOT_IN_POCKET: "none"}
+MODEL_AT = {FRONT_POCKET: "pitch", BACK_POCKET: "frequency", UNKNOWN: "pitch"}
+NO_STRIDES = "none"     # the model of a walk not in a pocket: it gets no stride
 # a thigh's gait: two footfalls per swing of the pitch; above this many, the pitch misses
 # a third of the cycles the accelerometer hears (the module docstring's evidence)
 THIGH_FOOTFALLS_PER_CYCLE_MAX = 3.0
@@ -157,7 +157,7 @@ class PlacementClassifier:
         swing ratio and reason; unknown when none was judged, and why."""
         if heard_footfalls is not None and heard_footfalls >= NOT_A_THIGH_MIN_FOOTFALLS \
                 and heard_footfalls > THIGH_FOOTFALLS_PER_CYCLE_MAX * cycles:
-            return Placement(NOT_IN_POCKET, MODEL_AT[NOT_IN_POCKET], self._last_ratio(),
+            return Placement(NOT_IN_POCKET, NO_STRIDES, self._last_ratio(),
                              self._no_thigh_gait(cycles, heard_footfalls))
         decided = Counter({k: n for k, n in self.counts.items() if k != UNKNOWN})
         if decided:
