@@ -26,10 +26,10 @@ a sample rate beyond 5-10000 Hz, a 99th percentile of |ω| above 50 rad/s, a med
 beyond 1-1000 µT: pdr_core.imu_checks) are refused naming the file, the columns, the
 value in the unit read and the unit option that fixes them (:func:`implausible_columns`),
 unless ``accept_implausible`` is set (``--force``): then each is an InputWarning. An
-accelerometer whose gravity was removed (a phone app's linear acceleration: median |f|
-below 0.5 g, and the slow part of the vector near zero, pdr_core.imu_checks.
-gravity_removed) is refused as such, naming the gravity as the remedy and never a unit
-(:func:`gravity_removed_problem`).
+accelerometer whose gravity was removed (a phone app's linear acceleration: the slow part
+of the vector near zero against its median |f|, in whatever unit it is read,
+pdr_core.imu_checks.gravity_removed) is refused as such, naming the gravity as the remedy
+and never a unit (:func:`gravity_removed_problem`).
 
 An accelerometer column that holds one value in every kept row, over at least
 :data:`MIN_ROWS_CONSTANT_AXIS` rows, is refused whatever ``accept_implausible`` says
@@ -535,12 +535,14 @@ def implausible_columns(fmt: CsvImuFormat, t_s: np.ndarray, acc: np.ndarray,
 def gravity_removed_problem(columns: str, t_s: np.ndarray,
                             acc_mps2: np.ndarray) -> Implausible | None:
     """What is wrong with an accelerometer whose gravity was taken out, or None: the
-    specific forces ``acc_mps2`` (N, 3) [m/s², as read] of ``columns`` (comma-separated)
-    at the stamps ``t_s`` [s] (N,) have a median |f| below :data:`SPECIFIC_FORCE_RANGE`
-    and look gravity-removed (pdr_core.imu_checks.gravity_removed). The problem names the
-    median |f| and the median norm of the slow part; the fix the gravity, never a unit."""
+    specific forces ``acc_mps2`` (N, 3) [m/s², in the unit given] of ``columns``
+    (comma-separated) at the stamps ``t_s`` [s] (N,) look gravity-removed
+    (pdr_core.imu_checks.gravity_removed, a ratio that holds in any unit: read in g, as a
+    user told "the data look like g" did, a phone's linear acceleration is a plausible
+    2-4 g). The problem names the median |f| and the median norm of the slow part; the fix
+    the gravity, never a unit."""
     median = median_specific_force_mps2(acc_mps2)
-    if median >= SPECIFIC_FORCE_RANGE.low_si or not gravity_removed(t_s, acc_mps2):
+    if not gravity_removed(t_s, acc_mps2):
         return None
     slow = slow_part_median_norm(t_s, acc_mps2)
     what = "column" if "," not in columns else "columns"

@@ -67,3 +67,12 @@ def test_the_same_walk_with_gravity_in_g_gets_the_unit_hint(tmp_path):
     imported = import_csv(path, CsvImuFormat(time_col="t", acc_cols=("ax", "ay", "az"),
                                              acc_unit="g"))
     assert len(imported.imu) == len(T_S)
+
+
+def test_read_in_g_it_is_refused_as_gravity_removed_all_the_same(tmp_path):
+    """The user's path: told "the data look like g", they passed --acc-unit g and the walk
+    became a plausible 2-4 g one; the slow part's ratio holds in any unit."""
+    path = write_log(tmp_path / "lin.csv", linear_acceleration())
+    with pytest.raises(InputError, match="looks gravity-removed") as refused:
+        import_csv(path, CsvImuFormat(time_col="t", acc_cols=("ax", "ay", "az"), acc_unit="g"))
+    assert "--acc-unit" not in str(refused.value)
