@@ -131,3 +131,23 @@ def test_pdr_eval_runs_the_exports_as_they_are_beside_pocket_walks(tmp_path):
     text = (tmp_path / "out" / "summary.md").read_text()
     assert "| placement | barometer | steps | footfalls | distance_m | final_floor |" in text
     assert "## Not pocket walks" in text and "not in a pocket: the accelerometer heard" in text
+
+
+def test_the_users_wrong_path_is_named_at_every_step(tmp_path):
+    """Issue 54's first report: the Android's gravity-removed Accelerometer.csv alone, read
+    in g as the old hint said. Import refuses it as gravity-removed (never a unit); forced
+    in, the pocket navigator's first lines say gravity is missing and the pitch swings
+    13 times a thigh's (the user's 13.4), and --strict refuses the run (acceptance 2)."""
+    accelerometer = SENSOR_LOGGER_EXPORTS["android"] / "Accelerometer.csv"
+    args = ["import-csv", accelerometer, "--out", tmp_path / "bag", "--time-col", "time",
+            "--time-unit", "ns", "--acc-cols", "x,y,z", "--acc-unit", "g"]
+    refused = cli("pdr-sim", *args)
+    assert refused.returncode == 2 and "looks gravity-removed" in refused.stderr
+    assert "--acc-unit" not in refused.stderr
+    assert cli("pdr-sim", *args, "--force").returncode == 0
+    run = cli("pdr-pocket", "run", tmp_path / "bag", "--out", tmp_path / "run")
+    first = run.stderr.splitlines()
+    assert run.returncode == 0 and "gravity is missing" in first[0]
+    assert "the pitch swings 13." in first[1]
+    strict = cli("pdr-pocket", "run", tmp_path / "bag", "--out", tmp_path / "strict", "--strict")
+    assert strict.returncode == 2 and "gravity is missing" in strict.stderr
