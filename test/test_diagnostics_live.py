@@ -176,7 +176,9 @@ def test_pocket_pdr_goes_warn_on_a_poisoned_sample_and_a_refused_correction(proc
 
 def test_zupt_ekf_goes_warn_on_a_poisoned_sample_and_a_refused_correction(procs, ros):
     """The same for the foot navigator: a poisoned sample, then a correction refused on
-    ``pdr/foot/apply_correction`` (issue 44), each a WARN and back to OK."""
+    ``pdr/foot/apply_correction`` (issue 44), each a WARN and back to OK. The correction
+    sent again with its request_id gets the first answer and is counted once, as resent
+    (issue 55)."""
     from pdr_msgs.srv import ApplyCorrection
 
     proc = procs.start("zupt_ekf", name="zupt_ekf")
@@ -192,13 +194,16 @@ def test_zupt_ekf_goes_warn_on_a_poisoned_sample_and_a_refused_correction(procs,
     feed.next_status(Level.OK, proc, "navigating")
     client = ros[0].create_client(ApplyCorrection,
                                   topics.graph_name(topics.FOOT_APPLY_CORRECTION))
-    response = feed.call(client, ApplyCorrection.Request(yaw=0.01, yaw_variance=-1.0))
+    request = ApplyCorrection.Request(yaw=0.01, yaw_variance=-1.0, request_id=55)
+    response = feed.call(client, request)
     assert response is not None and not response.accepted, log_text(proc)
     assert response.message.startswith("nothing applied: "), response.message
+    assert feed.call(client, request) == response
     warned, _ = feed.next_status(Level.WARN, proc, "corrections_refused +1 since the last "
                                  "report")
     assert values(warned)["corrections_refused"] == "1"
-    feed.next_status(Level.OK, proc, "navigating")
+    clean, _ = feed.next_status(Level.OK, proc, "navigating")   # reported after both calls
+    assert values(clean)["corrections_refused"] == values(clean)["corrections_resent"] == "1"
     assert procs.stop(proc, signal.SIGINT) == 0, log_text(proc)
 
 

@@ -6,6 +6,7 @@ biases itself and leaves the landmarks nothing to correct."""
 from __future__ import annotations
 
 import json
+import re
 import signal
 import time
 from dataclasses import dataclass
@@ -310,6 +311,32 @@ def test_a_correction_without_a_service_is_dropped_after_the_retries(procs, navi
     play_steps(procs, navigated)
     wait_for_log(estimator, "dropped after 5 retries")
     assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
+
+
+def test_a_correction_not_answered_in_time_is_sent_again_and_applied_once(procs, navigated):
+    """Issue 55: a navigator that answers later than ``correction_timeout_s``; the
+    correction is sent again with the same request_id, counted in the log, applied once,
+    and its answer taken."""
+    server = procs.start("python", str(ROOT / "test" / "peers" / "pdr_msgs_peer.py"),
+                         "serve-late", name="late_server")
+    estimator = procs.start("landmark_drift", "--ros-args", "-p", "correction_timeout_s:=0.5",
+                            "-p", "retry_period_s:=0.2", name="landmark_drift")
+    wait_for_log(server, "serving")
+    wait_for_log(estimator, "configuration")
+    play_steps(procs, navigated)
+    wait_for_log(estimator, "correction accepted", timeout=30)
+    assert procs.stop(estimator, signal.SIGINT) == 0, log_text(estimator)
+    assert procs.stop(server, signal.SIGINT) == 0, log_text(server)
+    said = log_text(estimator)
+    resent = re.findall(r"correction (\d+) not answered within 0.5 s, sent again with the "
+                        r"same id \((\d+) resends so far\)", said)
+    assert resent, said
+    assert [int(n) for _, n in resent] == list(range(1, len(resent) + 1))
+    calls = re.findall(r"^request (\d+)$", log_text(server), re.MULTILINE)
+    applied = re.findall(r"^applied (\d+)$", log_text(server), re.MULTILINE)
+    assert len(applied) == len(set(applied)) and {i for i, _ in resent} <= set(applied)
+    assert all(calls.count(i) >= 2 for i, _ in resent)
+    assert f"correction accepted, 0 steps revised: applied {resent[0][0]}" in said
 
 
 def split_laps(walk, folder) -> None:

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from pdr_core.answered_requests import new_request_id
 from pdr_core.bag import BagReader, write_batches
 from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, homogeneous
 from wstest import ROOT, log_text, wait_for_log
@@ -246,21 +247,26 @@ def offline_with_correction(inputs, middle, correction):
     return steps, before
 
 
-def call(ros, request):
+def call(ros, request, times: int = 1) -> list:
+    """The answers to ``request`` sent ``times`` times without waiting for an answer in
+    between (a client that times out and sends the same request again)."""
     from pdr_msgs.srv import ApplyCorrection
 
     node, executor = ros
     client = node.create_client(ApplyCorrection, "pdr/pocket/apply_correction")
     assert client.wait_for_service(timeout_sec=60)
-    future = client.call_async(request)
-    executor.spin_until_future_complete(future, timeout_sec=30)
-    return future.result()
+    futures = [client.call_async(request) for _ in range(times)]
+    for future in futures:
+        executor.spin_until_future_complete(future, timeout_sec=30)
+    return [future.result() for future in futures]
 
 
 def test_correction_service_on_a_running_pocket_pdr(procs, ros, tmp_path):
     """Issue 17, acceptance 8: from another process, a valid yaw + bias + position
     correction is accepted and moves the next poses as the offline navigator with the same
-    correction does; a correction 500 m off is refused by the χ² gate, saying so."""
+    correction does; a correction 500 m off is refused by the χ² gate, saying so. Issue 55,
+    acceptance 4: sent again with the same request_id before the first answer (a client
+    that timed out), it is applied once and both answers are the same."""
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
     from sensor_msgs.msg import Imu
 
@@ -299,7 +305,7 @@ def test_correction_service_on_a_running_pocket_pdr(procs, ros, tmp_path):
     refused = ApplyCorrection.Request(has_position=True)
     refused.position.x = 500.0
     refused.position_covariance = list(np.eye(3).ravel() * 0.01)
-    response = call(ros, refused)
+    [response] = call(ros, refused)
     assert response is not None, log_text(node_proc)
     assert not response.accepted and "χ² gate" in response.message
 
@@ -309,9 +315,11 @@ def test_correction_service_on_a_running_pocket_pdr(procs, ros, tmp_path):
     position = expected[before - 1].position + shift
     request.position.x, request.position.y, request.position.z = map(float, position)
     request.position_covariance = list(np.eye(3).ravel() * 0.04)
-    response = call(ros, request)
-    assert response is not None, log_text(node_proc)
-    assert response.accepted, response.message
+    request.request_id = new_request_id()
+    first, again = call(ros, request, times=2)
+    assert first is not None and again is not None, log_text(node_proc)
+    assert first.accepted, first.message
+    assert again == first
 
     played = procs.run("bag_play", "--ros-args", "-p", f"bag:={tmp_path / 'b'}", "-p",
                        "rate:=0.0", "-p", "wait_for_subscribers:=1")
@@ -319,6 +327,8 @@ def test_correction_service_on_a_running_pocket_pdr(procs, ros, tmp_path):
     assert recorder.wait(timeout=120) == 0, log_text(recorder) + log_text(node_proc)
     assert procs.stop(node_proc, signal.SIGINT) == 0, log_text(node_proc)
     assert "correction refused" in log_text(node_proc)
+    assert f"request {request.request_id} sent again: answered as the first time, " \
+        "nothing applied again (1 so far)" in log_text(node_proc)
     poses = BagReader(tmp_path / "live").read("/pdr/pocket/pose")
     want = np.array([s.position for s in expected])
     np.testing.assert_allclose(poses["pose.pose.position"], want, rtol=0, atol=1e-9)

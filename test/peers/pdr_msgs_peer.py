@@ -2,6 +2,9 @@
 
     python pdr_msgs_peer.py publish   publish one sample of each pdr_msgs message, then exit
     python pdr_msgs_peer.py serve     serve pdr/pocket/apply_correction until SIGINT
+    python pdr_msgs_peer.py serve-late  the same, each correction's first answer LATE_S late,
+                                        a call sent again answered from memory
+                                        (pdr_core.answered_requests)
 
 The samples are defined here (:func:`samples`) and imported by the test to compare.
 """
@@ -16,10 +19,12 @@ from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
+from pdr_core.answered_requests import AnsweredRequests
 from pdr_msgs.msg import DriftEstimate, Landmark, Stance, Step
 from pdr_msgs.srv import ApplyCorrection
 
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+LATE_S = 2.0     # how late serve-late answers a correction first [s]
 
 
 def samples() -> dict:
@@ -70,10 +75,33 @@ def serve() -> None:
     rclpy.spin(node)
 
 
+def serve_late() -> None:
+    """Serve pdr/pocket/apply_correction as a navigator slower than its client's timeout:
+    a correction is accepted :data:`LATE_S` after it comes, and a call with a request id
+    answered before gets that answer at once. Prints ``request <id>`` for every call and
+    ``applied <id>`` for every correction applied."""
+    node = rclpy.create_node("late_apply_correction_server")
+    answered = AnsweredRequests()
+
+    def apply(request, response):
+        time.sleep(LATE_S)
+        print(f"applied {request.request_id}", flush=True)
+        response.accepted, response.message = True, f"applied {request.request_id}"
+        return response
+
+    def handle(request, response):
+        print(f"request {request.request_id}", flush=True)
+        return answered.answer(request.request_id, lambda: apply(request, response))
+
+    node.create_service(ApplyCorrection, "pdr/pocket/apply_correction", handle)
+    print("serving", flush=True)
+    rclpy.spin(node)
+
+
 if __name__ == "__main__":
     rclpy.init()
     try:
-        {"publish": publish, "serve": serve}[sys.argv[1]]()
+        {"publish": publish, "serve": serve, "serve-late": serve_late}[sys.argv[1]]()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:

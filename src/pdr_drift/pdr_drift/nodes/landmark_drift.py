@@ -6,10 +6,13 @@ Subscribes ``pdr/pocket/step`` (pdr_msgs/Step) and ``pdr/pocket/pose``
 Publishes every landmark on ``pdr/landmarks`` (pdr_msgs/Landmark) and every drift
 estimate on ``pdr/drift`` (pdr_msgs/DriftEstimate). After each association it calls
 ``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection) with an asynchronous
-client: a call not answered within ``correction_timeout_s`` is sent again, and while the
-service is not there the correction waits and is retried every ``retry_period_s``, up to
-``max_retries`` tries in all, so a restarting ``pocket_pdr`` is caught up with and a refused
-correction blocks nothing. What happens to each correction is logged.
+client: a call not answered within ``correction_timeout_s`` is sent again, the same
+request with the same ``request_id`` (a new random id per correction,
+pdr_core.answered_requests), so the navigator applies it once and answers both alike; the
+resends are counted in the log. While the service is not there the correction waits and
+is retried every ``retry_period_s``, up to ``max_retries`` tries in all, so a restarting
+``pocket_pdr`` is caught up with and a refused correction blocks nothing. What happens to
+each correction is logged.
 
 Each correction carries the stamp of the step it was computed from, and the navigator
 takes it there, running the samples since again (pdr_pocket.streaming): the steps it had
@@ -49,6 +52,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from pdr_core import topics
+from pdr_core.answered_requests import new_request_id
 from pdr_core.correction import request_fields
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME
@@ -110,6 +114,7 @@ class LandmarkDriftNode(Node):
         self.create_timer(retry_period, self.on_timer)
         self.reported: dict[str, int] = {}
         self.other_frame = 0
+        self.resent = 0                      # calls sent again after correction_timeout_s
         self.get_logger().info(f"landmark_drift: configuration {path or 'default'}; map "
                                f"frame {self.map_frame}; {wiring(self)}")
 
@@ -212,7 +217,7 @@ class LandmarkDriftNode(Node):
         for correction in result.corrections:
             fields = request_fields(correction)
             position = fields.pop("position", None)
-            request = ApplyCorrection.Request(**fields)
+            request = ApplyCorrection.Request(**fields, request_id=new_request_id())
             set_time(request.stamp, stamp)
             if position is not None:
                 request.position.x, request.position.y, request.position.z = position
@@ -235,7 +240,10 @@ class LandmarkDriftNode(Node):
             elif now - sent > self.timeout_s:
                 self.in_flight.remove(item)
                 future.cancel()
-                self.get_logger().warning("correction not answered in time, sent again")
+                self.resent += 1
+                self.get_logger().warning(
+                    f"correction {request.request_id} not answered within {self.timeout_s} s, "
+                    f"sent again with the same id ({self.resent} resends so far)")
                 self.waiting.insert(0, [request, tries + 1])
         if self.waiting and not self.in_flight and self.delay_done():
             item = self.waiting[0]

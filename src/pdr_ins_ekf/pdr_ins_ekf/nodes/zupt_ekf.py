@@ -15,7 +15,9 @@ Serves ``~/reset`` (std_srvs/Trigger) and ``pdr/foot/apply_correction``
 (pdr_msgs/srv/ApplyCorrection), the drift corrections of ``landmark_drift`` run on the
 foot's topics by remapping (docs/nodes.md): taken whole or not at all at the stride the
 request's stamp names, the samples since filtered again (pdr_ins_ekf.correctable); the
-strides run again go back in the answer and replace theirs in the path, published again.
+strides run again go back in the answer and replace theirs in the path, published again;
+a request whose ``request_id`` was answered before gets the first answer and changes
+nothing (pdr_core.answered_requests).
 A z gyro bias part needs the 15-state form and is refused with 9 states, saying so.
 
 Parameters (docs/nodes.md): ``config`` (navigator YAML, see pdr_ins_ekf.config; default
@@ -56,6 +58,7 @@ from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
 from pdr_core import topics
+from pdr_core.answered_requests import AnsweredRequests
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.cdr import encode
 from pdr_core.correction import from_request
@@ -144,6 +147,7 @@ class ZuptEkfNode(Node):
         self.create_service(Trigger, "~/reset", self.on_reset)
         self.create_service(ApplyCorrection, graph_name(topics.FOOT_APPLY_CORRECTION),
                             self.on_correction)
+        self.answered = AnsweredRequests()
         self.strides: list[Stride] = []
         self.undecodable = 0
         self.reported: dict[str, int] = {}
@@ -183,14 +187,15 @@ class ZuptEkfNode(Node):
         """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
         dropped by reason, the gaps and the malformed messages (the log's); the units
         refused; the poses not on /tf for want of an odom_frame transform at their stamp;
-        the corrections refused, and the accepted ones as a tally."""
+        the corrections refused, and the accepted and resent ones as tallies."""
         failed = self.navigator.failed
         corrections = self.navigator.corrections
         return Counters(self.diagnostics.samples_in,
                         {**self.navigator.counts, "malformed_cdr": self.undecodable,
                          "tf_no_odom": self.tf.no_odom,
                          "corrections_refused": corrections["refused"]},
-                        {"corrections_accepted": corrections["accepted"]},
+                        {"corrections_accepted": corrections["accepted"],
+                         "corrections_resent": self.answered.resent},
                         failed=None if failed is None else str(failed))
 
     def publish(self, run: FootRun) -> None:
@@ -217,7 +222,14 @@ class ZuptEkfNode(Node):
                                         self.map_frame))
 
     def on_correction(self, request, response):
-        """pdr/foot/apply_correction: the navigator decides, at the request's stamp
+        """pdr/foot/apply_correction: a request id answered before gets the first answer
+        and changes nothing (pdr_core.answered_requests); logged."""
+        return self.answered.answer(request.request_id,
+                                    lambda: self.correction_answer(request, response),
+                                    self.get_logger().info)
+
+    def correction_answer(self, request, response):
+        """A new correction: the navigator decides, at the request's stamp
         (pdr_ins_ekf.correctable); logged and counted. The strides run again go back in
         the response and replace theirs in the path, published again."""
         stamp = time_ns(request.stamp)

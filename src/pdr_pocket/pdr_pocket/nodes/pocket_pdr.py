@@ -19,7 +19,8 @@ gated against the covariance before any is applied, a refusal naming each failin
 pdr_pocket.navigator.PocketNavigator.apply_correction). A correction is taken at its
 stamp, the step it belongs to, the samples since run again (pdr_pocket.streaming); the
 steps run again go back in the response and replace theirs in ``pdr/pocket/path``,
-published again.
+published again. A request whose ``request_id`` was answered before (sent again after a
+timeout) gets the first answer and changes nothing (pdr_core.answered_requests).
 
 Parameters (docs/nodes.md): ``config`` (the navigator YAML, pdr_pocket.config; default
 the installed config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket
@@ -62,6 +63,7 @@ from sensor_msgs.msg import Imu, MagneticField
 from std_srvs.srv import Trigger
 
 from pdr_core import cdr, topics
+from pdr_core.answered_requests import AnsweredRequests
 from pdr_core.backlog import decode_block, publish_acked, waiting_messages
 from pdr_core.batch import MessageBatch
 from pdr_core.correction import from_request
@@ -167,6 +169,7 @@ class PocketPdrNode(Node):
         self.create_service(Trigger, "~/reset", self.on_reset)
         self.create_service(ApplyCorrection, graph_name(topics.POCKET_APPLY_CORRECTION),
                             self.on_correction)
+        self.answered = AnsweredRequests()
         self.sources = _Sources()
         self.undecodable = 0
         self.reported: dict[str, int] = {}
@@ -286,7 +289,14 @@ class PocketPdrNode(Node):
         return msg, pose
 
     def on_correction(self, request, response):
-        """pdr/pocket/apply_correction: the navigator decides, at the request's stamp
+        """pdr/pocket/apply_correction: a request id answered before gets the first answer
+        and changes nothing (pdr_core.answered_requests); logged."""
+        return self.answered.answer(request.request_id,
+                                    lambda: self.correction_answer(request, response),
+                                    self.get_logger().info)
+
+    def correction_answer(self, request, response):
+        """A new correction: the navigator decides, at the request's stamp
         (pdr_pocket.streaming); logged and counted. The steps it ran again go back in the
         response and replace theirs in the path, published again."""
         stamp = time_ns(request.stamp)
@@ -385,8 +395,8 @@ class PocketPdrNode(Node):
     def diagnostic_counters(self) -> Counters:
         """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
         and readings dropped by reason and the malformed messages (the log's), the gaps
-        the orientation filter propagated over, the refused corrections; the accepted ones
-        and the samples without a magnetometer reading as tallies; the magnetometer off
+        the orientation filter propagated over, the refused corrections; the accepted and
+        resent ones and the samples without a magnetometer reading as tallies; the magnetometer off
         (units) or, with magnetic updates configured, paused; the units refused; the poses
         not on /tf for want of an odom_frame transform at their stamp."""
         nav = self.navigator
@@ -404,6 +414,7 @@ class PocketPdrNode(Node):
             if nav.navigator.assembly.height.distrusted_s is not None else None
         return Counters(self.diagnostics.samples_in, problems,
                         {"corrections_accepted": corrections["accepted"],
+                         "corrections_resent": self.answered.resent,
                          "mag_missing": nav.counts["mag_missing"]}, conditions, nav.failed,
                         {"barometer": _said(barometer.status, barometer.why),
                          "barometer_offset_jumps": str(barometer.offset_jumps),
