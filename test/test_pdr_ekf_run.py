@@ -33,6 +33,12 @@ def test_sample_bag_outputs_and_report(procs, tmp_path):
     assert len(pose) == report["samples"] == 6095
     cov = pose["pose.covariance"].reshape(-1, 6, 6)[:, :3, :3]
     assert (np.linalg.eigvalsh(cov) > 0).all(), "position covariance filled in"
+    # the NEES once a second of the 61 s walk, position and (a simulated truth) attitude
+    for figures in report["consistency"].values():
+        low, high = figures["band_per_dof"]
+        assert figures["samples"] == int(report["duration_s"])
+        assert figures["inside"] == (low <= figures["nees_per_dof"] <= high)
+    assert report["consistency"].keys() == {"position_3d", "position_2d", "attitude"}
     stance = reader.read("/pdr/foot/stance")
     assert 0.3 < stance["stationary"].mean() < 0.7
     # a stride per footfall of the simulated 1.3 m strides (bags/foot_walk.yaml), level

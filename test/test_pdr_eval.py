@@ -144,6 +144,30 @@ def test_auto_chooses_and_the_summary_says_what_each_walk_was(evaluated):
     assert "| placement | barometer | steps | footfalls | distance_m | final_floor |" in text
 
 
+def test_the_summary_has_the_nees_per_recording_and_per_dataset(evaluated):
+    """Issue 55, point 4: the consistency of each report with a truth, per recording, and
+    per dataset its median, mean and maximum; the attitude's only where the truth has one
+    (the simulated walks' foot, not the VICON trial's positions)."""
+    out = evaluated[0] / "out"
+    rows = {r["recording"]: r for r in summary_rows(out) if r["recording"]}
+    for name in ("foot_walk", "pocket_walk", "vicon_walk"):
+        consistency = json.loads((out / name / "run" / "report.json").read_text())[
+            "consistency"]
+        for part, figures in consistency.items():
+            for key in ("samples", "nees", "nees_per_dof"):
+                cell = rows[name][f"consistency.{part}.{key}"]
+                assert (cell == "" if figures[key] is None else
+                        float(cell) == pytest.approx(figures[key])), (name, part, key)
+    assert rows["foot_walk"]["consistency.attitude.nees_per_dof"] != ""
+    assert rows["vicon_walk"]["consistency.attitude.nees_per_dof"] == ""
+    stats = {r["statistic"]: r for r in summary_rows(out) if r["dataset"] == "sim"}
+    values = [float(rows[n]["consistency.position_2d.nees_per_dof"])
+              for n in ("foot_walk", "pocket_walk")]
+    for statistic, function in (("median", np.median), ("mean", np.mean), ("max", np.max)):
+        assert float(stats[statistic]["consistency.position_2d.nees_per_dof"]) == \
+            pytest.approx(function(values))
+
+
 def test_a_dask_cluster_gives_the_same_summary(evaluated, tmp_path):
     """The same job on a LocalCluster of two workers (acceptance 2): the same summary,
     timing aside."""

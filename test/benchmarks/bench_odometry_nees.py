@@ -22,10 +22,11 @@ the VICON position, each trial's mean and the share of seconds inside the one-ru
 band of 3 dof.
 
 The navigators start at their own origin and with their configured heading (the heading
-is unobservable), so the truth is expressed from its first pose: shifted to start at 0,
-and turned about the vertical by the difference of the two first headings (for the
-VICON trials, which have no orientation, the direction after the first 0.8 m, as
-pdr_core.metrics.aligned).
+is unobservable): the foot's NEES are pdr_core.consistency's, the reports' (both paths
+from their start, the estimate turned onto the truth where it is first 0.8 m from its
+start, pdr_core.metrics.alignment_yaw, its covariance and attitude turned with it), at
+the first sample of each second. The pocket's are against the true strides, from the
+origin both start at.
 
 Per walk and part: the mean over the checkpoints of the average NEES over the runs
 (ANEES), its 95 % band for ``runs`` runs, χ²(runs·dof)/runs at 2.5 % and 97.5 %, and the
@@ -42,7 +43,6 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -57,19 +57,11 @@ VICON_COLUMNS = ["--time-col", "t_s", "--acc-cols", "acc_x_mps2,acc_y_mps2,acc_z
                  "gt_x_m,gt_y_m,gt_z_m", "--pos-axes=-x,y,z"]
 
 
-def nees(error: np.ndarray, cov: np.ndarray) -> np.ndarray:
-    """ε (N,) of errors (N, k) against covariances (N, k, k)."""
-    return np.einsum("ni,ni->n", error, np.linalg.solve(cov, error[..., None])[..., 0])
-
-
-def yaw_of(quaternion: np.ndarray) -> float:
-    return float(Rotation.from_quat(quaternion).as_euler("ZYX")[0])
-
-
 def foot_run(args: tuple[str, int]) -> tuple[np.ndarray, np.ndarray]:
     """Position and attitude NEES at every second of one seed's foot walk."""
     from pdr_core import topics
-    from pdr_core.metrics import truth_at, truth_orientation_at
+    from pdr_core.consistency import attitude_nees, checkpoints, position_nees
+    from pdr_core.metrics import alignment_yaw, truth_at, truth_orientation_at
     from pdr_ins_ekf.config import load_run_config
     from pdr_ins_ekf.offline import navigate, output_batches
     from pdr_sim.scenario import load_scenario
@@ -78,24 +70,21 @@ def foot_run(args: tuple[str, int]) -> tuple[np.ndarray, np.ndarray]:
     scenario, data = load_scenario(args[0])
     sim = simulate(SimulationConfig(scenario, data, IMU, {}, 100.0, args[1]))
     run = navigate(sim.imu, load_run_config(imu_profile=IMU))
-    odometry = output_batches(run)[topics.FOOT_ODOMETRY].take(slice(None))
-    cov = odometry["pose.covariance"].reshape(-1, 6, 6)
-    position, quaternion = odometry["pose.pose.position"], odometry["pose.pose.orientation"]
-    true_position = truth_at(sim.pose, run.stamp_ns)
-    true_rotation = Rotation.from_quat(truth_orientation_at(sim.pose, run.stamp_ns))
-    turn = Rotation.from_euler("z", yaw_of(quaternion[0]) - yaw_of(true_rotation[0].as_quat()))
-    true_position = turn.apply(true_position - true_position[0])
-    true_rotation = turn * true_rotation
-    attitude_error = (Rotation.from_quat(quaternion) * true_rotation.inv()).as_rotvec()
-    every_second = np.arange(0, len(position), 100)[1:]
-    return (nees((position - true_position)[every_second], cov[every_second, :3, :3]),
-            nees(attitude_error[every_second], cov[every_second, 3:, 3:]))
+    at = checkpoints((run.stamp_ns - run.stamp_ns[0]) * 1e-9)
+    pose = output_batches(run)[topics.FOOT_ODOMETRY].take(at)
+    cov = pose["pose.covariance"].reshape(-1, 6, 6)
+    truth = truth_at(sim.pose, run.stamp_ns)
+    return (position_nees(run.output.position, truth, at, cov[:, :3, :3])[0],
+            attitude_nees(pose["pose.pose.orientation"], cov[:, 3:, 3:],
+                          truth_orientation_at(sim.pose, run.stamp_ns[at]),
+                          alignment_yaw(run.output.position, truth)))
 
 
 def pocket_run(args: tuple[str, int]) -> np.ndarray | None:
     """Position NEES at every step of one seed's pocket walk (None: another step
     count than the truth's)."""
     from pdr_core import topics
+    from pdr_core.consistency import nees
     from pdr_pocket.config import PocketConfig
     from pdr_pocket.messages import step_batches
     from pdr_pocket.navigator import PocketNavigator
@@ -129,7 +118,8 @@ def vicon_trial(csv: Path) -> np.ndarray:
     """Position NEES every second of one real VICON trial (shipped configuration)."""
     from pdr_core import topics
     from pdr_core.bag import BagReader
-    from pdr_core.metrics import ALIGN_DISTANCE_M, truth_at
+    from pdr_core.consistency import checkpoints, position_nees
+    from pdr_core.metrics import truth_at
     from pdr_ins_ekf.config import load_run_config
     from pdr_ins_ekf.offline import navigate, output_batches
 
@@ -139,21 +129,10 @@ def vicon_trial(csv: Path) -> np.ndarray:
         reader = BagReader(f"{tmp}/bag")
         imu, pose = reader.read("/imu/data"), reader.read("/ground_truth/pose")
     run = navigate(imu, load_run_config())
-    odometry = output_batches(run)[topics.FOOT_ODOMETRY].take(slice(None))
-    position = odometry["pose.pose.position"] - odometry["pose.pose.position"][0]
-    cov = odometry["pose.covariance"].reshape(-1, 6, 6)[:, :3, :3]
-    truth = truth_at(pose, run.stamp_ns)
-    truth -= truth[0]
-    far = np.flatnonzero(np.linalg.norm(position[:, :2], axis=1) >= ALIGN_DISTANCE_M)
-    k = far[0] if len(far) else 0
-    turn = np.arctan2(position[k, 1], position[k, 0]) - np.arctan2(truth[k, 1], truth[k, 0])
-    truth = Rotation.from_euler("z", turn if len(far) else 0.0).apply(truth)
-    every_second = np.arange(0, len(position), round(sample_rate(run.stamp_ns)))[1:]
-    return nees((position - truth)[every_second], cov[every_second])
-
-
-def sample_rate(stamp_ns: np.ndarray) -> float:
-    return (len(stamp_ns) - 1) / ((stamp_ns[-1] - stamp_ns[0]) * 1e-9)
+    at = checkpoints((run.stamp_ns - run.stamp_ns[0]) * 1e-9)
+    cov = output_batches(run)[topics.FOOT_ODOMETRY].take(at)["pose.covariance"]
+    return position_nees(run.output.position, truth_at(pose, run.stamp_ns), at,
+                         cov.reshape(-1, 6, 6)[:, :3, :3])[0]
 
 
 def vicon_table() -> None:

@@ -26,7 +26,8 @@ Modules:
     headers                   std_msgs/Header stamps to and from nanoseconds.
     nav_path                  nav_msgs/Path to and from pose batches.
     csv_import                A CSV IMU log as Imu and PoseStamped batches.
-    csv_export                A bag's imu/data as a phone-style CSV log.
+    csv_export                A bag's topics as a phone-style CSV log, each at its rows.
+    phone_import              A phone's own export, one CSV per sensor, as batches.
   Nodes (duck-typed on rclpy, or importing it inside a function)
     node_main                 The main() every node shares: init, spin, clean shutdown.
     node_params               Node parameters declared one way, with descriptors.
@@ -47,7 +48,11 @@ Modules:
     magnetic_field            Homogeneous and cylinder-perturbed fields, iron distortion.
     magnetometer_calibration  Hard/soft-iron calibration by ellipsoid fitting.
     magnetometer_pairing      Each IMU sample paired with its latest magnetometer reading.
-    sample_pairing            A slow sensor's readings on the IMU's samples, each once.
+    sample_pairing            A slow sensor's readings on the IMU's samples, each once;
+                              a faster sensor's mean over each sample's interval.
+    walk_plausibility         Whether a navigator's input looks like a walk (the first
+                              line's warnings, --strict), EXIT_REFUSED.
+    navigator_choice          The foot or the pocket navigator, told from the IMU alone.
     atmosphere                Pressure and height: the standard atmosphere's formula.
     barometry                 The barometer's limits and the kinds of height change.
   Attitude and compiled kernels
@@ -61,6 +66,8 @@ Modules:
                               another module changes.
   Corrections
     correction                A drift correction as one value, sender to filter.
+    answered_requests         A request sent again answered as the first time: the
+                              navigators' answers by request id, the sender's new ids.
     checkpoints               A navigator's state kept at past instants with the inputs
                               since: a late correction taken there and the inputs run
                               again (robot_localization's revertTo).
@@ -69,5 +76,7 @@ Modules:
                               walking speed limit.
     metrics                   Trajectory error metrics: the report.json fields
                               (docs/reports.md).
+    consistency               NEES of position and attitude against a truth: is the
+                              covariance honest?
     plot_layout               Titles, top views and height axes shared by every PNG.
 """

@@ -31,17 +31,25 @@ from pdr_core.rotations import about_vertical
 ALIGN_DISTANCE_M = 0.8
 
 
-def aligned(estimate: np.ndarray, truth: np.ndarray, distance_m: float = ALIGN_DISTANCE_M
-            ) -> np.ndarray:
-    """The estimate with the start offset removed and rotated about the vertical onto the
-    truth (start offset removed too), (N, 3)."""
+def alignment_yaw(estimate: np.ndarray, truth: np.ndarray,
+                  distance_m: float = ALIGN_DISTANCE_M) -> float:
+    """The angle [rad] about the vertical (counter-clockwise positive) that turns the
+    estimate's horizontal displacement from its start onto the truth's at the first sample
+    where the estimate is ``distance_m`` from its start (0: it never is); both (N, 3)."""
     est = estimate - estimate[0]
     ref = truth - truth[0]
     far = np.flatnonzero(np.linalg.norm(est[:, :2], axis=1) >= distance_m)
     if not len(far):
-        return est
+        return 0.0
     k = far[0]
-    return about_vertical(est, np.arctan2(ref[k, 1], ref[k, 0]) - np.arctan2(est[k, 1], est[k, 0]))
+    return float(np.arctan2(ref[k, 1], ref[k, 0]) - np.arctan2(est[k, 1], est[k, 0]))
+
+
+def aligned(estimate: np.ndarray, truth: np.ndarray, distance_m: float = ALIGN_DISTANCE_M
+            ) -> np.ndarray:
+    """The estimate with the start offset removed and turned about the vertical onto the
+    truth (start offset removed too) by :func:`alignment_yaw`, (N, 3)."""
+    return about_vertical(estimate - estimate[0], alignment_yaw(estimate, truth, distance_m))
 
 
 def path_length(position: np.ndarray) -> float:

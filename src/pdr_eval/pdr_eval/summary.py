@@ -10,7 +10,8 @@ and maximum of each number over the recordings that have it. The status is ``don
 pocket navigator that found the phone in no pocket (its report's placement), whose
 figures are no walk's. The truth figures are those of docs/reports.md that a report has
 against a truth (a pose, true steps, floors or the stance truth) for ``pdr-ekf run`` and
-``pdr-pocket run``, the smoothed path's and the drift's included where a report has them;
+``pdr-pocket run``, the smoothed path's, the drift's and the consistency's (the NEES of
+the position and attitude, pdr_core.consistency) included where a report has them;
 test_pdr_eval.py checks the list against that page.
 """
 from __future__ import annotations
@@ -37,6 +38,8 @@ TRUTH_FIGURES = (
     "drift.false_landmarks", "drift.associations_correct", "drift.associations_wrong",
     "drift.uncorrected.final_yaw_error_deg", "drift.uncorrected.final_position_error_m",
     "drift.corrected.final_yaw_error_deg", "drift.corrected.final_position_error_m",
+    *(f"consistency.{part}.{name}" for part in ("position_3d", "position_2d", "attitude")
+      for name in ("samples", "nees", "nees_per_dof")),
 )
 STATISTICS = {"median": np.median, "mean": np.mean, "max": np.max}
 LINE_COLUMNS = ("recording", "dataset", "navigator", "status", "seconds", "error")

@@ -36,14 +36,17 @@ import numpy as np
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, add_strict_option
 from pdr_core.batch import MessageBatch
+from pdr_core.consistency import checkpoints, consistency_report, has_attitude
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_checks import check_units, clean_samples
-from pdr_core.metrics import error_report, truth_at, within_step_rmse
+from pdr_core.metrics import error_report, truth_at, truth_orientation_at, within_step_rmse
 from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
+from pdr_core.odometry import ANGULAR, LINEAR
 from pdr_core.report_files import print_report, write_report
 from pdr_core.walk_plausibility import implausible_input, specific_force_problem
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import (
+    FootRun,
     navigate,
     output_batches,
     smoothed_paths,
@@ -136,6 +139,8 @@ def _run_run(args: argparse.Namespace) -> int:
     report = step_report(t_s, result.output.position, truth, result.stance)
     report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
                "dropped": result.counts, "warnings": warnings}
+    if has_truth:
+        report["consistency"] = foot_consistency(result, batches[args.truth_topic], truth)
     if has_stance:
         report["stance"] = stance_scores(result, batches[args.stance_truth_topic])
     smoothed = []
@@ -186,6 +191,21 @@ def _with_drift(args: argparse.Namespace, config, batches: dict, has_truth: bool
         report["corrected"] = final_errors_against(result, truth)
         report["uncorrected"] = final_errors_against(navigate(imu, config), truth)
     return result, report
+
+
+def foot_consistency(result: FootRun, truth_pose: MessageBatch, truth: np.ndarray) -> dict:
+    """The report's ``consistency`` (pdr_core.consistency): the NEES, one sample a second,
+    of the pose ``pdr/foot/pose`` publishes (its position and, where ``truth_pose`` holds
+    an attitude, its attitude with their covariances) against ``truth_pose`` (``truth``:
+    its positions at every sample navigated)."""
+    at = checkpoints((result.stamp_ns - result.stamp_ns[0]) * 1e-9)
+    pose = output_batches(result)[topics.FOOT_POSE].take(at)
+    cov = pose["pose.covariance"].reshape(-1, 6, 6)
+    true_attitude = truth_orientation_at(truth_pose, result.stamp_ns[at])
+    attitude = ((pose["pose.pose.orientation"], cov[:, ANGULAR, ANGULAR], true_attitude)
+                if has_attitude(true_attitude) else None)
+    return consistency_report(result.output.position, truth, at, cov[:, LINEAR, LINEAR],
+                              attitude)
 
 
 def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,

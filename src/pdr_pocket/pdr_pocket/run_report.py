@@ -31,6 +31,7 @@ from pdr_core.attitude_metrics import (
     tilt_error,
 )
 from pdr_core.batch import MessageBatch
+from pdr_core.consistency import checkpoints, consistency_report
 from pdr_core.metrics import error_report
 from pdr_core.vocabulary import ACTIVITY_NAMES
 from pdr_pocket.inputs import PocketInputs
@@ -94,6 +95,15 @@ def true_staircases(activity: np.ndarray, vertical: np.ndarray, end_s: np.ndarra
              "riser_m": c.riser_m} for c in book.done]
 
 
+def step_consistency(steps: list[StepRecord], truth_positions: np.ndarray) -> dict:
+    """The report's ``consistency`` (pdr_core.consistency): the position NEES of the first
+    step confirmed in each second, with the covariance ``pdr/pocket/pose`` publishes,
+    against ``truth_positions`` (N + 1, 3) [m] at the start and at each step's stamp."""
+    at = checkpoints(np.r_[0.0, [s.t_confirm for s in steps]])
+    cov = np.reshape([s.covariance for s in steps], (-1, 3, 3))[at - 1]
+    return consistency_report(step_positions(steps), truth_positions, at, cov)
+
+
 def navigation_report(out_steps: list[StepRecord], staircases: Staircases,
                       truth_steps: MessageBatch | None, truth_positions: np.ndarray | None,
                       t0_ns: int, true_floors: tuple[int, int] | None = None,
@@ -107,6 +117,8 @@ def navigation_report(out_steps: list[StepRecord], staircases: Staircases,
     confirmed = np.array([s.t_confirm for s in out_steps])
     report = summary(out_steps, staircases, footfalls) | error_report(
         np.r_[0.0, confirmed], step_positions(out_steps), truth_positions)
+    if truth_positions is not None:
+        report["consistency"] = step_consistency(out_steps, truth_positions)
     if truth_steps is None:
         return report
     end = (truth_steps.stamp_ns - t0_ns) * 1e-9
