@@ -207,7 +207,9 @@ class CsvImport:
     pressure: MessageBatch | None = None
 
 
-def _check_choice(value: str, choices: dict, what: str) -> float:
+def unit_factor(value: str, choices: dict, what: str) -> float:
+    """The SI factor of the unit ``value`` among ``choices`` (name -> factor), or an
+    InputError naming the option ``what`` and the units it takes."""
     if value not in choices:
         raise InputError(what, f"unknown unit '{value}' (choose from {', '.join(choices)})")
     return choices[value]
@@ -227,7 +229,9 @@ def axis_matrix(axes: tuple[str, str, str]) -> np.ndarray:
     return matrix
 
 
-def _column_index(path: Path, names: list[str] | None, col: str) -> int:
+def column_index(path: Path, names: list[str] | None, col: str) -> int:
+    """The 0-based index of column ``col`` (a header name of ``names``, or an index) of
+    ``path``; InputError naming the columns there are."""
     if names is not None and col in names:
         return names.index(col)
     if col.isdigit():
@@ -307,9 +311,11 @@ def column_label(names: list[str] | None, index: int) -> str:
     return names[index] if names is not None and index < len(names) else str(index)
 
 
-def _select(path: Path, names: list[str] | None, table: np.ndarray,
-            cols: tuple[str, ...]) -> np.ndarray:
-    idx = [_column_index(path, names, c) for c in cols]
+def select_columns(path: Path, names: list[str] | None, table: np.ndarray,
+                   cols: tuple[str, ...]) -> np.ndarray:
+    """The columns ``cols`` (header names or 0-based indices) of ``table`` (N, M) read from
+    ``path`` with the header ``names``; InputError naming a column that is not there."""
+    idx = [column_index(path, names, c) for c in cols]
     if max(idx) >= table.shape[1]:
         raise InputError(path, f"column index {max(idx)} out of range "
                                f"({table.shape[1]} columns)")
@@ -321,7 +327,7 @@ def read_columns(path: str | Path, columns: tuple[str, ...], header: bool = True
     InputError names the file and what is wrong with it."""
     path = Path(path)
     names, table = read_table(path, header)
-    return _select(path, names, table, tuple(columns))
+    return select_columns(path, names, table, tuple(columns))
 
 
 def constant_columns(values: np.ndarray) -> np.ndarray:
@@ -341,7 +347,7 @@ def _refuse_constant_axis(path: Path, names: list[str] | None, acc_cols: tuple[s
     if not len(constant):
         return
     i = int(constant[0])
-    index = _column_index(path, names, acc_cols[i])
+    index = column_index(path, names, acc_cols[i])
     raise InputError(path, f"column {names[index] if names else index}, the "
                            f"{('first', 'second', 'third')[i]} of --acc-cols, is "
                            f"{acc_read[0, i]:g} in all {len(acc_read)} rows: constant over "
@@ -363,8 +369,11 @@ def warn_constant_pressure(path: Path, column: str, pressure_read: np.ndarray) -
                                      "noise rarely is; check --pressure-col"), stacklevel=3)
 
 
-def _refuse(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str,
-            column: str | None = None) -> None:
+def refuse_rows(path: Path, bad: np.ndarray, first_row: int, what: str, flag: str,
+                column: str | None = None) -> None:
+    """Refuse ``path`` for the first of the ``bad`` (N,) rows: an InputError naming it
+    (numbered from ``first_row``), its ``column`` if given, ``what`` is wrong, how many
+    such rows there are and the ``flag`` that drops them."""
     row = int(np.flatnonzero(bad)[0])
     where = f"row {row + first_row}" + ("" if column is None else f", column {column}")
     raise InputError(path, f"{where}: {what} ({int(bad.sum())} such rows; {flag} drops them)")
@@ -380,7 +389,7 @@ def _refuse_cells(path: Path, bad: np.ndarray, first_row: int, labels: list[str]
     col = int(np.flatnonzero(bad[row])[0])
     value = values[row, col]
     what = "empty or NaN" + nan_note if np.isnan(value) else f"{value:g}"
-    _refuse(path, rows, first_row, what, "--drop-invalid", labels[col])
+    refuse_rows(path, rows, first_row, what, "--drop-invalid", labels[col])
 
 
 def valid_rows(path: Path, values: np.ndarray, first_row: int, drop_invalid: bool,
@@ -410,7 +419,7 @@ def _unit_quaternions(path: Path, quaternion: np.ndarray, first_row: int,
     with np.errstate(invalid="ignore"):
         off = np.abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE
     if off.any() and not drop_invalid:
-        _refuse(path, off, first_row, f"quaternion norm {norm[np.flatnonzero(off)[0]]:.4g}, "
+        refuse_rows(path, off, first_row, f"quaternion norm {norm[np.flatnonzero(off)[0]]:.4g}, "
                                       f"not 1 (±{QUATERNION_NORM_TOLERANCE:g})", "--drop-invalid")
     return ~off
 
@@ -458,23 +467,23 @@ def sensor_rows(path: Path, t_s: np.ndarray, time_label: str, sensors: list[Sens
     silent = judged & ~np.any([sensor.reading for sensor in sensors], axis=0)
     if silent.any() and not drop_invalid:
         labels = ",".join(label for sensor in sensors for label in sensor.labels)
-        _refuse(path, silent, first_row, f"no reading of any sensor (every cell of {labels} "
+        refuse_rows(path, silent, first_row, f"no reading of any sensor (every cell of {labels} "
                                          "is empty)", "--drop-invalid")
     valid &= ~silent
     if quaternion is not None:
         valid &= _unit_quaternions(path, np.where(judged[:, None], quaternion, np.nan),
                                    first_row, drop_invalid)
     for sensor in sensors:
-        late = _not_later(t_s, valid & sensor.reading)
+        late = not_later(t_s, valid & sensor.reading)
         if late.any() and not drop_invalid:
-            _refuse(path, late, first_row, f"time {t_s[np.flatnonzero(late)[0]]:.9f} does "
+            refuse_rows(path, late, first_row, f"time {t_s[np.flatnonzero(late)[0]]:.9f} does "
                                            f"not increase over {sensor.name}'s previous "
                                            "reading", "--drop-invalid", time_label)
         valid &= ~late
     return valid
 
 
-def _not_later(t_s: np.ndarray, rows: np.ndarray) -> np.ndarray:
+def not_later(t_s: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """(N,) bool: the ``rows`` whose stamp ``t_s`` is not later than that of every one of
     the ``rows`` before."""
     kept_t = np.where(rows, t_s, -np.inf)
@@ -681,12 +690,12 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     """Read a CSV IMU log into batches (see :class:`CsvImuFormat`), each sensor's topic at
     the stamps of its own rows (module docstring)."""
     path = Path(path)
-    time_scale = _check_choice(fmt.time_unit, TIME_UNITS_S, "--time-unit")
-    acc_scale = _check_choice(fmt.acc_unit, ACC_UNITS_MPS2, "--acc-unit")
-    gyro_scale = _check_choice(fmt.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit")
-    pos_scale = _check_choice(fmt.pos_unit, POS_UNITS_M, "--pos-unit")
-    mag_scale = _check_choice(fmt.mag_unit, MAG_UNITS_T, "--mag-unit")
-    pressure_scale = _check_choice(fmt.pressure_unit, PRESSURE_UNITS_PA, "--pressure-unit")
+    time_scale = unit_factor(fmt.time_unit, TIME_UNITS_S, "--time-unit")
+    acc_scale = unit_factor(fmt.acc_unit, ACC_UNITS_MPS2, "--acc-unit")
+    gyro_scale = unit_factor(fmt.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit")
+    pos_scale = unit_factor(fmt.pos_unit, POS_UNITS_M, "--pos-unit")
+    mag_scale = unit_factor(fmt.mag_unit, MAG_UNITS_T, "--mag-unit")
+    pressure_scale = unit_factor(fmt.pressure_unit, PRESSURE_UNITS_PA, "--pressure-unit")
     for option, cols in (("--acc-cols", fmt.acc_cols), ("--gyro-cols", fmt.gyro_cols),
                          ("--pos-cols", fmt.pos_cols), ("--mag-cols", fmt.mag_cols)):
         if cols and len(cols) != 3:
@@ -697,10 +706,10 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     names, table = read_table(path, fmt.header)
 
     def columns(cols: tuple[str, ...]) -> np.ndarray:
-        return _select(path, names, table, cols)
+        return select_columns(path, names, table, cols)
 
     def sensor(name: str, cols: tuple[str, ...]) -> SensorColumns:
-        labels = [column_label(names, _column_index(path, names, c)) for c in cols]
+        labels = [column_label(names, column_index(path, names, c)) for c in cols]
         return SensorColumns(name, labels, columns(cols))
 
     t_s = columns((fmt.time_col,))[:, 0] * time_scale + fmt.time_offset_s
@@ -717,9 +726,9 @@ def import_csv(path: str | Path, fmt: CsvImuFormat) -> CsvImport:
     first_row = 2 if fmt.header else 1
     duplicate = duplicate_rows(t_s, np.hstack([s.cells for s in sensors.values()]))
     if duplicate.any() and not fmt.drop_duplicates:
-        _refuse(path, duplicate, first_row, "exact duplicate of the previous row",
+        refuse_rows(path, duplicate, first_row, "exact duplicate of the previous row",
                 "--drop-duplicates")
-    keep = sensor_rows(path, t_s, column_label(names, _column_index(path, names, fmt.time_col)),
+    keep = sensor_rows(path, t_s, column_label(names, column_index(path, names, fmt.time_col)),
                        list(sensors.values()), first_row, fmt.drop_invalid, quat, ~duplicate)
     rows = {topic: keep & s.reading for topic, s in sensors.items()}
     for topic, s in sensors.items():

@@ -53,12 +53,17 @@ from pdr_core.csv_import import (
     PRESSURE_RANGE,
     PRESSURE_UNITS_PA,
     Implausible,
+    column_index,
     gravity_removed_problem,
     implausible,
     imu_batch,
     mag_batch,
+    not_later,
     read_table,
     refuse_implausible,
+    refuse_rows,
+    select_columns,
+    unit_factor,
     valid_rows,
 )
 from pdr_core.errors import InputError
@@ -172,12 +177,6 @@ class _Readings:
         return (len(self.stamp_ns) - 1) / ((self.stamp_ns[-1] - self.stamp_ns[0]) * 1e-9)
 
 
-def _unit(value: str, units: dict[str, float], option: str) -> float:
-    if value not in units:
-        raise InputError(option, f"unknown unit '{value}' (choose from {', '.join(units)})")
-    return units[value]
-
-
 def read_sensor(sensor: SensorFile, time_unit: str, scale: float, drop_invalid: bool,
                 check_rate: bool = True) -> _Readings:
     """The kept rows of ``sensor``'s file: stamps [ns], values × ``scale`` (SI). Rows with
@@ -186,29 +185,24 @@ def read_sensor(sensor: SensorFile, time_unit: str, scale: float, drop_invalid: 
     row is refused, and with ``check_rate`` one whose median interval lies beyond 5-10000
     Hz in ``time_unit`` (a barometer, at 1-25 Hz on phones, is not checked)."""
     names, table = read_table(sensor.path, header=True)
-    columns = [_index(sensor.path, names, c) for c in (sensor.time_col, *sensor.value_cols)]
-    if max(columns) >= table.shape[1]:
-        raise InputError(sensor.path, f"column index {max(columns)} out of range "
-                                      f"({table.shape[1]} columns)")
-    picked = table[:, columns]
-    keep = valid_rows(sensor.path, picked, first_row=2, drop_invalid=drop_invalid)
-    t_s = picked[:, 0] * _unit(time_unit, TIME_UNITS_S, "--time-unit")
-    exact_ns = _integer_stamps(sensor.path, columns[0]) if time_unit == "ns" else None
-    kept_t = np.where(keep, t_s, -np.inf)
-    later = np.concatenate(([True], kept_t[1:] > np.maximum.accumulate(kept_t)[:-1]))
-    late = keep & ~later
+    columns = (sensor.time_col, *sensor.value_cols)
+    picked = select_columns(sensor.path, names, table, columns)
+    keep = valid_rows(sensor.path, picked, first_row=2, drop_invalid=drop_invalid,
+                      labels=list(columns))
+    t_s = picked[:, 0] * unit_factor(time_unit, TIME_UNITS_S, "--time-unit")
+    late = not_later(t_s, keep)
     if late.any() and not drop_invalid:
-        row = int(np.flatnonzero(late)[0])
-        raise InputError(sensor.path, f"row {row + 2}: time {picked[row, 0]:.9g} does not "
-                                      f"increase ({int(late.sum())} such rows; --drop-invalid "
-                                      "drops them)")
-    keep &= later
+        refuse_rows(sensor.path, late, 2, f"time {picked[np.flatnonzero(late)[0], 0]:.9g} "
+                                          "does not increase", "--drop-invalid", sensor.time_col)
+    keep &= ~late
     if not keep.any():
         raise InputError(sensor.path, "no valid row")
     if check_rate:
         refuse_implausible(sensor.path, [implausible(
             sensor.time_col, SAMPLE_INTERVAL_RANGE, median_interval_s(t_s[keep]), time_unit,
             TIME_UNITS_S, "--time-unit")], accept=False)
+    exact_ns = None if time_unit != "ns" else _integer_stamps(
+        sensor.path, column_index(sensor.path, names, sensor.time_col))
     stamp_ns = exact_ns[keep] if exact_ns is not None else np.rint(t_s[keep] * 1e9).astype(
         np.int64)
     return _Readings(stamp_ns, picked[keep, 1:] * scale, len(picked), int((~keep).sum()))
@@ -222,14 +216,6 @@ def _integer_stamps(path: Path, column: int) -> np.ndarray | None:
                           ndmin=1)
     except ValueError:
         return None
-
-
-def _index(path: Path, names: list[str] | None, col: str) -> int:
-    if names is not None and col in names:
-        return names.index(col)
-    if col.isdigit():
-        return int(col)
-    raise InputError(path, f"no column '{col}' (columns: {', '.join(names or [])})")
 
 
 def _refuse_gravity_removed(layout: PhoneLayout, acc: _Readings) -> None:
@@ -298,7 +284,7 @@ def _line(topic: str, readings: _Readings, what: str, source: str) -> str:
 
 def _magnetometer(layout: PhoneLayout) -> tuple[MessageBatch, str]:
     sensor = layout.magnetometer
-    scale = _unit(layout.mag_unit, MAG_UNITS_T, "--mag-unit")
+    scale = unit_factor(layout.mag_unit, MAG_UNITS_T, "--mag-unit")
     readings = read_sensor(sensor, layout.time_unit, scale, layout.drop_invalid)
     refuse_implausible(sensor.path, [implausible(",".join(sensor.value_cols), FIELD_RANGE,
                                                  median_field_t(readings.values),
@@ -314,7 +300,7 @@ def _barometer(layout: PhoneLayout) -> tuple[MessageBatch, str]:
     sensor = layout.barometer
     if len(sensor.value_cols) != 1:
         raise InputError("--pressure", f"needs 1 value column, got {len(sensor.value_cols)}")
-    scale = _unit(layout.pressure_unit, PRESSURE_UNITS_PA, "--pressure-unit")
+    scale = unit_factor(layout.pressure_unit, PRESSURE_UNITS_PA, "--pressure-unit")
     readings = read_sensor(sensor, layout.time_unit, scale, layout.drop_invalid,
                            check_rate=False)
     pressure = readings.values[:, 0]
@@ -334,7 +320,7 @@ def import_phone(layout: PhoneLayout) -> PhoneImport:
     """Read the files of ``layout`` into ``imu/data``, ``imu/mag`` and ``imu/pressure``
     batches (module docstring). Units are checked as import-csv checks them (a refusal
     names the file, the columns and the unit option that fixes them)."""
-    acc_scale = _unit(layout.acc_unit, ACC_UNITS_MPS2, "--acc-unit")
+    acc_scale = unit_factor(layout.acc_unit, ACC_UNITS_MPS2, "--acc-unit")
     force, source = paired_specific_force(layout, acc_scale)
     rate = None
     source = f"{source} ({layout.sign_source})"
@@ -342,7 +328,7 @@ def import_phone(layout: PhoneLayout) -> PhoneImport:
         source += "; no gyroscope: rates unknown"
     else:
         gyro = read_sensor(layout.gyroscope, layout.time_unit,
-                           _unit(layout.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit"),
+                           unit_factor(layout.gyro_unit, GYRO_UNITS_RADPS, "--gyro-unit"),
                            layout.drop_invalid)
         refuse_implausible(layout.gyroscope.path, [implausible(
             ",".join(layout.gyroscope.value_cols), ANGULAR_RATE_RANGE,
@@ -404,7 +390,7 @@ def _sign(folder: Path, gravity: Path | None, convention: str | None) -> tuple[f
     """The accelerometer's sign and why (module docstring): ``convention`` when given,
     else the phone's own attitude, else Metadata.csv's platform."""
     if convention is not None:
-        _unit(convention, CONVENTION_SIGNS, "--convention")
+        unit_factor(convention, CONVENTION_SIGNS, "--convention")
         return CONVENTION_SIGNS[convention], f"{convention}'s convention (--convention)"
     orientation = folder / SENSOR_LOGGER_FILES["orientation"]
     if gravity is not None and orientation.is_file():

@@ -154,7 +154,8 @@ def test_a_row_that_goes_back_in_time_is_named_or_dropped(tmp_path):
     lines = path.read_text().splitlines()
     lines[5], lines[6] = lines[6], lines[5]
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(InputError, match=r"Magnetometer.csv: row 7: time .* does not increase"):
+    with pytest.raises(InputError,
+                       match=r"Magnetometer.csv: row 7, column time: time .* does not increase"):
         import_phone(sensor_logger_layout(folder))
     result = import_phone(sensor_logger_layout(folder, drop_invalid=True))
     assert len(result.mag) == len(lines) - 2
