@@ -14,6 +14,7 @@ heading error removes and the tilt error never sees.
   estimate minus truth, relative to its circular mean over the first ``reference_s``
   seconds, wrapped to (−π, π] [rad]: a filter with and one without an absolute heading
   are scored alike, by how far their heading moves from the truth's over the walk.
+- :func:`heading_offset`: that mean itself, the turn between the two navigation frames;
 - :func:`tilt_error`: the angle between the estimated and the true vertical [rad].
 - :func:`error_summary`: RMS, mean, largest |error| and final value of a series, in degrees.
 """
@@ -45,11 +46,28 @@ def heading_error(t_s: np.ndarray, estimate: np.ndarray, truth: np.ndarray,
     """The heading error (module docstring) [rad], (N,), of C_b^n ``estimate`` against
     ``truth`` (both (N, 3, 3) at the stamps ``t_s`` (N,) [s]), on the truth's
     :func:`level_axis` unless ``axis`` is given."""
-    axis = level_axis(truth) if axis is None else axis
-    raw = wrap_angle(axis_heading(estimate, axis) - axis_heading(truth, axis))
+    raw = _heading_difference(estimate, truth, level_axis(truth) if axis is None else axis)
+    return wrap_angle(raw - _start_mean(t_s, raw, reference_s))
+
+
+def heading_offset(t_s: np.ndarray, estimate: np.ndarray, truth: np.ndarray,
+                   reference_s: float = HEADING_REFERENCE_S) -> float:
+    """The turn about the vertical [rad] from the truth's navigation frame to the
+    estimate's: the circular mean over the first ``reference_s`` of the heading of the
+    truth's :func:`level_axis`, estimate minus truth (what :func:`heading_error` removes)."""
+    return _start_mean(t_s, _heading_difference(estimate, truth, level_axis(truth)),
+                       reference_s)
+
+
+def _heading_difference(estimate: np.ndarray, truth: np.ndarray, axis: int) -> np.ndarray:
+    """The heading of body ``axis``, estimate minus truth [rad], wrapped, (N,)."""
+    return wrap_angle(axis_heading(estimate, axis) - axis_heading(truth, axis))
+
+
+def _start_mean(t_s: np.ndarray, angle: np.ndarray, reference_s: float) -> float:
+    """The circular mean [rad] of ``angle`` (N,) over the first ``reference_s`` of ``t_s``."""
     start = t_s <= t_s[0] + reference_s
-    offset = np.arctan2(np.sin(raw[start]).mean(), np.cos(raw[start]).mean())
-    return wrap_angle(raw - offset)
+    return float(np.arctan2(np.sin(angle[start]).mean(), np.cos(angle[start]).mean()))
 
 
 def tilt_error(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:

@@ -16,6 +16,8 @@ pdr_core.metrics.alignment_yaw (the heading is unobservable), its covariance tur
   of a filter are nearly the same draw; one a second is closer to the band's independence,
   yet still correlated over seconds, so the band is indicative);
 - :func:`position_nees` and :func:`attitude_nees`: ε at the checkpoints, so aligned;
+- :func:`attitude_consistency`: the attitude alone against an attitude truth (a phone's
+  motion capture), the heading aligned at the start as pdr_core.attitude_metrics does;
 - :func:`nees_figures`: the mean NEES of some samples, per degree of freedom, the band;
 - :func:`consistency_report`: position (3D and horizontal) and attitude together.
 """
@@ -25,6 +27,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
+from pdr_core.attitude_metrics import heading_offset
 from pdr_core.metrics import aligned, alignment_yaw
 
 CHECKPOINT_INTERVAL_S = 1.0     # one NEES a second
@@ -76,9 +79,36 @@ def attitude_nees(attitude_xyzw: np.ndarray, cov: np.ndarray, truth_xyzw: np.nda
     pdr_core.metrics.alignment_yaw), R the truth's (K, 4); ``cov`` (K, 3, 3) [rad²] the
     estimate's covariance of rotations about the map's axes (``pose.covariance``'s),
     turned with it."""
+    return nees(attitude_error(attitude_xyzw, truth_xyzw, yaw_rad),
+                turned_covariance(cov, yaw_rad))
+
+
+def attitude_error(attitude_xyzw: np.ndarray, truth_xyzw: np.ndarray,
+                   yaw_rad: float) -> np.ndarray:
+    """The rotation vectors (K, 3) [rad] of R̂'·Rᵀ in the truth's map frame, R̂' the
+    estimate (K, 4) turned by ``yaw_rad`` about the vertical, R the truth (K, 4)."""
     turn = Rotation.from_euler("z", yaw_rad)
     error = turn * Rotation.from_quat(attitude_xyzw) * Rotation.from_quat(truth_xyzw).inv()
-    return nees(error.as_rotvec(), turned_covariance(cov, yaw_rad))
+    return error.as_rotvec()
+
+
+def attitude_consistency(t_s: np.ndarray, attitude: np.ndarray, cov: np.ndarray,
+                         truth: np.ndarray) -> dict:
+    """The ``consistency`` object of ``pdr-pocket attitude`` (docs/reports.md): at the
+    :func:`checkpoints` of ``t_s`` (N,) [s], the NEES of the attitude C_b^n (N, 3, 3)
+    against the truth's (N, 3, 3), its covariance ``cov`` (N, 3, 3) [rad²] of rotations
+    about the navigation frame's axes: ``attitude`` (3 dof, the estimate turned about
+    the vertical onto the truth by pdr_core.attitude_metrics.heading_offset, the heading
+    being relative to the start's as the heading error is) and ``tilt`` (2 dof, the
+    horizontal components: the vertical's error, which no turn changes)."""
+    at = checkpoints(t_s)
+    yaw = -heading_offset(t_s, attitude, truth)
+    error = attitude_error(Rotation.from_matrix(attitude[at]).as_quat(),
+                           Rotation.from_matrix(truth[at]).as_quat(), yaw)
+    turned = turned_covariance(cov[at], yaw)
+    return {"attitude": nees_figures(nees(error, turned), 3),
+            "tilt": nees_figures(nees(error[:, HORIZONTAL], turned[:, HORIZONTAL, HORIZONTAL]),
+                                 2)}
 
 
 def nees_figures(values: np.ndarray, dof: int) -> dict:

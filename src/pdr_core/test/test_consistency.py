@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.consistency import checkpoints, consistency_report, nees, nees_figures
+from pdr_core.consistency import (
+    attitude_consistency,
+    checkpoints,
+    consistency_report,
+    nees,
+    nees_figures,
+)
 from pdr_core.rotations import about_vertical
 
 RATE_HZ = 10.0
@@ -84,3 +90,30 @@ def test_a_variance_of_zero_gives_no_nees():
     assert nees_figures(values, 3)["samples"] == 1
     assert nees_figures(values[:1], 3) == {"samples": 0, "nees": None, "nees_per_dof": None,
                                            "band_per_dof": None, "inside": None}
+
+
+def phone_attitudes(cov_scale: float, seed: int = 0) -> dict:
+    """``pdr-pocket attitude``'s consistency of a phone that turns and sways: the estimate's
+    errors drawn from the covariance (``cov_scale`` times it reported), in a navigation
+    frame turned by -HEADING_RAD from the truth's (a filter with its own heading)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(int(SECONDS * RATE_HZ)) / RATE_HZ
+    truth = Rotation.from_euler("ZYX", np.column_stack(
+        [t / 60, 0.2 * np.sin(t), 0.1 * np.cos(0.7 * t)]))
+    turn = Rotation.from_euler("z", -HEADING_RAD)
+    delta = Rotation.from_rotvec(rng.multivariate_normal(np.zeros(3), ATTITUDE_COV_RAD2, len(t)))
+    cov = np.broadcast_to(turn.as_matrix() @ ATTITUDE_COV_RAD2 @ turn.as_matrix().T
+                          * cov_scale, (len(t), 3, 3))
+    return attitude_consistency(t, (turn * delta * truth).as_matrix(), cov, truth.as_matrix())
+
+
+def test_attitude_alone_is_judged_with_the_heading_aligned_at_the_start():
+    """The heading offset taken over the first seconds, the whole attitude (3 dof) and the
+    tilt (2 dof) near 1 per dof when the errors are drawn from the covariance, 10 when it
+    is ten times too small."""
+    honest, small = phone_attitudes(1.0), phone_attitudes(0.1)
+    for part in ("attitude", "tilt"):
+        assert honest[part]["samples"] == SECONDS - 1
+        assert honest[part]["nees_per_dof"] == pytest.approx(1.0, abs=0.08), part
+        assert small[part]["nees_per_dof"] == pytest.approx(10.0, rel=0.08), part
+        assert not small[part]["inside"], part

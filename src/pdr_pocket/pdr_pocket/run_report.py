@@ -31,9 +31,15 @@ from pdr_core.attitude_metrics import (
     tilt_error,
 )
 from pdr_core.batch import MessageBatch
-from pdr_core.consistency import checkpoints, consistency_report
+from pdr_core.consistency import (
+    attitude_consistency,
+    checkpoints,
+    consistency_report,
+    has_attitude,
+)
 from pdr_core.metrics import error_report
 from pdr_core.vocabulary import ACTIVITY_NAMES
+from pdr_pocket.compiled_orientation import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.messages import step_positions
 from pdr_pocket.orientation import AttitudeEstimate
@@ -231,6 +237,10 @@ def attitude_report(inputs: PocketInputs, estimate: AttitudeEstimate,
         report["heading_error"] = {"axis": "xyz"[level_axis(truth)],
                                    "reference_s": HEADING_REFERENCE_S} | error_summary(
             truth_heading_error(estimate, truth_quat))
+        if has_attitude(truth_quat):
+            report["consistency"] = attitude_consistency(
+                estimate.t, estimate.attitude, estimate.covariance[:, ATT_ROWS, ATT_ROWS],
+                truth)
     if true_bias_radps is not None:
         report["final_bias_error_deg_per_s"] = np.degrees(
             estimate.bias[-1] - np.asarray(true_bias_radps)).tolist()
