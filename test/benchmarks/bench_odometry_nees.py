@@ -152,6 +152,93 @@ def vicon_table() -> None:
                   f"{np.median(values):.1f} | {100 * inside:.0f} % |", flush=True)
 
 
+XIO_ARGS = ["--time-col", "Time (s)", "--drop-duplicates", "--acc-unit", "g", "--gyro-unit",
+            "deg/s", "--acc-cols", "Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)",
+            "--gyro-cols", "Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s)"]
+
+
+def xio_loop() -> None:
+    """The foot on the x-io short_walk loop (it ends where it starts): the NEES of the end
+    point's error against its covariance (3 dof, one sample)."""
+    from pdr_core import topics
+    from pdr_core.bag import BagReader
+    from pdr_core.consistency import nees
+    from pdr_ins_ekf.config import load_run_config
+    from pdr_ins_ekf.offline import navigate, output_batches
+
+    csv = SHARED / "foot" / "xio_gait_tracking" / "short_walk.csv"
+    if not csv.exists():
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run([str(ROOT / "ws"), "pdr-sim", "import-csv", str(csv), *XIO_ARGS,
+                        "--out", f"{tmp}/bag"], check=True, capture_output=True)
+        imu = BagReader(f"{tmp}/bag").read("/imu/data")
+    run = navigate(imu, load_run_config())
+    last = np.array([len(run.stamp_ns) - 1])
+    cov = output_batches(run)[topics.FOOT_ODOMETRY].take(last)["pose.covariance"].reshape(6, 6)
+    error = run.output.position[-1] - run.output.position[0]
+    low, high = chi2.ppf([0.025, 0.975], 3)
+    value = nees(error[None], cov[None, :3, :3])[0]
+    print(f"\nfoot on the x-io short_walk loop: end-point error {np.linalg.norm(error):.2f} m, "
+          f"σ {np.sqrt(np.trace(cov[:3, :3])):.2f} m, NEES {value:.1f} (3 dof; one sample's "
+          f"95 % band [{low:.2f}, {high:.2f}])")
+
+
+def oxiod_table() -> None:
+    """The pocket's orientation filter (the default configuration, whose attitude
+    covariance pdr/pocket/odometry carries) on the real OxIOD phones against the Vicon
+    attitude: pdr-pocket attitude's consistency, the whole attitude (3 dof, the heading
+    aligned at the start) and the tilt (2 dof)."""
+    from scipy.spatial.transform import Rotation
+
+    from pdr_core.attitude_metrics import tilt_error
+    from pdr_core.consistency import attitude_consistency
+    from pdr_core.oxiod import import_oxiod
+    from pdr_pocket.compiled_orientation import ATT_ROWS
+    from pdr_pocket.config import PocketConfig
+    from pdr_pocket.orientation import OrientationFilter
+
+    folders = sorted(p for p in (SHARED / "attitude" / "oxiod").glob("*") if p.is_dir())
+    if not folders:
+        return
+    print("\npocket orientation filter on the real OxIOD phones (Vicon attitude): NEES per "
+          "degree of freedom once a second\n")
+    print("| sequence | seconds | attitude NEES/dof | tilt NEES/dof | attitude, object offset "
+          "removed | tilt, offset removed | band | tilt error RMS (offset removed) |\n"
+          "|---|---:|---:|---:|---:|---:|---|---:|")
+    for folder in folders:
+        seq = import_oxiod(folder)
+        t = (seq.imu.stamp_ns - seq.imu.stamp_ns[0]) * 1e-9
+        mag = seq.mag["magnetic_field"] if seq.mag is not None else np.full((len(t), 3), np.nan)
+        estimate = OrientationFilter(PocketConfig().orientation).run(
+            t, np.ascontiguousarray(seq.imu["angular_velocity"]),
+            np.ascontiguousarray(seq.imu["linear_acceleration"]), np.ascontiguousarray(mag))
+        truth = Rotation.from_quat(seq.pose["pose.orientation"]).as_matrix()
+        cov = estimate.covariance[:, ATT_ROWS, ATT_ROWS]
+        figures = attitude_consistency(t, estimate.attitude, cov, truth)
+        mounted = truth @ object_offset(estimate.attitude, truth).T
+        offset_removed = attitude_consistency(t, estimate.attitude, cov, mounted)
+        tilt = [np.degrees(np.sqrt(np.mean(tilt_error(estimate.attitude, c) ** 2)))
+                for c in (truth, mounted)]
+        band = figures["attitude"]["band_per_dof"]
+        print(f"| {folder.name} | {figures['attitude']['samples']} | "
+              f"{figures['attitude']['nees_per_dof']:.2f} | {figures['tilt']['nees_per_dof']:.2f} "
+              f"| {offset_removed['attitude']['nees_per_dof']:.2f} | "
+              f"{offset_removed['tilt']['nees_per_dof']:.2f} | [{band[0]:.2f}, {band[1]:.2f}] | "
+              f"{tilt[0]:.2f}° / {tilt[1]:.2f}° |", flush=True)
+
+
+def object_offset(estimate: np.ndarray, truth: np.ndarray) -> np.ndarray:
+    """The fixed rotation (3, 3) from the Vicon object's axes to the phone's that best
+    turns the truth's vertical seen in the body frame onto the estimate's over the whole
+    sequence (Wahba's problem, scipy's align_vectors): the truth's own error, the object
+    "a few degrees off the phone's axes" (docs/pocket.md), which no filter can see."""
+    from scipy.spatial.transform import Rotation
+
+    rotation, _ = Rotation.align_vectors(estimate[:, 2, :], truth[:, 2, :])
+    return rotation.as_matrix()
+
+
 def row(walk: str, part: str, values: list[np.ndarray], dof: int) -> str:
     """A table row: ANEES over runs at each checkpoint, judged against its band."""
     runs = len(values)
@@ -178,6 +265,8 @@ def main() -> None:
                        if r is not None]
             print(row(f"pocket: {name}", "position (horizontal)", results, 2), flush=True)
     vicon_table()
+    xio_loop()
+    oxiod_table()
 
 
 if __name__ == "__main__":
