@@ -616,15 +616,18 @@ def test_the_population_line_scales_with_height_unless_calibrated():
 
 def test_live_without_a_gyroscope_equals_the_whole_record():
     """An IMU without gyroscope (REP-145: angular_velocity_covariance[0] = −1, the node
-    passes gyro None) sample by sample gives the steps of the offline navigator."""
+    passes gyro None) in blocks of 1 to 99 samples, as messages arrive together, gives the
+    steps of the offline navigator."""
     from pdr_pocket.streaming import StreamingPocket
 
     sim = simulated("sit_stand")
     whole = PocketNavigator(PocketConfig()).process(samples_of(sim, gyro=False, mag=False)).steps
     live, steps = StreamingPocket(PocketConfig()), []
-    for stamp, accel in zip((sim.trajectory.t * 1e9).astype(np.int64).tolist(),
-                            sim.imu["linear_acceleration"], strict=True):
-        steps += [s for chunk in live.push_imu(stamp, accel, None) for s in chunk.output.steps]
+    stamps = (sim.trajectory.t * 1e9).astype(np.int64)
+    ends = np.cumsum(np.random.default_rng(0).integers(1, 100, len(stamps)))
+    for block in np.split(np.arange(len(stamps)), ends[ends < len(stamps)]):
+        steps += [s for chunk in live.push_imus(stamps[block], sim.imu["linear_acceleration"][
+            block], None) for s in chunk.output.steps]
     steps += [s for chunk in live.flush() for s in chunk.output.steps]
     assert len(whole) >= 30 and len(steps) == len(whole)
     np.testing.assert_allclose([s.t for s in steps], [s.t for s in whole], atol=1e-6)
