@@ -46,6 +46,10 @@ from pdr_ins_ekf.kernel_data import (
 )
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
+# The covariance published with the estimates: the filter's P (``configured``), or P times
+# the mean NIS per degree of freedom of the ZUPTs at touchdown so far (``innovations``,
+# pdr_ins_ekf.compiled_filter.covariance_scale); the estimates are the same.
+COVARIANCE_SCALES = ("configured", "innovations")
 
 
 @dataclass(frozen=True)
@@ -58,6 +62,7 @@ class FilterConfig:
     zaru_sigma_radps: float = 0.01    # [rad/s]
     zaru: bool = False
     zaru_gate_nis: float = 16.27      # ZARU where νᵀS⁻¹ν < this (χ², 3 dof, 0.999)
+    covariance_scale: str = "configured"   # configured | innovations (COVARIANCE_SCALES)
     bias_model: str = "none"
     acc_bias_noise_mps2_per_sqrt_s: float = 1e-4    # bias random walk / GM driving noise
     gyro_bias_noise_radps_per_sqrt_s: float = 1e-5
@@ -74,6 +79,9 @@ class FilterConfig:
         if self.bias_model not in BIAS_MODELS:
             raise ValueError(f"bias_model must be one of {', '.join(BIAS_MODELS)}, "
                              f"got {self.bias_model!r}")
+        if self.covariance_scale not in COVARIANCE_SCALES:
+            raise ValueError(f"covariance_scale must be one of {', '.join(COVARIANCE_SCALES)}"
+                             f", got {self.covariance_scale!r}")
         if self.zaru and self.bias_model == "none":
             raise ValueError("ZARU needs the gyro bias states (bias_model random_walk or "
                              "gauss_markov)")
@@ -309,7 +317,8 @@ def kernel_params(config: FilterConfig) -> FilterParams:
         bias_model=BIAS_MODEL_CODES[config.bias_model],
         gravity_mps2=float(config.gravity_mps2), zupt_sigma_mps=float(config.zupt_sigma_mps),
         zaru=bool(config.zaru), zaru_sigma_radps=float(config.zaru_sigma_radps),
-        zaru_gate_nis=float(config.zaru_gate_nis))
+        zaru_gate_nis=float(config.zaru_gate_nis),
+        innovation_scale=config.covariance_scale == "innovations")
 
 
 def smoother_params(smoother: SmootherConfig) -> SmootherParams:
