@@ -387,14 +387,14 @@ def normalised_innovation(P, innovation, rows, sigma):
 @njit(cache=True)
 def count_touchdown(state, stance, params):
     """Before a stance sample's ZUPT: if it is the first of its stance (a touchdown), add
-    its normalised innovation per degree of freedom, νᵀ·S⁻¹·ν / 3 with ν = −v̂, to
-    ``state.nis``; then note whether this sample is stance. The touchdown ZUPT tests the
-    whole swing's prediction: the velocity error the INS gathered since the last stance
-    against the covariance P_v it predicted for it."""
+    ν·P_v⁻¹·ν / 3 with ν = −v̂ to ``state.nis``; then note whether this sample is stance.
+    The touchdown ZUPT tests the whole swing's prediction: ν is the velocity error the
+    INS gathered since the last stance (and the foot's own velocity at touchdown, which
+    the ZUPT will put into the estimate as well), P_v the covariance the filter predicted
+    for it; the ZUPT's σ, which stands for the whole stance's micro-motion, is left out."""
     nis = state.nis
     if stance and nis[IN_STANCE] == 0.0:
-        nis[NIS_SUM] += normalised_innovation(state.P, -state.v, VELOCITY,
-                                              params.zupt_sigma_mps) / AXES
+        nis[NIS_SUM] += normalised_innovation(state.P, -state.v, VELOCITY, 0.0) / AXES
         nis[NIS_COUNT] += 1.0
     nis[IN_STANCE] = 1.0 if stance else 0.0
 
