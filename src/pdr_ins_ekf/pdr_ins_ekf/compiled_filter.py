@@ -402,17 +402,18 @@ def count_touchdown(state, stance, params):
 @njit(cache=True)
 def covariance_scale(state, params):
     """The factor λ the published covariance is P times: with ``innovation_scale``, the
-    mean touchdown NIS per degree of freedom so far (:func:`count_touchdown`; 1 before
-    the first touchdown), else 1.
+    mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (:func:`count_touchdown`; 1 before the first
+    touchdown), else 1.
 
-    Covariance matching (Mehra 1972, IEEE TAC 17(5), section III; Maybeck 1982, vol. 2,
-    section 10.6): if the true noises are λ times the configured ones, Q, R and P₀ all,
-    the Kalman gain is the configured filter's and its true error covariance is λ·P,
-    while the innovations' NIS have the mean λ per degree of freedom. So the gain (the
-    estimate) stays the tuned filter's and the covariance published with it is λ·P, λ
-    measured on the walk itself: a foot that is never quite still in stance, or an IMU
-    whose errors are not the configured white noise, shows in the velocity the INS has
-    gathered at touchdown."""
+    Covariance matching (Mehra, "Approaches to adaptive filtering", IEEE TAC 17(5), 1972;
+    Maybeck, Stochastic Models, Estimation and Control, vol. 2, 1982, ch. 10): if the
+    true noises are λ times the configured ones, Q, R and P₀ all, the Kalman gain is the
+    configured filter's and its true error covariance is λ·P, while the innovations'
+    normalised squares have the mean λ per degree of freedom. So the gain (the estimate)
+    stays the tuned filter's and the covariance published with it is λ·P, λ measured on
+    the walk itself: a foot that is never quite still in stance, or an IMU whose errors
+    are not the configured white noise, shows in the velocity the INS has gathered at
+    touchdown (docs/foot_ins.md, "Covariance honesty")."""
     if params.innovation_scale and state.nis[NIS_COUNT] > 0.0:
         return state.nis[NIS_SUM] / state.nis[NIS_COUNT]
     return 1.0
