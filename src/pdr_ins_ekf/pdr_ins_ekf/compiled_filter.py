@@ -444,14 +444,15 @@ def filter_block(state, samples, params):
     ``dt`` [s], then ZUPT where ``stance`` (and ZARU there, where the angular rate
     passes :func:`within_gate`: a foot that turns is not at rest, however still its
     velocity). Returns position, velocity (N, 3), attitude (N, 3, 3), bias (N, 6),
-    covariance diagonal (N, n) and position and velocity covariance (N, 3, 3) after each
-    sample."""
+    covariance diagonal (N, n), position and velocity covariance (N, 3, 3) after each
+    sample, and the factor (N,) the published covariances are these times
+    (:func:`covariance_scale`)."""
     p, v, C, b, P = state.p, state.v, state.C, state.b, state.P
     N = samples.accel.shape[0]
     n = P.shape[0]
     pos, vel, bias = np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 6))
     att, pcov, vcov = np.empty((N, 3, 3)), np.empty((N, 3, 3)), np.empty((N, 3, 3))
-    var = np.empty((N, n))
+    var, scale = np.empty((N, n)), np.empty(N)
     for k in range(N):
         w = samples.gyro[k]
         predict(state, samples.accel[k], w, samples.dt[k], params)
@@ -462,9 +463,9 @@ def filter_block(state, samples, params):
                                            params.zaru_sigma_radps, params.zaru_gate_nis):
                 update(state, w - b[GYRO], GYRO_BIAS, params.zaru_sigma_radps)
         pos[k], vel[k], att[k], bias[k] = p, v, C, b
-        scale = covariance_scale(state, params)
         for i in range(n):
-            var[k, i] = scale * P[i, i]
-        pcov[k] = scale * P[POSITION:POSITION + AXES, POSITION:POSITION + AXES]
-        vcov[k] = scale * P[VELOCITY:VELOCITY + AXES, VELOCITY:VELOCITY + AXES]
-    return pos, vel, att, bias, var, pcov, vcov
+            var[k, i] = P[i, i]
+        pcov[k] = P[POSITION:POSITION + AXES, POSITION:POSITION + AXES]
+        vcov[k] = P[VELOCITY:VELOCITY + AXES, VELOCITY:VELOCITY + AXES]
+        scale[k] = covariance_scale(state, params)
+    return pos, vel, att, bias, var, pcov, vcov, scale

@@ -46,9 +46,10 @@ from pdr_ins_ekf.kernel_data import (
 )
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
-# The covariance published with the estimates: the filter's P (``configured``), or P times
-# the mean NIS per degree of freedom of the ZUPTs at touchdown so far (``innovations``,
-# pdr_ins_ekf.compiled_filter.covariance_scale); the estimates are the same.
+# The covariance published with the estimates (pose, odometry, velocity): the filter's P
+# (``configured``), or P times the mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (``innovations``,
+# pdr_ins_ekf.compiled_filter.covariance_scale); the estimates, and the strides' covariance
+# (landmark_drift's gates are set for it), are the same.
 COVARIANCE_SCALES = ("configured", "innovations")
 
 
@@ -99,7 +100,9 @@ class FilterConfig:
 class FilterOutput:
     """Per-sample estimates: position, velocity (N, 3), attitude C_b^n (N, 3, 3), biases
     (N, 6) (zero for 9 states), covariance diagonal (N, states) and full position and
-    velocity covariance blocks (N, 3, 3)."""
+    velocity covariance blocks (N, 3, 3), the filter's own P; and the factor (N,) the
+    published covariances (pose, odometry, velocity) are these times
+    (FilterConfig.covariance_scale; None: 1)."""
 
     position: np.ndarray
     velocity: np.ndarray
@@ -108,16 +111,26 @@ class FilterOutput:
     variance: np.ndarray
     position_cov: np.ndarray
     velocity_cov: np.ndarray
+    covariance_scale: np.ndarray | None = None
+
+    @property
+    def scale(self) -> np.ndarray:
+        """``covariance_scale``, ones where it is None (N,)."""
+        if self.covariance_scale is None:
+            return np.ones(len(self.position))
+        return self.covariance_scale
 
     def part(self, index: slice) -> FilterOutput:
         """The estimates of the samples ``index``."""
-        return FilterOutput(*(getattr(self, f.name)[index] for f in fields(self)))
+        return FilterOutput(*(getattr(self, f.name)[index] for f in fields(self)
+                              if f.name != "covariance_scale"), self.scale[index])
 
     @classmethod
     def concatenate(cls, parts: list[FilterOutput]) -> FilterOutput:
         """Consecutive estimates as one."""
         return cls(*(np.concatenate([getattr(p, f.name) for p in parts])
-                     for f in fields(cls)))
+                     for f in fields(cls) if f.name != "covariance_scale"),
+                   np.concatenate([p.scale for p in parts]))
 
 
 SMOOTHER_MODES = ("none", "segmented", "full")

@@ -1,13 +1,17 @@
 """The published covariance scaled by the touchdown innovations (``covariance_scale:
 innovations``, pdr_ins_ekf.compiled_filter.covariance_scale; docs/foot_ins.md, "Covariance
-honesty"): the estimates are the configured filter's, the covariances λ times its, λ the
-mean νᵀ·P_v⁻¹·ν / 3 of the ZUPTs at touchdown so far."""
+honesty"): the estimates and the filter's own covariance are the configured filter's, the
+published covariances (pose, odometry, velocity) λ times it, λ the mean νᵀ·P_v⁻¹·ν / 3 of
+the ZUPTs at touchdown so far."""
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from pdr_ins_ekf.kernel_data import VELOCITY
+from pdr_core import topics
+from pdr_ins_ekf.kernel_data import ATTITUDE, VELOCITY
+from pdr_ins_ekf.offline import FootRun, output_batches
+from pdr_ins_ekf.strides import StrideTracker
 from pdr_ins_ekf.zero_velocity import ConditionVoteDetector
 from pdr_ins_ekf.zupt_ekf import FilterConfig, ZuptEkf, run
 from pdr_sim.scenario import scenario_from_dict
@@ -51,19 +55,43 @@ def test_estimates_are_the_configured_filters_and_the_covariance_is_scaled(walk)
     configured = run(t, accel, gyro, stance, CONFIG, slice(0, 100))
     scaled = run(t, accel, gyro, stance, replace(CONFIG, covariance_scale="innovations"),
                  slice(0, 100))
-    for name in ("position", "velocity", "attitude", "bias"):
+    for name in ("position", "velocity", "attitude", "bias", "variance", "position_cov",
+                 "velocity_cov"):
         np.testing.assert_array_equal(getattr(scaled, name), getattr(configured, name))
+    np.testing.assert_array_equal(configured.covariance_scale, 1.0)
     scale = touchdown_scale(walk)
     assert len(np.unique(scale)) > 10, "every touchdown moves λ"
     # the xsens_mtw errors are 10× below the configured noise and the simulated stance is
     # still: the swings' velocity errors are far smaller than predicted
     assert scale[-1] < 0.2
-    np.testing.assert_allclose(scaled.position_cov, scale[:, None, None]
-                               * configured.position_cov, rtol=1e-9, atol=0)
-    np.testing.assert_allclose(scaled.velocity_cov, scale[:, None, None]
-                               * configured.velocity_cov, rtol=1e-9, atol=0)
-    np.testing.assert_allclose(scaled.variance, scale[:, None] * configured.variance,
-                               rtol=1e-9, atol=0)
+    np.testing.assert_allclose(scaled.covariance_scale, scale, rtol=1e-9, atol=0)
+
+
+def test_the_pose_odometry_and_velocity_are_published_scaled_the_strides_are_not(walk):
+    t, accel, gyro, stance = walk
+    config = replace(CONFIG, covariance_scale="innovations")
+    out = run(t, accel, gyro, stance, config, slice(0, 100))
+    stamps = np.round(t * 1e9).astype(np.int64)
+    foot = FootRun(stamps, stance, np.zeros(len(t)), 0, out)
+    batches = output_batches(foot)
+    every = np.arange(len(t))
+    pose = batches[topics.FOOT_POSE].take(every)["pose.covariance"].reshape(-1, 6, 6)
+    np.testing.assert_allclose(pose[:, :3, :3], out.scale[:, None, None] * out.position_cov,
+                               rtol=1e-12, atol=0)
+    np.testing.assert_allclose(np.diagonal(pose[:, 3:, 3:], axis1=1, axis2=2),
+                               out.scale[:, None] * out.variance[:, ATTITUDE:ATTITUDE + 3],
+                               rtol=1e-12, atol=0)
+    odometry = batches[topics.FOOT_ODOMETRY].take(every)["pose.covariance"]
+    np.testing.assert_array_equal(odometry.reshape(-1, 6, 6), pose)
+    twist = batches[topics.FOOT_VELOCITY].take(every)["twist.covariance"].reshape(-1, 6, 6)
+    np.testing.assert_allclose(twist[:, :3, :3], out.scale[:, None, None] * out.velocity_cov,
+                               rtol=1e-12, atol=0)
+    strides = StrideTracker().push(stamps, stance, out)
+    assert strides
+    for stride in strides:
+        k = int(np.searchsorted(stamps, stride.stamp_ns))
+        np.testing.assert_array_equal(np.reshape(stride.covariance_m2, (3, 3)),
+                                      out.position_cov[k])
 
 
 def test_the_scale_carries_over_blocks(walk):
@@ -76,8 +104,8 @@ def test_the_scale_carries_over_blocks(walk):
     dt = np.concatenate(([0.0], np.diff(t)))
     parts = [ekf.run_block(accel[a:a + 37], gyro[a:a + 37], dt[a:a + 37], stance[a:a + 37])
              for a in range(0, len(t), 37)]
-    np.testing.assert_allclose(np.concatenate([p.position_cov for p in parts]),
-                               whole.position_cov, rtol=1e-12, atol=0)
+    np.testing.assert_array_equal(np.concatenate([p.covariance_scale for p in parts]),
+                                  whole.covariance_scale)
 
 
 def test_covariance_scale_is_checked():
