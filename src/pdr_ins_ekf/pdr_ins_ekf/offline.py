@@ -140,7 +140,7 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE
     its velocity in ``base_frame``) and ``stance`` with covariances (the filter's times
     its ``covariance_scale``), built block by block as they are written."""
     out, n = run_.output, len(run_.stamp_ns)
-    scale = out.scale                   # FilterConfig.covariance_scale
+    scale = out.covariance_scale        # FilterConfig.covariance_scale
 
     def pose_covariance(index: slice) -> np.ndarray:
         cov = np.zeros((len(out.position[index]), 6, 6))

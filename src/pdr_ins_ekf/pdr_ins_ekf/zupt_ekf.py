@@ -102,7 +102,7 @@ class FilterOutput:
     (N, 6) (zero for 9 states), covariance diagonal (N, states) and full position and
     velocity covariance blocks (N, 3, 3), the filter's own P; and the factor (N,) the
     published covariances (pose, odometry, velocity) are these times
-    (FilterConfig.covariance_scale; None: 1)."""
+    (FilterConfig.covariance_scale; not given: ones)."""
 
     position: np.ndarray
     velocity: np.ndarray
@@ -113,24 +113,19 @@ class FilterOutput:
     velocity_cov: np.ndarray
     covariance_scale: np.ndarray | None = None
 
-    @property
-    def scale(self) -> np.ndarray:
-        """``covariance_scale``, ones where it is None (N,)."""
+    def __post_init__(self) -> None:
         if self.covariance_scale is None:
-            return np.ones(len(self.position))
-        return self.covariance_scale
+            self.covariance_scale = np.ones(len(self.position))
 
     def part(self, index: slice) -> FilterOutput:
         """The estimates of the samples ``index``."""
-        return FilterOutput(*(getattr(self, f.name)[index] for f in fields(self)
-                              if f.name != "covariance_scale"), self.scale[index])
+        return FilterOutput(*(getattr(self, f.name)[index] for f in fields(self)))
 
     @classmethod
     def concatenate(cls, parts: list[FilterOutput]) -> FilterOutput:
         """Consecutive estimates as one."""
         return cls(*(np.concatenate([getattr(p, f.name) for p in parts])
-                     for f in fields(cls) if f.name != "covariance_scale"),
-                   np.concatenate([p.scale for p in parts]))
+                     for f in fields(cls)))
 
 
 SMOOTHER_MODES = ("none", "segmented", "full")

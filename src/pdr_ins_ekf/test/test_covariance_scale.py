@@ -74,17 +74,17 @@ def test_the_pose_odometry_and_velocity_are_published_scaled_the_strides_are_not
     stamps = np.round(t * 1e9).astype(np.int64)
     foot = FootRun(stamps, stance, np.zeros(len(t)), 0, out)
     batches = output_batches(foot)
-    every = np.arange(len(t))
+    every, scale = np.arange(len(t)), out.covariance_scale
     pose = batches[topics.FOOT_POSE].take(every)["pose.covariance"].reshape(-1, 6, 6)
-    np.testing.assert_allclose(pose[:, :3, :3], out.scale[:, None, None] * out.position_cov,
+    np.testing.assert_allclose(pose[:, :3, :3], scale[:, None, None] * out.position_cov,
                                rtol=1e-12, atol=0)
     np.testing.assert_allclose(np.diagonal(pose[:, 3:, 3:], axis1=1, axis2=2),
-                               out.scale[:, None] * out.variance[:, ATTITUDE:ATTITUDE + 3],
+                               scale[:, None] * out.variance[:, ATTITUDE:ATTITUDE + 3],
                                rtol=1e-12, atol=0)
     odometry = batches[topics.FOOT_ODOMETRY].take(every)["pose.covariance"]
     np.testing.assert_array_equal(odometry.reshape(-1, 6, 6), pose)
     twist = batches[topics.FOOT_VELOCITY].take(every)["twist.covariance"].reshape(-1, 6, 6)
-    np.testing.assert_allclose(twist[:, :3, :3], out.scale[:, None, None] * out.velocity_cov,
+    np.testing.assert_allclose(twist[:, :3, :3], scale[:, None, None] * out.velocity_cov,
                                rtol=1e-12, atol=0)
     strides = StrideTracker().push(stamps, stance, out)
     assert strides
