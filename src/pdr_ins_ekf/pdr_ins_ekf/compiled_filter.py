@@ -2,7 +2,7 @@
 the block steps of :class:`pdr_ins_ekf.zupt_ekf.ZuptEkf` (the live node).
 
 The kernels take the named data of :mod:`pdr_ins_ekf.kernel_data`: the state
-(:class:`~pdr_ins_ekf.kernel_data.NavState`: p, v, C, b, P, prev, dx), whose arrays they
+(:class:`~pdr_ins_ekf.kernel_data.NavState`: p, v, C, b, P, prev, dx, nis), whose arrays they
 change in place; the settings (:class:`~pdr_ins_ekf.kernel_data.FilterParams`); the
 samples of a record (:class:`~pdr_ins_ekf.kernel_data.Samples`); and the rows of the
 error state by name (:data:`~pdr_ins_ekf.kernel_data.VELOCITY`, …). ENU navigation frame,
@@ -25,7 +25,10 @@ from pdr_ins_ekf.kernel_data import (
     GAUSS_MARKOV,
     GYRO,
     GYRO_BIAS,
+    IN_STANCE,
     NAV_AND_BIAS_STATES,
+    NIS_COUNT,
+    NIS_SUM,
     POSITION,
     PREV_FORCE,
     PREV_NAV_FORCE,
@@ -40,10 +43,11 @@ kernel_cache.forget_if_changed(__file__, small_matrix.__file__, kernel_data.__fi
 @njit(cache=True)
 def new_state(C0, b0, P0):
     """A :class:`~pdr_ins_ekf.kernel_data.NavState` at the origin at rest, with copies of
-    the attitude C0 (3, 3), biases b0 (6,) and covariance P0 (n, n), δx̂ = 0; ``prev`` is
-    set by :func:`start`."""
+    the attitude C0 (3, 3), biases b0 (6,) and covariance P0 (n, n), δx̂ = 0, no
+    touchdown innovation yet and in stance (the filter starts in the stance it is aligned
+    on); ``prev`` is set by :func:`start`."""
     return NavState(np.zeros(3), np.zeros(3), C0.copy(), b0.copy(), P0.copy(),
-                    np.empty((3, 3)), np.zeros(P0.shape[0]))
+                    np.empty((3, 3)), np.zeros(P0.shape[0]), np.array([0.0, 0.0, 1.0]))
 
 
 @njit(cache=True)
@@ -365,12 +369,54 @@ def within_gate(P, innovation, rows, sigma, gate):
     """True when the normalised innovation squared νᵀ·S⁻¹·ν of a direct measurement of
     the three states from ``rows`` (S = H·P·Hᵀ + σ²I) is below ``gate``, a χ² bound with
     3 degrees of freedom (16.27 at 0.999; Bar-Shalom et al. 2001, section 5.4)."""
+    return normalised_innovation(P, innovation, rows, sigma) < gate
+
+
+@njit(cache=True)
+def normalised_innovation(P, innovation, rows, sigma):
+    """νᵀ·S⁻¹·ν of a direct measurement of the three error states from ``rows``, S =
+    H·P·Hᵀ + σ²I (Bar-Shalom et al. 2001, section 5.4)."""
     S_inv = _inverse3(P[rows:rows + AXES, rows:rows + AXES] + np.eye(3) * sigma**2)
     nis = 0.0
     for a in range(3):
         for c in range(3):
             nis += innovation[a] * S_inv[a, c] * innovation[c]
-    return nis < gate
+    return nis
+
+
+@njit(cache=True)
+def count_touchdown(state, stance, params):
+    """Before a stance sample's ZUPT: if it is the first of its stance (a touchdown), add
+    ν·P_v⁻¹·ν / 3 with ν = −v̂ to ``state.nis``; then note whether this sample is stance.
+    The touchdown ZUPT tests the whole swing's prediction: ν is the velocity error the
+    INS gathered since the last stance (and the foot's own velocity at touchdown, which
+    the ZUPT will put into the estimate as well), P_v the covariance the filter predicted
+    for it; the ZUPT's σ, which stands for the whole stance's micro-motion, is left out."""
+    nis = state.nis
+    if stance and nis[IN_STANCE] == 0.0:
+        nis[NIS_SUM] += normalised_innovation(state.P, -state.v, VELOCITY, 0.0) / AXES
+        nis[NIS_COUNT] += 1.0
+    nis[IN_STANCE] = 1.0 if stance else 0.0
+
+
+@njit(cache=True)
+def covariance_scale(state, params):
+    """The factor λ the published covariance is P times: with ``innovation_scale``, the
+    mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (:func:`count_touchdown`; 1 before the first
+    touchdown), else 1.
+
+    Covariance matching (Mehra, "Approaches to adaptive filtering", IEEE TAC 17(5), 1972;
+    Maybeck, Stochastic Models, Estimation and Control, vol. 2, 1982, ch. 10): if the
+    true noises are λ times the configured ones, Q, R and P₀ all, the Kalman gain is the
+    configured filter's and its true error covariance is λ·P, while the innovations'
+    normalised squares have the mean λ per degree of freedom. So the gain (the estimate)
+    stays the tuned filter's and the covariance published with it is λ·P, λ measured on
+    the walk itself: a foot that is never quite still in stance, or an IMU whose errors
+    are not the configured white noise, shows in the velocity the INS has gathered at
+    touchdown (docs/foot_ins.md, "Covariance honesty")."""
+    if params.innovation_scale and state.nis[NIS_COUNT] > 0.0:
+        return state.nis[NIS_SUM] / state.nis[NIS_COUNT]
+    return 1.0
 
 
 @njit(cache=True)
@@ -398,17 +444,19 @@ def filter_block(state, samples, params):
     ``dt`` [s], then ZUPT where ``stance`` (and ZARU there, where the angular rate
     passes :func:`within_gate`: a foot that turns is not at rest, however still its
     velocity). Returns position, velocity (N, 3), attitude (N, 3, 3), bias (N, 6),
-    covariance diagonal (N, n) and position and velocity covariance (N, 3, 3) after each
-    sample."""
+    covariance diagonal (N, n), position and velocity covariance (N, 3, 3) after each
+    sample, and the factor (N,) the published covariances are these times
+    (:func:`covariance_scale`)."""
     p, v, C, b, P = state.p, state.v, state.C, state.b, state.P
     N = samples.accel.shape[0]
     n = P.shape[0]
     pos, vel, bias = np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 6))
     att, pcov, vcov = np.empty((N, 3, 3)), np.empty((N, 3, 3)), np.empty((N, 3, 3))
-    var = np.empty((N, n))
+    var, scale = np.empty((N, n)), np.empty(N)
     for k in range(N):
         w = samples.gyro[k]
         predict(state, samples.accel[k], w, samples.dt[k], params)
+        count_touchdown(state, samples.stance[k], params)
         if samples.stance[k]:
             update(state, -v, VELOCITY, params.zupt_sigma_mps)
             if params.zaru and within_gate(P, w - b[GYRO], GYRO_BIAS,
@@ -419,4 +467,5 @@ def filter_block(state, samples, params):
             var[k, i] = P[i, i]
         pcov[k] = P[POSITION:POSITION + AXES, POSITION:POSITION + AXES]
         vcov[k] = P[VELOCITY:VELOCITY + AXES, VELOCITY:VELOCITY + AXES]
-    return pos, vel, att, bias, var, pcov, vcov
+        scale[k] = covariance_scale(state, params)
+    return pos, vel, att, bias, var, pcov, vcov, scale

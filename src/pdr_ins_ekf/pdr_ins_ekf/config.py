@@ -63,14 +63,16 @@ RENAMED_KEYS = {
 
 @dataclass(frozen=True)
 class RunConfig:
-    """The navigator as the shipped ``foot_ekf.yaml`` sets it (tested): adaptive SHOE, and
-    the filter's and smoother's noise tuned for real shoes (FilterConfig's and
-    SmootherConfig's own defaults are plain, paper-like values for simulated data)."""
+    """The navigator as the shipped ``foot_ekf.yaml`` sets it (tested): adaptive SHOE, the
+    filter's and smoother's noise tuned for real shoes, and the published covariance
+    scaled by the touchdown innovations (FilterConfig's and SmootherConfig's own defaults
+    are plain, paper-like values for simulated data, the filter's own covariance)."""
 
     detector: StanceDetector = field(default_factory=AdaptiveShoeDetector)
     filter: FilterConfig = field(
         default_factory=lambda: FilterConfig(acc_noise_mps2_per_sqrt_hz=0.02,
-                                             gyro_noise_radps_per_sqrt_hz=0.002))
+                                             gyro_noise_radps_per_sqrt_hz=0.002,
+                                             covariance_scale="innovations"))
     smoother: SmootherConfig = field(
         default_factory=lambda: SmootherConfig(gamma_s_m2ps2=3.0e-4))
     alignment_min_s: float = 0.3

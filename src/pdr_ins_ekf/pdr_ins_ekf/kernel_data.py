@@ -30,6 +30,12 @@ AXES = 3                  # rows per block
 ACC = slice(0, 3)
 GYRO = slice(3, 6)
 
+# the entries of NavState.nis: the touchdown innovations the published covariance is
+# scaled by (pdr_ins_ekf.compiled_filter.covariance_scale)
+NIS_SUM = 0         # Σ νᵀ·S⁻¹·ν / 3 over the first ZUPT of each stance
+NIS_COUNT = 1       # how many stances are in the sum
+IN_STANCE = 2       # 1.0 when the last sample was a stance sample (the next is no touchdown)
+
 # the rows of NavState.prev: what the trapezoidal mechanization keeps of the last sample
 PREV_FORCE = 0      # bias-corrected specific force f − b_a [m/s²], body frame
 PREV_RATE = 1       # bias-corrected angular rate ω − b_g [rad/s], body frame
@@ -52,6 +58,7 @@ class NavState(NamedTuple):
     dx: np.ndarray    # (n,) error-state estimate δx̂: 0 between the closed-loop filter's
     #                   steps (each update feeds it back); the smoother's open-loop pass
     #                   carries it to the segment's end
+    nis: np.ndarray   # (3,) NIS_SUM, NIS_COUNT, IN_STANCE: the touchdown innovations so far
 
 
 class FilterParams(NamedTuple):
@@ -69,6 +76,7 @@ class FilterParams(NamedTuple):
     zaru: bool               # ZARU in stance (15 states)
     zaru_sigma_radps: float  # ZARU noise σ per axis [rad/s]
     zaru_gate_nis: float     # ZARU only where νᵀS⁻¹ν is below this (χ², 3 dof)
+    innovation_scale: bool   # publish P times the mean touchdown NIS / 3 (covariance_scale)
 
 
 class Samples(NamedTuple):

@@ -137,16 +137,17 @@ def stance_scores(run_: FootRun, truth: MessageBatch) -> dict[str, float | int |
 def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE_FRAME
                    ) -> dict[str, LazyBatch]:
     """``pdr/foot/pose``, ``velocity``, ``odometry`` (``base_frame``'s pose in ``frame``,
-    its velocity in ``base_frame``) and ``stance`` with covariances, built block by block
-    as they are written."""
+    its velocity in ``base_frame``) and ``stance`` with covariances (the filter's times
+    its ``covariance_scale``), built block by block as they are written."""
     out, n = run_.output, len(run_.stamp_ns)
+    scale = out.covariance_scale        # FilterConfig.covariance_scale
 
     def pose_covariance(index: slice) -> np.ndarray:
         cov = np.zeros((len(out.position[index]), 6, 6))
         cov[:, LINEAR, LINEAR] = out.position_cov[index]
         cov[:, ANGULAR, ANGULAR] = (out.variance[index, ATTITUDE:ATTITUDE + AXES, None]
                                     * np.eye(3))
-        return cov
+        return cov * scale[index, None, None]
 
     def pose(index: slice) -> dict[str, np.ndarray]:
         return {"pose.pose.position": out.position[index],
@@ -155,7 +156,7 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE
 
     def velocity(index: slice) -> dict[str, np.ndarray]:
         cov = np.zeros((len(out.velocity[index]), 6, 6))
-        cov[:, LINEAR, LINEAR] = out.velocity_cov[index]
+        cov[:, LINEAR, LINEAR] = out.velocity_cov[index] * scale[index, None, None]
         cov[:, ANGULAR, ANGULAR] = np.eye(3) * UNKNOWN_VARIANCE  # rate not estimated
         return {"twist.twist.linear": out.velocity[index],
                 "twist.twist.angular": np.zeros((len(cov), 3)),
@@ -166,7 +167,8 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE
         return odometry_fields(
             base_frame, out.position[index], quaternion_from_orthonormal(c),
             pose_covariance(index), np.einsum("nji,nj->ni", c, out.velocity[index]),
-            np.einsum("nji,njk,nkl->nil", c, out.velocity_cov[index], c))
+            np.einsum("nji,njk,nkl->nil", c, out.velocity_cov[index], c)
+            * scale[index, None, None])
 
     detector = np.full(n, run_.detector, np.uint8)
     return {

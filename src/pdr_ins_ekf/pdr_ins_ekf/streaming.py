@@ -300,7 +300,7 @@ class StreamingNavigator:
         n = self.config.filter.states
         empty = FilterOutput(np.empty((0, 3)), np.empty((0, 3)), np.empty((0, 3, 3)),
                              np.empty((0, 6)), np.empty((0, n)), np.empty((0, 3, 3)),
-                             np.empty((0, 3, 3)))
+                             np.empty((0, 3, 3)), np.empty(0))
         return FootRun(np.empty(0, np.int64), np.empty(0, bool), np.empty(0),
                        self.detector_id, empty)
 

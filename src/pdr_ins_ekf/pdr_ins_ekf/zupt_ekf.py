@@ -46,6 +46,11 @@ from pdr_ins_ekf.kernel_data import (
 )
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
+# The covariance published with the estimates (pose, odometry, velocity): the filter's P
+# (``configured``), or P times the mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (``innovations``,
+# pdr_ins_ekf.compiled_filter.covariance_scale); the estimates, and the strides' covariance
+# (landmark_drift's gates are set for it), are the same.
+COVARIANCE_SCALES = ("configured", "innovations")
 
 
 @dataclass(frozen=True)
@@ -58,6 +63,7 @@ class FilterConfig:
     zaru_sigma_radps: float = 0.01    # [rad/s]
     zaru: bool = False
     zaru_gate_nis: float = 16.27      # ZARU where νᵀS⁻¹ν < this (χ², 3 dof, 0.999)
+    covariance_scale: str = "configured"   # configured | innovations (COVARIANCE_SCALES)
     bias_model: str = "none"
     acc_bias_noise_mps2_per_sqrt_s: float = 1e-4    # bias random walk / GM driving noise
     gyro_bias_noise_radps_per_sqrt_s: float = 1e-5
@@ -74,6 +80,9 @@ class FilterConfig:
         if self.bias_model not in BIAS_MODELS:
             raise ValueError(f"bias_model must be one of {', '.join(BIAS_MODELS)}, "
                              f"got {self.bias_model!r}")
+        if self.covariance_scale not in COVARIANCE_SCALES:
+            raise ValueError(f"covariance_scale must be one of {', '.join(COVARIANCE_SCALES)}"
+                             f", got {self.covariance_scale!r}")
         if self.zaru and self.bias_model == "none":
             raise ValueError("ZARU needs the gyro bias states (bias_model random_walk or "
                              "gauss_markov)")
@@ -91,7 +100,9 @@ class FilterConfig:
 class FilterOutput:
     """Per-sample estimates: position, velocity (N, 3), attitude C_b^n (N, 3, 3), biases
     (N, 6) (zero for 9 states), covariance diagonal (N, states) and full position and
-    velocity covariance blocks (N, 3, 3)."""
+    velocity covariance blocks (N, 3, 3), the filter's own P; and the factor (N,) the
+    published covariances (pose, odometry, velocity) are these times
+    (FilterConfig.covariance_scale; not given: ones)."""
 
     position: np.ndarray
     velocity: np.ndarray
@@ -100,6 +111,11 @@ class FilterOutput:
     variance: np.ndarray
     position_cov: np.ndarray
     velocity_cov: np.ndarray
+    covariance_scale: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.covariance_scale is None:
+            self.covariance_scale = np.ones(len(self.position))
 
     def part(self, index: slice) -> FilterOutput:
         """The estimates of the samples ``index``."""
@@ -309,7 +325,8 @@ def kernel_params(config: FilterConfig) -> FilterParams:
         bias_model=BIAS_MODEL_CODES[config.bias_model],
         gravity_mps2=float(config.gravity_mps2), zupt_sigma_mps=float(config.zupt_sigma_mps),
         zaru=bool(config.zaru), zaru_sigma_radps=float(config.zaru_sigma_radps),
-        zaru_gate_nis=float(config.zaru_gate_nis))
+        zaru_gate_nis=float(config.zaru_gate_nis),
+        innovation_scale=config.covariance_scale == "innovations")
 
 
 def smoother_params(smoother: SmootherConfig) -> SmootherParams:

@@ -569,7 +569,7 @@ def check_filter_units(kernels, case: UnitCase) -> None:
 
 def check_filter_record(kernels, case: RecordCase) -> None:
     """``filter_loop`` against :func:`filter_twin`."""
-    pos, vel, att, bias, var, pcov, vcov = kernels.filter_loop(
+    pos, vel, att, bias, var, pcov, vcov, _ = kernels.filter_loop(
         case.samples, case.C0, case.b0, case.P0, case.params)
     twin = filter_twin(case.samples, case.C0, case.b0, case.P0, case.params)
     for kernel, expected, scale in zip((pos, vel, att, bias, var), twin, RECORD_SCALES,
