@@ -56,12 +56,14 @@ class PositionFilter:
              yaw_variance: float, length_var: float, vertical_var: float,
              duration_s: float) -> None:
         """One step (Eq. (5.1)) with its input variances [m², rad²] and duration [s]."""
-        growth = 0.0 if self.yaw_variance is None else max(yaw_variance - self.yaw_variance, 0.0)
         if self.yaw_variance is None:
             self.p[PSI, PSI] = yaw_variance
+        elif yaw_variance > self.yaw_variance:
+            self.p[PSI, PSI] += yaw_variance - self.yaw_variance
+        elif yaw_variance < self.yaw_variance:
+            self._learn_heading(yaw_variance / self.yaw_variance)
         self.yaw_variance = yaw_variance
         self.x[PSI] = heading_rad
-        self.p[PSI, PSI] += growth
         c, s = np.cos(heading_rad), np.sin(heading_rad)
         f = np.eye(N_POSITION_STATE)
         f[X, PSI], f[Y, PSI] = -length_m * s, length_m * c
@@ -73,6 +75,25 @@ class PositionFilter:
         q = np.diag([length_var, vertical_var, self.step_heading_var])
         self.p = f @ self.p @ f.T + g @ q @ g.T
         self.p = 0.5 * (self.p + self.p.T)
+
+    def hold_height(self, variance: float) -> None:
+        """z is the height filter's fused height (pdr_pocket.height_filter): its variance
+        [m²] is that filter's, uncorrelated with the horizontal and the heading."""
+        self.p[Z, :] = 0.0
+        self.p[:, Z] = 0.0
+        self.p[Z, Z] = variance
+
+    def _learn_heading(self, kept: float) -> None:
+        """The orientation filter's yaw variance fell to ``kept`` times itself since the
+        previous step (its field or rest updates outweighed the growth): a heading
+        measurement with the gain k = 1 − ``kept`` on ψ alone, whose innovation the heading
+        already took (the step's ψ is the filter's) and the position did not (nothing
+        feeds it back). Joseph form with that gain, (I − k·e_ψ·e_ψᵀ)·P·(…)ᵀ + k²·R with
+        R = P_ψψ·kept/k: P_ψψ and ψ's covariances with x, y, z, ε shrink by ``kept``, the
+        position's own variances not (its error stays what it is)."""
+        self.p[PSI, :] *= kept
+        self.p[:, PSI] *= kept
+        self.p[PSI, PSI] /= kept
 
     @property
     def position(self) -> np.ndarray:
