@@ -14,8 +14,7 @@ normalised estimation error squared, ε = eᵀ·P⁻¹·e (Bar-Shalom et al. 200
   the sum of the true strides up to that step (the runs whose step count is the truth's),
   the x, y block of the odometry's pose covariance; the sensor simulated is the default
   configuration's (``calibrated_phone``, not ``IMU``: a phone's configuration holds a
-  phone's magnetometer offset, which the MTw's simulation has not), the stride line told
-  calibrated (the simulated walker walks it exactly).
+  phone's magnetometer offset, which the MTw's simulation has not).
 
 With the shared data beside the repository (``../shared/data``, or ``PDR_SHARED_DATA``),
 the same for the foot on the real pyshoe VICON trials (imported as bags/README.md
@@ -85,11 +84,7 @@ def foot_run(args: tuple[str, int]) -> tuple[np.ndarray, np.ndarray]:
 def pocket_run(args: tuple[str, int]) -> np.ndarray | None:
     """Horizontal position NEES at every step of one seed's pocket walk (None: another
     step count than the truth's). The sensor simulated is the one the default
-    configuration is made for (its ``imu_profile``), and the simulated walker walks the
-    shipped stride line exactly, so the navigator is told the line is the person's
-    (``step_length.calibrated``)."""
-    from dataclasses import replace
-
+    configuration is made for (its ``imu_profile``)."""
     from pdr_core import topics
     from pdr_core.consistency import nees
     from pdr_pocket.config import PocketConfig
@@ -100,7 +95,6 @@ def pocket_run(args: tuple[str, int]) -> np.ndarray | None:
     from pdr_sim.simulation import SimulationConfig, simulate
 
     config = PocketConfig()
-    config = replace(config, step_length=replace(config.step_length, calibrated=True))
     _, data = load_pocket_scenario(args[0])
     sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, args[0]), data,
                                     config.orientation.imu_profile, {}, 100.0, args[1],

@@ -2,32 +2,29 @@
 
 The thesis' state is the 3D position [x, y, z] (Eq. (6.1)), propagated once per step by
 Eq. (5.1): x += s·cos ψ, y += s·sin ψ, z += v. Here it is augmented with the heading ψ
-(the augmented form of Section 5.2), the heading drift ε, the heading error rate the
-orientation filter leaves (chapter 5's "drift"), and the offset b of the person's stride
-line from the one configured (Section 4.2.3), so that the covariance grows as errors that
-persist from step to step make it grow, not as independent per-step noise:
+(the augmented form of Section 5.2) and the heading drift ε, the heading error rate the
+orientation filter leaves (chapter 5's "drift"), so that the covariance grows as a
+heading error that persists and grows from step to step makes it grow, not as
+independent per-step noise:
 
-    state X = [x, y, z, ψ, ε, b] (ENU; m, rad, rad/s, m), covariance P (6 × 6)
-    per step j:  ψ ← the orientation filter's heading of the step (its mean; ε, b mean 0)
-                 P_yaw,j grew:  P_ψψ += P_yaw,j − P_yaw,j−1
-                 P_yaw,j fell:  the heading update of :meth:`PositionFilter._learn_heading`
-                 X ← X + [s cos ψ, s sin ψ, v, 0, 0, 0]
+    state X = [x, y, z, ψ, ε] (ENU; m, rad, rad/s), covariance P (5 × 5)
+    per step j:  ψ ← the orientation filter's heading of the step (its mean; ε's mean 0)
+                 P_ψψ += q_ψ = max(ΔP_yaw, 0)
+                 X ← X + [s cos ψ, s sin ψ, v, 0, 0]
                  P ← F P Fᵀ + G diag(σ_s², σ_v², σ_ψ,step²) Gᵀ,
-                 F = I with F[x,ψ] = −s sin ψ, F[y,ψ] = s cos ψ, F[ψ,ε] = Δt and, for a
-                     stride of the level line, F[x,b] = cos ψ, F[y,b] = sin ψ,
-                 G = [[cos ψ, 0, −s sin ψ],[sin ψ, 0, s cos ψ],[0, 1, 0],0,0,0]
+                 F = I + [[0,0,0,−s sin ψ,0],[0,0,0,s cos ψ,0],0,[0,0,0,0,Δt],0],
+                 G = [[cos ψ, 0, −s sin ψ],[sin ψ, 0, s cos ψ],[0, 1, 0],0,0]
 
-with P_yaw,j the orientation filter's yaw variance at step j (its gyroscope and bias
-uncertainty integrated, its field and rest updates), Δt the step's duration, σ_ε the
-prior of the drift (``heading_drift_sigma_deg_per_s``: the orientation filter's own z-bias
-σ is about ten times too small on a walking thigh, see docs/pocket.md), σ_b the prior of
-the line's offset (``stride_offset_sigma_m``, or ``calibrated_stride_offset_sigma_m`` for
-a calibrated line), σ_s a stride's scatter about the line, σ_v a step's climb's error (a
-stairs step's, or a level step's grade times its stride) and σ_ψ,step the hip sway left
-in one step's mean heading (an error of that step alone). The propagation is linear in
-the inputs given ψ, so an extended filter with the exact Jacobian is what the unscented
-one of the thesis computes here to second order. With a barometer, z is the height
-filter's (:meth:`PositionFilter.hold_height`).
+with ΔP_yaw the growth of the orientation filter's yaw variance since the previous step
+(its gyroscope and bias uncertainty integrated), Δt the step's duration, σ_ε the prior
+of the drift (``heading_drift_sigma_deg_per_s``: the orientation filter's own z-bias σ
+is about ten times too small on a walking thigh, see docs/pocket.md), σ_s a stride's
+scatter about its line, σ_v a step's climb's error (a stairs step's, or a level step's
+grade times its stride, never 0) and σ_ψ,step the hip sway left in one step's mean
+heading (an error of that step alone). The propagation is linear in the inputs given ψ,
+so an extended filter with the exact Jacobian is what the unscented one of the thesis
+computes here to second order. With a barometer, z is the height filter's
+(:meth:`PositionFilter.hold_height`).
 
 Updates (Eq. (6.3) and a heading fix), Kalman with a χ² gate:
 :meth:`PositionFilter.correct_position` (3 dof) and :meth:`PositionFilter.correct_heading`
@@ -42,42 +39,36 @@ from pdr_core.angles import wrap_angle
 from pdr_core.chi2 import chi2_quantile
 from pdr_pocket.config import PositionConfig
 
-X, Y, Z, PSI, EPS, B = range(6)
-N_POSITION_STATE = 6
+X, Y, Z, PSI, EPS = range(5)
+N_POSITION_STATE = 5
 
 
 class PositionFilter:
-    def __init__(self, config: PositionConfig | None = None, start=(0.0, 0.0, 0.0),
-                 stride_offset_sigma_m: float = 0.0) -> None:
+    def __init__(self, config: PositionConfig | None = None,
+                 start=(0.0, 0.0, 0.0)) -> None:
         self.config = config or PositionConfig()
         self.x = np.zeros(N_POSITION_STATE)
         self.x[:3] = start
         self.p = np.zeros((N_POSITION_STATE, N_POSITION_STATE))
         self.p[:3, :3] = np.eye(3) * self.config.initial_position_sigma_m**2
         self.p[EPS, EPS] = np.radians(self.config.heading_drift_sigma_deg_per_s) ** 2
-        self.p[B, B] = stride_offset_sigma_m**2
         self.yaw_variance: float | None = None
         self.step_heading_var = np.radians(self.config.heading_sigma_per_step_deg) ** 2
 
     def step(self, length_m: float, vertical_m: float, heading_rad: float,
              yaw_variance: float, length_var: float, vertical_var: float,
-             duration_s: float, on_line: bool = False) -> None:
-        """One step (Eq. (5.1)) with its input variances [m², rad²] and duration [s];
-        ``on_line``: its stride is the level line's, which errs by the person's offset b."""
+             duration_s: float) -> None:
+        """One step (Eq. (5.1)) with its input variances [m², rad²] and duration [s]."""
+        growth = 0.0 if self.yaw_variance is None else max(yaw_variance - self.yaw_variance, 0.0)
         if self.yaw_variance is None:
             self.p[PSI, PSI] = yaw_variance
-        elif yaw_variance > self.yaw_variance:
-            self.p[PSI, PSI] += yaw_variance - self.yaw_variance
-        elif yaw_variance < self.yaw_variance:
-            self._learn_heading(yaw_variance / self.yaw_variance)
         self.yaw_variance = yaw_variance
         self.x[PSI] = heading_rad
+        self.p[PSI, PSI] += growth
         c, s = np.cos(heading_rad), np.sin(heading_rad)
         f = np.eye(N_POSITION_STATE)
         f[X, PSI], f[Y, PSI] = -length_m * s, length_m * c
         f[PSI, EPS] = duration_s
-        if on_line:
-            f[X, B], f[Y, B] = c, s
         g = np.zeros((N_POSITION_STATE, 3))
         g[X, 0], g[Y, 0], g[Z, 1] = c, s, 1.0
         g[X, 2], g[Y, 2] = -length_m * s, length_m * c
@@ -92,18 +83,6 @@ class PositionFilter:
         self.p[Z, :] = 0.0
         self.p[:, Z] = 0.0
         self.p[Z, Z] = variance
-
-    def _learn_heading(self, kept: float) -> None:
-        """The orientation filter's yaw variance fell to ``kept`` times itself since the
-        previous step (its field or rest updates outweighed the growth): a heading
-        measurement with the gain k = 1 − ``kept`` on ψ alone, whose innovation the heading
-        already took (the step's ψ is the filter's) and the position did not (nothing
-        feeds it back). Joseph form with that gain, (I − k·e_ψ·e_ψᵀ)·P·(…)ᵀ + k²·R with
-        R = P_ψψ·kept/k: P_ψψ and ψ's covariances with x, y, z, ε shrink by ``kept``, the
-        position's own variances not (its error stays what it is)."""
-        self.p[PSI, :] *= kept
-        self.p[:, PSI] *= kept
-        self.p[PSI, PSI] /= kept
 
     @property
     def position(self) -> np.ndarray:

@@ -58,9 +58,7 @@ class StepAssembly:
         self.height = HeightFilter(c.barometer, c.stairs.floor_height_m)
         self.barometer = False                  # a pressure reading has come
         self.height_m = 0.0                     # the height the steps have published [m]
-        self.position = PositionFilter(c.position, stride_offset_sigma_m=(
-            c.position.calibrated_stride_offset_sigma_m if c.step_length.calibrated
-            else c.position.stride_offset_sigma_m))
+        self.position = PositionFilter(c.position)
         self.steps: list[StepRecord] = []
         # per-cycle accumulators since the last confirmed step
         self.sum_cos = self.sum_sin = 0.0
@@ -161,9 +159,8 @@ class StepAssembly:
             float(event[EV_MAX]), float(event[EV_MIN]), float(wrap_angle(turn)),
             duration, float(np.sqrt(self.tilt_var_max))))
         vertical_range = self.vz_max - self.vz_min
-        on_line = activity == Activity.WALKING      # the stride is the level line's
         length = self._walked(StrideInputs(amplitude_deg, duration, vertical_range)) \
-            if on_line else c.step_length.stairs_stride_m
+            if activity == Activity.WALKING else c.step_length.stairs_stride_m
         climbed = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
         activity, vertical = self.staircases.admit(index, t_max, activity, climbed, heading)
@@ -181,12 +178,8 @@ class StepAssembly:
             vertical, self.height_m = fused.height_m - self.height_m, fused.height_m
         length_var = c.step_length.length_sigma_m**2
         vertical_var = stairs_var if on_stairs else (c.position.level_grade_sigma * length)**2
-        if on_stairs and self.last_activity not in STAIRS_ACTIVITIES:
-            # a flight's first step: the classifier's level prior may have called the step
-            # before it level, whose climb (about this one's) the height then lacks
-            vertical_var += climbed**2
         self.position.step(length, vertical, heading, yaw_var, length_var, vertical_var,
-                           duration, on_line)
+                           duration)
         if fused is not None and self.height.fused:
             self.position.hold_height(fused.sigma_m**2)
         floor = fused.floor if fused is not None and self.height.fused else \

@@ -1,7 +1,7 @@
 """The covariance of ``pdr/pocket/odometry`` (issue 55, point 1): a vertical variance that
-is never 0, a twist from each step's velocity with its covariance, a pose and twist
-covariance positive definite at every step, and the heading's variance following the
-orientation filter's down as well as up (pdr_pocket.position)."""
+is never 0, a twist from each step's velocity with its covariance, and a pose and twist
+covariance positive definite at every step (pdr_pocket.position, step_assembly,
+messages)."""
 from __future__ import annotations
 
 from functools import cache
@@ -10,10 +10,11 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.odometry import UNKNOWN_VARIANCE
+from pdr_core.vocabulary import STAIRS_ACTIVITIES
 from pdr_pocket.config import PocketConfig, PositionConfig
 from pdr_pocket.messages import step_batches
 from pdr_pocket.navigator import PocketNavigator
-from pdr_pocket.position import PSI, PositionFilter
+from pdr_pocket.position import PositionFilter
 from pdr_pocket.step_assembly import step_velocity
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
@@ -42,20 +43,20 @@ def test_a_level_step_climbs_nothing_give_or_take_its_grade():
 
 def test_the_vertical_variance_is_never_zero_and_holds_the_climbs_held_back():
     """Every step's z variance is at least one level step's, and the height error within
-    4σ at every step the classifier labels as the truth does: the first stairs steps too,
-    whose climb the flight check holds back (it publishes it a step late), and the steps
-    after a flight's first step that was called level (what the variance cannot know is
-    that step itself, before the flight shows)."""
+    4σ at every step, the first stairs steps too, whose climb the flight check holds back
+    (it publishes it a step late), against the climbs of the steps as the classifier
+    labels them: the first step of a flight called level (what its level prior does,
+    pdr_pocket.activity) is an error the variance does not hold (docs/pocket.md)."""
     sim, out, odometry = up_dw()
     truth = sim.model.true_steps
     assert len(out.steps) == len(truth.length)
     variance = odometry["pose.covariance"].reshape(-1, 6, 6)[:, 2, 2]
     floor = (PositionConfig().level_grade_sigma * min(s.length for s in out.steps)) ** 2
     assert variance.min() >= floor > 0
-    error = odometry["pose.pose.position"][:, 2] - np.cumsum(truth.vertical_displacement)
-    labelled = np.array([s.activity for s in out.steps]) == truth.activity
-    assert labelled.mean() > 0.9
-    ratio = np.abs(error[labelled]) / np.sqrt(variance[labelled])
+    stairs = np.isin([s.activity for s in out.steps], list(STAIRS_ACTIVITIES))
+    assert np.mean(stairs == np.isin(truth.activity, list(STAIRS_ACTIVITIES))) > 0.9
+    labelled = np.cumsum(np.where(stairs, truth.vertical_displacement, 0.0))
+    ratio = np.abs(odometry["pose.pose.position"][:, 2] - labelled) / np.sqrt(variance)
     assert ratio.max() <= 4, ratio.max()
 
 
@@ -96,24 +97,10 @@ def test_the_odometry_pose_and_twist_covariances_are_positive_definite():
         assert np.linalg.eigvalsh(cov)[:, 0].min() > 0
 
 
-def test_the_heading_variance_follows_the_orientation_filters_down_without_the_position():
-    """A fall of the yaw variance to a quarter: ψ's variance and its covariances quarter,
-    the position's own variances stay (nothing corrected it)."""
-    f = PositionFilter(PositionConfig())
-    for k in range(5):
-        f.step(1.2, 0.0, 0.1 * k, 4e-3, 0.03**2, 1e-4, 1.1)
-    before = f.p.copy()
-    f.step(0.0, 0.0, 0.4, 1e-3, 0.0, 0.0, 0.0)      # no time, no stride: the fall alone
-    assert np.isclose(f.p[PSI, PSI], before[PSI, PSI] / 4)
-    assert np.allclose(f.p[PSI, :3], before[PSI, :3] / 4)
-    assert np.allclose(f.p[:3, :3], before[:3, :3])
-    assert np.linalg.eigvalsh(f.p).min() >= -1e-15
-
-
 def test_z_from_the_barometer_has_the_height_filters_variance():
     f = PositionFilter(PositionConfig())
     f.step(1.2, 0.3, 0.0, 1e-4, 0.03**2, 0.02**2, 1.1)
     f.hold_height(0.25**2)
     assert f.covariance[2, 2] == 0.25**2
-    assert np.all(f.p[2, [0, 1, 3, 4, 5]] == 0)
+    assert np.all(f.p[2, [0, 1, 3, 4]] == 0)
     assert np.linalg.eigvalsh(f.p).min() >= -1e-15
