@@ -8,6 +8,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from pdr_core.bag import BagReader
+from pdr_core.vocabulary import Activity
 from wstest import ROOT, cli
 
 
@@ -95,4 +96,13 @@ def test_the_pocket_bag_has_each_step_on_tf_and_as_odometry(tmp_path):
     at = np.searchsorted(attitude.stamp_ns, pose.stamp_ns)
     np.testing.assert_array_equal(cov[:, 3:, 3:].reshape(-1, 9),
                                   attitude["orientation_covariance"][at])
-    assert (np.array([m.twist.covariance for m in odometry])[:, ::7] == 1e6).all()
+    # the twist: each step's velocity in the body (issue 55), the rates unknown
+    twist = np.array([m.twist.covariance for m in odometry]).reshape(-1, 6, 6)
+    assert (np.diagonal(twist[:, 3:, 3:], axis1=1, axis2=2) == 1e6).all()
+    assert np.linalg.eigvalsh(twist[:, :3, :3])[:, 0].min() > 0
+    steps = reader.read("/pdr/pocket/step")
+    level = steps["activity"] == Activity.WALKING
+    speed = np.linalg.norm([[m.twist.twist.linear.x, m.twist.twist.linear.y,
+                             m.twist.twist.linear.z] for m in odometry], axis=1)
+    np.testing.assert_allclose(speed[level], (steps["length"] / steps["duration"])[level],
+                               rtol=1e-9)

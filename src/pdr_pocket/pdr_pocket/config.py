@@ -655,12 +655,16 @@ class PositionConfig:
     heading_sigma_per_step_deg: float = 1.0   # the sway left in one step's mean heading
     heading_drift_sigma_deg_per_s: float = 0.01   # the heading error rate left (drift ε)
     heading_drift_correction_deg_per_s: float = 0.0   # ε₀ taken off the step headings
+    # a level step's climb is 0 ± this grade (rise/run, 1σ) times its stride: a walking
+    # surface is within a running slope of 1:20 and a cross slope of 1:48 (ADA 2010
+    # Standards, 403.3; steeper is a ramp, 405), 2 % at 2σ
+    level_grade_sigma: float = 0.01
     initial_position_sigma_m: float = 0.0
     correction_gate_probability: float = 0.999
 
     def __post_init__(self) -> None:
         _positive(self, ("heading_sigma_per_step_deg", "heading_drift_sigma_deg_per_s",
-                         "correction_gate_probability"))
+                         "level_grade_sigma", "correction_gate_probability"))
         if not np.isfinite(self.heading_drift_correction_deg_per_s):
             raise ValueError("heading_drift_correction_deg_per_s must be finite")
         if self.initial_position_sigma_m < 0:

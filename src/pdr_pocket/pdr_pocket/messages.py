@@ -71,13 +71,22 @@ def odometry_step_fields(steps: list[StepRecord], attitude: np.ndarray,
                          ) -> dict[str, np.ndarray]:
     """nav_msgs/Odometry of ``base_frame`` at each step: the pose of :func:`pose_fields`
     with the orientation filter's attitude covariance (N, 3, 3) [rad²] in its rotation
-    block; no velocity (the navigator has steps, not a velocity state: the twist's
-    variances are pdr_core.odometry.UNKNOWN_VARIANCE)."""
+    block, and the twist: the step's mean velocity (StepRecord.velocity, the stride over
+    the cycle's duration along its heading) and its covariance, turned from the map frame
+    into ``base_frame`` (REP-105: the twist is the child frame's), whose orientation is
+    the sensor attitude C (N, 3, 3) of the pose: v_b = Cᵀ·v_n, Σ_b = Cᵀ·Σ_n·C. The angular
+    rate is not given (pdr_core.odometry.UNKNOWN_VARIANCE), nor a velocity a step does
+    not know (a run read back from its bag)."""
     pose = pose_fields(steps, attitude)
     cov = pose["pose.covariance"].reshape(-1, 6, 6)
     cov[:, ANGULAR, ANGULAR] = attitude_covariance
+    velocity = velocity_covariance = None
+    if steps and all(s.velocity is not None for s in steps):
+        turn = np.transpose(attitude, (0, 2, 1))
+        velocity = np.einsum("nij,nj->ni", turn, [s.velocity for s in steps])
+        velocity_covariance = turn @ np.array([s.velocity_covariance for s in steps]) @ attitude
     return odometry_fields(base_frame, pose["pose.pose.position"],
-                           pose["pose.pose.orientation"], cov)
+                           pose["pose.pose.orientation"], cov, velocity, velocity_covariance)
 
 
 def _step_samples(out: NavigatorOutput, stamp_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

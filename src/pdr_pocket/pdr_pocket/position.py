@@ -18,10 +18,13 @@ independent per-step noise:
 with ΔP_yaw the growth of the orientation filter's yaw variance since the previous step
 (its gyroscope and bias uncertainty integrated), Δt the step's duration, σ_ε the prior
 of the drift (``heading_drift_sigma_deg_per_s``: the orientation filter's own z-bias σ
-is about ten times too small on a walking thigh, see docs/pocket.md) and σ_ψ,step the
-hip sway left in one step's mean heading (an error of that step alone). The propagation
-is linear in the inputs given ψ, so an extended filter with the exact Jacobian is what the
-unscented one of the thesis computes here to second order.
+is about ten times too small on a walking thigh, see docs/pocket.md), σ_s a stride's
+scatter about its line, σ_v a step's climb's error (a stairs step's, or a level step's
+grade times its stride, never 0) and σ_ψ,step the hip sway left in one step's mean
+heading (an error of that step alone). The propagation is linear in the inputs given ψ,
+so an extended filter with the exact Jacobian is what the unscented one of the thesis
+computes here to second order. With a barometer, z is the height filter's
+(:meth:`PositionFilter.hold_height`).
 
 Updates (Eq. (6.3) and a heading fix), Kalman with a χ² gate:
 :meth:`PositionFilter.correct_position` (3 dof) and :meth:`PositionFilter.correct_heading`
@@ -73,6 +76,13 @@ class PositionFilter:
         q = np.diag([length_var, vertical_var, self.step_heading_var])
         self.p = f @ self.p @ f.T + g @ q @ g.T
         self.p = 0.5 * (self.p + self.p.T)
+
+    def hold_height(self, variance: float) -> None:
+        """z is the height filter's fused height (pdr_pocket.height_filter): its variance
+        [m²] is that filter's, uncorrelated with the horizontal and the heading."""
+        self.p[Z, :] = 0.0
+        self.p[:, Z] = 0.0
+        self.p[Z, Z] = variance
 
     @property
     def position(self) -> np.ndarray:

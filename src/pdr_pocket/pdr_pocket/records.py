@@ -34,6 +34,10 @@ class StepRecord:
     vertical_force_range: float     # max − min of the vertical specific force [m/s²]
     ride: int = Ride.NONE           # a ride ended before the step (pdr_core.vocabulary.Ride)
     ride_height: float = 0.0        # the height it took [m], in vertical_displacement
+    # the step's mean velocity in the map frame [m/s] (3,) and its covariance [m²/s²]
+    # (3, 3), pdr_pocket.step_assembly.step_velocity; None: not known (a run read back)
+    velocity: np.ndarray | None = None
+    velocity_covariance: np.ndarray | None = None
 
     @property
     def pitch_amplitude(self) -> float:

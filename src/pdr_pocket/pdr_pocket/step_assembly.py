@@ -40,8 +40,6 @@ from pdr_pocket.stairs import Staircases, vertical_displacement_m
 from pdr_pocket.step_length import STRIDE_MODELS, StrideInputs, stride_model
 from pdr_pocket.steps import FootfallDetector, PitchMaximumDetector
 
-LEVEL_VERTICAL_VAR_M2 = 0.0
-
 
 class StepAssembly:
     """Steps from the pitch source's stream, chunk by chunk (the module docstring)."""
@@ -167,26 +165,35 @@ class StepAssembly:
         index = len(self.steps)
         activity, vertical = self.staircases.admit(index, t_max, activity, climbed, heading)
         on_stairs = activity in STAIRS_ACTIVITIES
-        vertical_var = c.stairs.vertical_sigma_m**2 if on_stairs else LEVEL_VERTICAL_VAR_M2
+        stairs_var = c.stairs.vertical_sigma_m**2
         # the height filter takes each stairs step's own climb over its own cycle, the one
         # the flight check holds back included (it publishes it a step late); the climbs of
         # held steps it refuses are taken back at the step that refuses them
         withdrawn = self.staircases.check.take_withdrawn()
         climb = (climbed if on_stairs else 0.0) - withdrawn
-        climb_var = c.stairs.vertical_sigma_m**2 if withdrawn else vertical_var
+        climb_var = stairs_var if withdrawn or on_stairs else 0.0
         fused = self.height.step(t_max, climb, climb_var, on_stairs,
                                  duration) if self.barometer else None
         if fused is not None and self.height.fused:
             vertical, self.height_m = fused.height_m - self.height_m, fused.height_m
-        self.position.step(length, vertical, heading, yaw_var, c.step_length.length_sigma_m**2,
-                           vertical_var, duration)
+        length_var = c.step_length.length_sigma_m**2
+        vertical_var = stairs_var if on_stairs else (c.position.level_grade_sigma * length)**2
+        self.position.step(length, vertical, heading, yaw_var, length_var, vertical_var,
+                           duration)
+        if fused is not None and self.height.fused:
+            self.position.hold_height(fused.sigma_m**2)
         floor = fused.floor if fused is not None and self.height.fused else \
             self.staircases.floor(self.position.position[2])
         ride, ride_height = _ride(fused)
+        # the climbs the flight check holds back are not in z yet: 0 or all of them
+        covariance = self.position.covariance
+        covariance[2, 2] += sum(self.staircases.check.held) ** 2
+        velocity = step_velocity(length, climbed if on_stairs else 0.0, heading, duration,
+                                 (length_var, vertical_var, self.position.step_heading_var))
         record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
                             float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
-                            self.position.position, self.position.covariance, floor,
-                            vertical_range, ride, ride_height)
+                            self.position.position, covariance, floor, vertical_range, ride,
+                            ride_height, *velocity)
         self.steps.append(record)
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf
@@ -261,6 +268,23 @@ class StepAssembly:
         c, s = np.cos(turned_rad), np.sin(turned_rad)
         self.sum_cos, self.sum_sin = (c * self.sum_cos - s * self.sum_sin,
                                       s * self.sum_cos + c * self.sum_sin)
+
+
+def step_velocity(length_m: float, climb_m: float, heading_rad: float, duration_s: float,
+                  variances: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """A step's mean velocity over its cycle in the map frame (ENU) [m/s] and its
+    covariance [m²/s²]: the stride s and the step's own climb v over its duration T along
+    the heading ψ (Eq. (5.1) over T), from the variances (σ_s², σ_v², σ_ψ,step²) [m², m²,
+    rad²] as Σ = R(ψ)·diag(σ_s², s²·σ_ψ,step², σ_v²)·R(ψ)ᵀ/T². Across the step only the
+    step's own heading error: the yaw error it shares with the attitude is common to the
+    body frame the odometry's twist is expressed in. T is a detector's count of samples:
+    its error (a sample, under 1 % of a cycle) is left out."""
+    c, s = np.cos(heading_rad), np.sin(heading_rad)
+    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    length_var, climb_var, heading_var = variances
+    local = np.diag([length_var, length_m**2 * heading_var, climb_var])
+    velocity = np.array([length_m * c, length_m * s, climb_m]) / duration_s
+    return velocity, rotation @ local @ rotation.T / duration_s**2
 
 
 def _ride(fused: StepHeight | None) -> tuple[int, float]:
