@@ -284,7 +284,10 @@ def row(walk: str, part: str, values: list[np.ndarray], dof: int) -> str:
 
 def main() -> None:
     runs = int(sys.argv[1]) if len(sys.argv) > 1 else 20
-    print(f"NEES of the odometry covariance, {IMU}, {runs} seeds per walk\n")
+    from pdr_pocket.config import PocketConfig
+
+    print(f"NEES of the odometry covariance, {runs} seeds per walk; sensors simulated: the "
+          f"foot {IMU}, the pocket {PocketConfig().orientation.imu_profile}\n")
     print("| walk | part | runs | dof | mean ANEES | 95 % band | checkpoints inside | "
           "final ANEES |\n|---|---|---:|---:|---:|---|---:|---:|")
     with ProcessPoolExecutor(2) as pool:
