@@ -144,15 +144,14 @@ class PositionFilter:
         to the position is the loop's opening, which the correction's position fix
         measures (Eq. (6.3)). So the gain on x, y, z is 0: not the optimal gain, and the
         Joseph form gives the covariance of any gain exactly (Bar-Shalom et al. 2001,
-        Section 5.2.3)."""
-        h = np.zeros((1, N_POSITION_STATE))
-        h[0, PSI] = 1.0
+        chapter 5)."""
         innovation = wrap_angle(heading_rad - self.x[PSI])
         s = self.p[PSI, PSI] + variance
         k = self.p[:, PSI] / s
         k[X:Z + 1] = 0.0
         self.x = self.x + k * innovation
-        i_kh = np.eye(N_POSITION_STATE) - np.outer(k, h[0])
+        i_kh = np.eye(N_POSITION_STATE)
+        i_kh[:, PSI] -= k
         self.p = i_kh @ self.p @ i_kh.T + variance * np.outer(k, k)
         self.p = 0.5 * (self.p + self.p.T)
         self.yaw_variance = yaw_variance_after
