@@ -17,17 +17,11 @@ Eq. (5.4), κ = √χ²(p, n)); each gives a child hypothesis, and one more chil
 as a new place. A child that associates takes the correction of Section 6.1 (yaw δ of
 Eqs. (5.5)/(5.6), the first visit's position) into its frame, and its drift ε
 (Eq. (5.8), from its last correction on) as a Kalman update of the drift it holds (prior σ
-``drift_sigma_deg_per_s``), and spreads the yaw correction over the landmarks it stored
-since the first visit or its last correction, in proportion to time (a drift's heading
-error grew from there), so that its database stays in its corrected frame and is never
-cleared: later laps revisit the first one's landmarks. Their positions stay the
-navigator's, with the covariance it gave them (issue 55): shifted by a share of a later
-loop's opening in proportion to time, as before, they assumed the position error had
-grown linearly in time, where a heading error displaces positions along the path's
-geometry (pdr_drift.walked_path), and their covariance knew nothing of the shift. On
-the Theresienhöhe walk (shipped configuration, no magnetometer) the shift moved the first
-lap's third and fourth corners by up to 2.8 m (seed 18), and the fixes from them came
-4–6 m off (seeds 1, 2, 4, 9, 18) with the first visit's covariance.
+``drift_sigma_deg_per_s``), and spreads the correction over the landmarks it stored
+since the first visit or its last correction, in proportion to time (the heading error
+grew from there; the loop closure's usual linear distribution), so that its database
+stays in its corrected frame and is never cleared: later laps revisit the first one's
+landmarks.
 
 **Score.** Each hypothesis' cost is −2 log of its likelihood up to a constant shared by
 all, summed over the landmarks:
@@ -145,16 +139,18 @@ def psd(matrix: np.ndarray) -> np.ndarray:
 
 def _spread(stored: list[Landmark], association: Association, delta: float,
             last_fix_s: float) -> list[Landmark]:
-    """The stored landmarks, each with its share of an association's yaw correction δ
-    [rad]: none before the first visit or the hypothesis' last correction, whichever is
-    later (the error grew from there), all of it at the revisit, in proportion to time in
-    between; their positions as they are (module docstring)."""
+    """The stored landmarks, each with its share of an association's correction: none
+    before the first visit or the hypothesis' last correction, whichever is later (the
+    error grew from there), all of it at the revisit, in proportion to time in between:
+    the yaw δ [rad] and the position shift from the revisit to the first visit [m]."""
     start = max(association.first.t, last_fix_s)
+    shift = np.asarray(association.first.position, float) - association.revisit.position
     duration = association.revisit.t - start
 
     def corrected(mark: Landmark) -> Landmark:
         share = (mark.t - start) / duration
-        return replace(mark, yaw_before=float(wrap_angle(mark.yaw_before + share * delta)),
+        return replace(mark, position=mark.position + share * shift,
+                       yaw_before=float(wrap_angle(mark.yaw_before + share * delta)),
                        yaw_after=float(wrap_angle(mark.yaw_after + share * delta)))
 
     return [corrected(m) if m.t > start else m for m in stored]
