@@ -8,10 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from pdr_core.config_files import dataclass_from_mapping, read_config_file, shipped_config_dir
-from pdr_drift.drift import YawNoise
 
 CORNER_DETECTORS = ("turn", "buffer")
 ASSOCIATIONS = ("nearest", "multi_hypothesis")
@@ -21,13 +18,7 @@ ASSOCIATIONS = ("nearest", "multi_hypothesis")
 class DriftConfig:
     """Muñoz Díaz 2016, chapter 5: corners (Eqs. (5.2)-(5.3), Fig. 5.3), association
     (Eq. (5.4), Section 5.2; or several hypotheses, pdr_drift.hypotheses, whose commit
-    margin is a −2 log-likelihood ratio) and drift (Section 5.3, Eq. (6.5); the yaws'
-    noise, :class:`pdr_drift.drift.YawNoise`)."""
-
-    def yaw_noise(self) -> YawNoise:
-        """The landmark yaws' noise (pdr_drift.drift.YawNoise) of these settings."""
-        return YawNoise(float(np.radians(self.step_heading_sigma_deg)),
-                        float(np.radians(self.walked_line_sigma_deg)))
+    margin is a −2 log-likelihood ratio) and drift (Section 5.3, Eq. (6.5))."""
 
     corner_detector: str = "turn"           # turn (Fig. 5.3) or buffer (Eqs. (5.2)-(5.3))
     q_steps: int = 2                        # heading buffer before and after a corner
@@ -39,8 +30,7 @@ class DriftConfig:
     gate_probability: float = 0.997         # κ = √χ²(p, n) = 4.48 (Section 5.2)
     gate_dof: int = 6
     min_revisit_s: float = 120.0
-    step_heading_sigma_deg: float = 1.0     # one step's heading about the line walked
-    walked_line_sigma_deg: float = 1.0      # the line walked, from one visit to another
+    landmark_yaw_sigma_deg: float = 4.0     # each landmark yaw (Section 5.3: a thigh's)
     association: str = "nearest"            # nearest (Section 5.2) or multi_hypothesis
     hypotheses_k: int = 8                   # multi_hypothesis: the best k kept
     commit_margin: float = 6.0              # ... committed when the next is this much worse
@@ -61,7 +51,7 @@ class DriftConfig:
                              f"got {self.association!r}")
         for name in ("q_steps", "m_steps", "r1_deg", "r2_deg", "turn_rate_min_deg_per_step",
                      "turn_tolerance_deg", "gate_probability", "gate_dof", "min_revisit_s",
-                     "step_heading_sigma_deg", "walked_line_sigma_deg",
+                     "landmark_yaw_sigma_deg",
                      "hypotheses_k", "commit_margin", "drift_sigma_deg_per_s", "turn_scale_sigma",
                      "heading_wander_deg_per_sqrt_s",
                      "place_sigma_m", "places_per_km2",

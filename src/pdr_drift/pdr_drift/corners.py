@@ -15,8 +15,7 @@ q and m follow the walking speed by counting steps, not seconds.
   ``q_steps``) is a corner when within ``tolerance_deg`` of 90° or of 180°, whatever the
   radius and speed.
 
-Headings are ENU yaw [rad]. A :class:`Corner` carries the spread of the headings its two
-yaws average (:func:`heading_spread`), from which pdr_drift.drift weighs its yaws.
+Headings are ENU yaw [rad]; :class:`Corner` carries the step indices it spans.
 """
 from __future__ import annotations
 
@@ -50,24 +49,13 @@ class Corner:
     covariance: np.ndarray
     floor: int
     turn: float               # yaw_after − yaw_before, wrapped [rad]
-    yaw_spread: float = 0.0   # the pooled variance of the headings about each yaw [rad²]
-    yaw_count: int = 1        # the headings each yaw averages (the fewer of the two)
-
-
-def heading_spread(*groups: list[float]) -> float:
-    """The pooled sample variance [rad²] of headings [rad] about each group's circular
-    mean, one degree of freedom lost per group; 0 when no degree is left."""
-    residuals = [float(wrap_angle(h - circular_mean(g))) for g in groups if g for h in g]
-    dof = len(residuals) - sum(1 for g in groups if g)
-    return float(np.sum(np.square(residuals)) / dof) if dof > 0 else 0.0
 
 
 def _corner(steps: list[StepSample], before: list[float], after: list[float]) -> Corner:
     middle = steps[len(steps) // 2]
     b, a = circular_mean(before), circular_mean(after)
     return Corner(middle.t, b, a, middle.position, middle.covariance, middle.floor,
-                  float(wrap_angle(a - b)), heading_spread(before, after),
-                  min(len(before), len(after)))
+                  float(wrap_angle(a - b)))
 
 
 class BufferCornerDetector:

@@ -5,11 +5,10 @@ and returns what happened at each: the landmark detected (a corner or a flight o
 stairs), and when it revisits a stored one, the association, the drift estimate and the
 online correction of Section 6.1 (:class:`pdr_core.correction.Correction`, carried by
 pdr_msgs/srv/ApplyCorrection): the yaw to add, δ, so that the heading is the first
-visit's again (direction-adjusted), with δ's variance (pdr_drift.drift: the landmarks'
-spread, not a constant); the drift ε to add to the z gyro bias with its variance; and the
-first visit's position with its covariance (Eq. (6.3)), carried forward by the steps
-walked since the revisit's landmark. It imports no navigator: the pocket and the foot
-alike can feed it.
+visit's again (direction-adjusted), with the variance of one landmark yaw; the drift ε to
+add to the z gyro bias with its variance; and the first visit's position with its
+covariance (Eq. (6.3)), carried forward by the steps walked since the revisit's landmark.
+It imports no navigator: the pocket and the foot alike can feed it.
 
 The association is the thesis' nearest one (``association: nearest``, the default) or
 the multi-hypothesis one of pdr_drift.hypotheses (``multi_hypothesis``), whose
@@ -57,7 +56,7 @@ class DriftEstimator:
                                          self.config.min_revisit_s)
         self.hypotheses = None if self.config.association == "nearest" else HypothesisSet(
             self.database, self.config, feedback)
-        self.yaw_noise = self.config.yaw_noise()
+        self.yaw_sigma_rad = np.radians(self.config.landmark_yaw_sigma_deg)
         self.next_id = 0
         self.last: StepSample | None = None
 
@@ -77,7 +76,7 @@ class DriftEstimator:
             association = self.database.associate(landmark)
             if association is None:
                 continue
-            estimate = drift_of(association, noise=self.yaw_noise)
+            estimate = drift_of(association, yaw_sigma_rad=self.yaw_sigma_rad)
             result.associations.append(association)
             result.drifts.append(estimate)
             # the landmark lies a few steps back (a corner is known once the heading has
@@ -85,7 +84,7 @@ class DriftEstimator:
             # what was walked since the revisit's landmark
             since = np.asarray(step.position, float) - np.asarray(landmark.position, float)
             result.corrections.append(Correction(
-                estimate.deviation, estimate.deviation_variance, estimate.drift,
+                estimate.deviation, self.yaw_sigma_rad**2, estimate.drift,
                 estimate.drift_variance,
                 np.asarray(association.first.position, float) + since,
                 np.asarray(association.first.covariance, float)))

@@ -79,22 +79,15 @@ from pdr_drift.walked_path import WalkedPath
 class Frame:
     """A hypothesis' correction of the navigator's output since the last commit (ENU):
     the yaw to add [rad] is ``yaw_rad − drift_radps·(t − t_ref_s)``; the drift ε [rad/s] is
-    what its associations found still in the navigator (the z gyro bias to add). The
-    yaw's variance is that of the last association's δ (the heading made the first
-    visit's again, pdr_drift.drift) and the drift's carried forward."""
+    what its associations found still in the navigator (the z gyro bias to add)."""
 
     yaw_rad: float = 0.0
     drift_radps: float = 0.0
     t_ref_s: float = 0.0
     drift_variance: float = 0.0     # of drift_radps [rad²/s²]
-    yaw_variance: float = 0.0       # of yaw_rad [rad²]
 
     def yaw_at(self, t_s: float) -> float:
         return self.yaw_rad - self.drift_radps * (t_s - self.t_ref_s)
-
-    def yaw_variance_at(self, t_s: float) -> float:
-        """The variance [rad²] of :meth:`yaw_at`."""
-        return self.yaw_variance + self.drift_variance * (t_s - self.t_ref_s) ** 2
 
 
 @dataclass
@@ -169,7 +162,7 @@ class HypothesisSet:
         self.new_place_cost = -2.0 * np.log(config.places_per_km2 * 1e-6)
         self.feedback = feedback
         self.drift_sigma_radps = np.radians(config.drift_sigma_deg_per_s)
-        self.yaw_noise = config.yaw_noise()
+        self.yaw_sigma_rad = np.radians(config.landmark_yaw_sigma_deg)
         self.hypotheses = [Hypothesis(database, Frame(drift_variance=self.drift_sigma_radps ** 2))]
         self.detected: dict[int, Landmark] = {}     # as the navigator saw them, by id
         self.last: StepSample | None = None
@@ -264,7 +257,7 @@ class HypothesisSet:
         """``h`` with the association taken into its frame and database (module
         docstring); ``cost``: that of :meth:`_association_cost`."""
         first, revisit = association.first, association.revisit
-        estimate = drift_of(association, h.last_fix_s, self.yaw_noise)
+        estimate = drift_of(association, h.last_fix_s, self.yaw_sigma_rad)
         delta = estimate.deviation
         allowed = estimate.deviation_variance + (self.drift_sigma_radps * estimate.elapsed) ** 2
         h.cost += cost + delta ** 2 / allowed
@@ -276,12 +269,12 @@ class HypothesisSet:
         gain = h.frame.drift_variance / (h.frame.drift_variance + estimate.drift_variance)
         h.frame = Frame(h.frame.yaw_at(revisit.t) + delta,
                         h.frame.drift_radps + gain * estimate.drift, revisit.t,
-                        (1.0 - gain) * h.frame.drift_variance, estimate.deviation_variance)
+                        (1.0 - gain) * h.frame.drift_variance)
         h.last_fix_s = revisit.t
         h.history += ((first.id, revisit.id),)
         h.pending.append((association, estimate if self.feedback else drift_of(
             Association(self.detected[first.id], self.detected[revisit.id],
-                        association.distance), noise=self.yaw_noise)))
+                        association.distance), yaw_sigma_rad=self.yaw_sigma_rad)))
         return h
 
     # --- commits --------------------------------------------------------------------
@@ -305,8 +298,7 @@ class HypothesisSet:
         """The only hypothesis' pending associations and its correction as of ``step``."""
         h = self.hypotheses[0]
         commit = Commit([a for a, _ in h.pending], [e for _, e in h.pending],
-                        h.frame.yaw_at(step.t), h.frame.yaw_variance_at(step.t),
-                        h.frame.drift_radps,
+                        h.frame.yaw_at(step.t), self.yaw_sigma_rad ** 2, h.frame.drift_radps,
                         h.frame.drift_variance, h.position.copy(),
                         psd(np.asarray(step.covariance, float) + h.covariance_shift))
         h.pending = []

@@ -26,16 +26,14 @@ import numpy as np
 from pdr_core.angles import circular_mean
 from pdr_core.chi2 import chi2_quantile
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, LandmarkType
-from pdr_drift.corners import Corner, StepSample, heading_spread
+from pdr_drift.corners import Corner, StepSample
 
 
 @dataclass(frozen=True)
 class Landmark:
     """Table 5.1: type, time [s], position [m] and its covariance (3, 3), the yaw before
     and after [rad] (stairs: the direction of travel, twice), the floor after it and the
-    floor it is associated on; and the spread [rad²] of the step headings each yaw
-    averages with their count (pdr_drift.corners.heading_spread), from which
-    pdr_drift.drift weighs the yaws."""
+    floor it is associated on."""
 
     id: int
     type: int
@@ -46,8 +44,6 @@ class Landmark:
     yaw_after: float
     floor: int
     key_floor: int
-    yaw_spread: float = 0.0
-    yaw_count: int = 1
 
 
 @dataclass(frozen=True)
@@ -59,8 +55,7 @@ class Association:
 
 def from_corner(corner: Corner, id_: int) -> Landmark:
     return Landmark(id_, LandmarkType.CORNER, corner.t, corner.position, corner.covariance,
-                    corner.yaw_before, corner.yaw_after, corner.floor, corner.floor,
-                    corner.yaw_spread, corner.yaw_count)
+                    corner.yaw_before, corner.yaw_after, corner.floor, corner.floor)
 
 
 class StairsTracker:
@@ -86,12 +81,10 @@ class StairsTracker:
 
     def _landmark(self, id_: int) -> Landmark:
         middle = self.flight[len(self.flight) // 2]
-        headings = [s.heading for s in self.flight]
-        yaw = circular_mean(headings)
+        yaw = circular_mean([s.heading for s in self.flight])
         after = self.flight[-1].floor
         return Landmark(id_, LandmarkType.STAIRS, middle.t, middle.position,
-                        middle.covariance, yaw, yaw, after, min(after, self.floor_before),
-                        heading_spread(headings), len(headings))
+                        middle.covariance, yaw, yaw, after, min(after, self.floor_before))
 
 
 @dataclass

@@ -16,13 +16,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pdr_core.vocabulary import LandmarkType
-from pdr_drift.corners import (
-    BufferCornerDetector,
-    StepSample,
-    TurnCornerDetector,
-    heading_spread,
-)
-from pdr_drift.drift import DriftEstimate, YawNoise, deviation, drift_of, offline_drift
+from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetector
+from pdr_drift.drift import DriftEstimate, deviation, drift_of, offline_drift
 from pdr_drift.estimator import DriftEstimator
 from pdr_drift.landmarks import Association, Landmark, LandmarkDatabase
 from pdr_drift.streaming import StreamingDrift
@@ -78,10 +73,9 @@ def test_hip_sway_makes_no_corner():
 
 
 def landmark(id_, t, yaw_before, yaw_after, position=(0.0, 0.0, 0.0), var=1.0,
-             kind=LandmarkType.CORNER, floor=0, spread_deg=0.0, count=2):
+             kind=LandmarkType.CORNER, floor=0):
     return Landmark(id_, kind, t, np.asarray(position, float), np.eye(3) * var,
-                    np.radians(yaw_before), np.radians(yaw_after), floor, floor,
-                    np.radians(spread_deg) ** 2, count)
+                    np.radians(yaw_before), np.radians(yaw_after), floor, floor)
 
 
 @pytest.mark.parametrize(("revisit", "expected_deg"), [
@@ -101,53 +95,10 @@ def test_deviation_is_direction_agnostic(revisit, expected_deg):
 def test_stairs_deviation_up_then_down():
     first = landmark(0, 0.0, 40.0, 40.0, kind=LandmarkType.STAIRS)
     down = landmark(1, 400.0, 222.0, 222.0, kind=LandmarkType.STAIRS)
-    noise = YawNoise(np.radians(1.0), np.radians(2.0))
-    estimate = drift_of(Association(first, down, 0.0), noise=noise)
+    estimate = drift_of(Association(first, down, 0.0))
     assert np.degrees(estimate.deviation) == pytest.approx(-2.0)
     assert np.degrees(estimate.drift) == pytest.approx(2.0 / 400.0)
-    # one pair, each yaw σ_line² + σ_step²/n (n = 2 steps, their spread 0 below the floor)
-    each = np.radians(2.0) ** 2 + np.radians(1.0) ** 2 / 2
-    assert estimate.deviation_variance == pytest.approx(2 * each)
-    assert estimate.drift_variance == pytest.approx(2 * each / 400.0**2)
-
-
-def test_deviation_variance_grows_with_the_landmarks_spread():
-    """σ_δ² is the landmarks' own: the step headings' spread over their count, never
-    below the floor σ_step, plus the line walked (pdr_drift.drift.YawNoise)."""
-    noise = YawNoise(np.radians(1.0), np.radians(1.0))
-    variances = []
-    for spread in (0.0, 1.0, 3.0, 6.0):
-        first = landmark(0, 0.0, 0.0, 90.0, spread_deg=spread)
-        again = landmark(1, 300.0, 2.0, 92.0, spread_deg=spread)
-        variances.append(drift_of(Association(first, again, 0.0), noise=noise)
-                         .deviation_variance)
-    assert variances[0] == pytest.approx(variances[1])          # the floor
-    assert variances[1] < variances[2] < variances[3]
-    # corners: two pairs, (σ₁² + σ₂²)/2 with σ² = σ_line² + s²/n
-    assert variances[3] == pytest.approx(np.radians(1.0) ** 2 + np.radians(6.0) ** 2 / 2)
-    # more headings averaged: a smaller variance
-    many = landmark(1, 300.0, 2.0, 92.0, spread_deg=6.0, count=8)
-    assert drift_of(Association(landmark(0, 0.0, 0.0, 90.0, spread_deg=6.0, count=8), many,
-                                0.0), noise=noise).deviation_variance < variances[3]
-
-
-def test_deviation_variance_covers_the_pairs_disagreement():
-    """A corner's two pairs measure one δ: when they disagree by more than the yaws'
-    noise explains, their disagreement is the variance (the fit's residual)."""
-    noise = YawNoise(np.radians(1.0), np.radians(1.0))
-    first = landmark(0, 0.0, 0.0, 90.0)
-    agree = drift_of(Association(first, landmark(1, 300.0, 2.0, 92.0), 0.0), noise=noise)
-    disagree = drift_of(Association(first, landmark(1, 300.0, -4.0, 98.0), 0.0), noise=noise)
-    assert agree.deviation == pytest.approx(disagree.deviation)
-    assert disagree.deviation_variance == pytest.approx(np.radians(12.0) ** 2 / 4)
-    assert agree.deviation_variance < disagree.deviation_variance
-
-
-def test_heading_spread_pools_about_each_mean():
-    assert heading_spread([0.1, 0.1], [1.0, 1.0]) == pytest.approx(0.0)
-    assert heading_spread([0.0, 0.2], [1.0, 1.2]) == pytest.approx(2 * 2 * 0.1**2 / 2)
-    assert heading_spread([np.pi - 0.05, -np.pi + 0.05]) == pytest.approx(2 * 0.05**2)
-    assert heading_spread([0.3]) == 0.0
+    assert estimate.drift_variance == pytest.approx(2 * np.radians(4.0) ** 2 / 400.0**2)
 
 
 def test_association_gate_type_floor_revisit_time_and_clearing():

@@ -143,29 +143,13 @@ class PositionFilter:
                         yaw_variance_after: float) -> str:
         """A heading fix [rad, rad²] the orientation filter accepted (no gate here);
         ``yaw_variance_after``: its yaw variance once it took the fix, from which the next
-        step's growth counts.
-
-        The fix moves ψ and ε, not the position. A landmark's yaw correction is the heading
-        error grown since the first visit (Muñoz Díaz 2016, Eqs. (5.5)-(5.6)), while the
-        position's correlation with ψ is that of the heading's error since the start,
-        mostly the initial heading's, which turns the whole walk about its start. Through
-        that correlation the fix would move the position as if the walk had been turned by
-        the correction about its start; what the heading error since the first visit did
-        to the position is the loop's opening, which the correction's position fix
-        measures (Eq. (6.3)). So the gain on x, y, z is 0: not the optimal gain, and the
-        Joseph form gives the covariance of any gain exactly (Bar-Shalom et al. 2001,
-        chapter 5)."""
+        step's growth counts."""
+        h = np.zeros((1, N_POSITION_STATE))
+        h[0, PSI] = 1.0
         innovation = wrap_angle(heading_rad - self.x[PSI])
-        s = self.p[PSI, PSI] + variance
-        k = self.p[:, PSI] / s
-        k[X:Z + 1] = 0.0
-        self.x = self.x + k * innovation
-        i_kh = np.eye(N_POSITION_STATE)
-        i_kh[:, PSI] -= k
-        self.p = i_kh @ self.p @ i_kh.T + variance * np.outer(k, k)
-        self.p = 0.5 * (self.p + self.p.T)
+        message = self._update(h, np.array([innovation]), np.array([[variance]]), "heading")
         self.yaw_variance = yaw_variance_after
-        return f"heading applied (NIS {innovation**2 / s:.2f})"
+        return message
 
     def limit_drift(self, variance: float) -> None:
         """A z-bias correction of this variance [rad²/s²] went to the orientation filter:
