@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Compile the numba kernels into their caches (beside the sources) before pytest starts
 # its workers, so that two workers never compile the same kernel at once. It runs the
-# offline tools on the sample bags, which reach every compiled module: the foot kernels
-# and the pocket and simulator kernels in two processes at once (they share none).
+# offline tools on the sample bags, which reach every compiled module: the foot and
+# simulator kernels and the pocket kernels in two processes at once (they share none).
 # Skipped while the packages' sources are unchanged since the last warm-up (a stamp in
 # install/). Says what it compiles and about how long it takes before it starts, then each
-# command as it starts ("[warm foot 1/3] ...") and each kernel compiled, with its seconds
+# command as it starts ("[warm foot 1/4] ...") and each kernel compiled, with its seconds
 # (pdr_core.kernel_cache.CompileProgress, on through PDR_COMPILE_PROGRESS); a command's
 # other output only if it fails.
 set -euo pipefail
@@ -18,8 +18,8 @@ if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
 fi
 started=$SECONDS
 echo "[warm] compiling the numba kernels to machine code once, into caches beside the" \
-  "sources: the foot navigator's (pdr_ins_ekf) and, at the same time, the pocket" \
-  "navigator's and the simulator's (pdr_pocket, pdr_sim); about 75 s on a fresh clone," \
+  "sources: the foot navigator's and the simulator's (pdr_ins_ekf, pdr_sim) and, at the" \
+  "same time, the pocket navigator's (pdr_pocket); about 100 s on a fresh clone," \
   "seconds after an edit" >&2
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
@@ -35,20 +35,21 @@ ws() {  # ws GROUP K N CMD...: says "[warm GROUP K/N] CMD", runs ./ws CMD and pa
   [ "$status" = 0 ] || { cat "$log" >&2; return 1; }
 }
 foot() {
-  ws foot 1 3 pdr-ekf run bags/foot_walk --out "$out/segmented" --smoother segmented
-  ws foot 2 3 pdr-ekf run bags/foot_walk --out "$out/full" --smoother full
-  ws foot 3 3 pdr-ekf montecarlo --source all --runs 2 --steps 3 \
+  ws foot 1 4 pdr-ekf run bags/foot_walk --out "$out/segmented" --smoother segmented
+  ws foot 2 4 pdr-ekf run bags/foot_walk --out "$out/full" --smoother full
+  ws foot 3 4 pdr-ekf montecarlo --source all --runs 2 --steps 3 \
     --estimator ins,ekf_original,ekf_limited,ekf_retarded --out "$out/montecarlo"
+  # the simulator's kernels (pdr_sim) here, where the foot's end before the pocket's
+  ws foot 4 4 pdr-sim generate --placement pocket --scenario sit_stand --out "$out/sit_stand"
 }
 pocket() {
-  ws pocket 1 5 pdr-pocket run bags/pocket_walk --out "$out/pocket" --drift online
+  ws pocket 1 4 pdr-pocket run bags/pocket_walk --out "$out/pocket" --drift online
   # the thesis' unscented filter (filter: thesis), which the tests of its tables run
-  ws pocket 2 5 pdr-pocket run bags/pocket_walk --out "$out/thesis" --drift online \
+  ws pocket 2 4 pdr-pocket run bags/pocket_walk --out "$out/thesis" --drift online \
     --config src/pdr_pocket/config/pocket_pdr_no_mag.yaml
-  ws pocket 3 5 pdr-sim import-csv bags/pyshoe_vicon_2018-02-22-10-10-29.csv \
+  ws pocket 3 4 pdr-sim import-csv bags/pyshoe_vicon_2018-02-22-10-10-29.csv \
     --out "$out/no_gyro" --time-col t_s --acc-cols acc_x_mps2,acc_y_mps2,acc_z_mps2
-  ws pocket 4 5 pdr-pocket run "$out/no_gyro" --out "$out/no_gyro_run"
-  ws pocket 5 5 pdr-sim generate --placement pocket --scenario sit_stand --out "$out/sit_stand"
+  ws pocket 4 4 pdr-pocket run "$out/no_gyro" --out "$out/no_gyro_run"
 }
 foot & foot_pid=$!
 pocket & pocket_pid=$!
