@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Compile the numba kernels into their caches (beside the sources) before pytest starts
 # its workers, so that two workers never compile the same kernel at once. It runs the
-# offline tools on the sample bags, which reach every compiled module: the foot and
-# simulator kernels and the pocket kernels in two processes at once (they share none).
+# offline tools on the sample bags, which reach every compiled module, in two processes
+# at once: the foot's and the simulator's kernels, then the pocket's without a gyroscope;
+# and the pocket's two filters.
 # Skipped while the packages' sources are unchanged since the last warm-up (a stamp in
 # install/). Says what it compiles and about how long it takes before it starts, then each
-# command as it starts ("[warm foot 1/4] ...") and each kernel compiled, with its seconds
+# command as it starts ("[warm foot 1/6] ...") and each kernel compiled, with its seconds
 # (pdr_core.kernel_cache.CompileProgress, on through PDR_COMPILE_PROGRESS); a command's
 # other output only if it fails.
 set -euo pipefail
@@ -35,21 +36,23 @@ ws() {  # ws GROUP K N CMD...: says "[warm GROUP K/N] CMD", runs ./ws CMD and pa
   [ "$status" = 0 ] || { cat "$log" >&2; return 1; }
 }
 foot() {
-  ws foot 1 4 pdr-ekf run bags/foot_walk --out "$out/segmented" --smoother segmented
-  ws foot 2 4 pdr-ekf run bags/foot_walk --out "$out/full" --smoother full
-  ws foot 3 4 pdr-ekf montecarlo --source all --runs 2 --steps 3 \
+  ws foot 1 6 pdr-ekf run bags/foot_walk --out "$out/segmented" --smoother segmented
+  ws foot 2 6 pdr-ekf run bags/foot_walk --out "$out/full" --smoother full
+  ws foot 3 6 pdr-ekf montecarlo --source all --runs 2 --steps 3 \
     --estimator ins,ekf_original,ekf_limited,ekf_retarded --out "$out/montecarlo"
-  # the simulator's kernels (pdr_sim) here, where the foot's end before the pocket's
-  ws foot 4 4 pdr-sim generate --placement pocket --scenario sit_stand --out "$out/sit_stand"
+  # the simulator's kernels (pdr_sim) and the pocket's without a gyroscope here, where
+  # the foot's end before the pocket's: the pocket's kernels these reach were compiled
+  # by the pocket's first command meanwhile
+  ws foot 4 6 pdr-sim generate --placement pocket --scenario sit_stand --out "$out/sit_stand"
+  ws foot 5 6 pdr-sim import-csv bags/pyshoe_vicon_2018-02-22-10-10-29.csv \
+    --out "$out/no_gyro" --time-col t_s --acc-cols acc_x_mps2,acc_y_mps2,acc_z_mps2
+  ws foot 6 6 pdr-pocket run "$out/no_gyro" --out "$out/no_gyro_run"
 }
 pocket() {
-  ws pocket 1 4 pdr-pocket run bags/pocket_walk --out "$out/pocket" --drift online
+  ws pocket 1 2 pdr-pocket run bags/pocket_walk --out "$out/pocket" --drift online
   # the thesis' unscented filter (filter: thesis), which the tests of its tables run
-  ws pocket 2 4 pdr-pocket run bags/pocket_walk --out "$out/thesis" --drift online \
+  ws pocket 2 2 pdr-pocket run bags/pocket_walk --out "$out/thesis" --drift online \
     --config src/pdr_pocket/config/pocket_pdr_no_mag.yaml
-  ws pocket 3 4 pdr-sim import-csv bags/pyshoe_vicon_2018-02-22-10-10-29.csv \
-    --out "$out/no_gyro" --time-col t_s --acc-cols acc_x_mps2,acc_y_mps2,acc_z_mps2
-  ws pocket 4 4 pdr-pocket run "$out/no_gyro" --out "$out/no_gyro_run"
 }
 foot & foot_pid=$!
 pocket & pocket_pid=$!
