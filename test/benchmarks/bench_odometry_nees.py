@@ -221,31 +221,24 @@ def oxiod_table() -> None:
     covariance pdr/pocket/odometry carries) on the real OxIOD phones against the Vicon
     attitude: pdr-pocket attitude's consistency, the whole attitude (3 dof, the heading
     aligned at the start) and the tilt (2 dof)."""
-    from scipy.spatial.transform import Rotation
+    from bench_attitude_peers import oxiod_sequences
 
     from pdr_core.attitude_metrics import tilt_error
     from pdr_core.consistency import attitude_consistency
-    from pdr_core.oxiod import import_oxiod
     from pdr_pocket.compiled_orientation import ATT_ROWS
     from pdr_pocket.config import PocketConfig
     from pdr_pocket.orientation import OrientationFilter
 
-    folders = sorted(p for p in (SHARED / "attitude" / "oxiod").glob("*") if p.is_dir())
-    if not folders:
+    sequences = oxiod_sequences([])
+    if not sequences:
         return
     print("\npocket orientation filter on the real OxIOD phones (Vicon attitude): NEES per "
           "degree of freedom once a second\n")
     print("| sequence | seconds | attitude NEES/dof | tilt NEES/dof | attitude, object offset "
           "removed | tilt, offset removed | band | tilt error RMS (offset removed) |\n"
           "|---|---:|---:|---:|---:|---:|---|---:|")
-    for folder in folders:
-        seq = import_oxiod(folder)
-        t = (seq.imu.stamp_ns - seq.imu.stamp_ns[0]) * 1e-9
-        mag = seq.mag["magnetic_field"] if seq.mag is not None else np.full((len(t), 3), np.nan)
-        estimate = OrientationFilter(PocketConfig().orientation).run(
-            t, np.ascontiguousarray(seq.imu["angular_velocity"]),
-            np.ascontiguousarray(seq.imu["linear_acceleration"]), np.ascontiguousarray(mag))
-        truth = Rotation.from_quat(seq.pose["pose.orientation"]).as_matrix()
+    for name, (t, gyro, accel, mag, truth) in sequences.items():
+        estimate = OrientationFilter(PocketConfig().orientation).run(t, gyro, accel, mag)
         cov = estimate.covariance[:, ATT_ROWS, ATT_ROWS]
         figures = attitude_consistency(t, estimate.attitude, cov, truth)
         mounted = truth @ object_offset(estimate.attitude, truth).T
@@ -253,7 +246,7 @@ def oxiod_table() -> None:
         tilt = [np.degrees(np.sqrt(np.mean(tilt_error(estimate.attitude, c) ** 2)))
                 for c in (truth, mounted)]
         band = figures["attitude"]["band_per_dof"]
-        print(f"| {folder.name} | {figures['attitude']['samples']} | "
+        print(f"| {name} | {figures['attitude']['samples']} | "
               f"{figures['attitude']['nees_per_dof']:.2f} | {figures['tilt']['nees_per_dof']:.2f} "
               f"| {offset_removed['attitude']['nees_per_dof']:.2f} | "
               f"{offset_removed['tilt']['nees_per_dof']:.2f} | [{band[0]:.2f}, {band[1]:.2f}] | "

@@ -29,6 +29,7 @@ from scipy.stats import chi2
 
 from pdr_core.attitude_metrics import heading_offset
 from pdr_core.metrics import aligned, alignment_yaw
+from pdr_core.rotations import covariance_about_vertical
 
 CHECKPOINT_INTERVAL_S = 1.0     # one NEES a second
 BAND_PROBABILITY = 0.95         # the two-sided χ² band of the mean NEES
@@ -43,13 +44,6 @@ def nees(error: np.ndarray, cov: np.ndarray) -> np.ndarray:
     e = error[definite]
     out[definite] = np.einsum("ni,ni->n", e, np.linalg.solve(cov[definite], e[..., None])[..., 0])
     return out
-
-
-def turned_covariance(cov: np.ndarray, yaw_rad: float) -> np.ndarray:
-    """Covariances (N, 3, 3) of ENU vectors turned by ``yaw_rad`` about the vertical
-    (counter-clockwise positive): R·P·Rᵀ."""
-    turn = Rotation.from_euler("z", yaw_rad).as_matrix()
-    return turn @ cov @ turn.T
 
 
 def checkpoints(t_s: np.ndarray, interval_s: float = CHECKPOINT_INTERVAL_S) -> np.ndarray:
@@ -67,7 +61,7 @@ def position_nees(position: np.ndarray, truth: np.ndarray, at: np.ndarray,
     from their start, the estimate turned onto the truth by
     pdr_core.metrics.alignment_yaw, its covariance turned with it."""
     error = (aligned(position, truth) - (truth - truth[0]))[at]
-    cov = turned_covariance(position_cov, alignment_yaw(position, truth))
+    cov = covariance_about_vertical(position_cov, alignment_yaw(position, truth))
     return nees(error, cov), nees(error[:, HORIZONTAL], cov[:, HORIZONTAL, HORIZONTAL])
 
 
@@ -79,17 +73,16 @@ def attitude_nees(attitude_xyzw: np.ndarray, cov: np.ndarray, truth_xyzw: np.nda
     pdr_core.metrics.alignment_yaw), R the truth's (K, 4); ``cov`` (K, 3, 3) [rad²] the
     estimate's covariance of rotations about the map's axes (``pose.covariance``'s),
     turned with it."""
-    return nees(attitude_error(attitude_xyzw, truth_xyzw, yaw_rad),
-                turned_covariance(cov, yaw_rad))
+    return nees(attitude_error(Rotation.from_quat(attitude_xyzw),
+                               Rotation.from_quat(truth_xyzw), yaw_rad),
+                covariance_about_vertical(cov, yaw_rad))
 
 
-def attitude_error(attitude_xyzw: np.ndarray, truth_xyzw: np.ndarray,
-                   yaw_rad: float) -> np.ndarray:
+def attitude_error(attitude: Rotation, truth: Rotation, yaw_rad: float) -> np.ndarray:
     """The rotation vectors (K, 3) [rad] of R̂'·Rᵀ in the truth's map frame, R̂' the
-    estimate (K, 4) turned by ``yaw_rad`` about the vertical, R the truth (K, 4)."""
-    turn = Rotation.from_euler("z", yaw_rad)
-    error = turn * Rotation.from_quat(attitude_xyzw) * Rotation.from_quat(truth_xyzw).inv()
-    return error.as_rotvec()
+    estimate (K rotations, body to map) turned by ``yaw_rad`` about the vertical, R the
+    truth's."""
+    return (Rotation.from_euler("z", yaw_rad) * attitude * truth.inv()).as_rotvec()
 
 
 def attitude_consistency(t_s: np.ndarray, attitude: np.ndarray, cov: np.ndarray,
@@ -103,9 +96,9 @@ def attitude_consistency(t_s: np.ndarray, attitude: np.ndarray, cov: np.ndarray,
     horizontal components: the vertical's error, which no turn changes)."""
     at = checkpoints(t_s)
     yaw = -heading_offset(t_s, attitude, truth)
-    error = attitude_error(Rotation.from_matrix(attitude[at]).as_quat(),
-                           Rotation.from_matrix(truth[at]).as_quat(), yaw)
-    turned = turned_covariance(cov[at], yaw)
+    error = attitude_error(Rotation.from_matrix(attitude[at]), Rotation.from_matrix(truth[at]),
+                           yaw)
+    turned = covariance_about_vertical(cov[at], yaw)
     return {"attitude": nees_figures(nees(error, turned), 3),
             "tilt": nees_figures(nees(error[:, HORIZONTAL], turned[:, HORIZONTAL, HORIZONTAL]),
                                  2)}

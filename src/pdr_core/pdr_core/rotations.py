@@ -68,6 +68,14 @@ def about_vertical(points: np.ndarray, angle_rad: float) -> np.ndarray:
     return np.stack([c * x - s * y, s * x + c * y, points[..., 2]], axis=-1)
 
 
+def covariance_about_vertical(cov: np.ndarray, angle_rad: float) -> np.ndarray:
+    """Covariances (..., 3, 3) of ENU vectors turned by ``angle_rad`` about the up (z)
+    axis, counter-clockwise positive, as :func:`about_vertical` turns the vectors:
+    R·P·Rᵀ."""
+    turn = Rotation.from_euler("z", angle_rad).as_matrix()
+    return turn @ cov @ turn.T
+
+
 def yaw_of(attitude: np.ndarray) -> np.ndarray:
     """The ENU yaw [rad] (the ZYX Euler yaw, counter-clockwise from east) of attitudes
     C_b^n (..., 3, 3)."""

@@ -385,7 +385,7 @@ def normalised_innovation(P, innovation, rows, sigma):
 
 
 @njit(cache=True)
-def count_touchdown(state, stance, params):
+def count_touchdown(state, stance):
     """Before a stance sample's ZUPT: if it is the first of its stance (a touchdown), add
     ν·P_v⁻¹·ν / 3 with ν = −v̂ to ``state.nis``; then note whether this sample is stance.
     The touchdown ZUPT tests the whole swing's prediction: ν is the velocity error the
@@ -456,7 +456,7 @@ def filter_block(state, samples, params):
     for k in range(N):
         w = samples.gyro[k]
         predict(state, samples.accel[k], w, samples.dt[k], params)
-        count_touchdown(state, samples.stance[k], params)
+        count_touchdown(state, samples.stance[k])
         if samples.stance[k]:
             update(state, -v, VELOCITY, params.zupt_sigma_mps)
             if params.zaru and within_gate(P, w - b[GYRO], GYRO_BIAS,

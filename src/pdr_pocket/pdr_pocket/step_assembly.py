@@ -26,6 +26,7 @@ import numpy as np
 
 from pdr_core.angles import wrap_angle
 from pdr_core.gait import MAX_WALKING_SPEED_MPS, WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
+from pdr_core.rotations import about_vertical, covariance_about_vertical
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity, Ride
 from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
 from pdr_pocket.compiled_peaks import EV_MAX, EV_MIN, EV_T_CONFIRM, EV_T_MAX
@@ -174,15 +175,16 @@ class StepAssembly:
         climb_var = stairs_var if withdrawn or on_stairs else 0.0
         fused = self.height.step(t_max, climb, climb_var, on_stairs,
                                  duration) if self.barometer else None
-        if fused is not None and self.height.fused:
-            vertical, self.height_m = fused.height_m - self.height_m, fused.height_m
+        held = fused if fused is not None and self.height.fused else None
+        if held is not None:
+            vertical, self.height_m = held.height_m - self.height_m, held.height_m
         length_var = c.step_length.length_sigma_m**2
         vertical_var = stairs_var if on_stairs else (c.position.level_grade_sigma * length)**2
         self.position.step(length, vertical, heading, yaw_var, length_var, vertical_var,
                            duration)
-        if fused is not None and self.height.fused:
-            self.position.hold_height(fused.sigma_m**2)
-        floor = fused.floor if fused is not None and self.height.fused else \
+        if held is not None:
+            self.position.hold_height(held.sigma_m**2)
+        floor = held.floor if held is not None else \
             self.staircases.floor(self.position.position[2])
         ride, ride_height = _ride(fused)
         # the climbs the flight check holds back are not in z yet: 0 or all of them
@@ -279,12 +281,10 @@ def step_velocity(length_m: float, climb_m: float, heading_rad: float, duration_
     step's own heading error: the yaw error it shares with the attitude is common to the
     body frame the odometry's twist is expressed in. T is a detector's count of samples:
     its error (a sample, under 1 % of a cycle) is left out."""
-    c, s = np.cos(heading_rad), np.sin(heading_rad)
-    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     length_var, climb_var, heading_var = variances
     local = np.diag([length_var, length_m**2 * heading_var, climb_var])
-    velocity = np.array([length_m * c, length_m * s, climb_m]) / duration_s
-    return velocity, rotation @ local @ rotation.T / duration_s**2
+    velocity = about_vertical([length_m, 0.0, climb_m], heading_rad) / duration_s
+    return velocity, covariance_about_vertical(local, heading_rad) / duration_s**2
 
 
 def _ride(fused: StepHeight | None) -> tuple[int, float]:
