@@ -16,7 +16,7 @@ import subprocess
 
 import pytest
 
-from wstest import CLIS, ROOT, cli, installed_cli
+from wstest import CLIS, ROOT, cli, installed
 
 RST_MARKUP = re.compile(r"``|`|:(class|func|meth|data|mod|attr):")
 # Option names that carry their unit (--rest-s, --floor-height-m, --field-norm-ut)
@@ -39,7 +39,7 @@ COMMANDS = [(prog, path, sub) for prog, module in CLIS.items()
 def run_help(prog: str, path: tuple[str, ...]) -> subprocess.CompletedProcess:
     if path:
         return cli(prog, *path, "--help")
-    return subprocess.run([installed_cli(prog), "--help"], capture_output=True, text=True,
+    return subprocess.run([installed(prog), "--help"], capture_output=True, text=True,
                           timeout=120, cwd=ROOT)
 
 

@@ -16,7 +16,7 @@ import pytest
 from pdr_core.bag import write_batches
 from pdr_core.batch import MessageBatch
 from pdr_core.msgtypes import IMU
-from wstest import ROOT, cli, installed_cli
+from wstest import ROOT, cli, installed
 
 REPORTS = ROOT / "docs" / "reports.md"
 TRUTH_CONDITIONS = {"pose", "steps", "floors", "stance truth"}
@@ -197,7 +197,7 @@ def test_a_run_killed_halfway_runs_only_the_missing_ones_again(tmp_path):
     manifest.write_text("recording,dataset,navigator\nsim/foot_walk,,foot\n"
                         "vicon/vicon_walk,,foot\nsim/pocket_walk,,pocket\n")
     out = tmp_path / "out"
-    process = subprocess.Popen([installed_cli("pdr-eval"), "--manifest", str(manifest),
+    process = subprocess.Popen([installed("pdr-eval"), "--manifest", str(manifest),
                                 "--out", str(out), "--workers", "1"],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                start_new_session=True)

@@ -1,5 +1,5 @@
 """Helpers for the cross-package tests: paths, the offline CLIs run in the test's process,
-and ``./ws`` processes in one ROS domain."""
+and the workspace's processes in one ROS domain."""
 from __future__ import annotations
 
 import contextlib
@@ -27,7 +27,6 @@ from pdr_core.imu_checks import MAX_PLAUSIBLE_ACCEL_MPS2, MAX_PLAUSIBLE_RATE_RAD
 from pdr_core.msgtypes import IMU
 
 ROOT = Path(__file__).resolve().parents[1]
-WS = ROOT / "ws"
 # The real recordings (../shared/data beside the repository; PDR_SHARED_DATA overrides).
 # A clone without them still runs every other test: those that need one skip, naming the
 # missing path, unless PDR_REQUIRE_SHARED_DATA=1 (CI: .ci/run) makes that a failure.
@@ -81,11 +80,17 @@ CLIS = {"pdr-sim": "pdr_sim.cli", "pdr-pocket": "pdr_pocket.cli",
         "pdr-ekf": "pdr_ins_ekf.cli", "pdr-drift": "pdr_drift.cli", "pdr-eval": "pdr_eval.cli"}
 
 
-def installed_cli(prog: str) -> str:
+def installed(prog: str) -> str:
     """The executable ``prog`` of the built workspace (install/PKG/lib/PKG/PROG, what
     ``./ws PROG`` runs)."""
     [exe] = ROOT.glob(f"install/*/lib/*/{prog}")
     return str(exe)
+
+
+def command(prog: str) -> str:
+    """What ``./ws PROG`` executes: the workspace's executable of that name, else ``prog``
+    from the PATH."""
+    return next(map(str, ROOT.glob(f"install/*/lib/*/{prog}")), prog)
 
 
 def cli(prog: str, *args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
@@ -119,7 +124,11 @@ def _exit_status(main, argv: list[str]) -> int:
 
 
 class Processes:
-    """Starts ``./ws`` executables in one ROS domain; stops what is left at teardown."""
+    """Starts the workspace's executables in one ROS domain; stops what is left at
+    teardown. They start as ``./ws`` would start them, from install/, in the test's
+    environment (``make test`` sources tools/env.sh), without ``./ws``'s bootstrap check
+    and environment set-up: 0.4 s of a core for each of the suite's node starts. The
+    README's blocks and the demo's scripts run ``./ws`` itself."""
 
     def __init__(self, domain_id: int, log_dir: Path) -> None:
         self.env = {**os.environ, "ROS_DOMAIN_ID": str(domain_id)}
@@ -127,21 +136,22 @@ class Processes:
         self.started: list[subprocess.Popen] = []
 
     def start(self, *args: str, name: str) -> subprocess.Popen:
-        """Start ``./ws ARGS``; its stdout and stderr go to LOG_DIR/NAME.log."""
+        """Start ``ARGS`` as ``./ws ARGS`` would; its stdout and stderr go to
+        LOG_DIR/NAME.log."""
         log = (self.log_dir / f"{name}.log").open("w")
-        proc = subprocess.Popen([str(WS), *args], env=self.env, stdout=log,
+        proc = subprocess.Popen([command(args[0]), *args[1:]], env=self.env, stdout=log,
                                 stderr=subprocess.STDOUT, cwd=ROOT)
         proc.log_path = self.log_dir / f"{name}.log"
         self.started.append(proc)
         return proc
 
     def run(self, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
-        """Run ``./ws ARGS`` to completion, capturing its output: an offline CLI in this
-        process (:func:`cli`), any other executable as a process."""
+        """Run ``ARGS`` as ``./ws ARGS`` would, to completion, capturing its output: an
+        offline CLI in this process (:func:`cli`), any other executable as a process."""
         if args[0] in CLIS:
             return cli(*args)
-        return subprocess.run([str(WS), *args], env=self.env, capture_output=True, text=True,
-                              timeout=timeout, cwd=ROOT)
+        return subprocess.run([command(args[0]), *args[1:]], env=self.env, capture_output=True,
+                              text=True, timeout=timeout, cwd=ROOT)
 
     @staticmethod
     def stop(proc: subprocess.Popen, sig: int = signal.SIGINT, timeout: float = 30) -> int:
