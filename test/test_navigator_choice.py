@@ -14,39 +14,18 @@ from pdr_core.navigator_choice import (
     choose_navigator,
 )
 from wstest import (
-    OXFORD,
-    OXFORD_ARGS,
-    PYSHOE,
-    PYSHOE_ARGS,
-    PYSHOE_CLIMB,
     ROOT,
-    THIGH,
-    XIO,
-    XIO_ARGS,
+    SHARED_RECORDINGS,
     cli,
     imported,
     needs_shared,
 )
 
-THIGH_ARGS = ["--time-col", "time", "--acc-cols", "accel_x,accel_y,accel_z",
-              "--gyro-cols", "gyro_x,gyro_y,gyro_z", "--mag-cols", "mag_x,mag_y,mag_z",
-              "--mag-unit", "ut"]
-BACK_POCKET = OXFORD.parent / "opt_Samsung_Dario_Hard_BackPocket_1" / "accelerometer.csv"
-BACK_POCKET_ARGS = ["--no-header", "--time-col", "0", "--time-unit", "ns",
-                    "--acc-cols", "2,3,4"]
-THIGHS = ("norm_thigh_1", "fast_thigh_1", "jog_thigh_1", "tug_thigh_1", "s_up_thigh_1",
-          "s_down_thigh_1", "s_both_thigh_1")
-FOOT = {p.stem: (p, PYSHOE_ARGS) for p in [*PYSHOE, PYSHOE_CLIMB]} | {"xio": (XIO, XIO_ARGS)}
-POCKET = {name: (THIGH / name / "imu.csv", THIGH_ARGS) for name in THIGHS} | {
-    "oxford_front": (OXFORD, OXFORD_ARGS), "oxford_back": (BACK_POCKET, BACK_POCKET_ARGS)}
-SHARED = {**{k: (v, "foot") for k, v in FOOT.items()},
-          **{k: (v, "pocket") for k, v in POCKET.items()}}
-
 
 @pytest.mark.parametrize("name", [pytest.param(name, marks=needs_shared(csv))
-                                  for name, ((csv, _), _) in SHARED.items()])
+                                  for name, (csv, _, _) in SHARED_RECORDINGS.items()])
 def test_auto_picks_the_navigator_of_every_shared_recording(name):
-    (csv, args), navigator = SHARED[name]
+    csv, args, navigator = SHARED_RECORDINGS[name]
     choice = bag_navigator(imported(csv, args))
     assert choice.navigator == navigator, choice.figures()
     assert choice.moving_s >= MIN_MOVING_S

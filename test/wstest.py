@@ -57,6 +57,22 @@ XIO_COLUMNS = ["--time-col", "Time (s)", "--drop-duplicates",
                "--gyro-cols", "Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s)"]
 XIO_ARGS = [*XIO_COLUMNS, "--acc-unit", "g", "--gyro-unit", "deg/s"]
 OXFORD_ARGS = ["--no-header", "--time-col", "0", "--time-unit", "ns", "--acc-cols", "1,2,3"]
+THIGH_ARGS = ["--time-col", "time", "--acc-cols", "accel_x,accel_y,accel_z",
+              "--gyro-cols", "gyro_x,gyro_y,gyro_z", "--mag-cols", "mag_x,mag_y,mag_z",
+              "--mag-unit", "ut"]
+BACK_POCKET = OXFORD.parent / "opt_Samsung_Dario_Hard_BackPocket_1" / "accelerometer.csv"
+BACK_POCKET_ARGS = ["--no-header", "--time-col", "0", "--time-unit", "ns",
+                    "--acc-cols", "2,3,4"]
+THIGHS = ("norm_thigh_1", "fast_thigh_1", "jog_thigh_1", "tug_thigh_1", "s_up_thigh_1",
+          "s_down_thigh_1", "s_both_thigh_1")
+# Every shared recording of a foot or a pocket: name -> (file, import-csv arguments, the
+# navigator it is for)
+SHARED_RECORDINGS = {
+    **{p.stem: (p, PYSHOE_ARGS, "foot") for p in [*PYSHOE, PYSHOE_CLIMB]},
+    "xio": (XIO, XIO_ARGS, "foot"),
+    **{name: (THIGH / name / "imu.csv", THIGH_ARGS, "pocket") for name in THIGHS},
+    "oxford_front": (OXFORD, OXFORD_ARGS, "pocket"),
+    "oxford_back": (BACK_POCKET, BACK_POCKET_ARGS, "pocket")}
 
 
 def needs_shared(*paths: Path) -> pytest.MarkDecorator:
