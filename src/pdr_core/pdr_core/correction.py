@@ -7,8 +7,9 @@ is ``None``.
 (:func:`request_fields` and :func:`from_request`, the only places that know the
 service's convention that a value and variance both 0 mean "absent"), and a navigator
 takes it whole (pdr_pocket.corrections, pdr_ins_ekf.corrections): every part gated at
-:data:`GATE_PROBABILITY` before any is applied, and :func:`invalid` names the numbers
-that cannot be used.
+:data:`GATE_PROBABILITY` before any is applied. What refuses a correction whatever the
+navigator's state is here, for both: :func:`refusal` (no part, :func:`invalid` numbers, a
+part without a positive variance).
 """
 from __future__ import annotations
 
@@ -100,4 +101,27 @@ def invalid(correction: Correction) -> str | None:
         elif np.any(np.diag(cov) < 0):
             problems.append(f"position_covariance has a negative variance "
                             f"(diagonal {np.diag(cov).tolist()} m²)")
+    return "; ".join(problems) or None
+
+
+# each scalar part's request field and unit
+PARTS = (("yaw", "rad"), ("gyro_bias_z", "rad/s"))
+
+
+def refusal(correction: Correction) -> str | None:
+    """Why the correction cannot be taken whatever the navigator's state (None: it can):
+    no part ("nothing to apply: ..."), numbers that cannot be used (:func:`invalid`), a
+    part without a positive variance; each named by its field of
+    pdr_msgs/srv/ApplyCorrection. The navigators add what their state refuses."""
+    c = correction
+    if c.empty:
+        return "nothing to apply: no yaw, gyro_bias_z or position given"
+    unusable = invalid(c)
+    problems = [unusable] if unusable else []
+    for (name, unit), value, variance in zip(PARTS, (c.yaw_rad, c.gyro_bias_z_radps),
+                                             (c.yaw_variance_rad2,
+                                              c.gyro_bias_z_variance_rad2ps2), strict=True):
+        if value is not None and np.isfinite(value) and (variance or 0.0) == 0:
+            problems.append(f"{name}_variance is 0: a {name} of {value:+.4g} {unit} needs a "
+                            "positive variance")
     return "; ".join(problems) or None

@@ -12,11 +12,12 @@ A correction names its stride by stamp (pdr_msgs/srv/ApplyCorrection). The filte
 back to the checkpoint at or before it, runs the pieces up to the stamp, gates the
 correction there (pdr_ins_ekf.corrections) and, when every part passes, applies it and
 runs the pieces since again: the estimates and strides after the stamp come back with the
-answer (:class:`CorrectionResult`) to replace those given out before the call came. A
-refused correction changes nothing. The corrections taken are inputs too, so one that
-reaches further back takes them again in their place. A zero stamp applies the correction
-to the state now. A stamp later than the last sample filtered, or older than the window,
-is refused by name.
+answer (pdr_core.replay.CorrectionResult, the :class:`Filtered` parts run again) to
+replace those given out before the call came; the replay is pdr_core.replay's, the pocket
+navigator's too. A refused correction changes nothing. The corrections taken are inputs
+too, so one that reaches further back takes them again in their place. A zero stamp
+applies the correction to the state now. A stamp later than the last sample filtered, or
+older than the window, is refused by name.
 """
 from __future__ import annotations
 
@@ -24,8 +25,8 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from pdr_core.checkpoints import Checkpoints
 from pdr_core.correction import Correction
+from pdr_core.replay import CorrectionResult, Replay, TakenCorrection
 from pdr_ins_ekf import corrections
 from pdr_ins_ekf.kernel_data import NavState
 from pdr_ins_ekf.strides import Stride, StrideTracker
@@ -50,24 +51,20 @@ class FilterBlock:
     gyro: np.ndarray
     stance: np.ndarray
 
+    def __len__(self) -> int:
+        return len(self.stamp_ns)
+
     def part(self, start: int, stop: int) -> FilterBlock:
         return FilterBlock(*(getattr(self, f.name)[start:stop] for f in fields(self)))
+
+    def split(self, t_s: float) -> tuple[FilterBlock, FilterBlock]:
+        """The samples at or before instant ``t_s`` [s] and those after it."""
+        cut = int(np.searchsorted(self.t_s, t_s, side="right"))
+        return self.part(0, cut), self.part(cut, len(self))
 
     @property
     def end_s(self) -> float:
         return float(self.t_s[-1])
-
-
-@dataclass(frozen=True)
-class TakenCorrection:
-    """A correction applied at instant ``t_s`` [s]: an input, taken again on a replay."""
-
-    t_s: float
-    correction: Correction
-
-    @property
-    def end_s(self) -> float:
-        return self.t_s
 
 
 @dataclass
@@ -92,16 +89,6 @@ class Filtered:
     strides: list[Stride] = field(default_factory=list)
 
 
-@dataclass(frozen=True)
-class CorrectionResult:
-    """Whether the correction was applied (all of it) and what was done or why not; when
-    applied at a stamp, the samples after it filtered again (:class:`Filtered`)."""
-
-    accepted: bool
-    message: str
-    revised: Filtered | None = None
-
-
 def concatenated(parts: list[Filtered]) -> Filtered:
     """Consecutive :class:`Filtered` parts as one."""
     if len(parts) == 1:
@@ -120,8 +107,7 @@ class CorrectableFilter:
     def __init__(self, ekf: ZuptEkf, window_s: float = CORRECTION_WINDOW_S) -> None:
         self.ekf = ekf
         self.strides = StrideTracker()
-        self.history: Checkpoints[FilterState, FilterBlock | TakenCorrection] = Checkpoints(
-            FilterState.copy, window_s)
+        self.replay: Replay[FilterState, FilterBlock] = Replay(FilterState.copy, window_s)
         self.last_s: float | None = None
 
     def state(self) -> FilterState:
@@ -145,9 +131,9 @@ class CorrectableFilter:
     def _run_piece(self, piece: FilterBlock) -> Filtered:
         output = self.ekf.run_block(piece.accel, piece.gyro, piece.dt, piece.stance)
         strides = self.strides.push(piece.stamp_ns, piece.stance, output)
-        self.history.record(piece, piece.end_s)
+        self.replay.history.record(piece, piece.end_s)
         for stride in strides:
-            self.history.remember(self._instant(piece, stride.stamp_ns), self.state())
+            self.replay.history.remember(self._instant(piece, stride.stamp_ns), self.state())
         return Filtered(piece, output, strides)
 
     @staticmethod
@@ -165,70 +151,74 @@ class CorrectableFilter:
             return CorrectionResult(False, f"nothing applied: {problem}")
         if t_s is None:
             return self._apply_now(correction)
-        looked = self.history.look_back(t_s)
+        return self.replay.correct(self, correction, t_s)
+
+    # --- the replay's side (pdr_core.replay.Replayable) -------------------------------
+    def worker(self, state: FilterState) -> Scratch:
+        """A filter at ``state`` (the replay's copy), outside the history."""
         scratch = CorrectableFilter(ZuptEkf(self.ekf.config, self.ekf.C))
-        scratch._restore(looked.state)
-        before, after = _split(looked.inputs, t_s)
-        for item in before:
-            scratch._take(item)
-        problem, nis = corrections.gate(correction, scratch.ekf.state)
+        scratch._restore(state)
+        return Scratch(scratch)
+
+    def adopt(self, worker: Scratch) -> None:
+        self._restore(worker.filter.state())
+
+    def take(self, item: FilterBlock | TakenCorrection) -> list[Filtered]:
+        """A kept input again, in the history: a block's estimates and strides."""
+        filtered = self._take(item)
+        return [] if filtered is None else [filtered]
+
+    def gated(self, correction: Correction) -> tuple[bool, str]:
+        """Gate ``correction`` against the state now and apply it, whole or not at all
+        (pdr_ins_ekf.corrections): (accepted, what was done or why not)."""
+        problem, nis = corrections.gate(correction, self.ekf.state)
         if problem is not None:
-            return CorrectionResult(False, f"nothing applied: {problem}")
-        reverted = self.history.revert_to(looked.t_s)
-        self.history.remember(reverted.t_s, reverted.state)
-        for item in [*before, TakenCorrection(t_s, correction)]:
-            self.history.record(item, item.end_s)
-        corrections.apply(correction, scratch.ekf.state)
-        self._restore(scratch.state())
-        revised = [part for part in map(self._take, after) if part is not None]
-        return CorrectionResult(True, _applied(nis), concatenated(revised) if revised else None)
+            return False, f"nothing applied: {problem}"
+        corrections.apply(correction, self.ekf.state)
+        return True, _applied(nis)
 
     def _take(self, item: FilterBlock | TakenCorrection) -> Filtered | None:
         """An input again: a block filtered (kept in the history when this is the
         navigator's filter), a correction applied."""
         if isinstance(item, TakenCorrection):
             corrections.apply(item.correction, self.ekf.state)
-            self.history.record(item, item.end_s)
+            self.replay.history.record(item, item.end_s)
             return None
         return self._run_piece(item)
 
     def _apply_now(self, correction: Correction) -> CorrectionResult:
-        problem, nis = corrections.gate(correction, self.ekf.state)
-        if problem is not None:
-            return CorrectionResult(False, f"nothing applied: {problem}")
-        corrections.apply(correction, self.ekf.state)
-        if self.last_s is not None:
-            self.history.record(TakenCorrection(self.last_s, correction), self.last_s)
-        return CorrectionResult(True, _applied(nis))
+        accepted, message = self.gated(correction)
+        if accepted and self.last_s is not None:
+            self.replay.history.record(TakenCorrection(self.last_s, correction), self.last_s)
+        return CorrectionResult(accepted, message)
 
     def _instant_problem(self, t_s: float) -> str | None:
         """Why no kept state serves instant ``t_s`` [s] (None: one does)."""
         if self.last_s is None or t_s > self.last_s:
             return (f"the stamp is {t_s - (self.last_s or 0.0):.3f} s after the last sample "
                     "filtered")
-        if self.history.look_back(t_s) is None:
-            oldest = self.history.instants[0] if len(self.history) else None
+        if self.replay.history.look_back(t_s) is None:
+            oldest = self.replay.history.instants[0] if len(self.replay.history) else None
             reach = ("no stride kept yet" if oldest is None
                      else f"the oldest kept stride is {self.last_s - oldest:.1f} s back")
             return (f"the stamp is {self.last_s - t_s:.1f} s back, beyond the correction "
-                    f"window of {self.history.window_s:g} s of IMU data ({reach})")
+                    f"window of {self.replay.history.window_s:g} s of IMU data ({reach})")
         return None
+
+
+@dataclass
+class Scratch:
+    """A filter at a kept state taking the inputs again outside the history, on a replay
+    (pdr_core.replay.Worker)."""
+
+    filter: CorrectableFilter
+
+    def rerun(self, item: FilterBlock | TakenCorrection) -> None:
+        self.filter._take(item)
+
+    def apply_correction(self, correction: Correction) -> tuple[bool, str]:
+        return self.filter.gated(correction)
+
 
 def _applied(nis: dict[str, float]) -> str:
     return "applied: " + ", ".join(f"{name} (NIS {value:.2f})" for name, value in nis.items())
-
-
-def _split(inputs: list, t_s: float) -> tuple[list, list]:
-    """The inputs up to instant ``t_s`` [s] and those after it, a block straddling it cut
-    there."""
-    before, after = [], []
-    for item in inputs:
-        if item.end_s <= t_s:
-            before.append(item)
-        elif isinstance(item, FilterBlock) and item.t_s[0] <= t_s:
-            cut = int(np.searchsorted(item.t_s, t_s, side="right"))
-            before.append(item.part(0, cut))
-            after.append(item.part(cut, len(item.t_s)))
-        else:
-            after.append(item)
-    return before, after

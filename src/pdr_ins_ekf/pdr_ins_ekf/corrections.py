@@ -31,7 +31,8 @@ from scipy.linalg import block_diag
 from scipy.spatial.transform import Rotation
 
 from pdr_core.chi2 import chi2_quantile
-from pdr_core.correction import GATE_PROBABILITY, Correction, invalid
+from pdr_core.correction import GATE_PROBABILITY, Correction
+from pdr_core.correction import refusal as stateless_refusal
 from pdr_ins_ekf.kernel_data import (
     ACC_BIAS,
     ATTITUDE,
@@ -50,21 +51,12 @@ BIAS_Z = GYRO_BIAS + 2       # the error state's row of the body z gyro bias
 
 
 def refusal(correction: Correction, states: int) -> str | None:
-    """Why the correction cannot be taken whatever the state (None: it can): no part,
-    numbers that cannot be used, a part without a positive variance, a bias part for a
-    filter without bias states; each named by its field of pdr_msgs/srv/ApplyCorrection."""
-    c = correction
-    if c.empty:
-        return "nothing to apply: no yaw, gyro_bias_z or position given"
-    unusable = invalid(c)
-    problems = [unusable] if unusable else []
-    for name, value, variance in (("yaw", c.yaw_rad, c.yaw_variance_rad2),
-                                  ("gyro_bias_z", c.gyro_bias_z_radps,
-                                   c.gyro_bias_z_variance_rad2ps2)):
-        if value is not None and not (variance or 0.0) > 0:
-            problems.append(f"{name}_variance is 0: a {name} of {value:+.4g} needs a positive "
-                            "variance")
-    if c.gyro_bias_z_radps is not None and states != NAV_AND_BIAS_STATES:
+    """Why the correction cannot be taken whatever the state (None: it can): those of
+    pdr_core.correction.refusal, and a bias part for a filter without bias states, named
+    by its field of pdr_msgs/srv/ApplyCorrection."""
+    problem = stateless_refusal(correction)
+    problems = [problem] if problem else []
+    if correction.gyro_bias_z_radps is not None and states != NAV_AND_BIAS_STATES:
         problems.append(f"gyro_bias_z: the filter has {states} states and no gyro bias to "
                         f"correct; the bias part needs the {NAV_AND_BIAS_STATES}-state form "
                         "(filter.bias_model random_walk or gauss_markov)")

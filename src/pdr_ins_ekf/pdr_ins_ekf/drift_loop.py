@@ -31,7 +31,7 @@ from pdr_drift.drift_log import DriftLog
 from pdr_drift.estimator import StepResult
 from pdr_drift.streaming import StreamingDrift
 from pdr_ins_ekf.config import RunConfig
-from pdr_ins_ekf.correctable import Filtered
+from pdr_ins_ekf.correctable import Filtered, concatenated
 from pdr_ins_ekf.offline import FootRun
 from pdr_ins_ekf.streaming import StreamingNavigator
 from pdr_ins_ekf.strides import Stride, StrideTracker
@@ -105,9 +105,10 @@ def navigate_online(imu: MessageBatch, config: RunConfig, drift: DriftConfig,
                                                             stamp_ns=stride.stamp_ns))
                 log.corrections.append(((stride.stamp_ns - stamps[0]) * 1e-9,
                                         answer.accepted, answer.message))
-                if answer.accepted and answer.revised is not None:
-                    outputs.revise(stride.stamp_ns, answer.revised)
-                    pending = list(answer.revised.strides)
+                if answer.accepted and answer.revised:
+                    revised = concatenated(answer.revised)
+                    outputs.revise(stride.stamp_ns, revised)
+                    pending = list(revised.strides)
     run = outputs.whole()
     # the usable samples before the alignment's start, where the filter starts
     run.counts = {**navigator.counts, "before_alignment": navigator.filter_start}

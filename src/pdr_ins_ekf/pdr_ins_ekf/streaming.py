@@ -33,13 +33,9 @@ import numpy as np
 from pdr_core.correction import Correction
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_units, usable_samples
+from pdr_core.replay import CorrectionResult
 from pdr_ins_ekf.config import RunConfig
-from pdr_ins_ekf.correctable import (
-    CORRECTION_WINDOW_S,
-    CorrectableFilter,
-    CorrectionResult,
-    FilterBlock,
-)
+from pdr_ins_ekf.correctable import CORRECTION_WINDOW_S, CorrectableFilter, FilterBlock
 from pdr_ins_ekf.offline import FootRun, check_rest
 from pdr_ins_ekf.zero_velocity import RATE_PROBE_INTERVALS, sample_rate_hz
 from pdr_ins_ekf.zupt_ekf import FilterOutput, SegmentSmoother, SmoothedSegment, ZuptEkf

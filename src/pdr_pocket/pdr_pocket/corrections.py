@@ -6,7 +6,9 @@ The yaw and the z gyro bias are Kalman updates of the orientation filter
 (pdr_pocket.position). Every part is checked and gated once, against the covariances
 before any part is applied; one refused part refuses the whole correction, changes
 nothing, and the message names each refused part and why, by its field of
-pdr_msgs/srv/ApplyCorrection. A correction with no part is refused: nothing to apply.
+pdr_msgs/srv/ApplyCorrection. What refuses a correction whatever the state (no part,
+numbers that cannot be used, a part without a variance) is pdr_core.correction.refusal,
+the foot navigator's too.
 A yaw correction also turns the heading summed since the last step
 (:meth:`pdr_pocket.step_assembly.StepAssembly.turn_partial_heading`), so it counts from
 the step it belongs to.
@@ -15,14 +17,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.correction import Correction, invalid
+from pdr_core.correction import Correction, refusal
 from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, YAW_CORRECTION
 from pdr_pocket.orientation import CORRECTION_NAMES, OrientationFilter
 from pdr_pocket.position import PSI
 from pdr_pocket.step_assembly import StepAssembly
-
-# the request's field of each correction (pdr_msgs/srv/ApplyCorrection)
-CORRECTION_FIELDS = {YAW_CORRECTION: "yaw", BIAS_Z_CORRECTION: "gyro_bias_z"}
 
 
 class CorrectionTaker:
@@ -38,20 +37,18 @@ class CorrectionTaker:
         """Apply ``correction`` whole or not at all: (accepted, what was done or why
         not)."""
         c = correction
-        parts = [(kind, value, variance or 0.0) for kind, value, variance in (
+        problem = refusal(c)
+        nis: list[float] = []
+        # the parts given (a variance is positive once refusal() passed)
+        parts = [(kind, value, variance) for kind, value, variance in (
             (YAW_CORRECTION, c.yaw_rad, c.yaw_variance_rad2),
             (BIAS_Z_CORRECTION, c.gyro_bias_z_radps, c.gyro_bias_z_variance_rad2ps2))
             if value is not None]
-        if c.empty:
-            self.counts["refused"] += 1
-            return False, "nothing to apply: no yaw, gyro_bias_z or position given"
-        problem = invalid(c)
-        nis: list[float] = []
         if problem is None:
             problem, nis = self._gate(parts, c.position_m, c.position_covariance_m2)
         if problem is not None:
             self.counts["refused"] += 1
-            return False, f"nothing applied: {problem}"
+            return False, problem if c.empty else f"nothing applied: {problem}"
         self.counts["accepted"] += 1
         return True, ", ".join(
             self._apply_parts(parts, nis, c.position_m, c.position_covariance_m2))
@@ -61,12 +58,6 @@ class CorrectionTaker:
         refused, every part gated against the covariances as they are now (None: all
         pass), and the NIS of each."""
         f = self.orientation
-        zero = "; ".join(
-            f"{CORRECTION_FIELDS[kind]}_variance is 0: a {CORRECTION_FIELDS[kind]} of "
-            f"{value:+.4g} {CORRECTION_NAMES[kind][1]} needs a positive variance"
-            for kind, value, variance in parts if variance == 0)
-        if zero:
-            return zero, []
         if f.state is None:
             return "the navigator has not started (no IMU sample yet)", []
         gated = [f.gate(kind, self._corrected(kind, value), variance)

@@ -7,9 +7,10 @@
   ``pocket_pdr`` node's service runs (Section 6.1). A correction is applied right after
   the sample that confirmed its step, where the live graph applies it too, whenever the
   call comes: the request carries that step's stamp (pdr_pocket.streaming). Here the
-  chunk is run again from a copy of the navigator taken before it (a checkpoint,
-  pdr_core.checkpoints), up to that sample. Applied at the end of the chunk instead, the
-  poses ended 0.13 m from the live graph's.
+  chunk is run again from a copy of the navigator taken before it, up to that sample,
+  and on from there with the correction: the one replay of pdr_core.replay, the live
+  navigator's (:class:`ChunkLoop`). Applied at the end of the chunk instead, the poses
+  ended 0.13 m from the live graph's.
 - :func:`navigate_offline`: a first pass collects every association's drift, ε₀ of
   Eq. (6.5) (outliers rejected), and a second pass takes ε₀·t off every step's heading
   and applies no correction: the path has no jumps (Section 6.2). The thesis reprocesses
@@ -20,11 +21,12 @@
 """
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pdr_core.checkpoints import Checkpoints
+from pdr_core.correction import Correction
+from pdr_core.replay import Replay, TakenCorrection
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.drift import offline_drift
@@ -51,50 +53,89 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, samples: Samples,
     """The online loop (module docstring) over the record's samples; ``apply=False``
     only records."""
     t = samples.t
-    navigator = PocketNavigator(config)
     estimator = DriftEstimator(drift, feedback=apply)
     log = DriftLog()
-    # the navigator before the chunk; the chunk is the record's, so no inputs are recorded
-    before: Checkpoints[PocketNavigator, None] = Checkpoints(
-        PocketNavigator.copy_state, np.inf, capacity=1)
-
-    def run(start: int, stop: int) -> NavigatorOutput:
-        return navigator.process(samples.part(start, stop))
-
     if not apply:
-        out = run(0, len(t))
+        navigator = PocketNavigator(config)
+        out = navigator.process(samples)
         for step in out.steps:
             _record(estimator.push(step_sample(step)), log)
         _record(estimator.finish(), log)
         return navigator, out, log
-    outputs, start = [], 0
+    loop, start = ChunkLoop(config), 0
     for end in np.searchsorted(t, np.arange(t[0], t[-1] + CHUNK_S, CHUNK_S)[1:], "left"):
-        while start < end:
-            before.remember(t[start], navigator)
-            out = run(start, end)
-            step, corrections = _estimate(estimator, out.steps, log)
-            if step is None:
-                outputs.append(out)
-                start = end
-                continue
-            stop = max(int(np.searchsorted(t, step.t_confirm, "right")), start + 1)
-            navigator = before.revert_to(t[stop - 1]).state
-            outputs.append(run(start, stop))
-            for correction in corrections:
-                ok, message = navigator.apply_correction(correction)
-                log.corrections.append((step.t, ok, message))
-            start = stop
-    return navigator, NavigatorOutput.concatenate(outputs), log
+        if end <= start:
+            continue
+        pending = list(loop.run(samples.part(start, end)).steps)
+        while pending:
+            step = pending.pop(0)
+            for correction in _record(estimator.push(step_sample(step)), log).corrections:
+                answer = loop.replay.correct(loop, correction, step.t_confirm)
+                log.corrections.append((step.t, answer.accepted, answer.message))
+                if answer.accepted:
+                    pending = [s for out in answer.revised for s in out.steps]
+        start = end
+    return loop.navigator, loop.output(), log
 
 
-def _estimate(estimator: DriftEstimator, steps: list[StepRecord], log: DriftLog):
-    """Steps to the drift estimator until one brings corrections: that step and its
-    corrections, or (None, [])."""
-    for step in steps:
-        result = _record(estimator.push(step_sample(step)), log)
-        if result.corrections:
-            return step, result.corrections
-    return None, []
+@dataclass
+class Rerun:
+    """The navigator kept before a chunk, taking its samples up to a correction again
+    (pdr_core.replay.Worker), with what they give: the chunk's output up to there."""
+
+    navigator: PocketNavigator
+    outputs: list[NavigatorOutput] = field(default_factory=list)
+
+    def rerun(self, item: Samples | TakenCorrection) -> None:
+        if isinstance(item, TakenCorrection):
+            self.navigator.rerun(item)
+        else:
+            self.outputs.append(self.navigator.process(item))
+
+    def apply_correction(self, correction: Correction) -> tuple[bool, str]:
+        return self.navigator.apply_correction(correction)
+
+
+class ChunkLoop:
+    """The navigator over the record's chunks, its state kept before each
+    (pdr_core.replay, one checkpoint), a correction taken at its step's sample and the
+    chunk's samples since run again (pdr_core.replay.Replayable)."""
+
+    def __init__(self, config: PocketConfig) -> None:
+        self.navigator = PocketNavigator(config)
+        self.replay: Replay[PocketNavigator, Samples] = Replay(
+            PocketNavigator.copy_state, np.inf, capacity=1)
+        self.done: list[NavigatorOutput] = []       # the chunks before this one
+        self.chunk: list[NavigatorOutput] = []      # this one's, since its checkpoint
+
+    def run(self, part: Samples) -> NavigatorOutput:
+        """A new chunk, its checkpoint before it: its output."""
+        self.done += self.chunk
+        self.chunk = []
+        self.replay.history.remember(float(part.t[0]), self.navigator)
+        [out] = self.take(part)
+        return out
+
+    def output(self) -> NavigatorOutput:
+        """The whole record's output, corrections taken."""
+        return NavigatorOutput.concatenate(self.done + self.chunk)
+
+    @staticmethod
+    def worker(state: PocketNavigator) -> Rerun:
+        return Rerun(state)
+
+    def adopt(self, worker: Rerun) -> None:
+        self.navigator, self.chunk = worker.navigator, worker.outputs
+
+    def take(self, item: Samples | TakenCorrection) -> list[NavigatorOutput]:
+        if isinstance(item, TakenCorrection):
+            self.navigator.rerun(item)
+            self.replay.history.record(item, item.t_s)
+            return []
+        out = self.navigator.process(item)
+        self.replay.history.record(item, item.end_s)
+        self.chunk.append(out)
+        return [out]
 
 
 def _record(result: StepResult, log: DriftLog) -> StepResult:

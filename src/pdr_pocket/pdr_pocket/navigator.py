@@ -25,6 +25,7 @@ from dataclasses import replace
 import numpy as np
 
 from pdr_core.correction import Correction
+from pdr_core.replay import TakenCorrection
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.corrections import CorrectionTaker
 from pdr_pocket.height_filter import BarometerStatus
@@ -128,6 +129,14 @@ class PocketNavigator:
         """Take ``correction`` whole or not at all (pdr_pocket.corrections): (accepted,
         what was done or why not). Its stamp is the caller's (pdr_pocket.streaming)."""
         return self.taker.take(correction)
+
+    def rerun(self, item: Samples | TakenCorrection) -> None:
+        """A kept input again, on a replay (pdr_core.replay.Worker): a chunk of samples,
+        or a correction taken before (gated again)."""
+        if isinstance(item, TakenCorrection):
+            self.apply_correction(item.correction)
+        else:
+            self.process(item)
 
     # --- what the result says ---------------------------------------------------------
     def detection(self) -> dict:

@@ -38,8 +38,9 @@ result whatever the chunks, pdr_pocket.navigator):
   are inputs too, so one that reaches further back runs them again in their place. A
   stamp older than the window, or later than the last sample processed, is refused by
   name; a zero stamp applies the correction now, to the current state. The steps run
-  again come back with the answer (:class:`CorrectionResult`): they replace the ones
-  given out before the call came.
+  again come back with the answer (pdr_core.replay.CorrectionResult, their
+  :class:`Revised`): they replace the ones given out before the call came. The replay
+  is pdr_core.replay's, the foot's too.
 """
 from __future__ import annotations
 
@@ -47,11 +48,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.checkpoints import Checkpoints
 from pdr_core.correction import Correction
 from pdr_core.errors import InputError
 from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
+from pdr_core.replay import CorrectionResult, Replay, TakenCorrection
 from pdr_core.sample_pairing import readings_at_samples
 from pdr_pocket.compiled_orientation import ATT_ROWS
 from pdr_pocket.config import PocketConfig
@@ -148,28 +149,6 @@ class Revised:
     attitude: np.ndarray
 
 
-@dataclass(frozen=True)
-class CorrectionResult:
-    """What became of a correction: accepted, what was done or why not, and the steps
-    after its stamp run again with it (stamped and accepted only)."""
-
-    accepted: bool
-    message: str
-    revised: list[Revised] = field(default_factory=list)
-
-
-@dataclass(frozen=True)
-class TakenCorrection:
-    """A correction the navigator took at ``t_s`` [s of its time], kept among its inputs
-    so that a correction reaching further back runs it again in its place."""
-
-    t_s: float
-    correction: Correction
-
-
-Input = Samples | TakenCorrection
-
-
 @dataclass
 class Readings:
     """A sensor's readings (pdr_pocket.sensor_inputs) not yet on a sample: stamps [ns]
@@ -212,7 +191,7 @@ class StreamingPocket:
     def reset(self) -> None:
         self.navigator = PocketNavigator(self.config)
         # the navigator's state at past instants [s] and the inputs taken since
-        self.history: Checkpoints[PocketNavigator, Input] = Checkpoints(
+        self.replay: Replay[PocketNavigator, Samples] = Replay(
             PocketNavigator.copy_state, self.correction_window_s)
         self.corrections = {"accepted": 0, "refused": 0}
         self.last_stamp_ns: int | None = None
@@ -410,16 +389,16 @@ class StreamingPocket:
         with a checkpoint before each, :data:`CHECKPOINT_EVERY_S` apart at least."""
         t, outputs, start = samples.t, [], 0
         while start < len(t):
-            latest = self.history.latest_s
+            latest = self.replay.history.latest_s
             if latest is None or t[start] - latest >= CHECKPOINT_EVERY_S:
                 latest = float(t[start])
-                self.history.remember(latest, navigator)
+                self.replay.history.remember(latest, navigator)
             end = int(np.searchsorted(t, latest + CHECKPOINT_EVERY_S, side="left"))
             end = max(end, start + 1)
             part = samples.part(start, end)
             outputs.append(navigator.process(part))
             self.tail.extend(outputs[-1].attitude)
-            self.history.record(part, float(t[end - 1]))
+            self.replay.history.record(part, float(t[end - 1]))
             start = end
         return outputs[0] if len(outputs) == 1 else NavigatorOutput.concatenate(outputs)
 
@@ -433,35 +412,32 @@ class StreamingPocket:
             accepted, message = self.navigator.apply_correction(correction)
             if accepted and self.processed_ns is not None:
                 t_now = self._time_s(self.processed_ns)
-                self.history.record(TakenCorrection(t_now, correction), t_now)
+                self.replay.history.record(TakenCorrection(t_now, correction), t_now)
             return self._counted(CorrectionResult(accepted, message))
         problem = self._stamp_problem(stamp_ns)
         if problem is not None:
             return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
-        t_c = self._time_s(stamp_ns)
-        looked = self.history.look_back(t_c)
-        navigator = looked.state
-        before, after = _split(looked.inputs, t_c)
-        for item in before:
-            _run(navigator, item)
-        accepted, message = navigator.apply_correction(correction)
-        if not accepted:
-            return self._counted(CorrectionResult(False, message))
-        reverted = self.history.revert_to(looked.t_s)
-        self.history.remember(reverted.t_s, reverted.state)
-        for item in [*before, TakenCorrection(t_c, correction)]:
-            self.history.record(item, _end_s(item))
-        revised = []
-        for item in after:
-            if isinstance(item, TakenCorrection):
-                _run(navigator, item)
-                self.history.record(item, item.t_s)
-                continue
-            out = self._run_kept(navigator, item)
-            revised += [Revised(stamp_of(self.t0_ns, s.t_confirm), s, self.tail.at(s)[0])
-                        for s in out.steps]
-        self.navigator = navigator
-        return self._counted(CorrectionResult(True, message, revised))
+        return self._counted(self.replay.correct(self, correction, self._time_s(stamp_ns)))
+
+    # --- the replay's side (pdr_core.replay.Replayable) -------------------------------
+    @staticmethod
+    def worker(state: PocketNavigator) -> PocketNavigator:
+        """The navigator kept at a past instant (the replay's copy) runs the inputs again
+        itself."""
+        return state
+
+    def adopt(self, worker: PocketNavigator) -> None:
+        self.navigator = worker
+
+    def take(self, item: Samples | TakenCorrection) -> list[Revised]:
+        """An input taken again and kept: the steps a chunk gives, run again."""
+        if isinstance(item, TakenCorrection):
+            self.navigator.rerun(item)
+            self.replay.history.record(item, item.t_s)
+            return []
+        out = self._run_kept(self.navigator, item)
+        return [Revised(stamp_of(self.t0_ns, s.t_confirm), s, self.tail.at(s)[0])
+                for s in out.steps]
 
     def _stamp_problem(self, stamp_ns: int) -> str | None:
         """Why no kept state serves a correction stamped ``stamp_ns`` [ns] (None: one
@@ -471,7 +447,7 @@ class StreamingPocket:
         if stamp_ns > self.processed_ns:
             return (f"stamp {stamp_ns} ns is after the last sample processed "
                     f"({self.processed_ns} ns): no step of this navigator")
-        instants = self.history.instants
+        instants = self.replay.history.instants
         t_c = self._time_s(stamp_ns)
         if not instants or t_c < instants[0]:
             oldest = "nothing kept" if not instants else \
@@ -489,31 +465,3 @@ class StreamingPocket:
     def _counted(self, result: CorrectionResult) -> CorrectionResult:
         self.corrections["accepted" if result.accepted else "refused"] += 1
         return result
-
-
-def _run(navigator: PocketNavigator, item: Input) -> NavigatorOutput | None:
-    """One kept input run again: a chunk of samples, or a correction taken."""
-    if isinstance(item, TakenCorrection):
-        navigator.apply_correction(item.correction)
-        return None
-    return navigator.process(item)
-
-
-def _end_s(item: Input) -> float:
-    """The instant of an input's last sample, or of a correction [s]."""
-    return item.t_s if isinstance(item, TakenCorrection) else item.end_s
-
-
-def _split(items: list[Input], t_s: float) -> tuple[list[Input], list[Input]]:
-    """The inputs at or before ``t_s`` [s] and those after it, a chunk cut in two at it."""
-    before, after = [], []
-    for item in items:
-        if isinstance(item, TakenCorrection):
-            (before if item.t_s <= t_s else after).append(item)
-            continue
-        early, late = item.split(t_s)
-        if len(early):
-            before.append(early)
-        if len(late):
-            after.append(late)
-    return before, after

@@ -71,10 +71,10 @@ from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_tf import TfBroadcaster
 from pdr_core.node_wiring import wiring
+from pdr_core.replay import CorrectionResult
 from pdr_core.rotations import quaternion_from_orthonormal
 from pdr_core.topics import graph_name
 from pdr_ins_ekf.config import load_run_config
-from pdr_ins_ekf.correctable import CorrectionResult
 from pdr_ins_ekf.offline import FootRun, output_batches, pose_path, step_path, stride_batches
 from pdr_ins_ekf.streaming import StreamingNavigator
 from pdr_ins_ekf.strides import Stride
@@ -241,7 +241,7 @@ class ZuptEkfNode(Node):
         tally = f"({counts['accepted']} accepted, {counts['refused']} refused so far)"
         at = f" at stamp {stamp} ns" if stamp else " now"
         if result.accepted:    # one severity per call site: rclpy refuses a logger that changes it
-            revised = [] if result.revised is None else result.revised.strides
+            revised = [s for part in result.revised for s in part.strides]
             self.get_logger().info(f"correction accepted{at} {tally}, {len(revised)} "
                                    f"strides run again: {result.message}")
             if stamp:

@@ -76,6 +76,7 @@ from pdr_core.node_main import spin_node
 from pdr_core.node_params import declare, refuse_removed
 from pdr_core.node_tf import TfBroadcaster
 from pdr_core.node_wiring import wiring
+from pdr_core.replay import CorrectionResult
 from pdr_core.ros_types import message_class
 from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
@@ -91,12 +92,7 @@ from pdr_pocket.messages import (
 )
 from pdr_pocket.placement import UNKNOWN, stride_choice, walk_placement
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
-from pdr_pocket.streaming import (
-    CORRECTION_WINDOW_S,
-    MAG_WAIT_S,
-    CorrectionResult,
-    StreamingPocket,
-)
+from pdr_pocket.streaming import CORRECTION_WINDOW_S, MAG_WAIT_S, StreamingPocket
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
 IMPLAUSIBLE_WARN_S = 30.0   # implausible strides or speed: said at most this often
