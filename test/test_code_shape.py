@@ -129,7 +129,11 @@ WRAP = re.compile(r"np\.angle\(np\.exp\(|%\s*\(2(\.0)?\s*\*\s*(np|math)\.pi\)"
                   r"|arctan2\(np\.sin\((\w+)\),\s*np\.cos\(\3\)\)")
 TOPIC = re.compile(r"/?(pdr|imu|ground_truth)(/\w+)+")
 VOCABULARY = {"STANDING", "WALKING", "UPSTAIRS", "DOWNSTAIRS", "SITTING", "ACTIVITY_NAMES",
-              "CORNER", "STAIRS", "LANDMARK_NAMES", "FLOOR_HEIGHT_M"}
+              "CORNER", "STAIRS", "LANDMARK_NAMES", "FLOOR_HEIGHT_M", "ACTIVITY_COLOURS",
+              "ACTIVITY_LABELS", "ACTIVITY_VALUES", "LANDMARK_MARKERS"}
+# an activity or landmark type compared with a number, or a table sized by their count
+LITERAL_WORD = re.compile(r"\b(activity|activities|type)\b\s*(==|!=|<=|>=|<|>)\s*\d"
+                          r"|\d\s*(<=|<)\s*activity\b|\bzeros\(\(5, 5\)")
 HOMES = {"wrap": "pdr_core/angles.py", "topic": "pdr_core/topics.py",
          "frame": "pdr_core/frames.py", "vocabulary": "pdr_core/vocabulary.py"}
 
@@ -179,7 +183,22 @@ def test_the_activities_and_landmark_types_are_defined_once():
     assert hits == []
 
 
+def test_no_module_counts_or_numbers_the_activities_itself():
+    """Issue 56: a sixth activity or a third landmark type needs pdr_core.vocabulary and
+    pdr_msgs only: no ``activity <= 4``, ``type == 0`` or 5 × 5 table elsewhere."""
+    hits = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}" for path in outside("vocabulary")
+            for n, line in enumerate(path.read_text().splitlines(), 1)
+            if LITERAL_WORD.search(line)]
+    assert hits == []
+
+
 def test_the_vocabulary_patterns_catch_what_they_are_for():
+    for literal in ("not 0 <= activity <= 4", "if m.type == 0", "period.activity != 1",
+                    "confusion = np.zeros((5, 5), int)"):
+        assert LITERAL_WORD.search(literal), literal
+    for named in ("activity not in ACTIVITY_VALUES", "m.type == LandmarkType.CORNER",
+                  "np.zeros((len(Activity), len(Activity)))", "activity_index"):
+        assert not LITERAL_WORD.search(named), named
     for wrap in ("np.angle(np.exp(1j * x))", "(a + np.pi) % (2.0 * np.pi) - np.pi",
                  "(a + np.pi) % (2 * np.pi)", "np.arctan2(np.sin(d), np.cos(d))"):
         assert WRAP.search(wrap), wrap

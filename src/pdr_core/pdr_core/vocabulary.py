@@ -1,10 +1,16 @@
 """The words the packages share, defined once: activities, landmark types, floor height.
 
 - :class:`Activity`: what a person does during a step, the ``pdr_msgs/Step`` constants
-  (``STANDING`` … ``SITTING``); ``Activity.WALKING.label`` is the name reports use,
-  :data:`ACTIVITY_NAMES` all of them by value, :data:`STAIRS_ACTIVITIES` those on a flight.
+  (``STANDING`` … ``SITTING``); ``Activity.WALKING.label`` is the name reports use and
+  ``.colour`` the one every plot draws it in, :data:`ACTIVITY_NAMES` all the names by
+  value, :data:`STAIRS_ACTIVITIES` those on a flight, :data:`ACTIVITY_VALUES` the numbers
+  that are one.
 - :class:`LandmarkType`: the ``pdr_msgs/Landmark`` types (``CORNER``, ``STAIRS``);
-  ``LandmarkType.CORNER.label`` is the name logs use.
+  ``LandmarkType.CORNER.label`` is the name logs use, ``.marker`` the plots'.
+
+Nothing else counts them: a new activity or landmark type needs its colour or marker
+here and nothing in the reports, plots or checks (test_code_shape.py fails on a literal
+count or value).
 - :data:`FLOOR_HEIGHT_M`: the default height of one floor [m], from which a height becomes
   a floor index, round(z / FLOOR_HEIGHT_M).
 
@@ -32,8 +38,14 @@ class Activity(_Labelled):
     DOWNSTAIRS = 3
     SITTING = 4
 
+    @property
+    def colour(self) -> str:
+        """The Matplotlib colour every plot draws this activity in."""
+        return _ACTIVITY_COLOURS[self]
+
 
 ACTIVITY_NAMES = tuple(a.label for a in Activity)
+ACTIVITY_VALUES = frozenset(a.value for a in Activity)
 STAIRS_ACTIVITIES = (Activity.UPSTAIRS, Activity.DOWNSTAIRS)
 
 
@@ -46,11 +58,23 @@ class Ride(_Labelled):
     ESCALATOR = 2
 
 
+_ACTIVITY_COLOURS = {Activity.STANDING: "tab:gray", Activity.WALKING: "tab:blue",
+                     Activity.UPSTAIRS: "tab:green", Activity.DOWNSTAIRS: "tab:orange",
+                     Activity.SITTING: "tab:purple"}
+
+
 class LandmarkType(_Labelled):
     """pdr_msgs/Landmark types."""
 
     CORNER = 0
     STAIRS = 1
 
+    @property
+    def marker(self) -> str:
+        """The Matplotlib format string the plots mark this type with."""
+        return _LANDMARK_MARKERS[self]
+
+
+_LANDMARK_MARKERS = {LandmarkType.CORNER: "k^", LandmarkType.STAIRS: "gs"}
 
 FLOOR_HEIGHT_M = 3.5

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pdr_core.vocabulary import LandmarkType
 from pdr_drift.drift import DriftEstimate
 from pdr_drift.landmarks import Landmark
 
@@ -24,8 +25,8 @@ class DriftLog:
     def summary(self) -> dict:
         accepted = sum(1 for _, ok, _ in self.corrections if ok)
         return {"landmarks": len(self.landmarks),
-                "corners": sum(1 for m in self.landmarks if m.type == 0),
-                "stairs": sum(1 for m in self.landmarks if m.type == 1),
+                "corners": sum(1 for m in self.landmarks if m.type == LandmarkType.CORNER),
+                "stairs": sum(1 for m in self.landmarks if m.type == LandmarkType.STAIRS),
                 "associations": len(self.drifts),
                 "drift_deg_per_s": [float(np.degrees(d.drift)) for d in self.drifts],
                 "corrections_accepted": accepted,

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.vocabulary import FLOOR_HEIGHT_M
+from pdr_core.vocabulary import ACTIVITY_VALUES, FLOOR_HEIGHT_M
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.estimator import DriftEstimator, StepResult
@@ -46,7 +46,7 @@ class StreamingDrift:
                        "before_restart": 0}
 
     def push_step(self, stamp_ns: int, heading: float, activity: int) -> StepResult | None:
-        if not np.isfinite(heading) or not 0 <= activity <= 4:
+        if not np.isfinite(heading) or activity not in ACTIVITY_VALUES:
             self.counts["bad_step"] += 1
             return None
         return self._add(self.steps, stamp_ns, (float(heading), int(activity)))

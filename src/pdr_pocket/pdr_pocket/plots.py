@@ -98,7 +98,6 @@ def magnetometer_png(raw_ut: np.ndarray, calibrated_ut: np.ndarray, path: Path,
     plt.close(fig)
 
 
-ACTIVITY_COLOURS = ("tab:gray", "tab:blue", "tab:green", "tab:orange", "tab:purple")
 ELLIPSES_PER_WALK = 10  # about as many 1σ ellipses in a top view, the last step's among them
 ELLIPSE_INTERVALS = (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000)   # steps between ellipses
 ZOOM_ABOVE_S = 60.0     # a longer pitch trace gets a zoom on a few gait cycles
@@ -113,7 +112,7 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
                    final_error_m: float | None = None, loop_gap_m: float | None = None,
                    warnings: list[str] = ()) -> None:
     """The 3D path (``positions`` (N + 1, 3) [m] from the start, one point per step,
-    coloured by activity: level blue, up green, down orange; the height axis fitted to
+    coloured by activity (pdr_core.vocabulary.Activity.colour); the height axis fitted to
     them, a floor high at least with stairs steps, pdr_core.plot_layout), the top view
     with the 1σ position ellipses of :func:`ellipse_steps` (to scale unless it is a strip,
     then stretched and labelled so; the limits are the path's and the truth's, so
@@ -135,7 +134,7 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     for a in Activity:
         mask = activity == a
         if mask.any():
-            ax3.scatter(*positions[mask].T, s=4, color=ACTIVITY_COLOURS[a], label=a.label)
+            ax3.scatter(*positions[mask].T, s=4, color=a.colour, label=a.label)
     if truth is not None:
         ax3.plot(*truth.T, color="k", lw=0.6, label="truth")
         top.plot(truth[:, 0], truth[:, 1], color="k", lw=0.6, label="truth")

@@ -38,7 +38,7 @@ from pdr_core.consistency import (
     has_attitude,
 )
 from pdr_core.metrics import error_report
-from pdr_core.vocabulary import ACTIVITY_NAMES
+from pdr_core.vocabulary import ACTIVITY_NAMES, Activity
 from pdr_pocket.compiled_orientation import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.messages import step_positions
@@ -132,7 +132,7 @@ def navigation_report(out_steps: list[StepRecord], staircases: Staircases,
     true_activity = truth_steps["activity"]
     matched = match >= 0
     est_activity = np.array([s.activity for s in out_steps], int)
-    confusion = np.zeros((5, 5), int)
+    confusion = np.zeros((len(Activity), len(Activity)), int)
     np.add.at(confusion, (true_activity[matched], est_activity[match[matched]]), 1)
     true_distance = float(truth_steps["length"].sum())
     report |= {

@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from pdr_core.plot_layout import figure_title, height_axis, lay_out, top_view, walk_summary
-from pdr_core.vocabulary import STAIRS_ACTIVITIES
+from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity, LandmarkType
 from pdr_sim.trajectory import Trajectory
 
 
@@ -91,11 +91,6 @@ def trajectory_png(traj: Trajectory, path: Path, title: str, *, steps: int | Non
     plt.close(fig)
 
 
-ACTIVITY_COLOURS = {0: "tab:cyan", 1: "tab:blue", 2: "tab:green", 3: "tab:red",
-                    4: "tab:orange"}
-ACTIVITY_LABELS = {0: "standing", 1: "walking", 2: "upstairs", 3: "downstairs", 4: "sitting"}
-
-
 def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
     """A pocket walk: the route in 3D coloured by activity (stairs stand out) and from
     above with its landmarks; the thigh pitch with the true steps and the rests and the
@@ -110,8 +105,8 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
     points = route["start"] + route["step"]
     for activity in np.unique(steps.activity):
         sel = steps.activity == activity
-        ax3.scatter(*points[sel].T, s=4, color=ACTIVITY_COLOURS[int(activity)],
-                    label=ACTIVITY_LABELS[int(activity)])
+        ax3.scatter(*points[sel].T, s=4, color=Activity(activity).colour,
+                    label=Activity(activity).label)
     ax3.plot(*traj.position[::10].T, color="grey", lw=0.4)
     ax3.set(xlabel="east [m]", ylabel="north [m]", zlabel="up [m]", title="route (3D)")
     height_axis(ax3, np.r_[points[:, 2], traj.position[:, 2]],
@@ -120,7 +115,7 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
     top = fig.add_subplot(3, 2, 2)
     top.plot(traj.position[:, 0], traj.position[:, 1], color="grey", lw=0.6)
     for mark in model.landmarks:
-        top.plot(*mark.position[:2], "k^" if mark.type == 0 else "gs", ms=6)
+        top.plot(*mark.position[:2], LandmarkType(mark.type).marker, ms=6)
     top.set_title("top view, landmarks (▲ corner, ■ stairs)")
     top_view(top)
     whole = fig.add_subplot(3, 1, 2)
@@ -132,8 +127,8 @@ def pocket_png(model, traj: Trajectory, path: Path, title: str) -> None:
               label="thigh yaw (with hip sway)")
     twin.set_ylabel("yaw [deg]")
     twin.legend(loc="upper right", fontsize=8)
-    whole.set_title("thigh pitch and yaw; shaded: standing (cyan), sitting (orange)")
-    for column, activities in ((1, (1,)), (2, (2, 3))):
+    whole.set_title("thigh pitch and yaw; shaded: standing and sitting, in their colours")
+    for column, activities in ((1, (Activity.WALKING,)), (2, STAIRS_ACTIVITIES)):
         chosen = np.flatnonzero(np.isin(steps.activity, activities))
         ax = fig.add_subplot(3, 2, 4 + column)
         if len(chosen) >= 3:
@@ -155,14 +150,15 @@ def _pitch_panel(ax, model, t: np.ndarray) -> None:
     ax.plot(steps.end_s[inside], np.degrees(model.pitch(steps.end_s[inside])), "k.", ms=5,
             label="true step (heel strike)")
     for period in model.periods:
-        if period.activity != 1 and period.end_s > t[0] and period.start_s < t[-1]:
+        if period.activity != Activity.WALKING and period.end_s > t[0] \
+                and period.start_s < t[-1]:
             ax.axvspan(max(period.start_s, t[0]), min(period.end_s, t[-1]), alpha=0.15,
-                       color=ACTIVITY_COLOURS[period.activity])
-    for activity in (2, 3):
+                       color=Activity(period.activity).colour)
+    for activity in STAIRS_ACTIVITIES:
         ends = steps.end_s[inside & (steps.activity == activity)]
         if len(ends):
-            ax.plot(ends, np.full(len(ends), -20.0), "|", color=ACTIVITY_COLOURS[activity],
-                    ms=8, label=ACTIVITY_LABELS[activity])
+            ax.plot(ends, np.full(len(ends), -20.0), "|", color=activity.colour, ms=8,
+                    label=activity.label)
     ax.set(xlabel="t [s]", ylabel="pitch [deg]")
     ax.legend(loc="upper left", fontsize=8)
 
