@@ -106,7 +106,7 @@ def _run_attitude(args: argparse.Namespace) -> int:
     true_bias = record.get("true_gyro_bias_radps")
     report = attitude_report(inputs, estimate, truth, true_bias)
     with BagWriter(args.out, overwrite=args.overwrite) as writer:
-        writer.write_merged(attitude_batches(inputs, estimate, filt.params.gyro_noise_var))
+        writer.write_merged(attitude_batches(inputs, estimate, filt.gyro_noise_var))
         write_report(writer.staging, report)
         if args.plot:
             from pdr_pocket import plots

@@ -65,6 +65,11 @@ class PocketNavigator:
         return self.pitch_source.orientation
 
     @property
+    def gyro_noise_var(self) -> float:
+        """The orientation filter's σ_ν² [rad²/s²] per sample (its attitude messages')."""
+        return self.orientation.gyro_noise_var
+
+    @property
     def mounting(self):
         """The thigh frame's state (pdr_pocket.compiled_mounting)."""
         return self.pitch_source.mounting

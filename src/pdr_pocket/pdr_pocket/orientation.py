@@ -287,6 +287,12 @@ class OrientationFilter:
         return None if r is None else np.radians(r)
 
     @property
+    def gyro_noise_var(self) -> float:
+        """σ_ν² [rad²/s²] per sample at the nominal rate: the gyroscope's white noise the
+        filter assumes (what ``pdr/pocket/gyro_bias`` and the attitude messages state)."""
+        return self.params.gyro_noise_var
+
+    @property
     def gaps(self) -> int:
         """Gaps longer than ``max_gap_s`` the filter propagated over so far (0 before its
         first sample)."""

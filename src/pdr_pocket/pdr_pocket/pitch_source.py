@@ -21,6 +21,7 @@ and heading, and the stream the step detector sees.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -48,14 +49,25 @@ CASCADE_FACTOR = np.sqrt(np.sqrt(2.0) - 1.0)
 NO_GAIT_MIN_MOVING_S = 5.0                  # moving this long without a step: no thigh gait
 
 
+class PitchStream(NamedTuple):
+    """The samples the step detector sees, in order: their times ``t`` [s], the thigh's
+    pitch θ and heading [rad], the vertical specific force and its norm ``forces``
+    (M, 2) [m/s²], the yaw's and the tilt's variances ``variances`` (M, 2) [rad²]."""
+
+    t: np.ndarray
+    pitch: np.ndarray
+    heading: np.ndarray
+    forces: np.ndarray
+    variances: np.ndarray
+
+
 @dataclass(frozen=True)
 class PitchChunk:
     """A chunk's attitude C_b^n per sample, the thigh's pitch and heading [rad] per sample
     (NaN while the axes are unknown), the tilt between the sensor's and the thigh's up
     [rad] per sample, the specific force along the navigation frame's up [m/s²] per
-    sample, the mounting changes [s] found in it, and the detector's stream:
-    (t [s], θ, heading [rad], the vertical specific force and its norm (M, 2) [m/s²], the
-    yaw's and the tilt's variances (M, 2) [rad²]), held samples replayed in it."""
+    sample, the mounting changes [s] found in it, and the detector's stream
+    (:class:`PitchStream`), held samples replayed in it."""
 
     attitude: AttitudeEstimate
     pitch: np.ndarray
@@ -63,20 +75,23 @@ class PitchChunk:
     tilt: np.ndarray
     vertical_force: np.ndarray
     remounts_t: list[float]
-    stream: tuple
+    stream: PitchStream
 
 
 def mounting_params(config: PocketConfig) -> MountingParams:
+    """The thigh frame kernel's parameters from the configuration, in SI units."""
     m = config.mounting
-    return MountingParams(m.rpy_deg is not None, config.orientation.gravity_mps2,
-                          np.radians(m.rest_rate_deg_per_s), m.rest_acc_mps2, m.rest_min_s,
-                          np.radians(m.standing_max_angle_deg),
-                          np.radians(m.moved_min_angle_deg),
-                          np.radians(m.moving_rate_deg_per_s), m.flexion_time_constant_s,
-                          m.flexion_min_s, np.radians(m.turned_min_angle_deg), m.turned_min_s,
-                          m.turned_time_constant_s, np.radians(m.turned_angle_deg),
-                          np.radians(m.turned_pitch_angle_deg),
-                          np.radians(m.walking_pitch_deg), True)
+    return MountingParams(
+        fixed=m.rpy_deg is not None, gravity=config.orientation.gravity_mps2,
+        rest_rate=np.radians(m.rest_rate_deg_per_s), rest_acc=m.rest_acc_mps2,
+        rest_min_s=m.rest_min_s, standing_max_angle=np.radians(m.standing_max_angle_deg),
+        moved_min_angle=np.radians(m.moved_min_angle_deg),
+        moving_rate=np.radians(m.moving_rate_deg_per_s),
+        flexion_tau_s=m.flexion_time_constant_s, flexion_min_s=m.flexion_min_s,
+        turned_min_angle=np.radians(m.turned_min_angle_deg), turned_min_s=m.turned_min_s,
+        turned_tau_s=m.turned_time_constant_s, turned_angle=np.radians(m.turned_angle_deg),
+        turned_pitch_angle=np.radians(m.turned_pitch_angle_deg),
+        walking_pitch=np.radians(m.walking_pitch_deg), skew_check=True)
 
 
 def sample_turns(t: np.ndarray, gyro: np.ndarray | None, attitude: AttitudeEstimate,
@@ -228,10 +243,9 @@ class PitchSource:
         return attitude, motion * scale
 
     def _stream(self, t, c, forces, variances, pitch, heading, known, up, flex):
-        """The samples the detector sees, in order: (t, θ, heading, the vertical
-        specific force and its norm (N, 2), yaw and tilt variances (N, 2)), with the
-        pending samples given the axes of the first known sample after them. Runs of
-        known and unknown samples are taken whole."""
+        """The samples the detector sees (:class:`PitchStream`), with the pending samples
+        given the axes of the first known sample after them. Runs of known and unknown
+        samples are taken whole."""
         change = np.flatnonzero(np.diff(known.astype(np.int8))) + 1
         segments = []
         for a, b in zip([0, *change], [*change, len(t)], strict=True):
@@ -244,8 +258,9 @@ class PitchSource:
                 segments.append(self._replay(up[a], flex[a], t, pitch, heading))
             segments.append((t[a:b], pitch[a:b], heading[a:b], forces[a:b], variances[a:b]))
         if not segments:
-            return (*(np.empty(0) for _ in range(3)), np.empty((0, 2)), np.empty((0, 2)))
-        return tuple(np.concatenate(parts) for parts in zip(*segments, strict=True))
+            return PitchStream(*(np.empty(0) for _ in range(3)), np.empty((0, 2)),
+                               np.empty((0, 2)))
+        return PitchStream(*(np.concatenate(parts) for parts in zip(*segments, strict=True)))
 
     def _hold(self, t, c, forces, variances) -> None:
         """Keep samples while the axes are unknown, the last ``replay_s`` of them."""

@@ -185,7 +185,7 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
         config.stairs.floor_height_m), default_flow_style=None, sort_keys=False)
     with BagWriter(out, overwrite=overwrite, custom_data={RUN_RECORD: record_text}) as writer:
         writer.write_merged(attitude_batches(inputs, result.attitude,
-                                             navigator.orientation.params.gyro_noise_var)
+                                             navigator.gyro_noise_var)
                             | step_batches(result, inputs.stamp_ns)
                             | step_tf(result, inputs.stamp_ns))
         if steps:

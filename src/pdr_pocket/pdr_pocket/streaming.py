@@ -59,6 +59,7 @@ from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.navigator import PocketNavigator
 from pdr_pocket.orientation import AttitudeEstimate
+from pdr_pocket.placement import Placement, walk_placement
 from pdr_pocket.records import NavigatorOutput, StepRecord
 from pdr_pocket.samples import Samples
 
@@ -211,6 +212,24 @@ class StreamingPocket:
         self.counts = {"non_finite": 0, "implausible": 0, "stamp_not_increasing": 0,
                        "mag_non_finite": 0,
                        "mag_missing": 0}
+
+    # --- what the navigator says of itself ------------------------------------------
+    @property
+    def gyro_noise_var(self) -> float:
+        """The orientation filter's σ_ν² [rad²/s²] per sample (its attitude messages')."""
+        return self.navigator.gyro_noise_var
+
+    def bound_warning(self) -> str | None:
+        """Strides cut to what a person walks, said (None: none)."""
+        return self.navigator.bound_warning()
+
+    def speed_warning(self) -> str | None:
+        """A walk faster than a person walks, said (None: it is not)."""
+        return self.navigator.speed_warning()
+
+    def placement(self) -> Placement:
+        """Where the phone rides, its stride model and why (pdr_pocket.placement)."""
+        return walk_placement(self.navigator)
 
     @property
     def mag_stale(self) -> bool:

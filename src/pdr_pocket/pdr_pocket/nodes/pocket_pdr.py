@@ -90,7 +90,7 @@ from pdr_pocket.messages import (
     pose_fields,
     step_fields,
 )
-from pdr_pocket.placement import UNKNOWN, stride_choice, walk_placement
+from pdr_pocket.placement import UNKNOWN, stride_choice
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
 from pdr_pocket.streaming import CORRECTION_WINDOW_S, MAG_WAIT_S, StreamingPocket
 
@@ -135,7 +135,7 @@ class PocketPdrNode(Node):
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
         self.navigator = StreamingPocket(config, calibration, mag_wait_s, window_s)
-        self.gyro_noise_var = self.navigator.navigator.orientation.params.gyro_noise_var
+        self.gyro_noise_var = self.navigator.gyro_noise_var
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
                          if durability == "transient_local" else DurabilityPolicy.VOLATILE)
@@ -179,7 +179,7 @@ class PocketPdrNode(Node):
             f"pocket_pdr: configuration {path or 'default'}; map frame {self.map_frame}, "
             f"sensor frame {self.sensor_frame}; {self.tf.describe()}; "
             f"{self.mag_topic}: {magnetometer}; "
-            f"strides: {stride_choice(self.navigator.navigator.config.step_length)}; "
+            f"strides: {stride_choice(self.navigator.config.step_length)}; "
             f"{wiring(self)}")
 
     def on_imu(self, raw: bytes) -> None:
@@ -362,13 +362,12 @@ class PocketPdrNode(Node):
         """The placement found, once each time it changes, with its stride model and why;
         strides cut to the bound and a walk faster than a person's (throttled: each says
         its count so far)."""
-        navigator = self.navigator.navigator
-        bound, speed = navigator.bound_warning(), navigator.speed_warning()
+        bound, speed = self.navigator.bound_warning(), self.navigator.speed_warning()
         if bound is not None:
             self.get_logger().warning(bound, throttle_duration_sec=IMPLAUSIBLE_WARN_S)
         if speed is not None:
             self.get_logger().warning(speed, throttle_duration_sec=IMPLAUSIBLE_WARN_S)
-        found = walk_placement(navigator)
+        found = self.navigator.placement()
         if found.placement != self.placement_told:
             self.get_logger().info(f"placement: {found.placement} ({found.why}); strides "
                                    f"from the {found.model} model")
