@@ -3,9 +3,12 @@ drift corrections, writing its messages (:mod:`pdr_pocket.messages`), its report
 (:mod:`pdr_pocket.run_report`, and the drift's against the truth,
 :mod:`pdr_drift.drift_report`) and optionally its plot.
 
-- :func:`run_bag`: the run. Its input is checked first (pdr_core.walk_plausibility: a
-  median |f| no walk gives, a swing many times a thigh's): each problem a warning, the
-  first of the report's, or with ``strict`` an InputError. A phone that is not in a
+- :func:`run_bag`: the run, three jobs: :func:`navigate_bag` (the navigator on the bag,
+  a :class:`PocketRun`), :func:`report_of` (what it gave) and :func:`write_run` (the
+  messages, the report and the plot, :func:`plot_run`). Its input is checked first
+  (pdr_core.walk_plausibility: a median |f| no walk gives, a swing many times a
+  thigh's): each problem a warning, the first of the report's, or with ``strict`` an
+  InputError. A phone that is not in a
   pocket (pdr_pocket.placement's verdict) is refused: its report and attitude are
   written, no step, pose or path (``report["refused"]``; the CLI exits
   pdr_core.walk_plausibility.EXIT_REFUSED, 3);
@@ -16,7 +19,9 @@ drift corrections, writing its messages (:mod:`pdr_pocket.messages`), its report
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -112,17 +117,41 @@ def run_record(steps: list[StepRecord], imu_stamp_ns: np.ndarray, start_ns: int,
             "step_t_s": [float(s.t) for s in steps]}
 
 
-def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *,
-            plot: bool = False, overwrite: bool = False, drift: str = "none",
-            drift_config=None, strict: bool = False) -> dict:
-    """``pdr-pocket run``: navigate ``bag`` and write ``out`` (module docstring); with
-    ``drift`` online or offline, with the landmark drift corrections
-    (pdr_pocket.drift_loop)."""
+@dataclass
+class PocketRun:
+    """What the navigator made of a bag (:func:`navigate_bag`): the bag's ``reader``, its
+    topics read (``batches``) and the navigator's ``inputs``; the ``navigator`` after the
+    walk, its ``result`` (no step when the walk is refused) and the ``drift_log`` (None
+    without the drift loop); the ``placement`` found, the input's ``problems`` and whether
+    the walk is ``refused``; each step's stamp [ns] and the true positions at the start
+    and at each step (None without a truth)."""
+
+    reader: Any
+    batches: dict
+    inputs: PocketInputs
+    navigator: Any
+    result: NavigatorOutput
+    drift_log: Any
+    placement: dict
+    problems: list[str]
+    refused: bool
+    stamps: np.ndarray
+    truth_positions: np.ndarray | None
+
+    @property
+    def truth_steps(self):
+        """ground_truth/step (None: none)."""
+        from pdr_core import topics
+        return self.batches.get(topics.GROUND_TRUTH_STEP)
+
+
+def navigate_bag(bag: Path, config, mag_calibration: Path | None = None, *,
+                 drift: str = "none", drift_config=None, strict: bool = False) -> PocketRun:
+    """The pocket navigator on ``bag``: with ``drift`` online or offline, with the
+    landmark drift corrections (pdr_pocket.drift_loop); its input checked (module
+    docstring). Nothing is written: :func:`report_of` says what it gave."""
     from pdr_core import topics
-    from pdr_core.bag import BagWriter
     from pdr_core.metrics import truth_at
-    from pdr_core.msgtypes import PATH
-    from pdr_core.nav_path import encode_path
     from pdr_pocket.inputs import read_pocket_bag
     from pdr_pocket.navigator import PocketNavigator
 
@@ -145,23 +174,31 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
     refusal = placement["placement"] == NOT_IN_POCKET
     if refusal:
         result = refused(result)
-    steps = result.steps
-    stamps = step_stamps(steps, inputs.stamp_ns, inputs.t)
-    truth_steps = batches.get(topics.GROUND_TRUTH_STEP)
+    stamps = step_stamps(result.steps, inputs.stamp_ns, inputs.t)
     truth_pose = batches.get(topics.GROUND_TRUTH_POSE)
-    truth_positions = None
-    if truth_pose is not None:
-        truth_positions = truth_at(truth_pose, np.r_[inputs.stamp_ns[0], stamps])
-    record = reader.custom_data("pdr.simulation") or {}
-    footfalls = 0 if refusal else navigator.footfalls
-    report = navigation_report(steps, Staircases() if refusal else navigator.staircases,
-                               truth_steps, truth_positions, int(inputs.stamp_ns[0]),
-                               true_floors(record), footfalls)
-    report |= {"refused": refusal, "samples": len(inputs.t), "dropped": inputs.counts,
+    truth_positions = None if truth_pose is None else \
+        truth_at(truth_pose, np.r_[inputs.stamp_ns[0], stamps])
+    return PocketRun(reader, batches, inputs, navigator, result, drift_log, placement,
+                     problems, refusal, stamps, truth_positions)
+
+
+def report_of(run: PocketRun, config, drift: str = "none") -> dict:
+    """The report of a run (pdr_pocket.run_report; every field: docs/reports.md), with
+    the drift's against the truth when the bag has one."""
+    from pdr_core import topics
+    from pdr_pocket.navigator import PocketNavigator
+
+    navigator, inputs, steps = run.navigator, run.inputs, run.result.steps
+    footfalls = 0 if run.refused else navigator.footfalls
+    report = navigation_report(steps, Staircases() if run.refused else navigator.staircases,
+                               run.truth_steps, run.truth_positions, int(inputs.stamp_ns[0]),
+                               true_floors(run.reader.custom_data("pdr.simulation") or {}),
+                               footfalls)
+    report |= {"refused": run.refused, "samples": len(inputs.t), "dropped": inputs.counts,
                "mounting_changes": int(navigator.mounting.scalars[CHANGES]),
                "detection": navigator.detection(),
-               "placement": placement,
-               "inputs": {"magnetometer": magnetometer_use(inputs, result.attitude),
+               "placement": run.placement,
+               "inputs": {"magnetometer": magnetometer_use(inputs, run.result.attitude),
                           "barometer": navigator.barometer_status().as_dict()},
                "stairs_refused": dict(navigator.staircases.check.refused),
                "step_length": {"model": config.step_length.model,
@@ -169,44 +206,73 @@ def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *
                                "height_m": config.person.height_m,
                                "scale": height_scale(config.step_length, config.person.height_m),
                                "bounded_steps": navigator.bounded_steps},
-               "warnings": problems + ([] if refusal else navigator.warnings())}
+               "warnings": run.problems + ([] if run.refused else navigator.warnings())}
     if navigator.barometer() is not None:
         report["barometer"] = navigator.barometer()
-    if drift_log is not None:
-        report["drift"] = {"mode": drift, **drift_log.summary()}
-        if truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in batches:
+    if run.drift_log is not None:
+        report["drift"] = {"mode": drift, **run.drift_log.summary()}
+        if run.truth_steps is not None and topics.GROUND_TRUTH_LANDMARKS in run.batches:
             report["drift"] |= _drift_against_truth(
-                drift_log, reader, batches, inputs, result, truth_positions,
-                PocketNavigator(config).process(inputs.samples))
+                run.drift_log, run.reader, run.batches, inputs, run.result,
+                run.truth_positions, PocketNavigator(config).process(inputs.samples))
+    return report
+
+
+def write_run(run: PocketRun, report: dict, out: Path, floor_height_m: float, *,
+              overwrite: bool = False, plot_source: Path | None = None) -> None:
+    """The run's messages, its record (:func:`run_record`) and ``report`` into the bag
+    ``out``; with ``plot_source`` (the input's name for the title), its plot too."""
     import yaml
 
+    from pdr_core import topics
+    from pdr_core.bag import BagWriter
+    from pdr_core.msgtypes import PATH
+    from pdr_core.nav_path import encode_path
+
+    inputs, result, steps, stamps = run.inputs, run.result, run.result.steps, run.stamps
     record_text = yaml.safe_dump(run_record(
-        steps, batches[topics.IMU_DATA].stamp_ns, int(inputs.stamp_ns[0]), footfalls,
-        config.stairs.floor_height_m), default_flow_style=None, sort_keys=False)
+        steps, run.batches[topics.IMU_DATA].stamp_ns, int(inputs.stamp_ns[0]),
+        report["footfalls"], floor_height_m), default_flow_style=None, sort_keys=False)
     with BagWriter(out, overwrite=overwrite, custom_data={RUN_RECORD: record_text}) as writer:
         writer.write_merged(attitude_batches(inputs, result.attitude,
-                                             navigator.gyro_noise_var)
+                                             run.navigator.gyro_noise_var)
                             | step_batches(result, inputs.stamp_ns)
                             | step_tf(result, inputs.stamp_ns))
         if steps:
             writer.write_raw(topics.POCKET_PATH, PATH, int(stamps[-1]),
                              encode_path(path_batch(steps, stamps), int(stamps[-1]), MAP_FRAME))
         write_report(writer.staging, report)
-        if plot:
-            from pdr_pocket import plots
-            positions = step_positions(steps)
-            covariances = np.concatenate([
-                np.zeros((1, 3, 3)), np.array([s.covariance for s in steps]).reshape(-1, 3, 3)])
-            activity = np.r_[0, [s.activity for s in steps]].astype(int)
-            true_t = None if truth_steps is None else \
-                (truth_steps.stamp_ns - inputs.stamp_ns[0]) * 1e-9
-            plots.navigation_png(positions, covariances, activity,
-                                 None if truth_positions is None
-                                 else truth_positions - truth_positions[0],
-                                 inputs.t, np.degrees(result.pitch),
-                                 np.array([s.t for s in steps]), true_t,
-                                 writer.staging / "path.png", bag, *_drift_marks(drift_log),
-                                 final_error_m=report.get("final_error_m"),
-                                 loop_gap_m=report.get("loop_gap_m"),
-                                 warnings=report["warnings"])
+        if plot_source is not None:
+            plot_run(run, report, writer.staging / "path.png", plot_source)
+
+
+def plot_run(run: PocketRun, report: dict, path: Path, source: Path) -> None:
+    """The run's path, pitch and steps (pdr_pocket.plots.navigation_png) into ``path``."""
+    from pdr_pocket import plots
+
+    steps, inputs, truth_steps = run.result.steps, run.inputs, run.truth_steps
+    covariances = np.concatenate([
+        np.zeros((1, 3, 3)), np.array([s.covariance for s in steps]).reshape(-1, 3, 3)])
+    activity = np.r_[0, [s.activity for s in steps]].astype(int)
+    true_t = None if truth_steps is None else \
+        (truth_steps.stamp_ns - inputs.stamp_ns[0]) * 1e-9
+    truth = None if run.truth_positions is None else \
+        run.truth_positions - run.truth_positions[0]
+    plots.navigation_png(step_positions(steps), covariances, activity, truth, inputs.t,
+                         np.degrees(run.result.pitch), np.array([s.t for s in steps]),
+                         true_t, path, source, *_drift_marks(run.drift_log),
+                         final_error_m=report.get("final_error_m"),
+                         loop_gap_m=report.get("loop_gap_m"), warnings=report["warnings"])
+
+
+def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *,
+            plot: bool = False, overwrite: bool = False, drift: str = "none",
+            drift_config=None, strict: bool = False) -> dict:
+    """``pdr-pocket run``: navigate ``bag`` (:func:`navigate_bag`), report
+    (:func:`report_of`) and write ``out`` (:func:`write_run`); its report."""
+    run = navigate_bag(bag, config, mag_calibration, drift=drift, drift_config=drift_config,
+                       strict=strict)
+    report = report_of(run, config, drift)
+    write_run(run, report, out, config.stairs.floor_height_m, overwrite=overwrite,
+              plot_source=bag if plot else None)
     return report
