@@ -455,9 +455,9 @@ def count_touchdown(state, stance):
 
 @njit(cache=True)
 def covariance_scale(state, params):
-    """The factor λ the published covariance is P times: with ``innovation_scale``, the
-    mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (:func:`count_touchdown`; 1 before the first
-    touchdown), else 1.
+    """The factor λ the published covariance scales P's white noises' part by, λ·(P − Pb)
+    + Pb (:func:`bias_share`): with ``innovation_scale``, the mean touchdown
+    νᵀ·P_v⁻¹·ν / 3 so far (:func:`count_touchdown`; 1 before the first touchdown), else 1.
 
     Covariance matching (Mehra, "Approaches to adaptive filtering", IEEE TAC 17(5), 1972;
     Maybeck, Stochastic Models, Estimation and Control, vol. 2, 1982, ch. 10): if the
@@ -467,7 +467,8 @@ def covariance_scale(state, params):
     stays the tuned filter's and the covariance published with it is λ·P, λ measured on
     the walk itself: a foot that is never quite still in stance, or an IMU whose errors
     are not the configured white noise, shows in the velocity the INS has gathered at
-    touchdown (docs/foot_ins.md, "Covariance honesty")."""
+    touchdown (docs/foot_ins.md, "Covariance honesty"). A bias, nearly the same through
+    many strides, does not: its share keeps the configured bias model."""
     if params.innovation_scale and state.nis[NIS_COUNT] > 0.0:
         return state.nis[NIS_SUM] / state.nis[NIS_COUNT]
     return 1.0

@@ -47,9 +47,10 @@ from pdr_ins_ekf.kernel_data import (
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
 # The covariance published with the estimates (pose, odometry, velocity): the filter's P
-# (``configured``), or P times the mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (``innovations``,
-# pdr_ins_ekf.compiled_filter.covariance_scale); the estimates, and the strides' covariance
-# (landmark_drift's gates are set for it), are the same.
+# (``configured``), or its white noises' part times the mean touchdown νᵀ·P_v⁻¹·ν / 3 so
+# far plus the biases' share, λ·(P − Pb) + Pb (``innovations``,
+# pdr_ins_ekf.compiled_filter.covariance_scale and bias_share; Pb = 0 with 9 states); the
+# estimates, and the strides' covariance (landmark_drift's gates are set for it), are the same.
 COVARIANCE_SCALES = ("configured", "innovations")
 
 
