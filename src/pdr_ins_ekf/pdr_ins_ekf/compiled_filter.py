@@ -45,9 +45,13 @@ def new_state(C0, b0, P0):
     """A :class:`~pdr_ins_ekf.kernel_data.NavState` at the origin at rest, with copies of
     the attitude C0 (3, 3), biases b0 (6,) and covariance P0 (n, n), δx̂ = 0, no
     touchdown innovation yet and in stance (the filter starts in the stance it is aligned
-    on); ``prev`` is set by :func:`start`."""
+    on), the biases' share of P0 its bias block (:func:`bias_share`); ``prev`` is set by
+    :func:`start`."""
+    Pb = np.zeros_like(P0)
+    if P0.shape[0] == NAV_AND_BIAS_STATES:
+        Pb[ACC_BIAS:, ACC_BIAS:] = P0[ACC_BIAS:, ACC_BIAS:]
     return NavState(np.zeros(3), np.zeros(3), C0.copy(), b0.copy(), P0.copy(),
-                    np.empty((3, 3)), np.zeros(P0.shape[0]), np.array([0.0, 0.0, 1.0]))
+                    np.empty((3, 3)), np.zeros(P0.shape[0]), np.array([0.0, 0.0, 1.0]), Pb)
 
 
 @njit(cache=True)
@@ -244,11 +248,30 @@ def propagate(P, C, a_now, dt, params):
 
 
 @njit(cache=True)
+def propagate_bias_share(Pb, C, a_now, dt, params):
+    """Pb ← F·Pb·Fᵀ + Q_b (symmetrised) in place, the biases' share of P
+    (:func:`bias_share`): F as :func:`propagate`'s, Q_b only the bias driving noise (the
+    accelerometer- and gyro-bias densities squared times dt on the bias rows). Nothing
+    with 9 states (no bias in the filter, Pb stays 0)."""
+    n = Pb.shape[0]
+    if n != NAV_AND_BIAS_STATES:
+        return
+    transition_in_place(Pb, C, a_now, dt, params)
+    _transpose(Pb)
+    transition_in_place(Pb, C, a_now, dt, params)
+    for i in range(ACC_BIAS, n):
+        Pb[i, i] += process_noise(params, i, dt)
+    symmetrize(Pb)
+
+
+@njit(cache=True)
 def predict(state, f, w, dt, params):
     """Trapezoidal mechanization over dt [s] from f [m/s²] and w [rad/s] (3,), body
-    frame (:func:`mechanize`), then the covariance (:func:`propagate`)."""
+    frame (:func:`mechanize`), then the covariance (:func:`propagate`) and its biases'
+    share (:func:`propagate_bias_share`)."""
     a_now = mechanize(state, f, w, dt, params.gravity_mps2)
     propagate(state.P, state.C, a_now, dt, params)
+    propagate_bias_share(state.Pb, state.C, a_now, dt, params)
 
 
 @njit(cache=True)
@@ -356,11 +379,42 @@ def _matvec3(C, x, out):
 
 
 @njit(cache=True)
+def bias_share(Pb, K_T, rows):
+    """Pb ← (I − K·H)·Pb·(I − K·H)ᵀ in place (symmetrised), with the gain K = (Kᵀ)ᵀ,
+    Kᵀ (3, n), that :func:`correct` used for P and H selecting the three states from
+    ``rows``; no K·R·Kᵀ, the measurement noise being white.
+
+    For given gains the Joseph form holds whatever they are, and P is linear in what
+    drives it: P₀, the white noises (Q's first blocks, R) and the biases' (P₀'s bias
+    block, their driving noise). Pb is the last part alone, the covariance the biases put
+    into the error through the filter's own F and gains (the sensitivity analysis of a
+    filter with given gains, Gelb, Applied Optimal Estimation, 1974, Section 7.1), and
+    P − Pb the white noises' part. Pb's position and attitude are what piles up over the
+    strides with one sign, which the touchdown innovations do not measure
+    (:func:`covariance_scale`)."""
+    n = Pb.shape[0]
+    if n != NAV_AND_BIAS_STATES:
+        return
+    M = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            M[i, j] = Pb[i, j] - (K_T[0, i] * Pb[rows, j] + K_T[1, i] * Pb[rows + 1, j]
+                                  + K_T[2, i] * Pb[rows + 2, j])
+    for i in range(n):
+        for j in range(n):
+            Pb[i, j] = M[i, j] - (M[i, rows] * K_T[0, j] + M[i, rows + 1] * K_T[1, j]
+                                  + M[i, rows + 2] * K_T[2, j])
+    symmetrize(Pb)
+
+
+@njit(cache=True)
 def update(state, z, rows, sigma):
     """Joseph-form update (:func:`correct`) with H selecting the three error states from
-    row ``rows``, measurement z (3,) and noise σ per axis, then the closed-loop
-    compensation of Simón Colomar et al. 2012, Eq. (8) (:func:`feed_back`)."""
-    correct(state.dx, state.P, z, rows, sigma)
+    row ``rows``, measurement z (3,) and noise σ per axis, the biases' share of P with
+    the same gain (:func:`bias_share`), then the closed-loop compensation of Simón
+    Colomar et al. 2012, Eq. (8) (:func:`feed_back`)."""
+    K_T, _ = correct(state.dx, state.P, z, rows, sigma)
+    bias_share(state.Pb, K_T, rows)
     feed_back(state)
 
 
@@ -401,9 +455,9 @@ def count_touchdown(state, stance):
 
 @njit(cache=True)
 def covariance_scale(state, params):
-    """The factor λ the published covariance is P times: with ``innovation_scale``, the
-    mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (:func:`count_touchdown`; 1 before the first
-    touchdown), else 1.
+    """The factor λ the published covariance scales P's white noises' part by, λ·(P − Pb)
+    + Pb (:func:`bias_share`): with ``innovation_scale``, the mean touchdown
+    νᵀ·P_v⁻¹·ν / 3 so far (:func:`count_touchdown`; 1 before the first touchdown), else 1.
 
     Covariance matching (Mehra, "Approaches to adaptive filtering", IEEE TAC 17(5), 1972;
     Maybeck, Stochastic Models, Estimation and Control, vol. 2, 1982, ch. 10): if the
@@ -413,7 +467,8 @@ def covariance_scale(state, params):
     stays the tuned filter's and the covariance published with it is λ·P, λ measured on
     the walk itself: a foot that is never quite still in stance, or an IMU whose errors
     are not the configured white noise, shows in the velocity the INS has gathered at
-    touchdown (docs/foot_ins.md, "Covariance honesty")."""
+    touchdown (docs/foot_ins.md, "Covariance honesty"). A bias, nearly the same through
+    many strides, does not: its share keeps the configured bias model."""
     if params.innovation_scale and state.nis[NIS_COUNT] > 0.0:
         return state.nis[NIS_SUM] / state.nis[NIS_COUNT]
     return 1.0
@@ -445,14 +500,16 @@ def filter_block(state, samples, params):
     passes :func:`within_gate`: a foot that turns is not at rest, however still its
     velocity). Returns position, velocity (N, 3), attitude (N, 3, 3), bias (N, 6),
     covariance diagonal (N, n), position and velocity covariance (N, 3, 3) after each
-    sample, and the factor (N,) the published covariances are these times
-    (:func:`covariance_scale`)."""
-    p, v, C, b, P = state.p, state.v, state.C, state.b, state.P
+    sample, the factor (N,) the published covariances scale their white noises' part by
+    (:func:`covariance_scale`), and the biases' share of the diagonal (N, n) and of the
+    position and velocity blocks (N, 3, 3) (:func:`bias_share`)."""
+    p, v, C, b, P, Pb = state.p, state.v, state.C, state.b, state.P, state.Pb
     N = samples.accel.shape[0]
     n = P.shape[0]
     pos, vel, bias = np.empty((N, 3)), np.empty((N, 3)), np.empty((N, 6))
     att, pcov, vcov = np.empty((N, 3, 3)), np.empty((N, 3, 3)), np.empty((N, 3, 3))
     var, scale = np.empty((N, n)), np.empty(N)
+    bvar, bpcov, bvcov = np.empty((N, n)), np.empty((N, 3, 3)), np.empty((N, 3, 3))
     for k in range(N):
         w = samples.gyro[k]
         predict(state, samples.accel[k], w, samples.dt[k], params)
@@ -465,7 +522,10 @@ def filter_block(state, samples, params):
         pos[k], vel[k], att[k], bias[k] = p, v, C, b
         for i in range(n):
             var[k, i] = P[i, i]
+            bvar[k, i] = Pb[i, i]
         pcov[k] = P[POSITION:POSITION + AXES, POSITION:POSITION + AXES]
         vcov[k] = P[VELOCITY:VELOCITY + AXES, VELOCITY:VELOCITY + AXES]
+        bpcov[k] = Pb[POSITION:POSITION + AXES, POSITION:POSITION + AXES]
+        bvcov[k] = Pb[VELOCITY:VELOCITY + AXES, VELOCITY:VELOCITY + AXES]
         scale[k] = covariance_scale(state, params)
-    return pos, vel, att, bias, var, pcov, vcov, scale
+    return pos, vel, att, bias, var, pcov, vcov, scale, bvar, bpcov, bvcov

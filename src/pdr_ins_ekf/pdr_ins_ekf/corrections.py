@@ -125,6 +125,9 @@ def apply(correction: Correction, state: NavState) -> None:
     joseph = np.eye(len(P)) - K @ H
     P[:, :] = joseph @ P @ joseph.T + K @ R @ K.T
     P[:, :] = (P + P.T) / 2
+    Pb = state.Pb       # the biases' share, with the same gain (compiled_filter.bias_share)
+    Pb[:, :] = joseph @ Pb @ joseph.T
+    Pb[:, :] = (Pb + Pb.T) / 2
     _feed_back(state, K @ nu)
 
 

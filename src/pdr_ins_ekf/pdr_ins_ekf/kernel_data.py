@@ -59,6 +59,9 @@ class NavState(NamedTuple):
     #                   steps (each update feeds it back); the smoother's open-loop pass
     #                   carries it to the segment's end
     nis: np.ndarray   # (3,) NIS_SUM, NIS_COUNT, IN_STANCE: the touchdown innovations so far
+    Pb: np.ndarray    # (n, n) the biases' share of P: what the initial bias variance and
+    #                   the bias driving noise alone put into it through the filter's own
+    #                   F and gains (zeros with 9 states; compiled_filter.bias_share)
 
 
 class FilterParams(NamedTuple):

@@ -138,16 +138,19 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE
                    ) -> dict[str, LazyBatch]:
     """``pdr/foot/pose``, ``velocity``, ``odometry`` (``base_frame``'s pose in ``frame``,
     its velocity in ``base_frame``) and ``stance`` with covariances (the filter's times
-    its ``covariance_scale``), built block by block as they are written."""
+    its white noises' part times ``covariance_scale``, FilterOutput.published), built
+    block by block as they are written."""
     out, n = run_.output, len(run_.stamp_ns)
-    scale = out.covariance_scale        # FilterConfig.covariance_scale
 
     def pose_covariance(index: slice) -> np.ndarray:
         cov = np.zeros((len(out.position[index]), 6, 6))
-        cov[:, LINEAR, LINEAR] = out.position_cov[index]
-        cov[:, ANGULAR, ANGULAR] = (out.variance[index, ATTITUDE:ATTITUDE + AXES, None]
-                                    * np.eye(3))
-        return cov * scale[index, None, None]
+        cov[:, LINEAR, LINEAR] = out.published(out.position_cov, out.bias_position_cov, index)
+        attitude = out.published(out.variance, out.bias_variance, index)
+        cov[:, ANGULAR, ANGULAR] = attitude[:, ATTITUDE:ATTITUDE + AXES, None] * np.eye(3)
+        return cov
+
+    def velocity_cov(index: slice) -> np.ndarray:
+        return out.published(out.velocity_cov, out.bias_velocity_cov, index)
 
     def pose(index: slice) -> dict[str, np.ndarray]:
         return {"pose.pose.position": out.position[index],
@@ -156,7 +159,7 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE
 
     def velocity(index: slice) -> dict[str, np.ndarray]:
         cov = np.zeros((len(out.velocity[index]), 6, 6))
-        cov[:, LINEAR, LINEAR] = out.velocity_cov[index] * scale[index, None, None]
+        cov[:, LINEAR, LINEAR] = velocity_cov(index)
         cov[:, ANGULAR, ANGULAR] = np.eye(3) * UNKNOWN_VARIANCE  # rate not estimated
         return {"twist.twist.linear": out.velocity[index],
                 "twist.twist.angular": np.zeros((len(cov), 3)),
@@ -167,8 +170,7 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE
         return odometry_fields(
             base_frame, out.position[index], quaternion_from_orthonormal(c),
             pose_covariance(index), np.einsum("nji,nj->ni", c, out.velocity[index]),
-            np.einsum("nji,njk,nkl->nil", c, out.velocity_cov[index], c)
-            * scale[index, None, None])
+            np.einsum("nji,njk,nkl->nil", c, velocity_cov(index), c))
 
     detector = np.full(n, run_.detector, np.uint8)
     return {

@@ -47,9 +47,10 @@ from pdr_ins_ekf.kernel_data import (
 
 BIAS_MODELS = ("none", "random_walk", "gauss_markov")
 # The covariance published with the estimates (pose, odometry, velocity): the filter's P
-# (``configured``), or P times the mean touchdown νᵀ·P_v⁻¹·ν / 3 so far (``innovations``,
-# pdr_ins_ekf.compiled_filter.covariance_scale); the estimates, and the strides' covariance
-# (landmark_drift's gates are set for it), are the same.
+# (``configured``), or its white noises' part times the mean touchdown νᵀ·P_v⁻¹·ν / 3 so
+# far plus the biases' share, λ·(P − Pb) + Pb (``innovations``,
+# pdr_ins_ekf.compiled_filter.covariance_scale and bias_share; Pb = 0 with 9 states); the
+# estimates, and the strides' covariance (landmark_drift's gates are set for it), are the same.
 COVARIANCE_SCALES = ("configured", "innovations")
 
 
@@ -100,9 +101,11 @@ class FilterConfig:
 class FilterOutput:
     """Per-sample estimates: position, velocity (N, 3), attitude C_b^n (N, 3, 3), biases
     (N, 6) (zero for 9 states), covariance diagonal (N, states) and full position and
-    velocity covariance blocks (N, 3, 3), the filter's own P; and the factor (N,) the
-    published covariances (pose, odometry, velocity) are these times
-    (FilterConfig.covariance_scale; not given: ones)."""
+    velocity covariance blocks (N, 3, 3), the filter's own P; the factor (N,) the
+    published covariances (pose, odometry, velocity) scale the white noises' part of
+    these by (FilterConfig.covariance_scale; not given: ones); and the biases' share of
+    the diagonal (N, states) and of the position and velocity blocks (N, 3, 3), which is
+    published as it is (pdr_ins_ekf.compiled_filter.bias_share; not given: zeros)."""
 
     position: np.ndarray
     velocity: np.ndarray
@@ -112,10 +115,27 @@ class FilterOutput:
     position_cov: np.ndarray
     velocity_cov: np.ndarray
     covariance_scale: np.ndarray | None = None
+    bias_variance: np.ndarray | None = None
+    bias_position_cov: np.ndarray | None = None
+    bias_velocity_cov: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.covariance_scale is None:
             self.covariance_scale = np.ones(len(self.position))
+        if self.bias_variance is None:
+            self.bias_variance = np.zeros_like(self.variance)
+        if self.bias_position_cov is None:
+            self.bias_position_cov = np.zeros_like(self.position_cov)
+        if self.bias_velocity_cov is None:
+            self.bias_velocity_cov = np.zeros_like(self.velocity_cov)
+
+    def published(self, own: np.ndarray, bias_share: np.ndarray, index: slice
+                  ) -> np.ndarray:
+        """The published covariance of the samples ``index`` from the filter's own
+        ``own`` and its biases' share ``bias_share`` (N, ...) of the same quantity: the
+        white noises' part scaled, λ·(P − Pb) + Pb (covariance_scale)."""
+        scale = self.covariance_scale[index].reshape(-1, *[1] * (own.ndim - 1))
+        return scale * (own[index] - bias_share[index]) + bias_share[index]
 
     def part(self, index: slice) -> FilterOutput:
         """The estimates of the samples ``index``."""

@@ -94,6 +94,34 @@ def test_the_pose_odometry_and_velocity_are_published_scaled_the_strides_are_not
                                       out.position_cov[k])
 
 
+def test_with_bias_states_the_biases_share_is_published_as_it_is(walk):
+    """15 states: the estimates and P are the configured filter's; the biases' share Pb
+    (compiled_filter.bias_share) lies within P, the vertical position's grows over the
+    walk (what piles up over the strides with one sign), and the published covariance is
+    λ·(P − Pb) + Pb."""
+    t, accel, gyro, stance = walk
+    biased = replace(CONFIG, bias_model="random_walk", init_acc_bias_sigma_mps2=0.002,
+                     acc_bias_noise_mps2_per_sqrt_s=1e-5)
+    configured = run(t, accel, gyro, stance, biased, slice(0, 100))
+    out = run(t, accel, gyro, stance, replace(biased, covariance_scale="innovations"),
+              slice(0, 100))
+    for name in ("position", "velocity", "attitude", "bias", "variance", "position_cov",
+                 "velocity_cov", "bias_variance", "bias_position_cov"):
+        np.testing.assert_array_equal(getattr(out, name), getattr(configured, name))
+    assert np.all(out.bias_variance >= 0)
+    assert np.all(out.bias_variance <= out.variance * (1 + 1e-9))
+    vertical = out.bias_position_cov[:, 2, 2]
+    assert vertical[-1] > vertical[len(t) // 2] > vertical[len(t) // 4] > 0
+    stamps = np.round(t * 1e9).astype(np.int64)
+    batches = output_batches(FootRun(stamps, stance, np.zeros(len(t)), 0, out))
+    pose = batches[topics.FOOT_POSE].take(np.arange(len(t)))["pose.covariance"]
+    scale = out.covariance_scale[:, None, None]
+    np.testing.assert_allclose(
+        pose.reshape(-1, 6, 6)[:, :3, :3],
+        scale * (out.position_cov - out.bias_position_cov) + out.bias_position_cov,
+        rtol=1e-12, atol=0)
+
+
 def test_the_scale_carries_over_blocks(walk):
     """The live node's blocks give the offline run's covariances (λ and the last sample's
     stance carried in the state)."""

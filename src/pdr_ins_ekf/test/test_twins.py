@@ -27,7 +27,9 @@ are what a reviewer checks against the papers. ENU navigation frame, FLU body fr
   p̂ += δp̂, v̂ += δv̂, Ĉ ← (I − [δθ̂×])·Ĉ (to its polar factor), b̂ += δb̂.
 - :func:`filter_twin`: the whole filter over a short drawn record, trapezoidal
   mechanization (Simón Colomar et al. 2012, Eqs. (1)–(5)), then Eq. (8) with ZUPT and
-  the gated ZARU: against ``filter_loop``.
+  the gated ZARU, and beside P the biases' share Pb (P₀'s bias block, F·Pb·Fᵀ plus the
+  bias driving noise, (I − K·H)·Pb·(I − K·H)ᵀ with each update's gain K): against
+  ``filter_loop``.
 - :func:`rts_step`, Simón Colomar et al. 2012, Eq. (9): A = P_f·Fᵀ·P_p⁻¹,
   δx̂ₛ = δx̂_f + A·(δx̂ₛ₊₁ − δx̂_p₊₁), Pₛ = P_f + A·(Pₛ₊₁ − P_p₊₁)·Aᵀ: against the
   kernel ``rts_step``; and :func:`smoother_twin`, the 3-pass algorithm (open-loop
@@ -97,7 +99,7 @@ RECORD = 1e-9    # over a record of up to 25 samples, and through P⁻¹ in Eq. 
 # the scales of position [m], velocity [m/s], attitude, biases (the initial σ) and
 # variances in a record, below which a difference is rounding (RECORD of a metre is a
 # nanometre): at rest, position and biases are estimated from rounding alone
-RECORD_SCALES = (1.0, 1.0, 1.0, 0.01, 0.0)
+RECORD_SCALES = (1.0, 1.0, 1.0, 0.01, 0.0, 0.0)
 I3 = np.eye(3)
 
 
@@ -275,28 +277,40 @@ def filter_twin(samples: Samples, C0, b0, P0, params) -> tuple:
     sample the mechanization and P ← F·P·Fᵀ + Q; in stance the ZUPT z = −v̂ and its
     compensation, then, with ZARU and where νᵀ·S⁻¹·ν < gate, z = ω − b̂_g and its
     compensation. Returns position, velocity, attitude, bias and covariance diagonal
-    after each sample."""
+    after each sample, and the diagonal of the biases' share Pb (zeros with 9 states)."""
     n = P0.shape[0]
     x = first_sample(C0, b0, samples.accel[0], samples.gyro[0])
     P = P0.copy()
-    out = {"p": [], "v": [], "C": [], "b": [], "var": []}
+    Pb = np.zeros((n, n))
+    if n == NAV_AND_BIAS_STATES:
+        Pb[ACC_BIAS:, ACC_BIAS:] = P0[ACC_BIAS:, ACC_BIAS:]
+    biases_only = params._replace(acc_noise=0.0, gyro_noise=0.0)
+    out = {"p": [], "v": [], "C": [], "b": [], "var": [], "bias_var": []}
     for f, w, dt, stance in zip(samples.accel, samples.gyro, samples.dt, samples.stance,
                                 strict=True):
         x = mechanize(x, f, w, dt, params.gravity_mps2)
         P = propagate(P, x.C, x.f_n, dt, params)
+        Pb = propagate(Pb, x.C, x.f_n, dt, biases_only)
         if stance:
             zupt = joseph_update(np.zeros(n), P, -x.v, VELOCITY, params.zupt_sigma_mps)
-            P = zupt.P
+            P, Pb = zupt.P, gain_applied(Pb, zupt.K, VELOCITY)
             x = compensate(x, zupt.dx)
             nu = w - x.b[GYRO]
             if params.zaru and normalised_innovation(
                     P, nu, GYRO_BIAS, params.zaru_sigma_radps) < params.zaru_gate_nis:
                 zaru = joseph_update(np.zeros(n), P, nu, GYRO_BIAS, params.zaru_sigma_radps)
-                P = zaru.P
+                P, Pb = zaru.P, gain_applied(Pb, zaru.K, GYRO_BIAS)
                 x = compensate(x, zaru.dx)
-        for key, value in zip(out, (x.p, x.v, x.C, x.b, np.diag(P)), strict=True):
+        for key, value in zip(out, (x.p, x.v, x.C, x.b, np.diag(P), np.diag(Pb)), strict=True):
             out[key].append(value)
     return tuple(np.array(values) for values in out.values())
+
+
+def gain_applied(Pb: np.ndarray, K: np.ndarray, first: int) -> np.ndarray:
+    """(I − K·H)·Pb·(I − K·H)ᵀ, symmetrised: the biases' share of P through an update of
+    gain K (n, 3), H selecting rows ``first`` to ``first`` + 2 (no K·R·Kᵀ: R is white)."""
+    I_KH = np.eye(Pb.shape[0]) - K @ selection(first, Pb.shape[0])
+    return symmetric(I_KH @ Pb @ I_KH.T)
 
 
 class Forward(NamedTuple):
@@ -569,14 +583,16 @@ def check_filter_units(kernels, case: UnitCase) -> None:
 
 def check_filter_record(kernels, case: RecordCase) -> None:
     """``filter_loop`` against :func:`filter_twin`."""
-    pos, vel, att, bias, var, pcov, vcov, _ = kernels.filter_loop(
-        case.samples, case.C0, case.b0, case.P0, case.params)
+    pos, vel, att, bias, var, pcov, vcov, _, bias_var, bias_pcov, bias_vcov = \
+        kernels.filter_loop(case.samples, case.C0, case.b0, case.P0, case.params)
     twin = filter_twin(case.samples, case.C0, case.b0, case.P0, case.params)
-    for kernel, expected, scale in zip((pos, vel, att, bias, var), twin, RECORD_SCALES,
-                                       strict=True):
+    for kernel, expected, scale in zip((pos, vel, att, bias, var, bias_var), twin,
+                                       RECORD_SCALES, strict=True):
         same(kernel, expected, RECORD, scale)
     same(np.diagonal(pcov, axis1=1, axis2=2), twin[4][:, rows(POSITION)], RECORD)
     same(np.diagonal(vcov, axis1=1, axis2=2), twin[4][:, rows(VELOCITY)], RECORD)
+    same(np.diagonal(bias_pcov, axis1=1, axis2=2), twin[5][:, rows(POSITION)], RECORD)
+    same(np.diagonal(bias_vcov, axis1=1, axis2=2), twin[5][:, rows(VELOCITY)], RECORD)
 
 
 def check_rts_step(kernels, case: UnitCase) -> None:

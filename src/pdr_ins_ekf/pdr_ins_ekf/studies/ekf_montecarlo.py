@@ -93,7 +93,7 @@ def ekf_batch(samples, C0, b0, P0, params, keep):
     pcov = np.empty((runs, count, 3, 3))
     for r in prange(runs):
         run = Samples(samples.dt, samples.accel[r], samples.gyro[r], samples.stance[r])
-        p, _, att, _, v, pc, _, _ = filter_loop(run, C0[r], b0[r], P0, params)
+        p, _, att, _, v, pc, _, _, _, _, _ = filter_loop(run, C0[r], b0[r], P0, params)
         for i in range(count):
             j = keep[i]
             pos[r, i] = p[j]
