@@ -659,12 +659,26 @@ class PositionConfig:
     # surface is within a running slope of 1:20 and a cross slope of 1:48 (ADA 2010
     # Standards, 403.3; steeper is a ramp, 405), 2 % at 2σ
     level_grade_sigma: float = 0.01
+    # the offset b of the person's own stride line from the one configured (1σ, the same
+    # in every level stride), in the covariance published for a fusion node only
+    # (pdr_pocket.position): the population's line (step_length.calibrated false), from
+    # which people's lines lie up to 14 cm (Muñoz Díaz 2016, Section 4.2.3, taken as 2σ);
+    # a line pdr-pocket calibrate-step fitted (fit_offset: b = (D − a_H·ΣΔθ)/N) from
+    # its least N = 20 strides (MIN_CALIBRATION_STEPS) of σ_s 0.03 m over a distance D
+    # measured with a tape or a laser rangefinder (σ_D 0.05 m over about 30 m):
+    # √(σ_D² + N·σ_s²)/N = √(0.05² + 20·0.03²)/20 ≈ 0.007 m (0.016 m for a distance known
+    # to 1 % only, a map's or a pacing's)
+    stride_offset_sigma_m: float = 0.07
+    calibrated_stride_offset_sigma_m: float = 0.007
     initial_position_sigma_m: float = 0.0
     correction_gate_probability: float = 0.999
 
     def __post_init__(self) -> None:
         _positive(self, ("heading_sigma_per_step_deg", "heading_drift_sigma_deg_per_s",
                          "level_grade_sigma", "correction_gate_probability"))
+        if min(self.stride_offset_sigma_m, self.calibrated_stride_offset_sigma_m) < 0:
+            raise ValueError("stride_offset_sigma_m and calibrated_stride_offset_sigma_m "
+                             "must be >= 0")
         if not np.isfinite(self.heading_drift_correction_deg_per_s):
             raise ValueError("heading_drift_correction_deg_per_s must be finite")
         if self.initial_position_sigma_m < 0:

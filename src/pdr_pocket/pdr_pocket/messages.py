@@ -70,15 +70,19 @@ def odometry_step_fields(steps: list[StepRecord], attitude: np.ndarray,
                          attitude_covariance: np.ndarray, base_frame: str = BASE_FRAME
                          ) -> dict[str, np.ndarray]:
     """nav_msgs/Odometry of ``base_frame`` at each step: the pose of :func:`pose_fields`
-    with the orientation filter's attitude covariance (N, 3, 3) [rad²] in its rotation
-    block, and the twist: the step's mean velocity (StepRecord.velocity, the stride over
-    the cycle's duration along its heading) and its covariance, turned from the map frame
-    into ``base_frame`` (REP-105: the twist is the child frame's), whose orientation is
-    the sensor attitude C (N, 3, 3) of the pose: v_b = Cᵀ·v_n, Σ_b = Cᵀ·Σ_n·C. The angular
-    rate is not given (pdr_core.odometry.UNKNOWN_VARIANCE), nor a velocity a step does
-    not know (a run read back from its bag)."""
+    with the position covariance for a fusion node (StepRecord.odometry_covariance, where
+    a step has it; pdr_pocket.position), the orientation filter's attitude covariance
+    (N, 3, 3) [rad²] in its rotation block, and the twist: the step's mean velocity
+    (StepRecord.velocity, the stride over the cycle's duration along its heading) and its
+    covariance, turned from the map frame into ``base_frame`` (REP-105: the twist is the
+    child frame's), whose orientation is the sensor attitude C (N, 3, 3) of the pose:
+    v_b = Cᵀ·v_n, Σ_b = Cᵀ·Σ_n·C. The angular rate is not given
+    (pdr_core.odometry.UNKNOWN_VARIANCE), nor a velocity a step does not know (a run read
+    back from its bag)."""
     pose = pose_fields(steps, attitude)
     cov = pose["pose.covariance"].reshape(-1, 6, 6)
+    cov[:, :3, :3] = np.reshape([s.covariance if s.odometry_covariance is None
+                                 else s.odometry_covariance for s in steps], (-1, 3, 3))
     cov[:, ANGULAR, ANGULAR] = attitude_covariance
     velocity = velocity_covariance = None
     if steps and all(s.velocity is not None for s in steps):

@@ -26,6 +26,28 @@ so an extended filter with the exact Jacobian is what the unscented one of the t
 computes here to second order. With a barometer, z is the height filter's
 (:meth:`PositionFilter.hold_height`).
 
+**What is published** (``pdr/pocket/odometry``, for a fusion node; issue 55) is the
+covariance P̃ (6 × 6) of the same estimate's error with what P leaves out, the way the
+foot's odometry carries its scaled covariance while its strides keep the filter's:
+
+- the offset b [m] of the person's stride line from the one configured, the same in
+  every level stride (Section 4.2.3), a state of P̃ (F[x,b] = cos ψ, F[y,b] = sin ψ for
+  a stride of the level line), prior σ_b (``stride_offset_sigma_m``, or
+  ``calibrated_stride_offset_sigma_m`` for a calibrated line);
+- a fall of P_yaw (the orientation filter's field or rest updates outweighed its
+  growth) as a heading update on ψ alone (:func:`_learn_heading`), which the position
+  does not take;
+- a flight's first step's climb, which the classifier's level prior may have put in the
+  step before it, in z's variance (``missed_climb_var``).
+
+P alone stays the filter's: its gains, the corrections' gates (Eqs. (6.2)-(6.3)),
+``pdr/pocket/pose`` and ``pdr/pocket/step``, which the drift loop's association reads
+(Eq. (5.4) adds both visits' absolute covariances, where b and the start's heading,
+errors both visits share, would count twice). P̃ follows every update with the gain K
+the filter computed from P, padded with 0 for b: the Joseph form holds for any gain, so
+P̃ is the covariance of the error of the estimate the filter makes (Bar-Shalom et al.
+2001, Section 5.2.3; a suboptimal filter's covariance analysis, Gelb 1974, chapter 7).
+
 Updates (Eq. (6.3) and a heading fix), Kalman with a χ² gate:
 :meth:`PositionFilter.correct_position` (3 dof) and :meth:`PositionFilter.correct_heading`
 (1 dof, applied when the orientation filter accepted a yaw correction, so the position's
@@ -39,50 +61,66 @@ from pdr_core.angles import wrap_angle
 from pdr_core.chi2 import chi2_quantile
 from pdr_pocket.config import PositionConfig
 
-X, Y, Z, PSI, EPS = range(5)
-N_POSITION_STATE = 5
+X, Y, Z, PSI, EPS, B = range(6)
+N_POSITION_STATE = 5        # P's states; P̃ adds b (module docstring)
+N_PUBLISHED_STATE = 6
 
 
 class PositionFilter:
-    def __init__(self, config: PositionConfig | None = None,
-                 start=(0.0, 0.0, 0.0)) -> None:
+    def __init__(self, config: PositionConfig | None = None, start=(0.0, 0.0, 0.0),
+                 stride_offset_sigma_m: float = 0.0) -> None:
+        """``stride_offset_sigma_m``: σ_b of P̃ [m] (module docstring)."""
         self.config = config or PositionConfig()
         self.x = np.zeros(N_POSITION_STATE)
         self.x[:3] = start
         self.p = np.zeros((N_POSITION_STATE, N_POSITION_STATE))
         self.p[:3, :3] = np.eye(3) * self.config.initial_position_sigma_m**2
         self.p[EPS, EPS] = np.radians(self.config.heading_drift_sigma_deg_per_s) ** 2
+        self.published = np.zeros((N_PUBLISHED_STATE, N_PUBLISHED_STATE))
+        self.published[:N_POSITION_STATE, :N_POSITION_STATE] = self.p
+        self.published[B, B] = stride_offset_sigma_m**2
         self.yaw_variance: float | None = None
         self.step_heading_var = np.radians(self.config.heading_sigma_per_step_deg) ** 2
 
     def step(self, length_m: float, vertical_m: float, heading_rad: float,
              yaw_variance: float, length_var: float, vertical_var: float,
-             duration_s: float) -> None:
-        """One step (Eq. (5.1)) with its input variances [m², rad²] and duration [s]."""
-        growth = 0.0 if self.yaw_variance is None else max(yaw_variance - self.yaw_variance, 0.0)
+             duration_s: float, on_line: bool = False, missed_climb_var: float = 0.0
+             ) -> None:
+        """One step (Eq. (5.1)) with its input variances [m², rad²] and duration [s];
+        for P̃ alone: ``on_line``, its stride is the level line's, which errs by the
+        person's offset b, and ``missed_climb_var`` [m²] (module docstring)."""
         if self.yaw_variance is None:
-            self.p[PSI, PSI] = yaw_variance
+            self.p[PSI, PSI] = self.published[PSI, PSI] = yaw_variance
+        elif yaw_variance > self.yaw_variance:
+            self.p[PSI, PSI] += yaw_variance - self.yaw_variance
+            self.published[PSI, PSI] += yaw_variance - self.yaw_variance
+        elif yaw_variance < self.yaw_variance:
+            _learn_heading(self.published, yaw_variance / self.yaw_variance)
         self.yaw_variance = yaw_variance
         self.x[PSI] = heading_rad
-        self.p[PSI, PSI] += growth
         c, s = np.cos(heading_rad), np.sin(heading_rad)
-        f = np.eye(N_POSITION_STATE)
+        f = np.eye(N_PUBLISHED_STATE)
         f[X, PSI], f[Y, PSI] = -length_m * s, length_m * c
         f[PSI, EPS] = duration_s
-        g = np.zeros((N_POSITION_STATE, 3))
+        if on_line:
+            f[X, B], f[Y, B] = c, s
+        g = np.zeros((N_PUBLISHED_STATE, 3))
         g[X, 0], g[Y, 0], g[Z, 1] = c, s, 1.0
         g[X, 2], g[Y, 2] = -length_m * s, length_m * c
         self.x[:3] += (length_m * c, length_m * s, vertical_m)
         q = np.diag([length_var, vertical_var, self.step_heading_var])
-        self.p = f @ self.p @ f.T + g @ q @ g.T
-        self.p = 0.5 * (self.p + self.p.T)
+        n = N_POSITION_STATE
+        self.p = _symmetric(f[:n, :n] @ self.p @ f[:n, :n].T + g[:n] @ q @ g[:n].T)
+        self.published = _symmetric(f @ self.published @ f.T + g @ q @ g.T)
+        self.published[Z, Z] += missed_climb_var
 
     def hold_height(self, variance: float) -> None:
         """z is the height filter's fused height (pdr_pocket.height_filter): its variance
         [m²] is that filter's, uncorrelated with the horizontal and the heading."""
-        self.p[Z, :] = 0.0
-        self.p[:, Z] = 0.0
-        self.p[Z, Z] = variance
+        for p in (self.p, self.published):
+            p[Z, :] = 0.0
+            p[:, Z] = 0.0
+            p[Z, Z] = variance
 
     @property
     def position(self) -> np.ndarray:
@@ -90,7 +128,13 @@ class PositionFilter:
 
     @property
     def covariance(self) -> np.ndarray:
+        """The filter's position covariance [m²] (3, 3): P's."""
         return self.p[:3, :3].copy()
+
+    @property
+    def published_covariance(self) -> np.ndarray:
+        """The position covariance [m²] (3, 3) for a fusion node: P̃'s."""
+        return self.published[:3, :3].copy()
 
     def gate_position(self, position, covariance) -> tuple[str | None, float]:
         """Why a position fix [m] with its covariance (3, 3) [m²] would be refused (None:
@@ -154,21 +198,48 @@ class PositionFilter:
     def limit_drift(self, variance: float) -> None:
         """A z-bias correction of this variance [rad²/s²] went to the orientation filter:
         the drift left is no more uncertain than that (its correlations scaled alike)."""
-        if 0 < variance < self.p[EPS, EPS]:
-            scale = np.sqrt(variance / self.p[EPS, EPS])
-            self.p[EPS, :] *= scale
-            self.p[:, EPS] *= scale
+        for p in (self.p, self.published):
+            if 0 < variance < p[EPS, EPS]:
+                scale = np.sqrt(variance / p[EPS, EPS])
+                p[EPS, :] *= scale
+                p[:, EPS] *= scale
 
     def _update(self, h: np.ndarray, innovation: np.ndarray, r: np.ndarray, what: str) -> str:
-        """The Kalman update (Joseph form)."""
+        """The Kalman update (Joseph form) of X and P, and of P̃ with the same gain
+        (module docstring)."""
         s = h @ self.p @ h.T + r
         nis = float(innovation @ np.linalg.solve(s, innovation))
         k = self.p @ h.T @ np.linalg.inv(s)
         self.x = self.x + k @ innovation
-        i_kh = np.eye(N_POSITION_STATE) - k @ h
-        self.p = i_kh @ self.p @ i_kh.T + k @ r @ k.T
-        self.p = 0.5 * (self.p + self.p.T)
+        self.p = _joseph(self.p, k, h, r)
+        pad = N_PUBLISHED_STATE - N_POSITION_STATE
+        self.published = _joseph(self.published, np.pad(k, ((0, pad), (0, 0))),
+                                 np.pad(h, ((0, 0), (0, pad))), r)
         return f"{what} applied (NIS {nis:.2f})"
+
+
+def _joseph(p: np.ndarray, k: np.ndarray, h: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """(I − K·H)·P·(I − K·H)ᵀ + K·R·Kᵀ: the covariance after an update with the gain K,
+    whether or not K is the optimal one for P."""
+    i_kh = np.eye(len(p)) - k @ h
+    return _symmetric(i_kh @ p @ i_kh.T + k @ r @ k.T)
+
+
+def _learn_heading(p: np.ndarray, kept: float) -> None:
+    """The orientation filter's yaw variance fell to ``kept`` times itself since the
+    previous step (its field or rest updates outweighed the growth): a heading measurement
+    with the gain k = 1 − ``kept`` on ψ alone, whose innovation the heading already took
+    (the step's ψ is the filter's) and the position did not (nothing feeds it back).
+    Joseph form with that gain, (I − k·e_ψ·e_ψᵀ)·P·(…)ᵀ + k²·R with R = P_ψψ·kept/k:
+    P_ψψ and ψ's covariances with the other states shrink by ``kept`` in place, the
+    position's own variances not (its error stays what it is)."""
+    p[PSI, :] *= kept
+    p[:, PSI] *= kept
+    p[PSI, PSI] /= kept
+
+
+def _symmetric(p: np.ndarray) -> np.ndarray:
+    return 0.5 * (p + p.T)
 
 
 def _xyz(v: np.ndarray) -> str:

@@ -38,6 +38,11 @@ class StepRecord:
     # (3, 3), pdr_pocket.step_assembly.step_velocity; None: not known (a run read back)
     velocity: np.ndarray | None = None
     velocity_covariance: np.ndarray | None = None
+    # the position covariance [m²] (3, 3) of pdr/pocket/odometry, for a fusion node
+    # (pdr_pocket.position's P̃; ``covariance`` is the filter's, of pdr/pocket/pose and
+    # the drift loop); None: not known (a run read back), the odometry then has
+    # ``covariance``
+    odometry_covariance: np.ndarray | None = None
 
     @property
     def pitch_amplitude(self) -> float:

@@ -59,7 +59,9 @@ class StepAssembly:
         self.height = HeightFilter(c.barometer, c.stairs.floor_height_m)
         self.barometer = False                  # a pressure reading has come
         self.height_m = 0.0                     # the height the steps have published [m]
-        self.position = PositionFilter(c.position)
+        self.position = PositionFilter(c.position, stride_offset_sigma_m=(
+            c.position.calibrated_stride_offset_sigma_m if c.step_length.calibrated
+            else c.position.stride_offset_sigma_m))
         self.steps: list[StepRecord] = []
         # per-cycle accumulators since the last confirmed step
         self.sum_cos = self.sum_sin = 0.0
@@ -160,8 +162,9 @@ class StepAssembly:
             float(event[EV_MAX]), float(event[EV_MIN]), float(wrap_angle(turn)),
             duration, float(np.sqrt(self.tilt_var_max))))
         vertical_range = self.vz_max - self.vz_min
+        on_line = activity == Activity.WALKING      # the stride is the level line's
         length = self._walked(StrideInputs(amplitude_deg, duration, vertical_range)) \
-            if activity == Activity.WALKING else c.step_length.stairs_stride_m
+            if on_line else c.step_length.stairs_stride_m
         climbed = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
         activity, vertical = self.staircases.admit(index, t_max, activity, climbed, heading)
@@ -180,22 +183,28 @@ class StepAssembly:
             vertical, self.height_m = held.height_m - self.height_m, held.height_m
         length_var = c.step_length.length_sigma_m**2
         vertical_var = stairs_var if on_stairs else (c.position.level_grade_sigma * length)**2
+        # a flight's first step: the classifier's level prior may have called the step
+        # before it level, whose climb (about this one's) the height then lacks
+        missed = climbed**2 if on_stairs and self.last_activity not in STAIRS_ACTIVITIES \
+            else 0.0
         self.position.step(length, vertical, heading, yaw_var, length_var, vertical_var,
-                           duration)
+                           duration, on_line, missed)
         if held is not None:
             self.position.hold_height(held.sigma_m**2)
         floor = held.floor if held is not None else \
             self.staircases.floor(self.position.position[2])
         ride, ride_height = _ride(fused)
         # the climbs the flight check holds back are not in z yet: 0 or all of them
-        covariance = self.position.covariance
-        covariance[2, 2] += sum(self.staircases.check.held) ** 2
+        held_var = sum(self.staircases.check.held) ** 2
+        covariance, published = self.position.covariance, self.position.published_covariance
+        covariance[2, 2] += held_var
+        published[2, 2] += held_var
         velocity = step_velocity(length, climbed if on_stairs else 0.0, heading, duration,
                                  (length_var, vertical_var, self.position.step_heading_var))
         record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
                             float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
                             self.position.position, covariance, floor, vertical_range, ride,
-                            ride_height, *velocity)
+                            ride_height, *velocity, published)
         self.steps.append(record)
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf
