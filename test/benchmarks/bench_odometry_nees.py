@@ -247,7 +247,7 @@ def oxiod_table() -> None:
 
     from pdr_core.attitude_metrics import tilt_error
     from pdr_core.consistency import attitude_consistency
-    from pdr_pocket.compiled_orientation import ATT_ROWS
+    from pdr_pocket.compiled_orientation_data import ATT_ROWS
     from pdr_pocket.config import PocketConfig
     from pdr_pocket.orientation import OrientationFilter
 

@@ -199,7 +199,7 @@ def heading_walk(name: str, profile: str, seed: int):
 def heading_error(sim, config: OrientationConfig | None, seed: int
                   ) -> tuple[np.ndarray, np.ndarray | None]:
     """δψ [rad] per sample (N,) and its variance σ_ψ² (N,) (None for VQF)."""
-    from pdr_pocket.compiled_orientation import ATT_UP
+    from pdr_pocket.compiled_orientation_data import ATT_UP
     from pdr_pocket.orientation import OrientationFilter
 
     gyro = np.ascontiguousarray(sim.imu["angular_velocity"])

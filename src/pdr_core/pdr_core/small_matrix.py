@@ -3,8 +3,8 @@ matrices of the navigators' per-sample loops, written out in loops: at these siz
 BLAS or LAPACK call costs more than the arithmetic.
 
 Used by pdr_ins_ekf.compiled_filter, pdr_ins_ekf.compiled_smoother,
-pdr_pocket.compiled_orientation and pdr_pocket.compiled_attitude. numba's cache checks a
-kernel against its own file only, so each caller registers this file with
+pdr_pocket.compiled_orientation (and its measurements) and pdr_pocket.compiled_attitude.
+numba's cache checks a kernel against its own file only, so each caller registers this file with
 :func:`pdr_core.kernel_cache.forget_if_changed`.
 """
 from __future__ import annotations
@@ -85,3 +85,70 @@ def cholesky(a, out):
         for i in range(j):
             out[i, j] = 0.0
     return True
+
+
+@njit(cache=True)
+def rotation_log(r, out):
+    """The rotation vector of a rotation matrix (the inverse of
+    :func:`pdr_core.small_matrix.rodrigues`)."""
+    c = (r[0, 0] + r[1, 1] + r[2, 2] - 1.0) / 2.0
+    c = min(1.0, max(-1.0, c))
+    angle = np.arccos(c)
+    v0, v1, v2 = r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]
+    if angle < 1e-6:
+        k = 0.5 + angle * angle / 12.0
+    elif angle > np.pi - 1e-6:
+        # near π: the axis from the diagonal
+        k = 0.0
+        d = np.array([r[0, 0], r[1, 1], r[2, 2]])
+        i = int(np.argmax(d))
+        axis = np.zeros(3)
+        axis[i] = np.sqrt(max(0.0, (d[i] + 1.0) / 2.0))
+        for j in range(3):
+            if j != i:
+                axis[j] = (r[i, j] + r[j, i]) / (4.0 * axis[i])
+        out[0], out[1], out[2] = axis[0] * angle, axis[1] * angle, axis[2] * angle
+        return
+    else:
+        k = angle / (2.0 * np.sin(angle))
+    out[0], out[1], out[2] = k * v0, k * v1, k * v2
+
+
+@njit(cache=True)
+def euler_of(c, out):
+    """Roll, pitch, yaw [rad] of C = Rz(ψ)·Ry(θ)·Rx(φ); finite at θ = ±90°."""
+    out[0] = np.arctan2(c[2, 1], c[2, 2])
+    out[1] = -np.arcsin(min(1.0, max(-1.0, c[2, 0])))
+    out[2] = np.arctan2(c[1, 0], c[0, 0])
+
+
+@njit(cache=True)
+def mul_bt(a, b, out):
+    """out = a·bᵀ for 3 × 3 matrices."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i, 0] * b[j, 0] + a[i, 1] * b[j, 1] + a[i, 2] * b[j, 2]
+
+
+@njit(cache=True)
+def inverse_spd(a, out):
+    """out = a⁻¹ for a small symmetric positive-definite matrix, by Cholesky."""
+    n = a.shape[0]
+    low = np.empty((n, n))
+    if not cholesky(a, low):
+        out[:, :] = np.linalg.pinv(a)
+        return
+    inv_low = np.zeros((n, n))
+    for i in range(n):
+        inv_low[i, i] = 1.0 / low[i, i]
+        for j in range(i):
+            s = 0.0
+            for k in range(j, i):
+                s -= low[i, k] * inv_low[k, j]
+            inv_low[i, j] = s / low[i, i]
+    for i in range(n):
+        for j in range(n):
+            s = 0.0
+            for k in range(max(i, j), n):
+                s += inv_low[k, i] * inv_low[k, j]
+            out[i, j] = s

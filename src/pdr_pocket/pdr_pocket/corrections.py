@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from pdr_core.correction import Correction, refusal
-from pdr_pocket.compiled_orientation import BIAS_Z_CORRECTION, YAW_CORRECTION
+from pdr_pocket.compiled_orientation_measurements import BIAS_Z_CORRECTION, YAW_CORRECTION
 from pdr_pocket.orientation import CORRECTION_NAMES, OrientationFilter
 from pdr_pocket.position import PSI
 from pdr_pocket.step_assembly import StepAssembly

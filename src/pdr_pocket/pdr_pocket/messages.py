@@ -29,7 +29,7 @@ from pdr_core.msgtypes import (
 )
 from pdr_core.odometry import ANGULAR, odometry_fields, tf_batches
 from pdr_core.rotations import quaternion_from_orthonormal
-from pdr_pocket.compiled_orientation import ATT_ROWS
+from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.orientation import AttitudeEstimate
 from pdr_pocket.records import NavigatorOutput, StepRecord

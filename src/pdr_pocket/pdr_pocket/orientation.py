@@ -30,15 +30,18 @@ from pdr_core import units
 from pdr_core.angles import wrap_angle
 from pdr_core.chi2 import chi2_quantile
 from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
-from pdr_pocket import compiled_attitude, compiled_orientation
-from pdr_pocket.compiled_orientation import (
+from pdr_pocket import compiled_attitude, compiled_orientation, compiled_orientation_data
+from pdr_pocket.compiled_orientation_data import (
     ATT_EAST,
     ATT_NORTH,
     ATT_ROWS,
     ATT_UP,
     BIAS_ROWS,
     BIAS_Z,
+)
+from pdr_pocket.compiled_orientation_measurements import (
     BIAS_Z_CORRECTION,
+    N_UPDATES,
     YAW_CORRECTION,
     compass_yaw,
 )
@@ -186,11 +189,11 @@ class EkfKernel:
 
     def run(self, state, t, gyro, accel, mag, saturated) -> dict:
         n, k = len(t), compiled_attitude
-        out = compiled_orientation.FilterOutputs(
+        out = compiled_orientation_data.FilterOutputs(
             np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, N_OUTPUT, N_OUTPUT)),
             np.zeros((n, k.N_DETECTORS), dtype=bool), np.zeros((n, k.N_UPDATES), dtype=bool))
         k.filter_loop(state, self.params,
-                      compiled_orientation.FilterInputs(t, gyro, accel, mag, saturated), out)
+                      compiled_orientation_data.FilterInputs(t, gyro, accel, mag, saturated), out)
         return out._asdict()
 
     def correct(self, state, kind: int, value: float, variance: float) -> None:
@@ -211,7 +214,7 @@ class ThesisKernel:
         self.config = config
         self.params = config.thesis_params()
 
-    def start(self, accel: np.ndarray, mag: np.ndarray) -> compiled_orientation.FilterState:
+    def start(self, accel: np.ndarray, mag: np.ndarray) -> compiled_orientation_data.FilterState:
         """The state at the first sample: yaw from the compass when the sample has a
         magnetometer reading and no ``initial_yaw_deg`` is set."""
         c = self.config
@@ -219,20 +222,21 @@ class ThesisKernel:
         if c.initial_yaw_deg is None and np.isfinite(mag).all():
             tilt = _first_attitude(accel, 0.0)
             yaw = compass_yaw(tilt, np.asarray(mag, float), self.params.field_azimuth)
-        variances = np.zeros(compiled_orientation.N_STATE)
+        variances = np.zeros(compiled_orientation_data.N_STATE)
         variances[[ATT_EAST, ATT_NORTH]] = np.radians(c.initial_tilt_sigma_deg) ** 2
         variances[ATT_UP] = np.radians(c.initial_yaw_sigma_deg) ** 2
         variances[BIAS_ROWS] = np.radians(c.noise("initial_bias_sigma_deg_per_s")) ** 2
-        return compiled_orientation.initial_state(_first_attitude(accel, yaw),
+        return compiled_orientation_data.initial_state(_first_attitude(accel, yaw),
                                                   np.diag(variances))
 
     def run(self, state, t, gyro, accel, mag, saturated) -> dict:
-        n, k = len(t), compiled_orientation
-        out = k.FilterOutputs(np.empty((n, 3, 3)), np.empty((n, 3)),
-                              np.empty((n, k.N_STATE, k.N_STATE)),
-                              np.zeros((n, k.N_DETECTORS), dtype=bool),
-                              np.zeros((n, k.N_UPDATES), dtype=bool))
-        k.filter_loop(state, self.params, k.FilterInputs(t, gyro, accel, mag, saturated), out)
+        n, d = len(t), compiled_orientation_data
+        out = d.FilterOutputs(np.empty((n, 3, 3)), np.empty((n, 3)),
+                              np.empty((n, d.N_STATE, d.N_STATE)),
+                              np.zeros((n, d.N_DETECTORS), dtype=bool),
+                              np.zeros((n, N_UPDATES), dtype=bool))
+        compiled_orientation.filter_loop(state, self.params,
+                                         d.FilterInputs(t, gyro, accel, mag, saturated), out)
         return out._asdict()
 
     def correct(self, state, kind: int, value: float, variance: float) -> None:
@@ -240,7 +244,7 @@ class ThesisKernel:
 
     @staticmethod
     def gaps(state) -> int:
-        return int(state.scalars[compiled_orientation.GAPS])
+        return int(state.scalars[compiled_orientation_data.GAPS])
 
 
 FILTERS = {"ekf": EkfKernel, "thesis": ThesisKernel}

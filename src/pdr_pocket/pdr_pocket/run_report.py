@@ -39,7 +39,7 @@ from pdr_core.consistency import (
 )
 from pdr_core.metrics import error_report
 from pdr_core.vocabulary import ACTIVITY_NAMES, Activity
-from pdr_pocket.compiled_orientation import ATT_ROWS
+from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.messages import step_positions
 from pdr_pocket.orientation import AttitudeEstimate

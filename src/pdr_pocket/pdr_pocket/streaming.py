@@ -54,7 +54,7 @@ from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
 from pdr_core.replay import CorrectionResult, Replay, TakenCorrection
 from pdr_core.sample_pairing import readings_at_samples
-from pdr_pocket.compiled_orientation import ATT_ROWS
+from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.navigator import PocketNavigator

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from pdr_core.chi2 import chi2_quantile
-from pdr_pocket.compiled_orientation import ATT_UP
+from pdr_pocket.compiled_orientation_data import ATT_UP
 from pdr_pocket.config import OrientationConfig
 from pdr_pocket.orientation import OrientationFilter
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict

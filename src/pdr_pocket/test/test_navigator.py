@@ -324,9 +324,8 @@ def test_a_correction_is_all_or_nothing_every_part_gated_before_any_is_applied()
 
     from scipy.stats import chi2
 
-    from pdr_pocket.compiled_orientation import (
-        ATT_UP,
-        BIAS_Z,
+    from pdr_pocket.compiled_orientation_data import ATT_UP, BIAS_Z
+    from pdr_pocket.compiled_orientation_measurements import (
         BIAS_Z_CORRECTION,
         YAW_CORRECTION,
     )

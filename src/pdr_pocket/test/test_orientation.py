@@ -17,6 +17,7 @@ from scipy.spatial.transform import Rotation
 from pdr_core.small_matrix import rodrigues
 from pdr_pocket import compiled_attitude, compiled_gait_window
 from pdr_pocket import compiled_orientation as k
+from pdr_pocket import compiled_orientation_measurements as km
 from pdr_pocket.config import OrientationConfig, PocketConfig, Updates
 from pdr_pocket.orientation import OrientationFilter, saturation_flags
 from pdr_pocket.streaming import StreamingPocket
@@ -296,7 +297,7 @@ def test_each_update_has_a_builder_that_cites_its_equation():
                 k.ABS_MAG: k.absolute_magnetic, k.DIFF_MAG: k.differential_magnetic,
                 k.COMPASS: k.compass, k.ZARU: k.zaru, k.MEAN_GRAVITY: k.mean_gravity,
                 k.YAW_CORRECTION: k.external_correction}
-    assert set(range(k.N_UPDATES)) <= set(builders)
+    assert set(range(km.N_UPDATES)) <= set(builders)
     for builder in builders.values():
         doc = " ".join(builder.__doc__.split())
         assert "Muñoz Díaz 2016, Eq" in doc or doc.startswith("Beyond the thesis"), builder

@@ -43,23 +43,27 @@ from hypothesis.extra.numpy import arrays
 from pdr_core.constants import earth_rate_enu
 from pdr_core.rotations import rotation_from_euler
 from pdr_pocket import compiled_orientation as k
-from pdr_pocket.compiled_orientation import (
-    ABS_GRAVITY,
-    ABS_MAG,
+from pdr_pocket import compiled_orientation_data as kd
+from pdr_pocket import compiled_orientation_measurements as km
+from pdr_pocket.compiled_orientation_data import (
     ATT_EAST,
     ATT_NORTH,
     ATT_ROWS,
     BIAS_ROWS,
     BIAS_Z,
+    N_STATE,
+    Sample,
+)
+from pdr_pocket.compiled_orientation_measurements import (
+    ABS_GRAVITY,
+    ABS_MAG,
     BIAS_Z_CORRECTION,
     COMPASS,
     DIFF_GRAVITY,
     DIFF_MAG,
     MEAN_GRAVITY,
-    N_STATE,
     YAW_CORRECTION,
     ZARU,
-    Sample,
 )
 from pdr_pocket.config import OrientationConfig
 
@@ -212,7 +216,7 @@ class Case(NamedTuple):
     attitude: np.ndarray        # C_b^n
     bias: np.ndarray            # [rad/s]
     covariance: np.ndarray      # (N_STATE, N_STATE), SPD
-    params: k.FilterParams
+    params: kd.FilterParams
     sample: Sample
     previous_accel: np.ndarray  # α^{k−1} [m/s²]
     previous_mag: np.ndarray    # μ^{k−1} [T]
@@ -321,7 +325,7 @@ TWIN_BUILDERS = {ABS_GRAVITY: absolute_gravity, DIFF_GRAVITY: differential_gravi
                  COMPASS: compass, MEAN_GRAVITY: mean_gravity, ZARU: zaru}
 
 
-def kernel_measurement(kind: int, params, case) -> k.Measurement:
+def kernel_measurement(kind: int, params, case) -> km.Measurement:
     """The kernel's builder of ``kind``."""
     if kind == ABS_GRAVITY:
         return k.absolute_gravity(params, case.sample)
@@ -383,13 +387,13 @@ def cases(draw) -> Case:
                 force_sum, draw(st.floats(1.0, 20.0)), draw(st.booleans()))
 
 
-def kernel_state(case: Case) -> k.FilterState:
-    state = k.initial_state(case.attitude.copy(), case.covariance.copy())
+def kernel_state(case: Case) -> kd.FilterState:
+    state = kd.initial_state(case.attitude.copy(), case.covariance.copy())
     state.bias[:] = case.bias
     return state
 
 
-def assert_twins(state: k.FilterState, prior: np.ndarray, c, b, p, nis: float = 0.0) -> None:
+def assert_twins(state: kd.FilterState, prior: np.ndarray, c, b, p, nis: float = 0.0) -> None:
     """The kernel's state equals the twin's, to RTOL of each value and of its scale: 1 for
     C, σ for the biases and √(P_aa·P_bb) for P_ab, σ and P those of the ``prior``
     covariance (an update that shrinks P a hundredfold subtracts numbers that much larger
