@@ -93,349 +93,69 @@ once), :class:`AttitudeState` (what changes per sample; its scalars in a record,
 """
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 from numba import njit
 
 from pdr_core import angles, kernel_cache, lowpass, small_matrix
 from pdr_core.angles import wrap_angle_jit
 from pdr_core.lowpass import lowpass_gain
-from pdr_core.small_matrix import product3, rodrigues, rotation_increment
-from pdr_pocket import compiled_gait_window
+from pdr_core.small_matrix import product3, rotation_increment
+from pdr_pocket import (
+    compiled_attitude_data,
+    compiled_attitude_field,
+    compiled_attitude_kalman,
+    compiled_gait_window,
+)
+from pdr_pocket.compiled_attitude_data import (
+    ACCEL_BIAS,
+    AT_REST,
+    ATT_EAST,
+    ATT_NORTH,
+    ATT_UP,
+    BIAS,
+    BIAS_Z,
+    CYCLE,
+    FIELD,
+    FIELD_DOWN,
+    FIELD_HORIZONTAL,
+    N_OUTPUT,
+    N_STATE,
+    NO_READING,
+    OFFSET,
+    REST,
+    SATURATED,
+    TILT,
+    TILT_STAGES,
+    YAW_CORRECTION,
+    workspace,
+)
+from pdr_pocket.compiled_attitude_field import mag_step
+from pdr_pocket.compiled_attitude_kalman import (
+    apply_correction,
+    clear_work,
+    innovation_covariance,
+    kalman_update,
+    nis,
+)
 from pdr_pocket.compiled_gait_window import (
-    GaitWindow,
-    WindowParams,
     across,
     add_to_window,
     force_in_body,
     forget_window,
     holds_gravity,
-    new_gait_window,
     restart_window,
     swing_marker,
-    turn_window,
     turned,
 )
 
 kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__,
-                               lowpass.__file__, compiled_gait_window.__file__)
+                               lowpass.__file__, compiled_gait_window.__file__,
+                               compiled_attitude_data.__file__, compiled_attitude_kalman.__file__,
+                               compiled_attitude_field.__file__)
 
 RATE_PEAK_TAU_S = 2.0           # the leaky peak of the rate forgets over about a gait cycle
 SATURATED_MIN_RADPS = 2.0       # an axis this fast on a saturated sample may be clipped
 SATURATED_UNKNOWN = 0.3         # ... and its angle is unknown by this fraction (1σ)
-TILT_STAGES = 2                         # first-order stages of the tilt's low-pass
-# the error state's rows
-N_STATE = 14
-ATT_EAST, ATT_NORTH, ATT_UP = 0, 1, 2   # δθ, a small rotation in the navigation frame
-BIAS = 3                                # δb_x, δb_y, δb_z [rad/s], body
-BIAS_Z = BIAS + 2
-OFFSET = 6                              # δo_x, δo_y, δo_z [T], body
-FIELD_HORIZONTAL, FIELD_DOWN = 9, 10    # δB_h, δB_v [T]
-ACCEL_BIAS = 11                         # δb_a,x, δb_a,y, δb_a,z [m/s²], body
-N_OUTPUT = 6                            # the rows written out per sample: δθ and δb
-# updates (columns of the "ran" output) and external corrections
-TILT, CYCLE, REST, FIELD = range(4)
-N_UPDATES = 4
-UPDATE_NAMES = ("tilt", "cycle", "rest", "field")
-YAW_CORRECTION, BIAS_Z_CORRECTION = 7, 8    # as in pdr_pocket.compiled_orientation
-# detectors (columns of the "detected" output)
-AT_REST, FIELD_UNDISTURBED, FIELD_DISTURBED, FIELD_IMPLAUSIBLE, SATURATED = range(5)
-N_DETECTORS = 5
-DETECTOR_NAMES = ("rest", "field_undisturbed", "field_disturbed", "field_implausible",
-                  "saturated")
-# a magnetometer reading, as mag_step judged it: the column of "detected" it sets
-NO_READING = -1
-# how :func:`start_field` takes the field
-HEADING_FROM_FIELD, AZIMUTH_FROM_FIELD, MAGNITUDES_ONLY = range(3)
-
-# AttitudeState.scalars: one record, the scalars that change per sample
-SCALARS = np.dtype([
-    ("t_gyro", np.float64),         # the last gyro sample's stamp [s]
-    ("t_accel", np.float64),        # ... the accelerometer's
-    ("t_mag", np.float64),          # ... the magnetometer's (its last new reading)
-    ("gyro_started", np.bool_),     # a gyro sample has been seen
-    ("accel_started", np.bool_),
-    ("field_started", np.bool_),    # B_h, B_v taken from a reading
-    ("at_rest", np.bool_),          # the rest detector holds
-    ("rest_s", np.float64),         # how long both signals have been still [s]
-    ("gyro_deviation2", np.float64),    # ‖ω − ω̄‖² of the last gyro sample [rad²/s²]
-    ("field_azimuth", np.float64),  # γ [rad], ENU, counter-clockwise from east
-    ("refused_s", np.float64),      # how long the field has failed its gate [s]
-    ("gaps", np.int64),             # gyro gaps longer than max_gap_s
-    ("held_readings", np.int64),    # magnetometer readings equal to the one before
-    ("field_resets", np.int64),     # field magnitudes taken again after refusals
-    ("field_norm", np.float64),     # ‖μ − o‖ low-passed over field_norm_tau_s [T]
-    ("marker", np.bool_),           # the last gyro sample was a swing marker
-    ("t_cycle", np.float64),        # when the last window of whole gait cycles closed [s]
-    ("window_saturated", np.bool_), # a sample of the window saturated
-])
-
-
-class AttitudeParams(NamedTuple):
-    """What the configuration sets (pdr_pocket.config), SI units, built once."""
-
-    gyro_noise_var: float           # σ_ν² [rad²/s²] per sample at the nominal rate
-    gyro_noise_density2: float      # σ_ν² per second [rad²/s]: Q = this·δt
-    gyro_scale_var: float           # σ_s² of the rate's scale and cross-axis errors
-    bias_tau_s: float               # τ of the AR(1) bias [s] (inf: random constant)
-    bias_sigma: float               # σ_bias [rad/s]
-    bias_mean_decays: bool          # Eq. (3.8) as written: the estimate decays to 0
-    earth_rate_n: np.ndarray        # ω_ie^n (3,) [rad/s], zeros when off
-    gravity: float                  # [m/s²]
-    max_gap_s: float                # a longer step between gyro samples is a gap
-    use_tilt: bool
-    use_cycles: bool                # the tilt from windows of whole gait cycles
-    window: WindowParams            # ... (pdr_pocket.compiled_gait_window)
-    cycle_velocity_var: float       # [m²/s²] the velocity change over whole gait cycles
-    walking_speed: float            # v [m/s]: a turn by Δψ changes the velocity by v·Δψ
-    cycle_turn_max: float           # [rad] a window that turned further is no reference
-    cycle_gate_nis: float           # a window beyond this NIS (2 dof) changed speed: refused
-    cycle_timeout_s: float          # a cycle closed this recently: the low-pass rests
-    tilt_tau_s: float               # τ of each of the two low-pass stages [s]
-    tilt_var: float                 # σ_tilt² [rad²] of the low-passed direction
-    use_rest: bool
-    rest_tau_s: float               # the rest detector's low-passes [s]
-    rest_gyro_threshold2: float     # ‖ω − ω̄‖² below this [rad²/s²] ...
-    rest_accel_threshold2: float    # ... and ‖α − ᾱ‖² below this [m²/s⁴] ...
-    rest_min_s: float               # ... for this long: at rest
-    rest_sway_var: float            # σ_sway² [rad²/s²] of a hand or thigh at rest
-    rest_gate_nis: float            # the rest update is refused beyond this NIS (3 dof)
-    rest_tilt_var: float            # [rad²] of the still specific force's direction, per
-                                    # rest_tau_s (its correlation time)
-    use_field: bool
-    heading_from_field: bool        # the heading is taken from the field's first reading
-    field_azimuth: float            # γ [rad] for it: 90° − declination
-    field_var: float                # σ_field² [T²] per axis: the field's local spread
-    field_tau_s: float              # the spread's correlation time [s]
-    field_gate_nis: float           # a reading beyond this NIS (3 dof) is disturbed
-    field_reset_s: float            # refused this long: the magnitudes are taken again
-    field_norm_min: float           # [T] a magnetometer whose low-passed ‖μ − o‖ is below
-    field_norm_max: float           # ... or above these is no Earth field: left out
-    field_norm_tau_s: float         # [s] of that low-pass
-    field_start_var: float          # [T²] of B_h, B_v beyond what the offset explains
-    field_change_var_per_s: float   # [T²/s] the magnitudes' random walk (moving about)
-    offset_change_var_per_s: float  # [T²/s] the offset's random walk
-    offset_reset_var: float         # [T²] added to the offset's variance when the field is
-                                    # taken anew (a field refused that long may be the
-                                    # phone's own: a magnet, an uncalibrated magnetometer)
-    accel_bias_change_var_per_s: float  # [m²/s⁵] the accelerometer bias's random walk
-    heading_start_var: float        # [rad²] of a heading taken from the field, beyond
-                                    # what the offset explains
-
-
-class AttitudeState(NamedTuple):
-    """The filter's memory, changed in place by the entry points (a live node feeds it a
-    sample at a time and gets the offline result)."""
-
-    attitude: np.ndarray            # (3, 3) C_b^n
-    bias: np.ndarray                # (3,) b [rad/s]
-    offset: np.ndarray              # (3,) o [T]
-    accel_bias: np.ndarray          # (3,) b_a [m/s²]
-    field: np.ndarray               # (2,) B_h, B_v [T]
-    covariance: np.ndarray          # (N_STATE, N_STATE) P
-    tilt_lowpass: np.ndarray        # (TILT_STAGES, 3) the stages' C·α [m/s²], navigation frame
-    tilt_memory: np.ndarray         # (TILT_STAGES, 3, 3) D_k = ∫C dt less its low-pass [s]
-    tilt_attitude: np.ndarray       # (TILT_STAGES, 3, 3) the stages' low-passed C
-    rest_gyro: np.ndarray           # (3,) ω̄, the rest detector's low-passed rate
-    rest_spread: np.ndarray         # (3,) the low-passed (ω − ω̄)² per axis [rad²/s²]
-    rate_peak: np.ndarray           # (3,) the leaky peak of |ω| per axis [rad/s]
-    rest_accel: np.ndarray          # (3,) ᾱ, its low-passed specific force
-    previous_gyro: np.ndarray       # (3,) ω of the last gyro sample
-    previous_mag: np.ndarray        # (3,) μ of the last magnetometer reading
-    gait: GaitWindow                # the window of whole gait cycles
-    scalars: np.ndarray             # (1,) record of SCALARS
-
-
-class Workspace(NamedTuple):
-    """Scratch reused by every update (no allocation per sample)."""
-
-    h: np.ndarray                   # (3, N_STATE) the measurement matrix
-    ph: np.ndarray                  # (N_STATE, 3) P·Hᵀ
-    s: np.ndarray                   # (3, 3) H·P·Hᵀ (+ R)
-    s_inv: np.ndarray               # (3, 3)
-    gain: np.ndarray                # (N_STATE, 3) K
-    ks: np.ndarray                  # (N_STATE, 3) K·S
-    dx: np.ndarray                  # (N_STATE,) the correction
-    frozen: np.ndarray              # (N_STATE,) bool: rows the update must not reach
-    innovation: np.ndarray          # (3,)
-    m1: np.ndarray                  # (3, 3) scratch
-    m2: np.ndarray                  # (3, 3) scratch
-    g: np.ndarray                   # (3, 3) the prediction's −C·δt
-    rows: np.ndarray                # (3, N_STATE) the prediction's δθ rows of F·P
-    q_att: np.ndarray               # (3, 3) Q's attitude part
-    q: np.ndarray                   # (3,) Q's per-axis terms
-    force: np.ndarray               # (3,) f = α − b_a
-
-
-@njit(cache=True)
-def workspace():
-    return Workspace(np.zeros((3, N_STATE)), np.zeros((N_STATE, 3)), np.zeros((3, 3)),
-                     np.zeros((3, 3)), np.zeros((N_STATE, 3)), np.zeros((N_STATE, 3)),
-                     np.zeros(N_STATE), np.zeros(N_STATE, dtype=np.bool_), np.zeros(3),
-                     np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((3, 3)),
-                     np.zeros((3, N_STATE)), np.zeros((3, 3)), np.zeros(3), np.zeros(3))
-
-
-def initial_state(attitude: np.ndarray, covariance: np.ndarray) -> AttitudeState:
-    """A state at C_b^n (3, 3) with the covariance P (N_STATE, N_STATE), zero bias and
-    offset, the field not yet read."""
-    return AttitudeState(
-        attitude=np.ascontiguousarray(attitude, dtype=float), bias=np.zeros(3),
-        offset=np.zeros(3), accel_bias=np.zeros(3), field=np.zeros(2),
-        covariance=np.ascontiguousarray(covariance, dtype=float),
-        tilt_lowpass=np.zeros((TILT_STAGES, 3)), tilt_memory=np.zeros((TILT_STAGES, 3, 3)),
-        tilt_attitude=np.tile(np.eye(3), (TILT_STAGES, 1, 1)),
-        rest_gyro=np.zeros(3), rest_spread=np.zeros(3), rate_peak=np.zeros(3),
-        rest_accel=np.zeros(3),
-        previous_gyro=np.zeros(3), previous_mag=np.full(3, np.nan),
-        gait=new_gait_window(), scalars=_first_scalars())
-
-
-def _first_scalars() -> np.ndarray:
-    scalars = np.zeros(1, dtype=SCALARS)
-    scalars[0]["t_cycle"] = -np.inf
-    return scalars
-
-
-# --- the Kalman update -------------------------------------------------------------------
-@njit(cache=True)
-def _inverse_small(s, m, out):
-    """out = s⁻¹ for a symmetric m × m matrix, m ≤ 3 (by cofactors); False when singular."""
-    if m == 1:
-        if not s[0, 0] > 0.0:
-            return False
-        out[0, 0] = 1.0 / s[0, 0]
-        return True
-    if m == 2:
-        det = s[0, 0] * s[1, 1] - s[0, 1] * s[1, 0]
-        if not det > 0.0:
-            return False
-        out[0, 0], out[1, 1] = s[1, 1] / det, s[0, 0] / det
-        out[0, 1] = out[1, 0] = -s[0, 1] / det
-        return True
-    c00 = s[1, 1] * s[2, 2] - s[1, 2] * s[2, 1]
-    c01 = s[1, 2] * s[2, 0] - s[1, 0] * s[2, 2]
-    c02 = s[1, 0] * s[2, 1] - s[1, 1] * s[2, 0]
-    det = s[0, 0] * c00 + s[0, 1] * c01 + s[0, 2] * c02
-    if not det > 0.0:
-        return False
-    out[0, 0], out[0, 1], out[0, 2] = c00 / det, (s[0, 2] * s[2, 1] - s[0, 1] * s[2, 2]) / det, \
-        (s[0, 1] * s[1, 2] - s[0, 2] * s[1, 1]) / det
-    out[1, 0], out[1, 1], out[1, 2] = c01 / det, (s[0, 0] * s[2, 2] - s[0, 2] * s[2, 0]) / det, \
-        (s[0, 2] * s[1, 0] - s[0, 0] * s[1, 2]) / det
-    out[2, 0], out[2, 1], out[2, 2] = c02 / det, (s[0, 1] * s[2, 0] - s[0, 0] * s[2, 1]) / det, \
-        (s[0, 0] * s[1, 1] - s[0, 1] * s[1, 0]) / det
-    return True
-
-
-@njit(cache=True)
-def innovation_covariance(p, work, m):
-    """P·Hᵀ into ``work.ph`` and H·P·Hᵀ into ``work.s`` for the first ``m`` rows of
-    ``work.h``."""
-    h, ph, s = work.h, work.ph, work.s
-    for a in range(N_STATE):
-        for j in range(m):
-            v = 0.0
-            for b in range(N_STATE):
-                v += p[a, b] * h[j, b]
-            ph[a, j] = v
-    for i in range(m):
-        for j in range(m):
-            v = 0.0
-            for b in range(N_STATE):
-                v += h[i, b] * ph[b, j]
-            s[i, j] = v
-
-
-@njit(cache=True)
-def nis(work, m, r_var):
-    """νᵀ·(H·P·Hᵀ + r·I)⁻¹·ν of ``work.innovation`` (inf when singular); ``work.s`` must
-    hold H·P·Hᵀ (:func:`innovation_covariance`) and is left as it was."""
-    s, s_inv, nu = work.s, work.s_inv, work.innovation
-    for i in range(m):
-        s[i, i] += r_var
-    ok = _inverse_small(s, m, s_inv)
-    for i in range(m):
-        s[i, i] -= r_var
-    if not ok:
-        return np.inf
-    total = 0.0
-    for i in range(m):
-        for j in range(m):
-            total += nu[i] * s_inv[i, j] * nu[j]
-    return total
-
-
-@njit(cache=True)
-def kalman_update(p, work, m, r_var):
-    """The update of the module docstring with H·P·Hᵀ and P·Hᵀ in ``work``
-    (:func:`innovation_covariance`), R = r·I, the innovation and the frozen rows in
-    ``work``: the correction δx into ``work.dx`` and P in place; False (nothing changed)
-    when S is singular."""
-    s, s_inv, ph, gain, ks, dx = work.s, work.s_inv, work.ph, work.gain, work.ks, work.dx
-    for i in range(m):
-        s[i, i] += r_var
-    if not _inverse_small(s, m, s_inv):
-        return False
-    for a in range(N_STATE):
-        for j in range(m):
-            v = 0.0
-            if not work.frozen[a]:
-                for c in range(m):
-                    v += ph[a, c] * s_inv[c, j]
-            gain[a, j] = v
-    for a in range(N_STATE):
-        v = 0.0
-        for j in range(m):
-            v += gain[a, j] * work.innovation[j]
-        dx[a] = v
-        for j in range(m):
-            w = 0.0
-            for c in range(m):
-                w += gain[a, c] * s[c, j]
-            ks[a, j] = w
-    for a in range(N_STATE):
-        for b in range(a, N_STATE):
-            v = p[a, b]
-            for c in range(m):
-                v += -gain[a, c] * ph[b, c] - ph[a, c] * gain[b, c] + ks[a, c] * gain[b, c]
-            p[a, b] = v
-            p[b, a] = v
-    return True
-
-
-@njit(cache=True)
-def apply_correction(state, work):
-    """Add ``work.dx`` to the nominal state: C ← exp([δθ×])·C, b, o, B_h, B_v, b_a; the
-    tilt's low-pass and the window of gait cycles turn with the attitude."""
-    dx, rot, turned = work.dx, work.m1, work.m2
-    rodrigues(dx[ATT_EAST], dx[ATT_NORTH], dx[ATT_UP], rot)
-    product3(rot, state.attitude, turned)
-    state.attitude[:, :] = turned
-    for stage in range(TILT_STAGES):
-        v = state.tilt_lowpass[stage]
-        v0 = rot[0, 0] * v[0] + rot[0, 1] * v[1] + rot[0, 2] * v[2]
-        v1 = rot[1, 0] * v[0] + rot[1, 1] * v[1] + rot[1, 2] * v[2]
-        v2 = rot[2, 0] * v[0] + rot[2, 1] * v[1] + rot[2, 2] * v[2]
-        v[0], v[1], v[2] = v0, v1, v2
-        product3(rot, state.tilt_memory[stage], turned)
-        state.tilt_memory[stage][:, :] = turned
-        product3(rot, state.tilt_attitude[stage], turned)
-        state.tilt_attitude[stage][:, :] = turned
-    turn_window(state.gait, rot)
-    for m in range(3):
-        state.bias[m] += dx[BIAS + m]
-        state.offset[m] += dx[OFFSET + m]
-        state.accel_bias[m] += dx[ACCEL_BIAS + m]
-    state.field[0] += dx[FIELD_HORIZONTAL]
-    state.field[1] += dx[FIELD_DOWN]
-
-
-@njit(cache=True, inline='always')
-def _clear(work):
-    work.h[:, :] = 0.0
-    work.frozen[:] = False
 
 
 # --- the gyroscope -----------------------------------------------------------------------
@@ -532,7 +252,7 @@ def predict(state, params, work, gyro, dt, gap, saturated):
 def rest_update(state, params, work, gyro, dt):
     """The rest update (the module docstring); True when applied."""
     c, e, p = state.attitude, params.earth_rate_n, state.covariance
-    _clear(work)
+    clear_work(work)
     for m in range(3):
         work.h[m, BIAS + m] = 1.0
         work.innovation[m] = gyro[m] - state.bias[m] - (
@@ -642,7 +362,7 @@ def tilt_update(state, params, work, force, dt, saturated, due):
     norm = np.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2)
     if not (due and params.use_tilt and norm > 0.5 * params.gravity and out[2] > 0.0):
         return False
-    _clear(work)
+    clear_work(work)
     work.h[0, ATT_NORTH] = -1.0
     work.h[1, ATT_EAST] = 1.0
     for m in range(3):
@@ -668,7 +388,7 @@ def _tilt_measurement(work, c, force):
     """z = [u_east, u_north] of u = C·f/‖f‖ (f = α − b_a) against
     h = [−δθ_north, δθ_east] + (C·δb_a)_[east, north]/‖f‖ into ``work``; False for a
     specific force that points down."""
-    _clear(work)
+    clear_work(work)
     nav = np.empty(3)
     for m in range(3):
         nav[m] = c[m, 0] * force[0] + c[m, 1] * force[1] + c[m, 2] * force[2]
@@ -729,7 +449,7 @@ def cycle_update(state, params, work, saturated, jitter_var):
     gait, c = state.gait, state.attitude
     window_s = gait.scalars[0].time_s
     b = across(force_in_body(c, gait.force_sum))
-    _clear(work)
+    clear_work(work)
     for i in range(2):
         east = c[1, 0] * b[i][0] + c[1, 1] * b[i][1] + c[1, 2] * b[i][2]
         north = -(c[0, 0] * b[i][0] + c[0, 1] * b[i][1] + c[0, 2] * b[i][2])
@@ -810,162 +530,6 @@ def accel_step(state, params, work, t, accel, saturated):
         s.accel_started = True
     s.t_accel = t
     return ran, cycled
-
-
-# --- the magnetometer --------------------------------------------------------------------
-@njit(cache=True)
-def _field_in_navigation(state, mu, out):
-    """C·(μ − o) [T], (3,)."""
-    c, o = state.attitude, state.offset
-    for m in range(3):
-        out[m] = c[m, 0] * (mu[0] - o[0]) + c[m, 1] * (mu[1] - o[1]) + c[m, 2] * (mu[2] - o[2])
-
-
-@njit(cache=True)
-def start_field(state, params, mu, how):
-    """Take the field's magnitudes B_h, B_v from the reading μ [T] with the offset as it
-    stands, and ``how``: :data:`HEADING_FROM_FIELD` also turns C about the vertical until
-    the field's azimuth is γ, :data:`AZIMUTH_FROM_FIELD` takes γ as the field's azimuth
-    in the map frame now, :data:`MAGNITUDES_ONLY` keeps both. Their covariance: an error
-    δo of the offset makes errors J·δo of [ψ, B_h, B_v], J = [∂az/∂m·C; −e_hᵀ·C; e_upᵀ·C]
-    (m = C·(μ − o), az its azimuth, e_h its horizontal direction), so P gets J·P_oo·Jᵀ
-    plus the start variances, and the covariance J·P_oo with the offset; every other
-    covariance of these rows is cleared."""
-    s = state.scalars[0]
-    m = np.empty(3)
-    _field_in_navigation(state, mu, m)
-    horizontal = np.sqrt(m[0] ** 2 + m[1] ** 2)
-    if not horizontal > 0.0:
-        return
-    if how == HEADING_FROM_FIELD:
-        rot, moved = np.empty((3, 3)), np.empty((3, 3))
-        rodrigues(0.0, 0.0, wrap_angle_jit(params.field_azimuth - np.arctan2(m[1], m[0])), rot)
-        product3(rot, state.attitude, moved)
-        state.attitude[:, :] = moved
-        _field_in_navigation(state, mu, m)
-        s.field_azimuth = params.field_azimuth
-    elif how == AZIMUTH_FROM_FIELD:
-        s.field_azimuth = np.arctan2(m[1], m[0])
-    state.field[0], state.field[1] = horizontal, -m[2]
-    c, p = state.attitude, state.covariance
-    # J (3 × 3) against δo: rows ψ, B_h, B_v
-    j = np.empty((3, 3))
-    for col in range(3):
-        j[0, col] = (-m[1] * c[0, col] + m[0] * c[1, col]) / (horizontal * horizontal)
-        j[1, col] = -(m[0] * c[0, col] + m[1] * c[1, col]) / horizontal
-        j[2, col] = c[2, col]
-    first = 0 if how == HEADING_FROM_FIELD else 1
-    rows = np.array([ATT_UP, FIELD_HORIZONTAL, FIELD_DOWN])
-    jp = np.zeros((3, 3))           # J·P_oo
-    for a in range(3):
-        for col in range(3):
-            for b in range(3):
-                jp[a, col] += j[a, b] * p[OFFSET + b, OFFSET + col]
-    for a in range(first, 3):
-        p[rows[a], :] = 0.0
-        p[:, rows[a]] = 0.0
-    for a in range(first, 3):
-        for b in range(first, 3):
-            p[rows[a], rows[b]] = jp[a, 0] * j[b, 0] + jp[a, 1] * j[b, 1] + jp[a, 2] * j[b, 2]
-        for col in range(3):
-            p[rows[a], OFFSET + col] = p[OFFSET + col, rows[a]] = jp[a, col]
-    if how == HEADING_FROM_FIELD:
-        p[ATT_UP, ATT_UP] += params.heading_start_var
-    p[FIELD_HORIZONTAL, FIELD_HORIZONTAL] += params.field_start_var
-    p[FIELD_DOWN, FIELD_DOWN] += params.field_start_var
-    s.field_started = True
-    s.refused_s = 0.0
-
-
-@njit(cache=True, inline='always')
-def _field_model(state, work, mu):
-    """The field update's innovation μ − (Cᵀ·m_n + o) and H (module docstring) into
-    ``work``, the tilt and bias rows frozen."""
-    s = state.scalars[0]
-    c, o = state.attitude, state.offset
-    east, north = np.cos(s.field_azimuth), np.sin(s.field_azimuth)
-    m0, m1, m2 = state.field[0] * east, state.field[0] * north, -state.field[1]
-    _clear(work)
-    for i in range(3):
-        predicted = c[0, i] * m0 + c[1, i] * m1 + c[2, i] * m2 + o[i]
-        work.innovation[i] = mu[i] - predicted
-        # Cᵀ·[m_n×], row i
-        work.h[i, ATT_EAST] = c[1, i] * m2 - c[2, i] * m1
-        work.h[i, ATT_NORTH] = c[2, i] * m0 - c[0, i] * m2
-        work.h[i, ATT_UP] = c[0, i] * m1 - c[1, i] * m0
-        work.h[i, OFFSET + i] = 1.0
-        work.h[i, FIELD_HORIZONTAL] = c[0, i] * east + c[1, i] * north
-        work.h[i, FIELD_DOWN] = -c[2, i]
-    work.frozen[ATT_EAST] = work.frozen[ATT_NORTH] = True
-    for m in range(3):
-        work.frozen[BIAS + m] = True
-
-
-@njit(cache=True, inline='always')
-def field_update(state, params, work, mu, dt):
-    """The field update (the module docstring); (undisturbed, applied)."""
-    s = state.scalars[0]
-    _field_model(state, work, mu)
-    innovation_covariance(state.covariance, work, 3)
-    if nis(work, 3, params.field_var) > params.field_gate_nis:
-        s.refused_s += dt
-        if s.refused_s >= params.field_reset_s:
-            s.field_resets += 1
-            for m in range(3):
-                state.covariance[OFFSET + m, OFFSET + m] += params.offset_reset_var
-            start_field(state, params, mu, MAGNITUDES_ONLY)
-        return False, False
-    s.refused_s = 0.0
-    if not kalman_update(state.covariance, work, 3,
-                         params.field_var * 2.0 * params.field_tau_s / dt):
-        return True, False
-    apply_correction(state, work)
-    return True, True
-
-
-@njit(cache=True, inline='always')
-def _plausible(state, params, mu, dt):
-    """Whether the magnetometer reads an Earth field: ‖μ − o‖, low-passed over
-    ``field_norm_tau_s`` (its first value the first reading's), within the range the
-    Earth's field spans (pdr_core.constants): an uncalibrated magnetometer, whose phone's
-    own hard iron dwarfs the field, or a phone lying on steel reads far beyond it."""
-    s, o = state.scalars[0], state.offset
-    norm = np.sqrt((mu[0] - o[0]) ** 2 + (mu[1] - o[1]) ** 2 + (mu[2] - o[2]) ** 2)
-    if s.field_norm == 0.0:
-        s.field_norm = norm
-    else:
-        s.field_norm += lowpass_gain(dt, params.field_norm_tau_s) * (norm - s.field_norm)
-    return params.field_norm_min <= s.field_norm <= params.field_norm_max
-
-
-@njit(cache=True, inline='always')
-def mag_step(state, params, work, t, mu):
-    """The magnetometer's reading μ [T] at ``t`` [s] (NaN: none): skipped when it equals
-    the one before (the magnetometer's held output), left out while the magnetometer reads
-    no Earth field (:func:`_plausible`); the first plausible reading starts the field
-    (:func:`start_field`), the others the field update. Returns (the detector column it
-    sets, :data:`NO_READING` for none; applied)."""
-    s = state.scalars[0]
-    if not (params.use_field and np.isfinite(mu[0]) and np.isfinite(mu[1])
-            and np.isfinite(mu[2])):
-        return NO_READING, False
-    if mu[0] == state.previous_mag[0] and mu[1] == state.previous_mag[1] and \
-            mu[2] == state.previous_mag[2]:
-        s.held_readings += 1
-        return NO_READING, False
-    state.previous_mag[:] = mu
-    dt = t - s.t_mag if s.field_norm > 0.0 else 0.0
-    s.t_mag = t
-    if not _plausible(state, params, mu, dt):
-        return FIELD_IMPLAUSIBLE, False
-    if not s.field_started:
-        start_field(state, params, mu, HEADING_FROM_FIELD if params.heading_from_field
-                    else AZIMUTH_FROM_FIELD)
-        return FIELD_UNDISTURBED, False
-    if not dt > 0.0:
-        return NO_READING, False
-    undisturbed, applied = field_update(state, params, work, mu, dt)
-    return (FIELD_UNDISTURBED if undisturbed else FIELD_DISTURBED), applied
 
 
 # --- the loop and the external corrections -----------------------------------------------

@@ -36,7 +36,7 @@ from pdr_core.errors import InputError
 from pdr_core.imu_profiles import PROFILES
 from pdr_core.stair_geometry import FLIGHT_MAX_RISERS, FLIGHT_MIN_RISERS, RISER_MAX_M, RISER_MIN_M
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
-from pdr_pocket.compiled_attitude import AttitudeParams
+from pdr_pocket.compiled_attitude_data import AttitudeParams
 from pdr_pocket.compiled_gait_window import WindowParams
 from pdr_pocket.compiled_orientation_data import FilterParams
 from pdr_pocket.step_length import AUTO_MODEL, STRIDE_MODELS

@@ -30,7 +30,12 @@ from pdr_core import units
 from pdr_core.angles import wrap_angle
 from pdr_core.chi2 import chi2_quantile
 from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
-from pdr_pocket import compiled_attitude, compiled_orientation, compiled_orientation_data
+from pdr_pocket import (
+    compiled_attitude,
+    compiled_attitude_data,
+    compiled_orientation,
+    compiled_orientation_data,
+)
 from pdr_pocket.compiled_orientation_data import (
     ATT_EAST,
     ATT_NORTH,
@@ -56,8 +61,8 @@ THESIS_UPDATE_NAMES = ("absolute_gravity", "differential_gravity", "absolute_mag
                        "differential_magnetic", "compass", "zaru", "mean_gravity")
 THESIS_DETECTOR_NAMES = ("zero_acceleration", "zero_rate", "steady_field", "saturated")
 # what the default filter made of a magnetometer reading: its detectors' names
-FIELD_JUDGEMENTS = compiled_attitude.DETECTOR_NAMES[compiled_attitude.FIELD_UNDISTURBED:
-                                                    compiled_attitude.FIELD_IMPLAUSIBLE + 1]
+FIELD_JUDGEMENTS = compiled_attitude_data.DETECTOR_NAMES[compiled_attitude_data.FIELD_UNDISTURBED:
+                                                    compiled_attitude_data.FIELD_IMPLAUSIBLE + 1]
 
 
 @dataclass(frozen=True)
@@ -161,19 +166,19 @@ def _initial_yaw(config: OrientationConfig) -> float:
 class EkfKernel:
     """``filter: ekf``: pdr_pocket.compiled_attitude."""
 
-    update_names = compiled_attitude.UPDATE_NAMES
-    detector_names = compiled_attitude.DETECTOR_NAMES
+    update_names = compiled_attitude_data.UPDATE_NAMES
+    detector_names = compiled_attitude_data.DETECTOR_NAMES
 
     def __init__(self, config: OrientationConfig) -> None:
         self.config = config
         self.params = config.ekf_params()
 
-    def start(self, accel: np.ndarray, mag: np.ndarray) -> compiled_attitude.AttitudeState:
+    def start(self, accel: np.ndarray, mag: np.ndarray) -> compiled_attitude_data.AttitudeState:
         """The state at the first sample. With the field update on, the kernel takes the
         yaw from the field's first reading, with its covariance against the offset;
         without it, a reading with the first sample gives the compass yaw, as the thesis'
         filter takes it."""
-        c, k = self.config, compiled_attitude
+        c, k = self.config, compiled_attitude_data
         yaw = _initial_yaw(c)
         if c.initial_yaw_deg is None and not c.ekf.field and np.isfinite(mag).all():
             yaw = compass_yaw(_first_attitude(accel, 0.0), np.asarray(mag, float),
@@ -188,12 +193,13 @@ class EkfKernel:
         return k.initial_state(_first_attitude(accel, yaw), np.diag(variances))
 
     def run(self, state, t, gyro, accel, mag, saturated) -> dict:
-        n, k = len(t), compiled_attitude
+        n, k = len(t), compiled_attitude_data
         out = compiled_orientation_data.FilterOutputs(
             np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, N_OUTPUT, N_OUTPUT)),
             np.zeros((n, k.N_DETECTORS), dtype=bool), np.zeros((n, k.N_UPDATES), dtype=bool))
-        k.filter_loop(state, self.params,
-                      compiled_orientation_data.FilterInputs(t, gyro, accel, mag, saturated), out)
+        compiled_attitude.filter_loop(
+            state, self.params,
+            compiled_orientation_data.FilterInputs(t, gyro, accel, mag, saturated), out)
         return out._asdict()
 
     def correct(self, state, kind: int, value: float, variance: float) -> None:

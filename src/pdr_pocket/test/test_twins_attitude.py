@@ -35,7 +35,8 @@ from scipy.spatial.transform import Rotation
 
 from pdr_core.constants import earth_rate_enu
 from pdr_pocket import compiled_attitude as k
-from pdr_pocket.compiled_attitude import (
+from pdr_pocket import compiled_attitude_data, compiled_attitude_field, compiled_attitude_kalman
+from pdr_pocket.compiled_attitude_data import (
     ACCEL_BIAS,
     ATT_EAST,
     ATT_NORTH,
@@ -81,7 +82,7 @@ class Case(NamedTuple):
     memory: np.ndarray          # (TILT_STAGES, 3, 3)
     lowpass_attitude: np.ndarray    # (TILT_STAGES, 3, 3)
     peak: np.ndarray            # the leaky peak of |ω| [rad/s]
-    params: k.AttitudeParams
+    params: compiled_attitude_data.AttitudeParams
     dt: float
     gyro: np.ndarray
     previous_gyro: np.ndarray
@@ -280,8 +281,8 @@ def cases(draw) -> Case:
                 draw(vectors(3.0)), draw(vectors(3.0)), accel, mag, draw(st.booleans()))
 
 
-def kernel_state(case: Case) -> k.AttitudeState:
-    state = k.initial_state(case.attitude.copy(), case.covariance.copy())
+def kernel_state(case: Case) -> compiled_attitude_data.AttitudeState:
+    state = compiled_attitude_data.initial_state(case.attitude.copy(), case.covariance.copy())
     state.bias[:], state.offset[:], state.field[:] = case.bias, case.offset, case.field
     state.accel_bias[:] = case.accel_bias
     state.tilt_lowpass[:], state.tilt_memory[:] = case.lowpass, case.memory
@@ -371,7 +372,8 @@ def test_the_field_update_is_its_twin(case, azimuth):
     state = kernel_state(case)
     state.scalars[0]["field_azimuth"] = azimuth
     params = case.params._replace(field_gate_nis=np.inf)
-    undisturbed, ran = k.field_update(state, params, k.workspace(), case.mag, case.dt)
+    undisturbed, ran = compiled_attitude_field.field_update(state, params, k.workspace(),
+                                                            case.mag, case.dt)
     assert undisturbed
     measurement = field_measurement(case, azimuth)
     check_update(state, case, measurement, ran)
@@ -457,8 +459,8 @@ def test_a_sign_slipped_in_the_joseph_update_fails_its_twin(perturb):
     """The covariance update's + K·S·Kᵀ turned to −: the tilt update's twin fails."""
     case = walking_case()
     slip = ("+ ks[a, c] * gain[b, c]", "- ks[a, c] * gain[b, c]")
-    same = perturb(k.kalman_update, k, slip[0], slip[0])
-    wrong = perturb(k.kalman_update, k, *slip)
+    same = perturb(k.kalman_update, compiled_attitude_kalman, slip[0], slip[0])
+    wrong = perturb(k.kalman_update, compiled_attitude_kalman, *slip)
     for kernel, fails in ((same, False), (wrong, True)):
         state = kernel_state(case)
         work = k.workspace()
