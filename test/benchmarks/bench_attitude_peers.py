@@ -43,8 +43,9 @@ from scipy.spatial.transform import Rotation
 
 from pdr_core.attitude_metrics import heading_error, tilt_error
 from pdr_core.oxiod import import_oxiod
-from pdr_pocket.config import EkfConfig, OrientationConfig, load_pocket_config
+from pdr_pocket.config import load_pocket_config
 from pdr_pocket.orientation import FIELD_JUDGEMENTS, OrientationFilter
+from pdr_pocket.orientation_config import EkfConfig, OrientationConfig
 
 ROOT = Path(__file__).resolve().parents[2]
 SHARED = Path(os.environ.get("PDR_SHARED_DATA", ROOT.parent / "shared" / "data"))

@@ -60,7 +60,7 @@ from scipy.spatial.transform import Rotation
 # This repository's packages are imported where they are used: --textbook-bag pays for the
 # textbook's imports only.
 if TYPE_CHECKING:
-    from pdr_pocket.config import OrientationConfig
+    from pdr_pocket.orientation_config import OrientationConfig
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = Path(os.environ.get("PDR_SHARED_DATA", ROOT.parent / "shared" / "data")) / "pocket"
@@ -175,7 +175,7 @@ def heading_filters(profile: str) -> dict[str, OrientationConfig | None]:
     """The filters of the heading table for a sensor of ``profile`` (None: VQF 6D): the
     default filter and the thesis' (the Allan bias model), each with and without its rest
     update, none reading the magnetometer."""
-    from pdr_pocket.config import EkfConfig, OrientationConfig, Updates
+    from pdr_pocket.orientation_config import EkfConfig, OrientationConfig, Updates
 
     no_mag = Updates(absolute_magnetic=False, differential_magnetic=False, compass=False)
     thesis = OrientationConfig(filter="thesis", imu_profile=profile, updates=no_mag)

@@ -51,6 +51,13 @@ def typed_value(value: Any, kind: str, where: str) -> Any:
     return value
 
 
+def check_positive(config: Any, names: tuple[str, ...]) -> None:
+    """ValueError naming the first of the fields ``names`` of ``config`` that is not > 0."""
+    for name in names:
+        if not getattr(config, name) > 0:
+            raise ValueError(f"{name} must be > 0, got {getattr(config, name)}")
+
+
 def key_path(where: str, key: str) -> str:
     """``FILE: a.b`` paths: the file is followed by a colon, nested keys by dots."""
     return f"{where} {key}" if where.endswith(":") else f"{where}.{key}"

@@ -51,12 +51,13 @@ from pdr_core.magnetic_field import homogeneous
 from pdr_core.metrics import truth_orientation_at
 from pdr_core.report_files import print_report, write_report, write_report_file
 from pdr_core.walk_plausibility import EXIT_REFUSED
-from pdr_pocket.config import load_pocket_config, orientation_from_allan
+from pdr_pocket.config import load_pocket_config
 from pdr_pocket.evaluation import STEPS_PER
 from pdr_pocket.inputs import read_pocket_bag
 from pdr_pocket.magnetometer import MIN_COVERAGE, calibrate
 from pdr_pocket.messages import attitude_batches
 from pdr_pocket.orientation import OrientationFilter
+from pdr_pocket.orientation_config import orientation_from_allan
 from pdr_pocket.run_report import attitude_errors, attitude_report, truth_heading_error
 
 

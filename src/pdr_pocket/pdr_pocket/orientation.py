@@ -50,7 +50,7 @@ from pdr_pocket.compiled_orientation_measurements import (
     YAW_CORRECTION,
     compass_yaw,
 )
-from pdr_pocket.config import OrientationConfig
+from pdr_pocket.orientation_config import OrientationConfig
 
 GATE_PROBABILITY = 0.999            # χ² gate of external corrections (1 dof)
 # the external corrections' names and units, in messages

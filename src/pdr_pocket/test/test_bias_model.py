@@ -20,13 +20,9 @@ from pdr_core.allan import gm_sigma_for_bias_instability
 from pdr_core.errors import InputError
 from pdr_core.imu_profiles import PROFILES
 from pdr_pocket import compiled_orientation as k
-from pdr_pocket.config import (
-    OrientationConfig,
-    Updates,
-    pocket_config,
-    profile_noise,
-)
+from pdr_pocket.config import pocket_config
 from pdr_pocket.orientation import OrientationFilter
+from pdr_pocket.orientation_config import OrientationConfig, Updates, profile_noise
 
 ZARU_ONLY = Updates(False, False, False, False, False, True, False)
 RATE_HZ = 100.0
@@ -132,7 +128,7 @@ def test_an_allan_csv_whose_minimum_leaves_no_gauss_markov_dip_is_refused_by_nam
     """The Xsens MTw's modelled Allan minimum (10 °/h) lies at 27 s; taken as the AR(1)'s
     time constant it is too short for a dip to 10 °/h over 0.6 °/√h, so the allan model
     refuses it naming the keys; the thesis' model takes it as Eq. (3.10) does."""
-    from pdr_pocket.config import orientation_from_allan
+    from pdr_pocket.orientation_config import orientation_from_allan
 
     csv = tmp_path / "allan.csv"
     csv.write_text("axis,arw_deg_per_sqrt_h,bias_instability_deg_per_h,t_beta_s\n" +

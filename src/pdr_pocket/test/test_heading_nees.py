@@ -24,8 +24,8 @@ from scipy.spatial.transform import Rotation
 
 from pdr_core.chi2 import chi2_quantile
 from pdr_pocket.compiled_orientation_data import ATT_UP
-from pdr_pocket.config import OrientationConfig
 from pdr_pocket.orientation import OrientationFilter
+from pdr_pocket.orientation_config import OrientationConfig
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 

@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core.attitude_metrics import heading_error
-from pdr_pocket.config import OrientationConfig, load_pocket_config
+from pdr_pocket.config import load_pocket_config
 from pdr_pocket.orientation import OrientationFilter
+from pdr_pocket.orientation_config import OrientationConfig
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 

@@ -20,13 +20,13 @@ from pdr_core.vocabulary import Activity
 from pdr_pocket.compiled_mounting import CHANGES
 from pdr_pocket.config import (
     MountingConfig,
-    OrientationConfig,
     PersonConfig,
     PocketConfig,
     PositionConfig,
     StepLengthConfig,
 )
 from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.orientation_config import OrientationConfig
 from pdr_pocket.position import PositionFilter
 from pdr_pocket.run_report import match_steps, riser_errors, steps_since
 from pdr_pocket.samples import Samples

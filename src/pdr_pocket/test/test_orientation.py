@@ -18,8 +18,9 @@ from pdr_core.small_matrix import rodrigues
 from pdr_pocket import compiled_attitude, compiled_gait_window
 from pdr_pocket import compiled_orientation as k
 from pdr_pocket import compiled_orientation_measurements as km
-from pdr_pocket.config import OrientationConfig, PocketConfig, Updates
+from pdr_pocket.config import PocketConfig
 from pdr_pocket.orientation import OrientationFilter, saturation_flags
+from pdr_pocket.orientation_config import OrientationConfig, Updates
 from pdr_pocket.streaming import StreamingPocket
 from pdr_sim.pocket_scenario import pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate

@@ -51,7 +51,7 @@ from pdr_pocket.compiled_attitude_data import (
     TILT_STAGES,
     YAW_CORRECTION,
 )
-from pdr_pocket.config import OrientationConfig
+from pdr_pocket.orientation_config import OrientationConfig
 
 RTOL = 1e-11
 TWINS = settings(max_examples=40, deadline=None)

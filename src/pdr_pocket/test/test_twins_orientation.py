@@ -65,7 +65,7 @@ from pdr_pocket.compiled_orientation_measurements import (
     YAW_CORRECTION,
     ZARU,
 )
-from pdr_pocket.config import OrientationConfig
+from pdr_pocket.orientation_config import OrientationConfig
 
 RTOL = 1e-12
 TWINS = settings(max_examples=40, deadline=None)
