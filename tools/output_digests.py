@@ -5,7 +5,8 @@ no byte (issue 56): run it before and after, and ``diff`` the two files.
     ./ws python tools/output_digests.py --out after.txt    # on the new one
     diff before.txt after.txt
 
-Inputs: the sample bags (bags/) and, when the shared recordings are beside the repository
+Inputs: the sample bags (bags/), a simulated walk with a barometer (:data:`SIMULATED`) and,
+when the shared recordings are beside the repository
 (``../shared/data`` or ``PDR_SHARED_DATA``), every one of them with a navigator
 (test/wstest.py's SHARED_RECORDINGS: the pyshoe VICON trials, the x-io walk, the thigh
 and Oxford pocket recordings), imported into a temporary folder. Each goes through its
@@ -46,6 +47,9 @@ from pdr_core.csv_export import has_gyroscope  # noqa: E402
 from wstest import SHARED_RECORDINGS, cli  # noqa: E402
 
 SAMPLE_BAGS = {"foot_walk": "foot", "vicon_walk": "foot", "pocket_walk": "pocket"}
+# simulated here, for what the sample bags lack: a barometer (four floors up and down)
+SIMULATED = {"up_dw_barometer": (["--placement", "pocket", "--scenario", "up_dw", "--rate",
+                                  "50", "--pressure", "--seed", "1"], "pocket")}
 NO_MAG = ROOT / "src" / "pdr_pocket" / "config" / "pocket_pdr_no_mag.yaml"
 RUN = {"foot": ("pdr-ekf", ()), "pocket": ("pdr-pocket", ())}
 DRIFT = {"foot": ("pdr-ekf", ("--drift", "online")),
@@ -57,6 +61,12 @@ def inputs(work: Path) -> Iterator[tuple[str, Path, str]]:
     """(name, bag, navigator) of the sample bags, then of the shared recordings found."""
     for name, navigator in SAMPLE_BAGS.items():
         yield name, ROOT / "bags" / name, navigator
+    for name, (args, navigator) in SIMULATED.items():
+        bag = work / "simulated" / name
+        result = cli("pdr-sim", "generate", *args, "--out", bag)
+        if result.returncode != 0:
+            raise SystemExit(f"output_digests: pdr-sim generate {name} failed: {result.stderr}")
+        yield name, bag, navigator
     for name, (csv, args, navigator) in SHARED_RECORDINGS.items():
         if not csv.exists():
             continue
