@@ -104,16 +104,16 @@ names the unit, since every reading of that sensor will be wrong alike.
 Without a pressure reading (none yet, or ``enabled: false``) :meth:`HeightFilter.step` is
 h ← h + v and σ² ← σ² + σ_v² exactly, the navigator's own height.
 
-- :class:`HeightFilter`: the filter; :class:`StepHeight`: what a step gets back;
-  :class:`HeightChange`: a change of the barometric height, judged;
-  :class:`BarometerStatus`: whether the barometer is fused, and why not;
-- :class:`HeightCoefficients`: the configuration in SI units per epoch, derived once.
+- :class:`HeightFilter`: the filter (the Kalman filter and the change detector);
+  pdr_pocket.ride_judge: what a change was; pdr_pocket.height_records: what a step gets
+  back (:class:`~pdr_pocket.height_records.StepHeight`), a change judged
+  (:class:`~pdr_pocket.height_records.HeightChange`), whether the barometer is fused
+  (:class:`~pdr_pocket.height_records.BarometerStatus`) and the configuration in SI units
+  per epoch (:class:`~pdr_pocket.height_records.HeightCoefficients`).
 """
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
-from typing import Literal, NamedTuple
 
 import numpy as np
 
@@ -121,7 +121,6 @@ from pdr_core.atmosphere import height_m, metres_per_pascal
 from pdr_core.barometry import (
     MISGIVEN_UNITS_PA,
     OFFSET_JUMPS_MAX_PER_MIN,
-    PA_PER_HPA,
     PRESSURE_NOISE_RATE_HZ,
     READING_SPAN_MAX_S,
     RIDE_KINDS,
@@ -129,211 +128,25 @@ from pdr_core.barometry import (
     misgiven_unit,
     plausible_pressure,
 )
-from pdr_core.chi2 import chi2_quantile
 from pdr_core.errors import InputWarning
 from pdr_core.topics import IMU_PRESSURE
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_pocket.config import BarometerConfig
+from pdr_pocket.height_records import (
+    BarometerStatus,
+    ChangeInProgress,
+    Climb,
+    Epochs,
+    HeightChange,
+    HeightCoefficients,
+    PendingReadings,
+    StepHeight,
+    epoch_means,
+)
+from pdr_pocket.ride_judge import change_height_variance, change_kind, force_height, passages
 
-# a change of the barometric height this close to a stairs step's climb was walked
-STAIRS_MARGIN_S = 1.0
-# the change's start and end: where the barometric height passes these shares of it
-START_SHARE, END_SHARE = 0.1, 0.9
 H, B, BDOT = range(3)           # the state's indices
-EPOCH_COLUMNS = ("start_s", "z", "n", "force", "still", "h")
-SECONDS_PER_HOUR = 3600.0
 SECONDS_PER_MINUTE = 60.0
-
-
-class HeightCoefficients(NamedTuple):
-    """What :class:`~pdr_pocket.config.BarometerConfig` means in SI units, per epoch, at
-    the first reading's dh/dp [m/Pa]."""
-
-    epoch_s: float
-    reading_var_m2: float       # a 25 Hz reading's variance: (σ_p² + q²/12)·(dh/dp)²
-    correlated_var_m2: float    # what an epoch's mean keeps: σ_c²·(dh/dp)²
-    offset_walk_var_m2: float   # var(w_b) per epoch
-    drift_var_m2ps2: float      # σ_w², the drift rate's stationary variance
-    drift_decay: float          # φ = exp(−Δt/τ_w) per epoch
-    jump_var_m2: float          # σ_j²
-    gate_nis: float             # the χ² gate of the innovation (1 dof)
-    motion_epochs: int          # W: the backward difference's span
-    settle_epochs: int          # A: the level held before and after
-    max_change_epochs: int
-
-    @classmethod
-    def from_config(cls, c: BarometerConfig, metres_per_pa: float) -> HeightCoefficients:
-        m_per_hpa = abs(metres_per_pa) * PA_PER_HPA
-        drift = c.weather_drift_hpa_per_h * m_per_hpa / SECONDS_PER_HOUR
-        walk = c.offset_walk_hpa_per_sqrt_h * m_per_hpa / np.sqrt(SECONDS_PER_HOUR)
-        return cls(
-            c.epoch_s,
-            (c.pressure_noise_hpa**2 + c.pressure_resolution_hpa**2 / 12.0) * m_per_hpa**2,
-            (c.correlated_noise_hpa * m_per_hpa) ** 2, walk**2 * c.epoch_s, drift**2,
-            float(np.exp(-c.epoch_s / c.weather_drift_time_s)),
-            (c.offset_jump_sigma_hpa * m_per_hpa) ** 2,
-            chi2_quantile(c.offset_jump_gate_probability, 1),
-            _epochs(c.motion_window_s, c.epoch_s), _epochs(c.settle_s, c.epoch_s),
-            _epochs(c.max_change_s, c.epoch_s))
-
-
-def _epochs(seconds: float, epoch_s: float) -> int:
-    return max(1, round(seconds / epoch_s))
-
-
-@dataclass(frozen=True)
-class HeightChange:
-    """A change of the barometric height, judged (the module docstring): its kind, when
-    it passed 10 % and 90 % [s], its height D [m] (+ up), the floors the filter's height
-    moved by over it, and the vertical force's double integral over it [m] (NaN when
-    there was none or the person was not still)."""
-
-    kind: HeightChangeKind
-    start_s: float
-    end_s: float
-    height_m: float
-    floors: int
-    accel_height_m: float
-
-    @property
-    def ride(self) -> bool:
-        """A lift or escalator ride: its height went to h."""
-        return self.kind in RIDE_KINDS
-
-
-@dataclass(frozen=True)
-class BarometerStatus:
-    """Whether the barometer goes into the height: ``status`` "fused", "not fused" (turned
-    off, not trusted, or its readings not yet processed) or "absent" (no reading); ``why``
-    in words ("" when fused); the offset jumps let in so far; the readings' rate [Hz]
-    (0 with fewer than two)."""
-
-    status: Literal["fused", "not fused", "absent"]
-    why: str
-    offset_jumps: int
-    rate_hz: float
-
-    def as_dict(self) -> dict:
-        return {"status": self.status, "why": self.why, "offset_jumps": self.offset_jumps,
-                "rate_hz": round(self.rate_hz, 2)}
-
-
-class StepHeight(NamedTuple):
-    """A step's height above the start [m] and its σ [m], its floor, and the rides that
-    ended since the step before (the module docstring)."""
-
-    height_m: float
-    sigma_m: float
-    floor: int
-    rides: tuple[HeightChange, ...]
-
-
-@dataclass
-class _Samples:
-    """Readings given but not yet processed: stamps [s], values, and the last stamp."""
-
-    t: list = field(default_factory=list)
-    values: list = field(default_factory=list)
-    last_t: float = -np.inf
-    columns: int = 0            # the values' columns (0: one value per reading)
-
-    def add(self, t: np.ndarray, values: np.ndarray) -> None:
-        if len(t):
-            self.t.append(t)
-            self.values.append(values)
-            self.last_t = float(t[-1])
-
-    def take(self, first_epoch: int, end_epoch: int, epoch_s: float):
-        """The readings of epochs [first_epoch, end_epoch): their epoch's offset from
-        ``first_epoch`` and values; later ones stay, earlier ones are dropped."""
-        if not self.t:
-            return np.empty(0, np.int64), np.empty((0, self.columns) if self.columns else 0)
-        t, values = np.concatenate(self.t), np.concatenate(self.values)
-        epoch = np.floor(t / epoch_s).astype(np.int64)
-        later = epoch >= end_epoch
-        self.t, self.values = ([t[later]], [values[later]]) if later.any() else ([], [])
-        now = (epoch >= first_epoch) & ~later
-        return epoch[now] - first_epoch, values[now]
-
-
-def _epoch_means(offsets: np.ndarray, values: np.ndarray, count: int):
-    """Per epoch of ``count``: the readings' number, mean and σ (NaN without readings).
-    bincount adds each epoch's readings one after the other in order, so an epoch's
-    figures do not depend on how its readings were chunked."""
-    n = np.bincount(offsets, minlength=count)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.bincount(offsets, weights=values, minlength=count) / n
-        spread = np.sqrt(np.bincount(offsets, weights=(values - mean[offsets]) ** 2,
-                                     minlength=count) / n)
-    return n, mean, spread
-
-
-class _Epochs:
-    """The processed epochs the change detector looks back on, a column per
-    :data:`EPOCH_COLUMNS`: per epoch its start [s], mean barometric height [m] and
-    readings, mean f_up [m/s²] and whether the person stood still, and h after it [m].
-    Epochs are indexed from the first processed; ``first`` is the oldest kept."""
-
-    def __init__(self) -> None:
-        self.first = 0
-        self.columns: dict[str, list] = {name: [] for name in EPOCH_COLUMNS}
-
-    def __len__(self) -> int:
-        return self.first + len(self.columns["z"])
-
-    def append(self, **values) -> None:
-        for name, column in self.columns.items():
-            column.append(values[name])
-
-    def array(self, name: str, lo: int, hi: int) -> np.ndarray:
-        """Epochs [lo, hi) of a column."""
-        return np.asarray(self.columns[name][lo - self.first:hi - self.first], float)
-
-    def value(self, name: str, index: int) -> float:
-        return self.columns[name][index - self.first]
-
-    def shift_h(self, lo: int, dh: float) -> None:
-        """Add ``dh`` [m] to h from epoch ``lo`` on (a ride's height moved into h)."""
-        h = self.columns["h"]
-        for index in range(max(lo - self.first, 0), len(h)):
-            h[index] += dh
-
-    def forget_before(self, index: int) -> None:
-        cut = index - self.first
-        if cut > 0:
-            for column in self.columns.values():
-                del column[:cut]
-            self.first = index
-
-
-@dataclass
-class _Change:
-    """A change of the barometric height in progress: the epoch it was first seen moving,
-    the last one moving, and how many have been still since."""
-
-    first: int
-    last: int
-    still_epochs: int = 0
-
-
-@dataclass
-class _Climb:
-    """A step's v [m] and variance [m²] climbed evenly from ``start`` to ``end`` [s], of
-    which the share ``applied`` is in h."""
-
-    start: float
-    end: float
-    v: float
-    var: float
-    applied: float = 0.0
-
-    def share(self, t_s: float) -> float:
-        """The share of the climb done by ``t_s``."""
-        if t_s >= self.end:
-            return 1.0
-        if t_s <= self.start:
-            return 0.0
-        return (t_s - self.start) / (self.end - self.start)
 
 
 class HeightFilter:
@@ -355,15 +168,15 @@ class HeightFilter:
         self.x: np.ndarray | None = None        # [h, b, ḃ] once the barometer is on
         self.P: np.ndarray | None = None
         # per pressure reading its barometric height [m] and the time it spans [s]
-        self._pressure, self._force = _Samples(columns=2), _Samples()
+        self._pressure, self._force = PendingReadings(columns=2), PendingReadings()
         self._last_z, self._last_new_s = np.nan, -np.inf     # the last new reading's
         self._readings, self._first_reading_s = 0, np.nan
         self._jumps_s: list[float] = []         # when the offset jumps came [s]
         self.distrusted_s: float | None = None  # when the filter stopped fusing it [s]
         self._through = None                    # epochs before this one are processed
-        self._epochs = _Epochs()
-        self._change: _Change | None = None
-        self._climbs: list[_Climb] = []         # steps' climbs not wholly in h yet
+        self._epochs = Epochs()
+        self._change: ChangeInProgress | None = None
+        self._climbs: list[Climb] = []         # steps' climbs not wholly in h yet
         self._stairs: list[tuple[float, float]] = []    # stairs steps' cycles [s]
         self._last_step_s = -np.inf
         self.late_steps = 0
@@ -507,7 +320,7 @@ class HeightFilter:
             processed_s = self._processed_s()
             if start < processed_s:
                 self.late_steps += 1
-            climb = _Climb(max(start, processed_s), max(t_s, processed_s), float(v_m),
+            climb = Climb(max(start, processed_s), max(t_s, processed_s), float(v_m),
                            max(float(v_var_m2),
                                (self.config.step_vertical_sigma_fraction * v_m) ** 2))
             self._climbs.append(climb)
@@ -548,9 +361,9 @@ class HeightFilter:
         count = end - first
         zi, readings = self._pressure.take(first, end, epoch_s)
         fi, f = self._force.take(first, end, epoch_s)
-        _, z_mean, _ = _epoch_means(zi, readings[:, 0], count)
+        _, z_mean, _ = epoch_means(zi, readings[:, 0], count)
         nz = np.bincount(zi, weights=readings[:, 1], minlength=count) * PRESSURE_NOISE_RATE_HZ
-        nf, f_mean, f_sigma = _epoch_means(fi, f, count)
+        nf, f_mean, f_sigma = epoch_means(fi, f, count)
         still = (nf > 1) & (f_sigma < self.config.still_force_sigma_mps2)
         for i in range(count):
             self._epoch(first + i, float(z_mean[i]), float(nz[i]), float(f_mean[i]),
@@ -571,7 +384,7 @@ class HeightFilter:
         self.dropped[f"{sensor}_nonfinite"] += int(np.count_nonzero(~finite))
         return t[finite], v[finite]
 
-    def _ordered(self, t: np.ndarray, samples: _Samples, sensor: str) -> np.ndarray:
+    def _ordered(self, t: np.ndarray, samples: PendingReadings, sensor: str) -> np.ndarray:
         """Whether each stamp increases on every one before it and lies in an epoch not
         yet processed (the others counted as ``<sensor>_out_of_order``)."""
         before = np.maximum.accumulate(np.concatenate([[samples.last_t], t[:-1]]))
@@ -677,7 +490,7 @@ class HeightFilter:
         change = self._change
         if change is None:
             if moving:
-                self._change = _Change(e, e)
+                self._change = ChangeInProgress(e, e)
         elif moving:
             change.last, change.still_epochs = e, 0
         else:
@@ -694,7 +507,7 @@ class HeightFilter:
             epochs.forget_before(keep)
             self._stairs = [s for s in self._stairs if s[1] >= epochs.value("start_s", keep)]
 
-    def _judge(self, change: _Change) -> None:
+    def _judge(self, change: ChangeInProgress) -> None:
         """Measure a change that has ended and decide what it was."""
         c, epochs = self.coefficients, self._epochs
         lo = change.first - c.motion_epochs     # the motion lies within [lo, change.last]
@@ -714,12 +527,13 @@ class HeightFilter:
         span_s = (after_lo + after_hi - before_lo - lo) / 2.0 * c.epoch_s
         height = level_after - level_before - float(self.x[BDOT]) * span_s
         z = epochs.array("z", lo, after_lo)
-        start, end = _passages(z, level_before, level_after)
+        start, end = passages(z, level_before, level_after)
         start_s = epochs.value("start_s", lo + start)
         end_s = epochs.value("start_s", lo + end) + c.epoch_s
         h_before = epochs.value("h", lo - 1)
-        accel = self._accel_height(lo, change.last + 1, lo + start, lo + end)
-        kind = self._kind(height, start_s, end_s, z[start:end + 1], accel)
+        accel = force_height(self.config, epochs, lo, change.last + 1, lo + start, lo + end)
+        kind = change_kind(self.config, self._stairs, height, start_s, end_s, z[start:end + 1],
+                           accel)
         if kind is None:
             return
         if kind in RIDE_KINDS:
@@ -728,65 +542,10 @@ class HeightFilter:
             self.x[B] -= moved
             epochs.shift_h(lo, moved)         # h since it began
             g = np.array([1.0, -1.0, 0.0])
-            self.P = self.P + np.outer(g, g) * self._level_var(before, after)
+            self.P = self.P + np.outer(g, g) * change_height_variance(c, epochs, before, after)
         floors = self._floor(float(self.x[H])) - self._floor(h_before)
         self._record(kind, start_s, end_s, height, accel, floors)
 
-    def _kind(self, height: float, start_s: float, end_s: float, z: np.ndarray,
-              accel: float) -> HeightChangeKind | None:
-        """What a change of ``height`` [m] between ``start_s`` and ``end_s`` [s] was,
-        with ``z`` its epochs' barometric heights from 10 % to 90 % and ``accel`` the
-        vertical force's double integral over it (the module docstring); None: too small
-        to be anything."""
-        c = self.config
-        if any(t1 >= start_s - STAIRS_MARGIN_S and t0 <= end_s + STAIRS_MARGIN_S
-               for t0, t1 in self._stairs):
-            return HeightChangeKind.STAIRS
-        big = abs(height) >= c.ride_min_height_m
-        if big and np.isfinite(accel) and \
-                1.0 / c.lift_height_ratio_max <= accel / height <= c.lift_height_ratio_max:
-            return HeightChangeKind.LIFT
-        if big and c.escalators and end_s - start_s >= c.escalator_min_s:
-            one_second = _epochs(1.0, c.epoch_s)
-            speed = np.abs(z[one_second:] - z[:-one_second]) / (one_second * c.epoch_s)
-            if len(speed) and np.nanmax(speed) <= c.escalator_max_speed_mps:
-                return HeightChangeKind.ESCALATOR
-        if abs(height) < c.motion_speed_mps * c.motion_window_s:
-            return None
-        return HeightChangeKind.OFFSET
-
-    def _accel_height(self, lo: int, hi: int, start: int, end: int) -> float:
-        """The vertical force's double integral [m] over the still span around the
-        change's epochs [lo, hi) that holds its 10-90 % epochs [start, end], with zero
-        velocity at both ends; NaN when the person was not still enough or the speed does
-        not peak beyond lift_min_speed_mps in the integral's direction."""
-        c, epochs = self.config, self._epochs
-        still = epochs.array("still", lo, hi).astype(bool)
-        index = np.flatnonzero(still)
-        if not len(index):
-            return np.nan
-        first, last = lo + index[0], lo + index[-1] + 1
-        span = still[index[0]:index[-1] + 1]
-        if first > start or last <= end or span.mean() < c.lift_min_still_fraction:
-            return np.nan
-        force = epochs.array("force", first, last)
-        if not np.isfinite(force).all():
-            return np.nan
-        dt = c.epoch_s
-        velocity = np.concatenate([[0.0], np.cumsum((force - force.mean()) * dt)])
-        velocity -= velocity[-1] * np.arange(len(velocity)) / len(force)
-        height = float(np.sum(velocity[:-1] + velocity[1:]) * dt / 2.0)
-        if not np.max(velocity * np.sign(height)) >= c.lift_min_speed_mps:
-            return np.nan
-        return height
-
-    def _level_var(self, before: np.ndarray, after: np.ndarray) -> float:
-        """The variance of a change's height from its levels' means [m²]."""
-        c = self.coefficients
-        n = self._epochs.columns["n"][-len(after):]
-        per_epoch = c.reading_var_m2 / max(1.0 / PRESSURE_NOISE_RATE_HZ, float(np.mean(n))) \
-            + c.correlated_var_m2
-        return per_epoch * (1.0 / np.isfinite(before).sum() + 1.0 / np.isfinite(after).sum())
 
     def _record(self, kind: HeightChangeKind, start_s: float, end_s: float, height: float,
                 accel: float, floors: int) -> None:
@@ -797,13 +556,3 @@ class HeightFilter:
             self._unreported.append(change)
 
 
-def _passages(z: np.ndarray, before: float, after: float) -> tuple[int, int]:
-    """The indices of ``z`` (a change's epochs) where it is last below 10 % of the way
-    from ``before`` to ``after`` before first reaching 90 %, plus one, and where it first
-    reaches 90 %."""
-    share = (z - before) / (after - before) if after != before else np.zeros_like(z)
-    reached = np.flatnonzero(share >= END_SHARE)
-    end = int(reached[0]) if len(reached) else len(z) - 1
-    below = np.flatnonzero(share[:end + 1] < START_SHARE)
-    start = int(below[-1]) + 1 if len(below) else 0
-    return min(start, end), end

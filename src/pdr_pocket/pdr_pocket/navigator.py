@@ -28,7 +28,7 @@ from pdr_core.correction import Correction
 from pdr_core.replay import TakenCorrection
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.corrections import CorrectionTaker
-from pdr_pocket.height_filter import BarometerStatus
+from pdr_pocket.height_records import BarometerStatus
 from pdr_pocket.pitch_source import PitchSource
 from pdr_pocket.records import NavigatorOutput
 from pdr_pocket.samples import Samples

@@ -15,7 +15,7 @@ drift corrections, writing its messages (:mod:`pdr_pocket.messages`), its report
 - :func:`run_record`: what ``pdr-pocket evaluate`` (pdr_pocket.evaluation) needs beyond
   the messages, kept in the output's metadata.yaml;
 - :func:`magnetometer_use`: the report's ``inputs.magnetometer`` (``inputs.barometer``:
-  pdr_pocket.height_filter.BarometerStatus).
+  pdr_pocket.height_records.BarometerStatus).
 """
 from __future__ import annotations
 

@@ -31,7 +31,8 @@ from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity, Ride
 from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
 from pdr_pocket.compiled_peaks import EV_MAX, EV_MIN, EV_T_CONFIRM, EV_T_MAX
 from pdr_pocket.config import PocketConfig
-from pdr_pocket.height_filter import HeightFilter, StepHeight
+from pdr_pocket.height_filter import HeightFilter
+from pdr_pocket.height_records import StepHeight
 from pdr_pocket.pitch_source import PitchChunk
 from pdr_pocket.placement import PlacementClassifier
 from pdr_pocket.position import PositionFilter
