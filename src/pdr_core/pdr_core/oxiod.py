@@ -42,14 +42,9 @@ from scipy.spatial.transform import Rotation
 
 from pdr_core.batch import MessageBatch, stamp_ns_from_seconds
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.csv_import import (
-    imu_batch,
-    mag_batch,
-    pose_batch,
-    read_table,
-    sensor_attitude,
-    valid_rows,
-)
+from pdr_core.csv_import import imu_batch, mag_batch, pose_batch, sensor_attitude
+from pdr_core.csv_rows import valid_rows
+from pdr_core.csv_table import read_table
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.units import MAG_UNITS_T

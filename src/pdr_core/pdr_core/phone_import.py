@@ -53,19 +53,15 @@ from pdr_core.csv_import import (
     PRESSURE_RANGE,
     PRESSURE_UNITS_PA,
     Implausible,
-    column_index,
     gravity_removed_problem,
     implausible,
     imu_batch,
     mag_batch,
-    not_later,
-    read_table,
     refuse_implausible,
-    refuse_rows,
-    select_columns,
     unit_factor,
-    valid_rows,
 )
+from pdr_core.csv_rows import not_later, refuse_rows, valid_rows
+from pdr_core.csv_table import column_index, read_table, select_columns
 from pdr_core.errors import InputError
 from pdr_core.frames import SENSOR_FRAME
 from pdr_core.imu_checks import (

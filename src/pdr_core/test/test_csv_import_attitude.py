@@ -4,12 +4,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.csv_import import (
-    QUATERNION_NORM_TOLERANCE,
-    CsvImuFormat,
-    import_csv,
-    sensor_attitude,
-)
+from pdr_core.csv_import import CsvImuFormat, import_csv, sensor_attitude
+from pdr_core.csv_rows import QUATERNION_NORM_TOLERANCE
 from pdr_core.errors import InputError
 
 N = 6

@@ -44,7 +44,8 @@ import numpy as np
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, BagWriter, add_strict_option
-from pdr_core.csv_import import MAG_UNITS_T, implausible, read_columns, refuse_implausible
+from pdr_core.csv_import import MAG_UNITS_T, implausible, refuse_implausible
+from pdr_core.csv_table import read_columns
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_checks import FIELD_RANGE, median_field_t
 from pdr_core.magnetic_field import homogeneous

@@ -197,7 +197,7 @@ def read_truth_steps(path: Path, fmt: TruthStepsFormat = TruthStepsFormat()) -> 
     left's before the right's in a row; a foot down in the first row is no footfall, its
     edge came before). InputError for a time that is not a number, a switch that reads
     other than 0 or 1, or a foot switch without a footfall."""
-    from pdr_core.csv_import import read_columns
+    from pdr_core.csv_table import read_columns
 
     cols = _checked(fmt)
     try:

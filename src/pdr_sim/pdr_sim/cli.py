@@ -42,12 +42,12 @@ from pdr_core.csv_import import (
     POS_UNITS_M,
     PRESSURE_RANGE,
     PRESSURE_UNITS_PA,
-    QUATERNION_NORM_TOLERANCE,
     QUATERNION_ORDERS,
     TIME_UNITS_S,
     CsvImuFormat,
     import_csv,
 )
+from pdr_core.csv_rows import QUATERNION_NORM_TOLERANCE
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
 from pdr_core.odometry import truth_tf
