@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import shlex
-import sys
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -32,31 +31,19 @@ import yaml
 
 from pdr_core import topics
 from pdr_core.bag import BagReader, add_strict_option, repair, write_batches
-from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.csv_export import export_bag, import_arguments
 from pdr_core.csv_import import (
-    ACC_UNITS_MPS2,
-    GYRO_UNITS_RADPS,
-    MAG_UNITS_T,
-    POS_UNITS_M,
-    PRESSURE_RANGE,
-    PRESSURE_UNITS_PA,
-    QUATERNION_ORDERS,
-    TIME_UNITS_S,
-    CsvImuFormat,
     import_csv,
 )
-from pdr_core.csv_rows import QUATERNION_NORM_TOLERANCE
 from pdr_core.errors import InputError, cli_parser, dispatch
 from pdr_core.imu_profiles import PROFILES
 from pdr_core.odometry import truth_tf
-from pdr_core.oxiod import GLITCH_STEP_RAD, import_oxiod
-from pdr_core.phone_import import CONVENTION_SIGNS, import_phone
 from pdr_sim.allan_report import allan_report
+from pdr_sim.cli_options import add_bag_output, add_csv_format, csv_format
 from pdr_sim.foot_trajectory import level_walk_like
+from pdr_sim.import_cli import add_import_csv, add_import_oxiod, add_import_phone
 from pdr_sim.overrides import with_overrides
-from pdr_sim.phone_layouts import phone_layout
 from pdr_sim.pocket_scenario import POCKET_BUILTIN
 from pdr_sim.scenario import BUILTIN
 from pdr_sim.simulation import (
@@ -67,10 +54,6 @@ from pdr_sim.simulation import (
     simulation_record,
 )
 from pdr_sim.step_fit import cut_steps, fit_pattern, pattern_to_dict, rms_error
-
-
-def _columns(text: str) -> tuple[str, ...]:
-    return tuple(c.strip() for c in text.split(",")) if text else ()
 
 
 def _add_generate(sub: argparse._SubParsersAction) -> None:
@@ -113,7 +96,7 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
                    help="foot: instead of the scenario, a level walk of the same duration, "
                         "seed, standing at start and end, and environment (walk strides out "
                         "and back), to compare a gait against")
-    _add_bag_output(p)
+    add_bag_output(p)
     p.add_argument("--plot", type=Path, metavar="DIR",
                    help="also write DIR/trajectory.png and DIR/signals.png (pocket: and "
                         "DIR/pocket.png, the 3D path, the pitch with the true steps and "
@@ -198,7 +181,7 @@ def _add_allan(sub: argparse._SubParsersAction) -> None:
     p.add_argument("source", type=Path, help="bag directory or CSV file")
     p.add_argument("--topic", default=topics.IMU_DATA, help="IMU topic of a bag source")
     p.add_argument("--out", type=Path, help="write DIR/allan.csv and DIR/allan.png")
-    _add_csv_format(p, required=False)
+    add_csv_format(p, required=False)
     p.set_defaults(func=_run_allan)
 
 
@@ -206,7 +189,7 @@ def _run_allan(args: argparse.Namespace) -> int:
     if args.source.is_file() and args.source.suffix.lower() == ".csv":
         if not args.acc_cols:
             raise InputError("--acc-cols", "required for a CSV source")
-        imu = import_csv(args.source, _csv_format(args)).imu
+        imu = import_csv(args.source, csv_format(args)).imu
     else:
         imu = BagReader(args.source).read(args.topic)
     if len(imu) < 100:
@@ -254,282 +237,6 @@ def _run_fit_steps(args: argparse.Namespace) -> int:
 
         plots.step_fit_png(steps.t, steps.xyz, pattern.s, pattern.z, args.plot, str(args.bag))
         print(f"plot: {args.plot}")
-    return 0
-
-
-def _add_bag_output(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--out", type=Path, required=True, help="output bag directory")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output")
-    p.add_argument("--compress", action="store_true", help="zstd-compress the MCAP chunks")
-
-
-def _add_csv_format(p: argparse.ArgumentParser, required: bool = True) -> None:
-    p.add_argument("--no-header", dest="header", action="store_false",
-                   help="the first row is data, not column names")
-    p.add_argument("--time-col", default="0", help="time column (default: first column)")
-    p.add_argument("--time-unit", default="s", choices=sorted(TIME_UNITS_S),
-                   help="unit of the time column: s, ms, us (µs) or ns")
-    p.add_argument("--time-offset-s", type=float, default=0.0,
-                   help="added to every stamp [s]")
-    p.add_argument("--acc-cols", type=_columns, required=required, help="accelerometer x,y,z")
-    p.add_argument("--acc-unit", default="mps2", choices=sorted(ACC_UNITS_MPS2),
-                   help="unit of the accelerometer columns: mps2, m/s2 or m/s^2 (m/s²), or "
-                        f"g ({STANDARD_GRAVITY_MPS2} m/s²)")
-    p.add_argument("--gyro-cols", type=_columns, default=(),
-                   help="gyroscope x,y,z (omit when the log has none)")
-    p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS),
-                   help="unit of the gyroscope columns: radps or rad/s, degps or deg/s")
-    p.add_argument("--axes", type=_columns, default=("x", "y", "z"),
-                   help="sensor axis remap, e.g. --axes=-y,x,z means out_x=-in_y, out_y=in_x")
-    p.add_argument("--acc-axes", type=_columns, default=None,
-                   help="remap of the accelerometer only (replaces --axes for it)")
-    p.add_argument("--gyro-axes", type=_columns, default=None,
-                   help="remap of the gyroscope only (replaces --axes for it)")
-    p.add_argument("--drop-invalid", action="store_true",
-                   help="drop NaN/Inf rows and non-increasing stamps instead of failing")
-    p.add_argument("--drop-duplicates", action="store_true",
-                   help="drop rows that repeat the previous row exactly (time and values)")
-    p.add_argument("--force", action="store_true",
-                   help="import data that fail a plausibility check of their units (a "
-                        "median |f| beyond 0.5-5 g, a rate beyond 5-10000 Hz, a 99th "
-                        "percentile of |ω| above 50 rad/s, a median |B| beyond 1-1000 µT, a "
-                        "median pressure beyond 300-1100 hPa), "
-                        "each with a warning, instead of refusing them (an accelerometer "
-                        "column constant over the whole recording is refused even so)")
-
-
-def _angles_deg(text: tuple[str, ...], option: str) -> tuple[float, ...]:
-    try:
-        return tuple(float(angle) for angle in text)
-    except ValueError:
-        raise InputError(option, f"'{','.join(text)}' is not a list of angles in degrees "
-                                 "(e.g. 0,0,180)") from None
-
-
-def _csv_format(args: argparse.Namespace) -> CsvImuFormat:
-    for option, axes in (("--axes", args.axes), ("--acc-axes", args.acc_axes),
-                         ("--gyro-axes", args.gyro_axes)):
-        if axes is not None and len(axes) != 3:
-            raise InputError(option, f"needs 3 entries, got {','.join(axes)}")
-    return CsvImuFormat(
-        time_col=args.time_col, time_unit=args.time_unit, acc_cols=args.acc_cols,
-        acc_unit=args.acc_unit, gyro_cols=args.gyro_cols, gyro_unit=args.gyro_unit,
-        pos_cols=getattr(args, "pos_cols", ()), pos_unit=getattr(args, "pos_unit", "m"),
-        pos_axes=getattr(args, "pos_axes", ("x", "y", "z")),
-        quat_cols=getattr(args, "quat_cols", ()),
-        quat_order=getattr(args, "quat_order", "xyzw"),
-        sensor_in_body_rpy_deg=_angles_deg(getattr(args, "sensor_in_body_rpy_deg", ()) or
-                                           ("0", "0", "0"), "--sensor-in-body-rpy-deg"),
-        mag_cols=getattr(args, "mag_cols", ()), mag_unit=getattr(args, "mag_unit", "ut"),
-        mag_axes=getattr(args, "mag_axes", None),
-        pressure_col=getattr(args, "pressure_col", None),
-        pressure_unit=getattr(args, "pressure_unit", "hpa"),
-        axes=args.axes, acc_axes=args.acc_axes, gyro_axes=args.gyro_axes,
-        header=args.header, time_offset_s=args.time_offset_s,
-        drop_invalid=args.drop_invalid, drop_duplicates=args.drop_duplicates,
-        accept_implausible=args.force)
-
-
-def _add_import_csv(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "import-csv", help="turn a CSV IMU log into a bag",
-        description="Turn a CSV IMU log (one row per sample) into a rosbag2 MCAP bag with "
-                    "imu/data (sensor_msgs/Imu, SI units) and, when their columns are given, "
-                    "imu/mag (sensor_msgs/MagneticField, tesla), imu/pressure "
-                    "(sensor_msgs/FluidPressure, pascal) and ground_truth/pose (positions, "
-                    "and the sensor's attitude from a quaternion with --quat-cols). "
-                    "Columns are header names or 0-based indices. Data implausible in the "
-                    "units given (a median |f| far from g, a time column in ms read as s, "
-                    "a magnetometer in T read as µT) are refused, naming the unit option "
-                    "that fixes them; --force imports them as read.")
-    p.add_argument("csv", type=Path, help="input CSV file")
-    _add_bag_output(p)
-    _add_csv_format(p)
-    p.add_argument("--pos-cols", type=_columns, default=(),
-                   help="ground-truth position x,y,z (map frame, z up)")
-    p.add_argument("--pos-unit", default="m", choices=sorted(POS_UNITS_M),
-                   help="unit of the position columns: m, cm or mm")
-    p.add_argument("--pos-axes", type=_columns, default=("x", "y", "z"),
-                   help="remap of the positions into a right-handed z-up frame, "
-                        "e.g. --pos-axes=-x,y,z; with --quat-cols it turns the attitude "
-                        "too, and one that mirrors the frame (an odd number of minus signs "
-                        "and swaps, as -x,y,z) is refused then")
-    p.add_argument("--quat-cols", type=_columns, default=(),
-                   help="the truth's attitude: 4 quaternion columns, in --quat-order, of the "
-                        "tracked body in the truth's world frame (C_world_body, z up); "
-                        "needs --pos-cols. Written normalised as pose.orientation of "
-                        "ground_truth/pose: the sensor's attitude C_world_sensor = "
-                        "C_world_body · C_body_sensor (--sensor-in-body-rpy-deg). A row whose "
-                        f"quaternion's norm is not 1 within {QUATERNION_NORM_TOLERANCE:g} is "
-                        "an invalid row (refused, or dropped with --drop-invalid)")
-    p.add_argument("--quat-order", default="xyzw", choices=sorted(QUATERNION_ORDERS),
-                   help="order of the --quat-cols: xyzw (ROS, scipy, OxIOD's Vicon files) "
-                        "or wxyz (scalar first)")
-    p.add_argument("--sensor-in-body-rpy-deg", type=_columns, default=("0", "0", "0"),
-                   metavar="R,P,Y",
-                   help="the IMU's frame in the tracked body's frame, C_body_sensor = "
-                        "Rz(Y)·Ry(P)·Rx(R): ZYX roll, pitch, yaw [deg], e.g. 0,0,180 for "
-                        "OxIOD's phone in its Vicon object (write the = when the first is "
-                        "negative: --sensor-in-body-rpy-deg=-90,0,0)")
-    p.add_argument("--mag-cols", type=_columns, default=(),
-                   help="magnetometer x,y,z (written to imu/mag)")
-    p.add_argument("--mag-unit", default="ut", choices=sorted(MAG_UNITS_T),
-                   help="unit of the magnetometer columns: ut (µT), nt (nT), t (T) or "
-                        "gauss (G)")
-    p.add_argument("--mag-axes", type=_columns, default=None,
-                   help="remap of the magnetometer only (default: the accelerometer's)")
-    p.add_argument("--pressure-col", default=None, metavar="NAME",
-                   help="barometer column (written to imu/pressure, one message per row "
-                        "with a reading; an empty cell is no reading at that row)")
-    p.add_argument("--pressure-unit", default="hpa", choices=sorted(PRESSURE_UNITS_PA),
-                   help="unit of the pressure column: hpa (hPa, as Android reports it, = "
-                        f"mbar) or pa (Pa); a median beyond {PRESSURE_RANGE.expected} in "
-                        "the unit given is refused")
-    p.set_defaults(func=_run_import_csv)
-
-
-def _run_import_csv(args: argparse.Namespace) -> int:
-    fmt = _csv_format(args)
-    result = import_csv(args.csv, fmt)
-    _write_recording(args, args.csv, result.imu, pose=result.pose, mag=result.mag,
-                     pressure=result.pressure)
-    written = [f"{len(result.imu)} imu/data messages"]
-    written += [f"{len(batch)} {topics.graph_name(topic)}" for topic, batch in (
-        (topics.IMU_MAG, result.mag), (topics.IMU_PRESSURE, result.pressure),
-        (topics.GROUND_TRUTH_POSE, result.pose)) if batch is not None]
-    if fmt.quat_cols:
-        written[-1] += " with attitude"
-    print(f"{args.out}: {', '.join(written)}; {_span(result.imu)}; "
-          f"{result.rows_read} rows read, {result.rows_duplicate} exact duplicates and "
-          f"{result.rows_invalid} invalid rows dropped")
-    return 0
-
-
-def _write_recording(args: argparse.Namespace, source: Path, imu: MessageBatch,
-                     pose: MessageBatch | None = None, mag: MessageBatch | None = None,
-                     pressure: MessageBatch | None = None) -> None:
-    """Write an imported recording to ``args.out``: its topics, the truth's /tf, and the
-    source and command line in the bag's custom_data."""
-    batches = {topics.IMU_DATA: imu}
-    if pose is not None:
-        batches[topics.GROUND_TRUTH_POSE] = pose
-        batches |= truth_tf(pose)
-    if mag is not None:
-        batches[topics.IMU_MAG] = mag
-    if pressure is not None:
-        batches[topics.IMU_PRESSURE] = pressure
-    command = " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
-    write_batches(args.out, batches, overwrite=args.overwrite, compress=args.compress,
-                  custom_data={"pdr.source": str(source), "pdr.command": command})
-
-
-def _span(imu: MessageBatch) -> str:
-    """What an import summary says of its IMU samples: duration, mean rate, median |f|."""
-    t = imu.t_s
-    rate = (len(t) - 1) / (t[-1] - t[0]) if len(t) > 1 else float("nan")
-    acc_norm = np.linalg.norm(imu["linear_acceleration"], axis=1)
-    return (f"{t[-1] - t[0]:.3f} s at {rate:.1f} Hz mean; "
-            f"median |f| {np.median(acc_norm):.3f} m/s^2")
-
-
-def _add_import_oxiod(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "import-oxiod", help="turn an OxIOD sequence into a bag",
-        description="Turn one sequence of the Oxford Inertial Odometry Dataset (OxIOD: "
-                    "imuK.csv and viK.csv, synchronised, no header) into a bag as "
-                    "import-csv writes it: imu/data (specific force -(gravity + user "
-                    f"acceleration) x {STANDARD_GRAVITY_MPS2} m/s², rotation rate as is), "
-                    "imu/mag (µT -> T) and ground_truth/pose (the Vicon translation, and "
-                    "the phone's attitude C_world_phone = C_world_object · Rz(180°): the "
-                    "Vicon object frame is the phone's turned 180° about z), with the "
-                    "truth's /tf. The time columns are too coarse to use: row k is stamped "
-                    "--start-s + k × 10 ms. The Vicon glitches (marker swaps: attitude "
-                    f"jumps of more than {GLITCH_STEP_RAD:g} rad between consecutive rows) "
-                    "are kept and counted in the summary.")
-    p.add_argument("sequence", type=Path,
-                   help="the sequence's directory, holding one pair imuK.csv/viK.csv (or "
-                        "one of the two files, where a directory holds several pairs)")
-    _add_bag_output(p)
-    p.add_argument("--start-s", type=float, default=0.0,
-                   help="stamp of the first row [s]; row k is 10 ms × k later")
-    p.add_argument("--drop-invalid", action="store_true",
-                   help="drop the rows with a NaN or Inf in either file, or a rotation that "
-                        "is not a unit quaternion, from both, instead of failing")
-    p.set_defaults(func=_run_import_oxiod)
-
-
-def _run_import_oxiod(args: argparse.Namespace) -> int:
-    result = import_oxiod(args.sequence, start_s=args.start_s, drop_invalid=args.drop_invalid)
-    _write_recording(args, result.sequence.imu_csv.parent, result.imu, pose=result.pose,
-                     mag=result.mag)
-    sequence = result.sequence
-    magnetometer = "yes" if result.mag is not None else "none (constant columns)"
-    print(f"{args.out}: OxIOD {sequence.imu_csv.parent.name} ({sequence.imu_csv.name} + "
-          f"{sequence.vicon_csv.name}): {len(result.imu)} samples from "
-          f"{result.imu.t_s[0]:.3f} s, {_span(result.imu)}; magnetometer: {magnetometer}; "
-          f"truth: attitude and position ({len(result.pose)} ground_truth/pose); "
-          f"{result.glitches} truth glitches (attitude jumps > {GLITCH_STEP_RAD:g} rad "
-          f"between rows, kept); {result.repeated_frames} rows repeat the previous Vicon "
-          f"frame; {result.rows_read} rows read, {result.rows_invalid} invalid rows dropped")
-    return 0
-
-
-def _add_import_phone(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "import-phone", help="turn a phone's own export (one CSV per sensor) into a bag",
-        description="Turn a phone's recording, one CSV file per sensor at its own rate, into "
-                    "a bag: imu/data (the accelerometer and the gyroscope paired at the "
-                    "slower one's stamps, the faster one averaged over each sample's "
-                    "interval: nothing interpolated), imu/mag and imu/pressure (each reading "
-                    "at its own stamp). A Sensor Logger export (its folder, or the zip it "
-                    "shares) is read as it is: a gravity-removed Accelerometer.csv is added "
-                    "to Gravity.csv, iOS's sign is turned to the specific force's, units are "
-                    "the app's. Any other layout: name each file with --acc FILE:TIME:X,Y,Z "
-                    "(and --gravity, --gyro, --mag the same way, --pressure FILE:TIME:COL), "
-                    "FILE relative to DIR, columns by header name or 0-based index. See "
-                    "docs/phone.md.")
-    p.add_argument("folder", type=Path, help="the export's folder (or a Sensor Logger .zip)")
-    _add_bag_output(p)
-    for name, what in (("acc", "accelerometer (gravity included, or removed with --gravity)"),
-                       ("gravity", "gravity part of a gravity-removed accelerometer"),
-                       ("gyro", "gyroscope"), ("mag", "magnetometer")):
-        p.add_argument(f"--{name}", metavar="FILE:TIME:X,Y,Z", help=f"the {what} file")
-    p.add_argument("--pressure", metavar="FILE:TIME:COL", help="the barometer file")
-    p.add_argument("--convention", choices=sorted(CONVENTION_SIGNS),
-                   help="the accelerometer's sign: android (a phone lying face up reads "
-                        "+9.8 m/s² on z, the specific force) or ios (−9.8, Core Motion's); "
-                        "default for Sensor Logger: from the phone's own attitude, else its "
-                        "Metadata.csv; for named files: android")
-    p.add_argument("--time-unit", default=None, choices=sorted(TIME_UNITS_S),
-                   help="unit of every time column (default: ns, Sensor Logger's)")
-    p.add_argument("--acc-unit", default="mps2", choices=sorted(ACC_UNITS_MPS2),
-                   help="unit of the accelerometer and gravity columns")
-    p.add_argument("--gyro-unit", default="radps", choices=sorted(GYRO_UNITS_RADPS),
-                   help="unit of the gyroscope columns")
-    p.add_argument("--mag-unit", default="ut", choices=sorted(MAG_UNITS_T),
-                   help="unit of the magnetometer columns")
-    p.add_argument("--pressure-unit", default="hpa", choices=sorted(PRESSURE_UNITS_PA),
-                   help="unit of the pressure column")
-    p.add_argument("--drop-invalid", action="store_true",
-                   help="drop rows with an empty, NaN or Inf cell and stamps that do not "
-                        "increase, instead of failing")
-    p.add_argument("--force", action="store_true",
-                   help="import data that fail a plausibility check of their units, each "
-                        "with a warning")
-    p.set_defaults(func=_run_import_phone)
-
-
-def _run_import_phone(args: argparse.Namespace) -> int:
-    with phone_layout(args) as layout:
-        result = import_phone(layout)
-        _write_recording(args, args.folder, result.imu, mag=result.mag,
-                         pressure=result.pressure)
-    print(f"{args.out}: {_span(result.imu)}")
-    for line in result.lines:
-        print(f"  {line}")
-    for topic, batch in ((topics.IMU_MAG, result.mag), (topics.IMU_PRESSURE, result.pressure)):
-        if batch is None:
-            print(f"  {topic.lstrip('/')}: none (the export has no such sensor)")
     return 0
 
 
@@ -624,9 +331,9 @@ def parser() -> argparse.ArgumentParser:
     _add_generate(sub)
     _add_allan(sub)
     _add_fit_steps(sub)
-    _add_import_csv(sub)
-    _add_import_oxiod(sub)
-    _add_import_phone(sub)
+    add_import_csv(sub)
+    add_import_oxiod(sub)
+    add_import_phone(sub)
     _add_export_csv(sub)
     _add_info(sub)
     _add_repair(sub)
