@@ -13,6 +13,7 @@ from wstest import ROOT
 
 SOURCES = sorted(p for p in (ROOT / "src").glob("*/*/**/*.py") if "__pycache__" not in p.parts)
 MAX_KERNEL_ARGUMENTS = 8
+MAX_MODULE_LINES = 600      # issue 56: a module longer than this does more than one job
 
 
 def tree(path: Path) -> ast.Module:
@@ -33,6 +34,13 @@ def kernels() -> list[tuple[str, ast.FunctionDef]]:
     return [(f"{path.relative_to(ROOT)}:{node.lineno} {node.name}", node)
             for path in SOURCES for node in ast.walk(tree(path))
             if isinstance(node, ast.FunctionDef) and is_compiled(node)]
+
+
+def test_no_source_module_is_longer_than_600_lines():
+    """Issue 56: each module does one job; the packages' tests are not sources."""
+    long = [f"{path.relative_to(ROOT)}: {n} lines" for path in SOURCES if "test" not in path.parts
+            and (n := len(path.read_text().splitlines())) > MAX_MODULE_LINES]
+    assert long == []
 
 
 def test_the_tree_has_compiled_kernels_to_check():
