@@ -30,7 +30,7 @@ from pdr_core.config_files import (
 from pdr_core.stair_geometry import FLIGHT_MAX_RISERS, FLIGHT_MIN_RISERS, RISER_MAX_M, RISER_MIN_M
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_pocket.orientation_config import OrientationConfig, orientation_config
-from pdr_pocket.step_length import AUTO_MODEL, STRIDE_MODELS
+from pdr_pocket.step_length import StepLengthConfig
 
 
 @dataclass(frozen=True)
@@ -174,32 +174,6 @@ class ActivityConfig:
             raise ValueError("enter_stairs_probability must be below 0.5")
         if not self.level_max_deg > self.level_min_deg:
             raise ValueError("level_max_deg must be above level_min_deg")
-
-
-@dataclass(frozen=True)
-class StepLengthConfig:
-    """Stride (one gait cycle) models. ``model``: auto (the placement's: the pitch line on a
-    thigh's swing, the frequency line otherwise, pdr_pocket.placement), pitch (Eq. (4.2),
-    the thesis'), frequency (Eq. (4.3)) or weinberg (Eq. (2.3), ζ·(α_z,max − α_z,min)^¼).
-    The shipped a_H, b_H are a population's line (pdr_pocket.step_length); ``calibrated``
-    true (what ``pdr-pocket calibrate-step`` writes) says they are the person's."""
-
-    model: str = AUTO_MODEL
-    a_h_m_per_deg: float = 0.025        # universal slope a_H
-    b_h_m: float = 0.42                 # offset b_H: a population's, or the person's
-    calibrated: bool = False            # the line fitted to this person's walks
-    c_h_m_per_hz: float = 1.60          # s = c_H·f + d_H, f in gait cycles per second
-    d_h_m: float = 0.0
-    weinberg_zeta: float = 0.95         # s = ζ·(Δα_z [m/s²])^¼
-    stairs_stride_m: float = 0.52       # horizontal stride on stairs (Section 4.3.3)
-    length_sigma_m: float = 0.03        # 1σ of one stride about the line
-
-    def __post_init__(self) -> None:
-        if self.model not in (AUTO_MODEL, *STRIDE_MODELS):
-            raise ValueError(f"model must be one of {AUTO_MODEL}, {', '.join(STRIDE_MODELS)}, "
-                             f"got {self.model!r}")
-        check_positive(self, ("a_h_m_per_deg", "weinberg_zeta", "stairs_stride_m",
-                         "length_sigma_m"))
 
 
 @dataclass(frozen=True)

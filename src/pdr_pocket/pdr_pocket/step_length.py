@@ -11,7 +11,7 @@ to return metres. :data:`STRIDE_MODELS` names them for ``step_length.model`` (or
 ``auto``, the default: the model of the placement found, pdr_pocket.placement), as
 pdr_ins_ekf.config.DETECTORS names the stance detectors: a new model is a class here with
 those two methods and an entry there (its parameters, if any, keys of
-:class:`~pdr_pocket.config.StepLengthConfig`). Stairs steps are not walked at the level
+:class:`StepLengthConfig`). Stairs steps are not walked at the level
 line: the navigator gives them ``stairs_stride_m`` (two treads, Section 4.3.3).
 
 :func:`fit_offset` and :func:`fit_line` calibrate from a walk of known length
@@ -32,15 +32,13 @@ not scaled.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
 import numpy as np
 
+from pdr_core.config_files import check_positive
 from pdr_core.errors import InputError
 from pdr_core.gait import POPULATION_HEIGHT_M
-
-if TYPE_CHECKING:   # pdr_pocket.config checks step_length.model against STRIDE_MODELS
-    from pdr_pocket.config import StepLengthConfig
 
 MIN_CALIBRATION_STEPS = 20
 MIN_AMPLITUDE_SPREAD_DEG = 3.0      # a slope needs Δθ spread over at least this (1σ)
@@ -167,3 +165,29 @@ def fit_line(amplitude_deg: np.ndarray, segment: np.ndarray, distances_m: np.nda
     (a, b), *_ = np.linalg.lstsq(np.c_[sums, counts], np.asarray(distances_m, float),
                                  rcond=None)
     return float(a), float(b)
+
+
+@dataclass(frozen=True)
+class StepLengthConfig:
+    """Stride (one gait cycle) models. ``model``: auto (the placement's: the pitch line on a
+    thigh's swing, the frequency line otherwise, pdr_pocket.placement), pitch (Eq. (4.2),
+    the thesis'), frequency (Eq. (4.3)) or weinberg (Eq. (2.3), ζ·(α_z,max − α_z,min)^¼).
+    The shipped a_H, b_H are a population's line (pdr_pocket.step_length); ``calibrated``
+    true (what ``pdr-pocket calibrate-step`` writes) says they are the person's."""
+
+    model: str = AUTO_MODEL
+    a_h_m_per_deg: float = 0.025        # universal slope a_H
+    b_h_m: float = 0.42                 # offset b_H: a population's, or the person's
+    calibrated: bool = False            # the line fitted to this person's walks
+    c_h_m_per_hz: float = 1.60          # s = c_H·f + d_H, f in gait cycles per second
+    d_h_m: float = 0.0
+    weinberg_zeta: float = 0.95         # s = ζ·(Δα_z [m/s²])^¼
+    stairs_stride_m: float = 0.52       # horizontal stride on stairs (Section 4.3.3)
+    length_sigma_m: float = 0.03        # 1σ of one stride about the line
+
+    def __post_init__(self) -> None:
+        if self.model not in (AUTO_MODEL, *STRIDE_MODELS):
+            raise ValueError(f"model must be one of {AUTO_MODEL}, {', '.join(STRIDE_MODELS)}, "
+                             f"got {self.model!r}")
+        check_positive(self, ("a_h_m_per_deg", "weinberg_zeta", "stairs_stride_m",
+                         "length_sigma_m"))
