@@ -103,13 +103,14 @@ def read_run(path: Path, *, strict: bool = False) -> RunOutput:
         staircases.add(int(steps["index"][k]), t, int(steps["activity"][k]),
                        float(steps["vertical_displacement"][k]))
         records.append(StepRecord(
-            int(steps["index"][k]), t, (int(stamp) - start_ns) * 1e-9,
-            float(steps["length"][k]), float(steps["vertical_displacement"][k]),
-            float(steps["heading"][k]), float(steps["pitch_max"][k]),
-            float(steps["pitch_min"][k]), float(steps["duration"][k]),
-            int(steps["activity"][k]), position,
-            poses["pose.covariance"][i].reshape(6, 6)[:3, :3], staircases.floor(position[2]),
-            float("nan")))
+            index=int(steps["index"][k]), t=t, t_confirm=(int(stamp) - start_ns) * 1e-9,
+            length=float(steps["length"][k]),
+            vertical_displacement=float(steps["vertical_displacement"][k]),
+            heading=float(steps["heading"][k]), pitch_max=float(steps["pitch_max"][k]),
+            pitch_min=float(steps["pitch_min"][k]), duration=float(steps["duration"][k]),
+            activity=int(steps["activity"][k]), position=position,
+            covariance=poses["pose.covariance"][i].reshape(6, 6)[:3, :3],
+            floor=staircases.floor(position[2]), vertical_force_range=float("nan")))
     return RunOutput(records, steps.stamp_ns, staircases, int(record["footfalls"]), start_ns,
                      int(record["end_ns"]), int(record["input_first_ns"]))
 

@@ -14,9 +14,9 @@ from pdr_pocket.orientation import AttitudeEstimate
 RIDES = {HeightChangeKind.LIFT: Ride.LIFT, HeightChangeKind.ESCALATOR: Ride.ESCALATOR}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StepRecord:
-    """One step (pdr_msgs/Step fields, SI) with the pose after it."""
+    """One step (pdr_msgs/Step fields, SI) with the pose after it; made by keyword."""
 
     index: int
     t: float                    # the pitch maximum [s]

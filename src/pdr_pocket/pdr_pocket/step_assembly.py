@@ -202,10 +202,14 @@ class StepAssembly:
         published[2, 2] += held_var
         velocity = step_velocity(length, climbed if on_stairs else 0.0, heading, duration,
                                  (length_var, vertical_var, self.position.step_heading_var))
-        record = StepRecord(index, t_max, t_confirm, length, vertical, heading,
-                            float(event[EV_MAX]), float(event[EV_MIN]), duration, activity,
-                            self.position.position, covariance, floor, vertical_range, ride,
-                            ride_height, *velocity, published)
+        record = StepRecord(
+            index=index, t=t_max, t_confirm=t_confirm, length=length,
+            vertical_displacement=vertical, heading=heading, pitch_max=float(event[EV_MAX]),
+            pitch_min=float(event[EV_MIN]), duration=duration, activity=activity,
+            position=self.position.position, covariance=covariance, floor=floor,
+            vertical_force_range=vertical_range, ride=ride, ride_height=ride_height,
+            velocity=velocity[0], velocity_covariance=velocity[1],
+            odometry_covariance=published)
         self.steps.append(record)
         self.sum_cos = self.sum_sin = 0.0
         self.vz_max, self.vz_min = -np.inf, np.inf

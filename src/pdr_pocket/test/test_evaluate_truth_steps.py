@@ -40,8 +40,10 @@ EDGES_S = (FIRST_NS + 2e9 * np.array([3, 5, 5, 7, 8])) * 1e-9    # rows 3, 5, 5,
 def run_out(tmp_path_factory):
     """A pdr-pocket run output of three steps and FOOTFALLS footfalls on IMU_NS."""
     out = tmp_path_factory.mktemp("evaluate") / "run"
-    steps = [StepRecord(k, 2.0 + k, 2.3 + k, 1.4, 0.0, 0.0, 0.5, -0.3, 1.0, 0,
-                        np.array([1.4 * (k + 1), 0.0, 0.0]), 0.01 * np.eye(3), 0, 1.0)
+    steps = [StepRecord(index=k, t=2.0 + k, t_confirm=2.3 + k, length=1.4,
+                        vertical_displacement=0.0, heading=0.0, pitch_max=0.5, pitch_min=-0.3,
+                        duration=1.0, activity=0, position=np.array([1.4 * (k + 1), 0.0, 0.0]),
+                        covariance=0.01 * np.eye(3), floor=0, vertical_force_range=1.0)
              for k in range(3)]
     stamps = IMU_NS[[230 + 100 * k for k in range(3)]]
     record = run_record(steps, IMU_NS, int(IMU_NS[0]), FOOTFALLS, 3.0)
