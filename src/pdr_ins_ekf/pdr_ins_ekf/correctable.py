@@ -197,7 +197,7 @@ class CorrectableFilter:
         if self.last_s is None or t_s > self.last_s:
             return (f"the stamp is {t_s - (self.last_s or 0.0):.3f} s after the last sample "
                     "filtered")
-        if self.replay.history.look_back(t_s) is None:
+        if not self.replay.serves(t_s):
             oldest = self.replay.history.instants[0] if len(self.replay.history) else None
             reach = ("no stride kept yet" if oldest is None
                      else f"the oldest kept stride is {self.last_s - oldest:.1f} s back")

@@ -467,8 +467,7 @@ class StreamingPocket:
             return (f"stamp {stamp_ns} ns is after the last sample processed "
                     f"({self.processed_ns} ns): no step of this navigator")
         instants = self.replay.history.instants
-        t_c = self._time_s(stamp_ns)
-        if not instants or t_c < instants[0]:
+        if not self.replay.serves(self._time_s(stamp_ns)):
             oldest = "nothing kept" if not instants else \
                 f"kept back to {stamp_of(self.t0_ns, instants[0])} ns"
             return (f"stamp {stamp_ns} ns is older than the correction window "
