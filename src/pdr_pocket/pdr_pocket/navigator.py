@@ -20,7 +20,7 @@ the steps and every step is level.
 from __future__ import annotations
 
 import copy
-from dataclasses import replace
+from dataclasses import fields, is_dataclass, replace
 
 import numpy as np
 
@@ -33,6 +33,21 @@ from pdr_pocket.pitch_source import PitchSource
 from pdr_pocket.records import NavigatorOutput
 from pdr_pocket.samples import Samples
 from pdr_pocket.step_assembly import StepAssembly
+
+
+def frozen_records(config: PocketConfig) -> dict[int, object]:
+    """The frozen dataclasses reachable from ``config`` (itself included), by ``id``: as
+    :func:`copy.deepcopy`'s memo, a copy shares them instead of copying what never
+    changes."""
+    records: dict[int, object] = {}
+    todo: list[object] = [config]
+    while todo:
+        item = todo.pop()
+        if (is_dataclass(item) and not isinstance(item, type) and id(item) not in records
+                and item.__dataclass_params__.frozen):
+            records[id(item)] = item
+            todo.extend(getattr(item, f.name) for f in fields(item))
+    return records
 
 
 class PocketNavigator:
@@ -49,10 +64,11 @@ class PocketNavigator:
     def copy_state(self) -> PocketNavigator:
         """A copy to run on from here (a correction taken as of an earlier sample): its
         state deep-copied, its list of steps a new list of the same frozen records (a deep
-        copy of them at every step would grow with the walk)."""
+        copy of them at every step would grow with the walk), its configuration the same
+        frozen records (:func:`frozen_records`; copying them was 40 % of the copy's time)."""
         steps, self.assembly.steps = self.assembly.steps, []
         try:
-            duplicate = copy.deepcopy(self)
+            duplicate = copy.deepcopy(self, frozen_records(self.config))
         finally:
             self.assembly.steps = steps
         duplicate.assembly.steps = list(steps)

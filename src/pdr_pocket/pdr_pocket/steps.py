@@ -26,6 +26,7 @@ import numpy as np
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.gait import GAIT_MIN_FOOTFALLS
+from pdr_pocket.compiled_biquads import sos_filter
 from pdr_pocket.compiled_peaks import (
     EV_MAX,
     EV_MIN,
@@ -142,9 +143,7 @@ class FootfallDetector:
                 return np.empty((0, N_EVENT_COLUMNS))
             self.waiting = None
             self._design(float(np.median(np.diff(t[:RATE_SAMPLES + 1]))), force[0])
-        from scipy.signal import sosfilt  # 1 s to import: only without a gyroscope
-
-        low, self.zi = sosfilt(self.sos, force, zi=self.zi)
+        low = sos_filter(self.sos, force, self.zi)
         # a footfall per sample at most, and the waiting ones of a run released with one
         events = np.empty(((len(t) + GAIT_MIN_FOOTFALLS) // 2 + 1, N_EVENT_COLUMNS))
         c = self.config

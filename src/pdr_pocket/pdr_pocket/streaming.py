@@ -113,31 +113,58 @@ def stamp_of(t0_ns: int, t_s: float) -> int:
 class AttitudeTail:
     """The orientation filter's attitude C_b^n and its covariance (the attitude rows,
     [rad²]) at the samples of the last ``kept_s`` seconds [s of navigator time], the
-    latest run of each sample (a correction's run again replaces the first)."""
+    latest run of each sample (a correction's run again replaces the first).
+
+    The samples live in arrays grown by doubling and cut at the front by an index, so a
+    sample kept costs the same whether the chunks hold one sample (live at the IMU's
+    rate) or thousands."""
 
     def __init__(self, kept_s: float) -> None:
         self.kept_s = kept_s
-        self.t = np.zeros(0)
-        self.attitude = np.zeros((0, 3, 3))
-        self.covariance = np.zeros((0, 3, 3))
+        self._t = np.zeros(0)
+        self._attitude = np.zeros((0, 3, 3))
+        self._covariance = np.zeros((0, 3, 3))
+        self._start = self._end = 0
+
+    @property
+    def t(self) -> np.ndarray:
+        """The samples' times [s of navigator time], ascending."""
+        return self._t[self._start:self._end]
 
     def extend(self, estimate: AttitudeEstimate) -> None:
         """Keep the estimate's samples, in place of any at or after its first."""
-        if not len(estimate.t):
+        n = len(estimate.t)
+        if not n:
             return
-        keep = self.t < estimate.t[0]
-        t = np.concatenate([self.t[keep], estimate.t])
-        recent = t >= t[-1] - self.kept_s
-        self.t = t[recent]
-        self.attitude = np.concatenate([self.attitude[keep], estimate.attitude])[recent]
-        self.covariance = np.concatenate([
-            self.covariance[keep], estimate.covariance[:, ATT_ROWS, ATT_ROWS]])[recent]
+        cut = self._start + int(np.searchsorted(self.t, estimate.t[0]))
+        if cut + n > len(self._t):
+            self._make_room(cut, n)
+            cut = self._end
+        end = cut + n
+        self._t[cut:end] = estimate.t
+        self._attitude[cut:end] = estimate.attitude
+        self._covariance[cut:end] = estimate.covariance[:, ATT_ROWS, ATT_ROWS]
+        self._end = end
+        self._start += int(np.searchsorted(self.t, self._t[end - 1] - self.kept_s))
+
+    def _make_room(self, cut: int, n: int) -> None:
+        """Move the samples before ``cut`` to the front of arrays with room for ``n``
+        more (twice what is needed, so the moves are rare)."""
+        kept = slice(self._start, cut)
+        capacity = 2 * (cut - self._start + n)
+        for name in ("_t", "_attitude", "_covariance"):
+            old = getattr(self, name)
+            new = np.empty((capacity, *old.shape[1:]))
+            new[:cut - self._start] = old[kept]
+            setattr(self, name, new)
+        self._start, self._end = 0, cut - self._start
 
     def at(self, step: StepRecord) -> tuple[np.ndarray, np.ndarray]:
         """C_b^n (3, 3) and its covariance (3, 3) at the step's confirmation (the first
         sample at or after it, as pdr_pocket.messages.step_batches takes it)."""
-        i = min(int(np.searchsorted(self.t, step.t_confirm)), len(self.t) - 1)
-        return self.attitude[i], self.covariance[i]
+        i = self._start + min(int(np.searchsorted(self.t, step.t_confirm)),
+                              self._end - self._start - 1)
+        return self._attitude[i].copy(), self._covariance[i].copy()
 
 
 @dataclass(frozen=True)
