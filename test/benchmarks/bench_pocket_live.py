@@ -17,6 +17,12 @@ The walk: ``out_and_back_39min`` (Muñoz Díaz 2016, Section 3.4.2), a phone in 
 
 Each row: wall time, IMU samples per second, and whether the steps (count and stamps)
 equal ``pdr-pocket run``'s on the same bag.
+
+A second table times the streaming navigator the node runs (pdr_pocket.streaming), in this
+process, without the transport: its cost per IMU sample [µs] when the samples come one at
+a time at the IMU's rate and are processed each at once (``block_s`` 0) or in blocks of
+the node's default ``block_s`` (0.1 s), and when a backlog comes in the node's blocks of
+400 (``MAX_BLOCK``, a bag played as fast as acknowledged). Issue 56's target: at most 50 µs.
 """
 from __future__ import annotations
 
@@ -93,6 +99,45 @@ def end_to_end(procs: Processes, bag: Path, out: Path, outputs: str, expected: i
     return seconds, BagReader(out).read("/pdr/pocket/step").stamp_ns
 
 
+def streaming_cost(bag: Path, block: int, block_s: float) -> tuple[float, np.ndarray]:
+    """The streaming navigator on ``bag`` pushed ``block`` IMU samples at a time, each
+    block after the magnetometer readings up to its last: the wall time [µs] per IMU sample
+    and the stamps [ns] of its steps."""
+    from pdr_pocket.config import load_pocket_config
+    from pdr_pocket.streaming import StreamingPocket
+
+    reader = BagReader(bag)
+    imu, mag = reader.read(topics.IMU_DATA), reader.read(topics.IMU_MAG)
+    accel, gyro = imu["linear_acceleration"], imu["angular_velocity"]
+    ends = np.searchsorted(mag.stamp_ns, imu.stamp_ns[block - 1::block], side="right")
+    navigator = StreamingPocket(load_pocket_config(), block_s=block_s)
+    processed, taken = [], 0
+    start = time.perf_counter()
+    for first, end in zip(range(0, len(imu), block), [*ends, len(mag)], strict=False):
+        processed += navigator.push_mags(mag.stamp_ns[taken:end], mag["magnetic_field"][taken:end])
+        taken = end
+        part = slice(first, first + block)
+        processed += navigator.push_imus(imu.stamp_ns[part], accel[part], gyro[part])
+    processed += navigator.flush()
+    seconds = time.perf_counter() - start
+    stamps = [chunk.stamp_of(step.t_confirm) for chunk in processed for step in chunk.output.steps]
+    return seconds / len(imu) * 1e6, np.array(stamps, np.int64)
+
+
+def cost_table(bag: Path, reference: np.ndarray) -> None:
+    """The streaming navigator's cost per sample, in this process (the module docstring)."""
+    from pdr_pocket.streaming import BLOCK_S
+
+    print("\n| streaming navigator, in process | µs per IMU sample | steps as offline |")
+    print("|---|---|---|")
+    for label, block, block_s in (("one sample at a time, each processed at once", 1, 0.0),
+                                  (f"one sample at a time, in blocks of {BLOCK_S:g} s "
+                                   "(the node's default)", 1, BLOCK_S),
+                                  ("a backlog, 400 samples a call", 400, 0.0)):
+        cost, stamps = streaming_cost(bag, block, block_s)
+        print(f"| {label} | {cost:.0f} | {np.array_equal(stamps, reference)} |", flush=True)
+
+
 def row(label: str, samples: int, seconds: float, steps_equal: str) -> str:
     return f"| {label} | {seconds:.1f} | {samples / seconds:,.0f} | {steps_equal} |"
 
@@ -151,6 +196,7 @@ def main() -> int:
                   time.monotonic() - start, "—"), flush=True)
     finally:
         procs.cleanup()
+    cost_table(bag, reference)
     return 0
 
 

@@ -54,6 +54,7 @@ from pdr_core.imu_checks import check_mag_units, check_units, plausible
 from pdr_core.magnetometer_pairing import latest_readings
 from pdr_core.replay import CorrectionResult, Replay, TakenCorrection
 from pdr_core.sample_pairing import readings_at_samples
+from pdr_pocket.arrivals import MAG, Arrivals
 from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.magnetometer import MagCalibration
@@ -77,6 +78,12 @@ minute costs 60 checkpoints of the navigator's state and a minute of samples."""
 CHECKPOINT_EVERY_S = 1.0
 """The navigator's state is kept at most this often [s of IMU data]: a correction runs
 again at most this much besides the samples since its step."""
+BLOCK_S = 0.1
+"""The node's default ``block_s`` [s of IMU data]: a call of the navigator costs about
+400 µs besides 20 µs a sample, so blocks of 0.1 s (10 samples at 100 Hz) cost 60 µs a
+sample instead of 420 µs one by one, for 0.1 s more latency of the attitude
+(test/benchmarks/bench_pocket_live.py); a step is confirmed after its pitch maximum
+anyway, a few tenths of a second after it."""
 ATTITUDE_KEPT_S = 30.0
 """How long the orientation filter's output is kept [s of IMU data]: a step is confirmed
 after its sample, the first one, once the thigh frame is learnt, up to seconds after and
@@ -205,12 +212,15 @@ class Readings:
 @dataclass
 class StreamingPocket:
     """Live navigator: :meth:`push_imu` and :meth:`push_mag` return the
-    :class:`Processed` chunks of the samples they let the navigator process."""
+    :class:`Processed` chunks of the samples they let the navigator process. ``block_s``
+    [s of IMU data]: how long a sample may wait for the ones after it, to be processed
+    with them in one block (0: at once; the node's default is :data:`BLOCK_S`)."""
 
     config: PocketConfig
     calibration: MagCalibration | None = None
     mag_wait_s: float = MAG_WAIT_S
     correction_window_s: float = CORRECTION_WINDOW_S
+    block_s: float = 0.0
     counts: dict[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -236,6 +246,7 @@ class StreamingPocket:
         self.processed_ns: int | None = None    # the last sample processed ...
         self.paired_ns: int | None = None       # ... and the last with a reading
         self.readings: dict[str, Readings] = {}     # the other sensors', once they read
+        self.arrivals = Arrivals()                  # pushes held for a block (block_s)
         self.counts = {"non_finite": 0, "implausible": 0, "stamp_not_increasing": 0,
                        "mag_non_finite": 0,
                        "mag_missing": 0}
@@ -283,15 +294,22 @@ class StreamingPocket:
 
     def push_mags(self, stamp_ns: np.ndarray, field_t: np.ndarray) -> list[Processed]:
         """Magnetometer readings [T] (N, 3) in arrival order, as one block: a reading with
-        NaN/Inf is counted and dropped, one stamped before the last kept one dropped."""
-        values = np.asarray(field_t, float).reshape(-1, 3)
+        NaN/Inf is counted and dropped, one stamped before the last kept one dropped. With
+        ``block_s``, held until the IMU's block (pdr_pocket.arrivals)."""
+        stamps = np.array(stamp_ns, np.int64).reshape(-1)
+        values = np.array(field_t, float).reshape(-1, 3)
+        if self.block_s > 0:
+            self.arrivals.add_readings(MAG, stamps, values)
+            return []
+        return self._take_mags(stamps, values)
+
+    def _take_mags(self, stamps: np.ndarray, values: np.ndarray) -> list[Processed]:
         finite = np.isfinite(values).all(axis=1)
         self.counts["mag_non_finite"] += int((~finite).sum())
         if self.mag_error is not None:
             return []
         if self.calibration is not None and finite.any():
             values[finite] = self.calibration.apply(values[finite])
-        stamps = np.asarray(stamp_ns, np.int64)
         start = self.mag_stamps[-1] if len(self.mag_stamps) else np.iinfo(np.int64).min
         before = latest_before(stamps, finite, start)
         kept = finite & (stamps >= before)
@@ -308,10 +326,18 @@ class StreamingPocket:
     def push_readings(self, name: str, stamp_ns: np.ndarray, values) -> list[Processed]:
         """Readings (N,) of the sensor ``name`` of pdr_pocket.sensor_inputs (SI units) in
         arrival order, as one block: one not finite, or stamped at or before the last kept
-        one, is dropped and counted (``<name>_non_finite``, ``<name>_out_of_order``)."""
+        one, is dropped and counted (``<name>_non_finite``, ``<name>_out_of_order``). With
+        ``block_s``, held until the IMU's block (pdr_pocket.arrivals)."""
+        stamps = np.array(stamp_ns, np.int64).reshape(-1)
+        values = np.array(values, float).reshape(-1)
+        if self.block_s > 0:
+            self.arrivals.add_readings(name, stamps, values)
+            return []
+        return self._take_readings(name, stamps, values)
+
+    def _take_readings(self, name: str, stamps: np.ndarray, values: np.ndarray
+                       ) -> list[Processed]:
         readings = self.readings.setdefault(name, Readings())
-        stamps = np.asarray(stamp_ns, np.int64)
-        values = np.asarray(values, float).reshape(-1)
         finite = np.isfinite(values)
         before = latest_before(stamps, finite, readings.newest_ns)
         kept = finite & (stamps > before)
@@ -335,10 +361,31 @@ class StreamingPocket:
                   ) -> list[Processed]:
         """IMU samples (N,) [ns], (N, 3) [m/s², rad/s; gyro None: no gyroscope] in arrival
         order, as one block: the same samples kept, counted and processed as one at a
-        time would be (the module docstring), one chunk for the whole block."""
-        stamps = np.asarray(stamp_ns, np.int64)
-        a = np.asarray(accel, float).reshape(-1, 3)
-        w = np.full_like(a, np.nan) if gyro is None else np.asarray(gyro, float).reshape(-1, 3)
+        time would be (the module docstring), one chunk for the whole block. With
+        ``block_s``, held until ``block_s`` of them have come, then taken as one block
+        after the other topics' readings that came meanwhile (pdr_pocket.arrivals)."""
+        stamps = np.array(stamp_ns, np.int64).reshape(-1)
+        a = np.array(accel, float).reshape(-1, 3)
+        w = None if gyro is None else np.array(gyro, float).reshape(-1, 3)
+        if self.block_s <= 0:
+            return self._take_imus(stamps, a, w)
+        self.arrivals.add_imus(stamps, a, w)
+        return self._release() if self.arrivals.due(self.block_s) else []
+
+    def _release(self) -> list[Processed]:
+        """The pushes held (pdr_pocket.arrivals) taken: the readings, then the IMU's."""
+        arrivals, self.arrivals = self.arrivals, Arrivals()
+        out = []
+        for name, stamps, values in arrivals.readings_blocks():
+            out += self._take_mags(stamps, values) if name == MAG else \
+                self._take_readings(name, stamps, values)
+        for stamps, a, w in arrivals.imu_blocks():
+            out += self._take_imus(stamps, a, w)
+        return out
+
+    def _take_imus(self, stamps: np.ndarray, a: np.ndarray, gyro: np.ndarray | None
+                   ) -> list[Processed]:
+        w = np.full_like(a, np.nan) if gyro is None else gyro
         checked = np.zeros_like(a) if gyro is None else w
         finite = np.isfinite(a).all(axis=1) & np.isfinite(checked).all(axis=1)
         valid = finite & plausible(a, checked)
@@ -366,9 +413,10 @@ class StreamingPocket:
 
     def flush(self) -> list[Processed]:
         """Process every held sample (the end of a stream)."""
+        released = self._release()
         if self.held and not self.checked and self.failed is None:
             self._check_units()
-        return [] if self.failed is not None else self._process(len(self.held))
+        return released + ([] if self.failed is not None else self._process(len(self.held)))
 
     def _check_units(self) -> None:
         self.checked = True
@@ -393,9 +441,17 @@ class StreamingPocket:
             self.mag_error = str(exc)
 
     def _ready(self) -> int:
-        """How many held samples can be processed: those a reading stamped at or after
-        them has come for, or ``mag_wait_s`` of IMU data has passed since, or all when
-        the magnetometer is off or has been quiet that long."""
+        """How many held samples can be processed (:meth:`_covered`), none before the
+        first has waited ``block_s`` of IMU data: the samples go to the navigator in
+        blocks, whose call costs far less per sample than one call each."""
+        if self.held and self.last_stamp_ns - self.held[0][0] < self.block_s * 1e9:
+            return 0
+        return self._covered()
+
+    def _covered(self) -> int:
+        """How many held samples the other sensors let go: those a reading stamped at or
+        after them has come for, or ``mag_wait_s`` of IMU data has passed since, or all
+        when the magnetometer is off or has been quiet that long."""
         covered = []
         if self.mag_error is None and not self.mag_stale:
             covered.append(self.mag_stamps[-1] if len(self.mag_stamps) else -1)

@@ -5,7 +5,14 @@ published is not finite, every IMU sample is kept or counted under the key the r
 docs/nodes.md names, and a correction with a non-finite value or a negative variance is
 refused. Garbage that the rule drops, mixed into a real walk, leaves its steps exactly as
 they were. Found by it: a window of zero specific force divided by zero in the mean
-gravity update, and a finite rate of 1e151 rad/s did too."""
+gravity update, and a finite rate of 1e151 rad/s did too.
+
+With ``block_s`` (pdr_pocket.streaming, .arrivals; the node's default), live at the IMU's
+rate, one message at a time, the samples go to the navigator in blocks of ``block_s`` of
+IMU data: the steps and attitude are those of one sample at a time, to rounding (a step's
+heading is a sum over its samples, added block by block), with garbage among them too; the
+samples dropped are counted under the same keys; nothing waits after ``flush``; and the
+navigator is called once a block, not once a sample."""
 from __future__ import annotations
 
 import itertools
@@ -13,13 +20,14 @@ from functools import cache
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pdr_core.bag import BagReader
 from pdr_core.correction import from_request
 from pdr_pocket.config import PocketConfig
-from pdr_pocket.streaming import StreamingPocket
+from pdr_pocket.streaming import BLOCK_S, UNIT_CHECK_SAMPLES, StreamingPocket
 from wstest import ROOT, drop_reason
 
 CONFIG = PocketConfig()
@@ -146,3 +154,66 @@ def test_garbage_in_a_real_walk_changes_no_step(where):
     for key in set(KEY.values()):
         assert counts[key] == sum(KEY[kind] == key for kind in where.values())
     assert counts["mag_non_finite"] == len(where)
+
+
+# --- blocks of block_s ---------------------------------------------------------------
+WHERE = {101: "nan", 340: "back", 341: "repeat", 777: "huge", 1200: "inf"}
+
+
+def one_by_one(block_s: float, garbage: dict[int, str]) -> tuple[StreamingPocket, list]:
+    """The walk's first 30 s pushed a message at a time, the magnetometer's reading before
+    its IMU sample, a garbage sample of kind ``garbage[k]`` before sample k: the
+    navigator and its processed chunks."""
+    stamps, accel, gyro, field_t = walk()
+    live, chunks = StreamingPocket(CONFIG, block_s=block_s), []
+    for k, stamp in enumerate(stamps):
+        if k in garbage:
+            at = {"repeat": stamps[k - 1], "back": stamps[k - 1] - 7_000_000}.get(
+                garbage[k], stamp)
+            chunks += live.push_imu(int(at), *GARBAGE[garbage[k]])
+        chunks += live.push_mag(int(stamp), field_t[k])
+        chunks += live.push_imu(int(stamp), accel[k], gyro[k])
+    return live, chunks + live.flush()
+
+
+@pytest.fixture(scope="module")
+def at_once():
+    return one_by_one(0.0, WHERE)
+
+
+def test_blocks_give_the_steps_and_attitude_of_one_sample_at_a_time(at_once):
+    reference, expected = at_once
+    live, chunks = one_by_one(BLOCK_S, WHERE)
+    steps = [s for c in chunks for s in c.output.steps]
+    expected_steps = [s for c in expected for s in c.output.steps]
+    assert len(steps) == len(expected_steps) >= 12
+    assert [s.t for s in steps] == [s.t for s in expected_steps]
+    for a, b in zip(steps, expected_steps, strict=True):
+        np.testing.assert_allclose(a.position, b.position, rtol=0, atol=1e-9)
+        assert a.heading == pytest.approx(b.heading, abs=1e-12)
+    np.testing.assert_array_equal(np.concatenate([c.stamp_ns for c in chunks]),
+                                  np.concatenate([c.stamp_ns for c in expected]))
+    np.testing.assert_allclose(np.concatenate([c.output.attitude.attitude for c in chunks]),
+                               np.concatenate([c.output.attitude.attitude for c in expected]),
+                               rtol=0, atol=1e-12)
+    assert live.counts == reference.counts
+    for key in set(KEY.values()):
+        assert live.counts[key] == sum(KEY[kind] == key for kind in WHERE.values())
+
+
+def test_the_navigator_is_called_once_a_block(at_once):
+    _, expected = at_once
+    _, chunks = one_by_one(BLOCK_S, {})
+    samples = sum(len(c.stamp_ns) for c in chunks)
+    rate_hz = 1e9 / np.median(np.diff(walk()[0]))
+    assert len(expected) >= samples - UNIT_CHECK_SAMPLES    # at once: a chunk a sample
+    assert len(chunks) <= samples / (BLOCK_S * rate_hz) + 1
+
+
+def test_nothing_waits_after_flush():
+    stamps, accel, gyro, field_t = walk()
+    live = StreamingPocket(CONFIG, block_s=10.0)
+    assert live.push_mags(stamps[:200], field_t[:200]) == []
+    assert live.push_imus(stamps[:200], accel[:200], gyro[:200]) == []
+    assert sum(len(c.stamp_ns) for c in live.flush()) == 200
+    assert live.flush() == []

@@ -225,12 +225,13 @@ class LandmarkDriftNode(Node):
             self.held_steps = self.delay_ticks = 0
         self.service_corrections()
 
-    def service_corrections(self) -> None:
+    def service_corrections(self, tick: bool = False) -> None:
         """Send the next waiting correction when the service is there and none is in
         flight (after ``correction_delay_steps`` held steps), send again a call past the
         timeout (a pocket_pdr just started may be slow to answer), give up on a
-        correction past ``max_retries`` tries; when none is outstanding any more, take
-        the messages held meanwhile (module docstring)."""
+        correction past ``max_retries`` tries, one counted at each retry period (``tick``:
+        the timer's call; steps coming fast count none); when none is outstanding any
+        more, take the messages held meanwhile (module docstring)."""
         now = self.get_clock().now().nanoseconds * 1e-9
         for item in list(self.in_flight):
             future, sent, request, tries = item
@@ -250,7 +251,7 @@ class LandmarkDriftNode(Node):
             if self.client.service_is_ready() and item[1] <= self.max_retries:
                 self.waiting.pop(0)
                 self.in_flight.append([self.client.call_async(item[0]), now, *item])
-            else:
+            elif tick:
                 item[1] += 1
                 if item[1] > self.max_retries:
                     self.waiting.pop(0)
@@ -267,7 +268,7 @@ class LandmarkDriftNode(Node):
 
     def on_timer(self) -> None:
         self.delay_ticks += 1
-        self.service_corrections()
+        self.service_corrections(tick=True)
 
     def release(self) -> None:
         """The last accepted answer's revised steps and poses, then the messages held

@@ -29,8 +29,10 @@ poses and path: REP-105's map, pdr_core.frames), ``sensor_frame`` (the frame of 
 attitude's rates and of the gyro bias: the IMU's), ``imu_durability`` (volatile or
 transient_local, to match the publisher), ``correction_window_s`` (60.0: how far back a
 stamped correction may reach, in seconds of IMU data), ``mag_wait_s`` (1.0: how long a
-sample waits for a late magnetometer reading, in seconds of IMU data). The start-up line names the
-resolved topics and services.
+sample waits for a late magnetometer reading, in seconds of IMU data), ``block_s`` (0.1:
+how long a sample may wait to be processed with the ones after it, in seconds of IMU data;
+a call of the navigator costs far more than a sample in it, pdr_pocket.streaming.BLOCK_S).
+The start-up line names the resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
 topics keep pace), so the estimates equal ``pdr-pocket run``'s on the same bag, byte for
@@ -92,7 +94,7 @@ from pdr_pocket.messages import (
 )
 from pdr_pocket.placement import UNKNOWN, stride_choice
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
-from pdr_pocket.streaming import CORRECTION_WINDOW_S, MAG_WAIT_S, StreamingPocket
+from pdr_pocket.streaming import BLOCK_S, CORRECTION_WINDOW_S, MAG_WAIT_S, StreamingPocket
 
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
 IMPLAUSIBLE_WARN_S = 30.0   # implausible strides or speed: said at most this often
@@ -130,11 +132,14 @@ class PocketPdrNode(Node):
                              "late magnetometer reading [s of IMU data]")
         window_s = declare(self, "correction_window_s", CORRECTION_WINDOW_S, "how far back a "
                            "stamped correction may reach [s of IMU data]")
+        block_s = declare(self, "block_s", BLOCK_S, "how long a sample may wait to be "
+                          "processed with the ones after it, in one block [s of IMU data]; "
+                          "0: each at once")
         config = load_pocket_config(path or None)
         self.mag_updates = config.orientation.magnetic
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
-        self.navigator = StreamingPocket(config, calibration, mag_wait_s, window_s)
+        self.navigator = StreamingPocket(config, calibration, mag_wait_s, window_s, block_s)
         self.gyro_noise_var = self.navigator.gyro_noise_var
         qos = QoSProfile(history=HistoryPolicy.KEEP_ALL, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL
