@@ -84,7 +84,8 @@ EVALUATION = re.compile(r"^pdr_core\.metrics$|^pdr_\w+\.studies(\.|$)|\.evaluati
                         r"|\.drift_report$|\.run_report$")
 # Offline jobs and presentation, which may: the command lines, the plots, the runs of
 # whole bags that write reports.
-JOBS = re.compile(r"\.cli$|\.plots$|^pdr_pocket\.pocket_offline$|^pdr_drift\.offline$")
+JOBS = re.compile(r"\.cli$|\.plots$|^pdr_pocket\.pocket_offline$|^pdr_ins_ekf\.foot_offline$"
+                  r"|^pdr_drift\.offline$")
 NAVIGATOR_PACKAGES = ("pdr_ins_ekf", "pdr_pocket", "pdr_drift")
 
 

@@ -1,33 +1,42 @@
 """One recording of a dataset run: imported if it is a CSV or a phone's export, its
-navigator chosen from the data for ``auto`` (pdr_eval.auto_navigator), navigated by
-``pdr-ekf run`` or ``pdr-pocket run`` (their ``main``, in the worker's process) into
-``OUT/<name>/run``, its
+navigator chosen from the data for ``auto`` (pdr_eval.auto_navigator), navigated by the
+navigators' Python entry points (:func:`pdr_ins_ekf.foot_offline.run`,
+:func:`pdr_pocket.pocket_offline.run`: what ``pdr-ekf run`` and ``pdr-pocket run`` do, in
+the worker's process, printing nothing) into ``OUT/<name>/run``, its
 ``report.json`` stamped (``eval``) with the hash of what made it, the navigator and why,
-the warnings the commands printed and what the walk was (pdr_eval.walk_figures).
+the warnings of the import and the run and what the walk was (pdr_eval.walk_figures).
 
 :func:`run_recording` never raises: a recording that fails comes back with the last line
-its command said (or the exception), and the others go on. A run whose report carries the
-same hash (the input's bytes, the configuration's, the navigator, the import options and
-the packages' versions) is skipped unless ``overwrite``.
+its command said, as its CLI says it (or the exception), and the others go on. A run whose
+report carries the same hash (the input's bytes, the configuration's, the navigator, the
+import options and the packages' versions) is skipped unless ``overwrite``.
 """
 from __future__ import annotations
 
-import contextlib
 import hashlib
-import io
 import json
 import os
 import time
+import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
+from typing import Any
 
-from pdr_core.walk_plausibility import EXIT_REFUSED
+from pdr_core.errors import InputError, InputWarning
 from pdr_eval.auto_navigator import bag_navigator, refusal
 from pdr_eval.recordings import Recording
 from pdr_eval.walk_figures import foot_walk, pocket_walk
+from pdr_ins_ekf.foot_offline import FootOptions
+from pdr_ins_ekf.foot_offline import run as run_foot
+from pdr_pocket.pocket_offline import PocketOptions
+from pdr_pocket.pocket_offline import run as run_pocket
+from pdr_sim.import_cli import OptionsError, import_recording
 
-CLI_MODULES = {"foot": "pdr_ins_ekf.cli", "pocket": "pdr_pocket.cli"}
+# each navigator's entry point, its options and the CLI that names its errors
+ENTRY_POINTS = {"foot": (run_foot, FootOptions, "pdr-ekf"),
+                "pocket": (run_pocket, PocketOptions, "pdr-pocket")}
 PACKAGES = ("pdr_core", "pdr_sim", "pdr_ins_ekf", "pdr_pocket", "pdr_eval")
 REPORT = Path("run") / "report.json"
 
@@ -74,31 +83,32 @@ def input_hash(recording: Recording, config: Path | None) -> str:
     return digest.hexdigest()
 
 
-def _call(module: str, argv: list[str]) -> tuple[int, str]:
-    """``main(argv)`` of a CLI module in this process: its exit status and stderr."""
-    import importlib
-
-    err = io.StringIO()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        try:
-            importlib.import_module(module).main(argv)
-            code = 0
-        except SystemExit as exc:
-            code = exc.code if isinstance(exc.code, int) else 1
-    return code, err.getvalue()
+def _said(function: Callable, *args: Any) -> tuple[Any, list[str]]:
+    """``function(*args)`` and the InputWarnings it raised, as their text (what a CLI
+    prints after ``PROG: warning: ``)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", InputWarning)
+        result = function(*args)
+    return result, [str(w.message) for w in caught if issubclass(w.category, InputWarning)]
 
 
-WARNING = ": warning: "
+def import_input(recording: Recording, bag: Path) -> list[str]:
+    """``recording`` imported into ``bag`` by its ``pdr-sim`` import command
+    (pdr_sim.import_cli.import_recording): the warnings it said. Its errors propagate."""
+    _, said = _said(import_recording, recording.importer, recording.source,
+                    recording.import_options, bag)
+    return said
 
 
-def warnings_of(text: str) -> list[str]:
-    """The warnings a command printed (its lines ``PROG: warning: TEXT``), as TEXT."""
-    return [line.split(WARNING, 1)[1] for line in text.splitlines() if WARNING in line]
-
-
-def _last_line(text: str, fallback: str) -> str:
-    lines = [line for line in text.strip().splitlines() if line.strip()]
-    return lines[-1] if lines else fallback
+def navigate(navigator: str, bag: Path, out: Path, config: Path | None
+             ) -> tuple[dict, list[str]]:
+    """The ``navigator``'s entry point on ``bag`` with the YAML ``config`` (None: its
+    shipped one), its outputs written to ``out``: its report and its warnings as its CLI
+    says them (the input's InputWarnings, then the report's after the bag's name). Its
+    errors propagate."""
+    run, options, _ = ENTRY_POINTS[navigator]
+    report, said = _said(run, bag, options(config=config, overwrite=True), out)
+    return report, said + [f"{bag}: {warning}" for warning in report["warnings"]]
 
 
 def kept_report(recording: Recording, out: Path, digest: str) -> dict | None:
@@ -123,35 +133,33 @@ def run_recording(recording: Recording, out: Path, config: Path | None,
         digest = input_hash(recording, config)
         if not overwrite and (report := kept_report(recording, out, digest)) is not None:
             return Outcome(recording, report, "", time.perf_counter() - start, skipped=True)
-        bag, warnings = recording.source, []
+        bag, told = recording.source, []
         if recording.importer is not None:
             bag = folder / "input"
-            code, err = _call("pdr_sim.cli", [recording.importer, str(recording.source),
-                                              *recording.import_options, "--out", str(bag),
-                                              "--overwrite"])
-            if code:
-                return Outcome(recording, None,
-                               _last_line(err, f"{recording.importer} exit {code}"),
+            try:
+                told = import_input(recording, bag)
+            except OptionsError as exc:
+                return Outcome(recording, None, f"{exc.source}: error: {exc.problem}",
                                time.perf_counter() - start)
-            warnings += warnings_of(err)
+            except InputError as exc:
+                return Outcome(recording, None, f"pdr-sim: error: {exc}",
+                               time.perf_counter() - start)
         navigator, why = recording.navigator, "given"
         if navigator == "auto":
             choice = bag_navigator(bag)
             if choice.navigator is None:
                 return Outcome(recording, None, refusal(choice), time.perf_counter() - start)
             navigator, why = choice.navigator, f"auto: {choice.why} ({choice.figures()})"
-        argv = ["run", str(bag), "--out", str(folder / "run"), "--overwrite"]
-        code, err = _call(CLI_MODULES[navigator],
-                          argv + (["--config", str(config)] if config else []))
-        if code and not (code == EXIT_REFUSED and (folder / REPORT).is_file()):
-            return Outcome(recording, None, _last_line(err, f"exit {code}"),
+        try:
+            report, said = navigate(navigator, bag, folder / "run", config)
+        except InputError as exc:
+            return Outcome(recording, None, f"{ENTRY_POINTS[navigator][2]}: error: {exc}",
                            time.perf_counter() - start)
-        report = json.loads((folder / REPORT).read_text())
         walk = foot_walk(folder / "run") if navigator == "foot" else pocket_walk(report)
         report["eval"] = {"input_hash": digest, "versions": versions(),
                           "navigator": navigator, "navigator_why": why,
                           "dataset": recording.dataset, "worker_pid": os.getpid(),
-                          "warnings": warnings + warnings_of(err), "walk": walk}
+                          "warnings": told + said, "walk": walk}
         stamped = (folder / REPORT).with_suffix(".stamped")
         stamped.write_text(json.dumps(report, indent=2) + "\n")
         stamped.replace(folder / REPORT)      # at once: a run killed here keeps no half

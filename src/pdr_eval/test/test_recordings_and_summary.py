@@ -2,7 +2,7 @@
 from pathlib import Path
 
 import pytest
-from pdr_eval.job import Outcome, warnings_of
+from pdr_eval.job import Outcome
 from pdr_eval.recordings import Recording, from_manifest, from_paths, named
 from pdr_eval.summary import NOT_A_POCKET_WALK, figure, known_scores, status
 from pdr_eval.walk_figures import barometer_use
@@ -88,12 +88,6 @@ def test_a_pocket_run_in_no_pocket_is_not_a_pocket_walk():
     assert status(outcome("pocket", "front pocket")) == "done"
     assert status(outcome("foot", "foot", skipped=True)) == "kept"
     assert status(Outcome(recording, None, "bad", 1.0)) == "failed"
-
-
-def test_warnings_are_the_lines_the_commands_print_as_such():
-    err = ("pdr-sim: warning: a.csv: 3 rows dropped\nprogress\n"
-           "pdr-pocket: warning: bag: 1 of 9 strides cut\n")
-    assert warnings_of(err) == ["a.csv: 3 rows dropped", "bag: 1 of 9 strides cut"]
 
 
 def test_the_barometer_use_from_either_report():

@@ -12,7 +12,9 @@ The navigator, at the top of the package:
   Wang et al. 2020, Eq. (2)); :mod:`kernel_data`: the named rows, state, parameters and
   samples (NamedTuples) their compiled kernels pass.
 - :mod:`config`: the YAML configuration; :mod:`offline`: whole bags;
-  :mod:`streaming`: sample by sample; :mod:`nodes.zupt_ekf`: the ROS node.
+  :mod:`foot_offline`: ``pdr-ekf run``, its Python entry point
+  (:func:`foot_offline.run`) and its steps; :mod:`streaming`: sample by sample;
+  :mod:`nodes.zupt_ekf`: the ROS node.
 - :mod:`cli`: ``pdr-ekf``; :mod:`plots`: its figures.
 
 Research tooling (Monte-Carlo, closed-form error model, sweeps) lives in

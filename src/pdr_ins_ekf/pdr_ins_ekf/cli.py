@@ -26,35 +26,17 @@ are imported only when a figure is asked for (Matplotlib alone costs 0.4 s of st
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
-
 from pdr_core import topics
-from pdr_core.bag import BagReader, BagWriter, add_strict_option
-from pdr_core.batch import MessageBatch
-from pdr_core.consistency import checkpoints, consistency_report, has_attitude
+from pdr_core.bag import BagReader, add_strict_option
 from pdr_core.errors import InputError, cli_parser, dispatch
-from pdr_core.imu_checks import check_units, clean_samples
-from pdr_core.metrics import error_report, truth_at, truth_orientation_at, within_step_rmse
-from pdr_core.msgtypes import PATH, POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
-from pdr_core.odometry import ANGULAR, LINEAR
-from pdr_core.report_files import print_report, write_report
-from pdr_core.walk_plausibility import implausible_input, specific_force_problem
-from pdr_ins_ekf.config import load_run_config
-from pdr_ins_ekf.offline import (
-    FootRun,
-    navigate,
-    output_batches,
-    smoothed_paths,
-    stance_scores,
-    step_path,
-    stride_batches,
-    tf_batches,
-)
+from pdr_core.metrics import error_report, truth_at
+from pdr_core.msgtypes import POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
+from pdr_core.report_files import print_report
+from pdr_ins_ekf.foot_offline import DRIFT_MODES, FootOptions, run
 from pdr_ins_ekf.studies.cli import add_study_commands
 from pdr_ins_ekf.zupt_ekf import SMOOTHER_MODES
 
@@ -84,7 +66,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--smoother", choices=SMOOTHER_MODES,
                    help="RTS smoothing (Simón Colomar et al. 2012): adds pdr/foot/smoothed_path "
                         "and report key 'smoothed'; default: the configuration's smoother.mode")
-    p.add_argument("--drift", choices=("none", "online", "offline"), default="none",
+    p.add_argument("--drift", choices=DRIFT_MODES, default="none",
                    help="landmark drift corrections (pdr_drift; Muñoz Díaz 2016, Sections "
                         "6.1-6.2): online, taken at each revisit's stride as zupt_ekf takes "
                         "landmark_drift's; offline, the walk's drift ε₀ taken off the heading "
@@ -102,121 +84,13 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_run_run)
 
 
-def walk_problem(imu: MessageBatch) -> str | None:
-    """What makes ``imu`` no walk (pdr_core.walk_plausibility), once its units are checked:
-    data a unit away are refused first (pdr_core.imu_checks.check_units), with one line,
-    as :func:`~pdr_ins_ekf.offline.navigate` would refuse them."""
-    keep, _ = clean_samples(imu)
-    t_s, accel = imu.t_s[keep], imu["linear_acceleration"][keep]
-    if len(t_s):
-        check_units(accel, imu["angular_velocity"][keep], t_s=t_s - t_s[0])
-    return specific_force_problem(t_s, accel)
-
-
 def _run_run(args: argparse.Namespace) -> int:
-    config = load_run_config(args.config, args.imu_profile)
-    if args.smoother:
-        config = dataclasses.replace(
-            config, smoother=dataclasses.replace(config.smoother, mode=args.smoother))
-    reader = BagReader(args.bag, strict=args.strict)
-    has_truth = args.truth_topic in reader.topics
-    has_stance = args.stance_truth_topic in reader.topics
-    wanted = ([args.imu_topic] + ([args.truth_topic] if has_truth else [])
-              + ([args.stance_truth_topic] if has_stance else []))
-    batches = reader.read_batches(wanted)
-    imu = batches[args.imu_topic]
-    warnings = implausible_input(args.bag, [walk_problem(imu)], args.strict)
-    for warning in warnings:
-        print(f"pdr-ekf: warning: {args.bag}: {warning}", file=sys.stderr, flush=True)
-    if args.drift == "none":
-        result, drift_report = navigate(batches[args.imu_topic], config), None
-    else:
-        result, drift_report = _with_drift(args, config, batches, has_truth)
-    truth = None
-    if has_truth:
-        truth = truth_at(batches[args.truth_topic], result.stamp_ns)
-    t_s = (result.stamp_ns - result.stamp_ns[0]) * 1e-9
-    report = step_report(t_s, result.output.position, truth, result.stance)
-    report |= {"samples": len(t_s), "stance_fraction": float(result.stance.mean()),
-               "dropped": result.counts, "warnings": warnings}
-    if has_truth:
-        report["consistency"] = foot_consistency(result, batches[args.truth_topic], truth)
-    if has_stance:
-        report["stance"] = stance_scores(result, batches[args.stance_truth_topic])
-    smoothed = []
-    if result.smoothed is not None:
-        smoothed = smoothed_paths(result)
-        report["smoothed"] = step_report(t_s, result.smoothed.position, truth,
-                                         result.stance) | {"segments": len(smoothed)}
-    if drift_report is not None:
-        report["drift"] = drift_report
-    outputs = output_batches(result) | tf_batches(result) | stride_batches(result.strides)
-    with BagWriter(args.out, overwrite=args.overwrite) as writer:
-        writer.write_merged(outputs)
-        writer.add_topic(topics.FOOT_PATH, PATH)
-        stamp = int(result.stamp_ns[-1])
-        writer.write_raw(topics.FOOT_PATH, PATH, stamp, step_path(result.strides, stamp))
-        for stamp, path in smoothed:
-            writer.write_raw(topics.FOOT_SMOOTHED_PATH, PATH, stamp, path)
-        write_report(writer.staging, report)
-        if args.plot:
-            from pdr_ins_ekf import plots
-            plots.path_png(t_s, result.output.position, truth, writer.staging / "path.png",
-                           args.bag, steps=int(np.sum(result.stance[:-1] & ~result.stance[1:])),
-                           shows="the foot navigator")
-            if result.smoothed is not None:
-                plots.smoothing_png(t_s, result, writer.staging / "smoothing.png")
-    print_report(report)
+    options = FootOptions(args.config, args.imu_profile, args.smoother, args.drift,
+                          args.drift_config, args.imu_topic, args.truth_topic,
+                          args.stance_truth_topic, args.strict, args.plot, args.overwrite)
+    print_report(run(args.bag, options, args.out, lambda warning: print(
+        f"pdr-ekf: warning: {args.bag}: {warning}", file=sys.stderr, flush=True)))
     return 0
-
-
-def _with_drift(args: argparse.Namespace, config, batches: dict, has_truth: bool) -> tuple:
-    """The run with the drift corrections (pdr_ins_ekf.drift_loop) and the report's
-    ``drift`` object: what the estimator did and, against a truth, the final yaw and
-    position errors with the corrections and without (a run without them)."""
-    from pdr_drift.config import default_config_path, load_drift_config
-    from pdr_ins_ekf.drift_loop import navigate_offline, navigate_online
-    from pdr_ins_ekf.studies.drift_study import final_errors_against
-
-    if config.smoother.mode != "none":
-        raise InputError("--drift", "the smoother cannot take corrections: use --smoother "
-                                    "none with --drift")
-    drift = load_drift_config(args.drift_config or default_config_path())
-    loop = navigate_online if args.drift == "online" else navigate_offline
-    imu = batches[args.imu_topic]
-    result, log = loop(imu, config, drift)
-    report = {"mode": args.drift, **log.summary()}
-    if has_truth:
-        truth = batches[args.truth_topic]
-        report["corrected"] = final_errors_against(result, truth)
-        report["uncorrected"] = final_errors_against(navigate(imu, config), truth)
-    return result, report
-
-
-def foot_consistency(result: FootRun, truth_pose: MessageBatch, truth: np.ndarray) -> dict:
-    """The report's ``consistency`` (pdr_core.consistency): the NEES, one sample a second,
-    of the pose ``pdr/foot/pose`` publishes (its position and, where ``truth_pose`` holds
-    an attitude, its attitude with their covariances) against ``truth_pose`` (``truth``:
-    its positions at every sample navigated)."""
-    at = checkpoints((result.stamp_ns - result.stamp_ns[0]) * 1e-9)
-    pose = output_batches(result)[topics.FOOT_POSE].take(at)
-    cov = pose["pose.covariance"].reshape(-1, 6, 6)
-    true_attitude = truth_orientation_at(truth_pose, result.stamp_ns[at])
-    attitude = ((pose["pose.pose.orientation"], cov[:, ANGULAR, ANGULAR], true_attitude)
-                if has_attitude(true_attitude) else None)
-    return consistency_report(result.output.position, truth, at, cov[:, LINEAR, LINEAR],
-                              attitude)
-
-
-def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,
-                stance: np.ndarray) -> dict:
-    """The report of docs/reports.md, plus ``within_step_rmse_m`` (pdr_core.metrics) over
-    the steps between swings when there is a truth and at least one whole step."""
-    report = error_report(t_s, position, truth)
-    cuts = np.flatnonzero(stance[:-1] & ~stance[1:])
-    if truth is not None and len(cuts) >= 2:
-        report["within_step_rmse_m"] = within_step_rmse(position, truth, cuts)
-    return report
 
 
 def _add_evaluate(sub: argparse._SubParsersAction) -> None:

@@ -144,13 +144,11 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 
 def _run_navigator(args: argparse.Namespace) -> int:
-    from pdr_drift.config import load_drift_config
-    from pdr_pocket.pocket_offline import run_bag
+    from pdr_pocket.pocket_offline import PocketOptions, run
 
-    report = run_bag(args.bag, args.out, load_pocket_config(args.config),
-                     args.mag_calibration, plot=args.plot, overwrite=args.overwrite,
-                     drift=args.drift, drift_config=load_drift_config(args.drift_config),
-                     strict=args.strict)
+    options = PocketOptions(args.config, args.mag_calibration, args.drift, args.drift_config,
+                            args.strict, args.plot, args.overwrite)
+    report = run(args.bag, options, args.out)
     if report["refused"]:
         print(f"pdr-pocket: refused: {args.bag}: {report['placement']['placement']}: "
               f"{report['placement']['why']}; no step written", file=sys.stderr)

@@ -3,12 +3,16 @@ drift corrections, writing its messages (:mod:`pdr_pocket.messages`), its report
 (:mod:`pdr_pocket.run_report`, and the drift's against the truth,
 :mod:`pdr_drift.drift_report`) and optionally its plot.
 
-- :func:`run_bag`: the run, three jobs: :func:`navigate_bag` (the navigator on the bag,
-  a :class:`PocketRun`), :func:`report_of` (what it gave) and :func:`write_run` (the
-  messages, the report and the plot, :func:`plot_run`). Its input is checked first
-  (pdr_core.walk_plausibility: a median |f| no walk gives, a swing many times a
-  thigh's): each problem a warning, the first of the report's, or with ``strict`` an
-  InputError. A phone that is not in a
+- :func:`run`: the Python entry point, ``pdr-eval``'s and the CLI's: a bag and its
+  :class:`PocketOptions` in, the report out (the dict ``report.json`` holds), the outputs
+  written to ``out`` when it is given. It prints nothing and sets no process-wide state
+  (no stdout, no working directory, no global configuration): the CLI prints its
+  warnings, its refusal and its report. Three jobs: :func:`navigate_bag` (the navigator
+  on the bag, a :class:`PocketRun`), :func:`report_of` (what it gave) and
+  :func:`write_run` (the messages, the report and the plot, :func:`plot_run`). Its input
+  is checked first (pdr_core.walk_plausibility: a median |f| no walk gives, a swing many
+  times a thigh's): each problem a warning, the first of the report's, or with ``strict``
+  an InputError. A phone that is not in a
   pocket (pdr_pocket.placement's verdict) is refused: its report and attitude are
   written, no step, pose or path (``report["refused"]``; the CLI exits
   pdr_core.walk_plausibility.EXIT_REFUSED, 3);
@@ -265,14 +269,39 @@ def plot_run(run: PocketRun, report: dict, path: Path, source: Path) -> None:
                          loop_gap_m=report.get("loop_gap_m"), warnings=report["warnings"])
 
 
-def run_bag(bag: Path, out: Path, config, mag_calibration: Path | None = None, *,
-            plot: bool = False, overwrite: bool = False, drift: str = "none",
-            drift_config=None, strict: bool = False) -> dict:
-    """``pdr-pocket run``: navigate ``bag`` (:func:`navigate_bag`), report
-    (:func:`report_of`) and write ``out`` (:func:`write_run`); its report."""
-    run = navigate_bag(bag, config, mag_calibration, drift=drift, drift_config=drift_config,
-                       strict=strict)
-    report = report_of(run, config, drift)
-    write_run(run, report, out, config.stairs.floor_height_m, overwrite=overwrite,
-              plot_source=bag if plot else None)
+@dataclass(frozen=True)
+class PocketOptions:
+    """What ``pdr-pocket run`` takes beside the bag and ``--out``, each as its option of
+    the same name: the YAML ``config`` (None: the installed config/pocket_pdr.yaml), the
+    ``mag_calibration`` YAML (None: the configuration's), the ``drift`` corrections
+    (none, online or offline) and their ``drift_config`` YAML (None: built in),
+    ``strict`` (refuse input no walk gives, and damaged bags), ``plot`` and ``overwrite``
+    (of ``out``)."""
+
+    config: Path | None = None
+    mag_calibration: Path | None = None
+    drift: str = "none"
+    drift_config: Path | None = None
+    strict: bool = False
+    plot: bool = False
+    overwrite: bool = False
+
+
+def run(bag: Path, options: PocketOptions = PocketOptions(), out: Path | None = None
+        ) -> dict:
+    """``pdr-pocket run`` in Python: navigate ``bag`` (:func:`navigate_bag`), report
+    (:func:`report_of`) and, when ``out`` is given, write it (:func:`write_run`, the plot
+    with ``options.plot``); the report, as ``out/report.json`` holds it. Prints nothing."""
+    from pdr_drift.config import load_drift_config
+    from pdr_pocket.config import load_pocket_config
+
+    bag = Path(bag)
+    config = load_pocket_config(options.config)
+    run_ = navigate_bag(bag, config, options.mag_calibration, drift=options.drift,
+                        drift_config=load_drift_config(options.drift_config),
+                        strict=options.strict)
+    report = report_of(run_, config, options.drift)
+    if out is not None:
+        write_run(run_, report, Path(out), config.stairs.floor_height_m,
+                  overwrite=options.overwrite, plot_source=bag if options.plot else None)
     return report

@@ -1,12 +1,20 @@
 """``pdr-sim``'s import commands: ``import-csv`` (a CSV log, pdr_core.csv_import),
 ``import-oxiod`` (an OxIOD sequence, pdr_core.oxiod) and ``import-phone`` (a phone app's
-export folder, pdr_core.phone_import), each writing a bag of what it read.
+export folder, pdr_core.phone_import), each writing a bag of what it read and printing
+what it wrote.
+
+:func:`import_recording` is the same commands in Python (``pdr-eval``'s import of a CSV
+log or a phone's export): the command's options in, the bag written, the lines the
+command prints returned; it prints nothing, and options the command refuses raise
+:class:`OptionsError` with argparse's message instead of exiting.
 """
 from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -26,6 +34,7 @@ from pdr_core.csv_import import (
     import_csv,
 )
 from pdr_core.csv_rows import QUATERNION_NORM_TOLERANCE
+from pdr_core.errors import CliParser, InputError
 from pdr_core.odometry import truth_tf
 from pdr_core.oxiod import GLITCH_STEP_RAD, import_oxiod
 from pdr_core.phone_import import CONVENTION_SIGNS, import_phone
@@ -88,10 +97,11 @@ def add_import_csv(sub: argparse._SubParsersAction) -> None:
                    help="unit of the pressure column: hpa (hPa, as Android reports it, = "
                         f"mbar) or pa (Pa); a median beyond {PRESSURE_RANGE.expected} in "
                         "the unit given is refused")
-    p.set_defaults(func=run_import_csv)
+    p.set_defaults(func=_print_lines, lines=import_csv_lines)
 
 
-def run_import_csv(args: argparse.Namespace) -> int:
+def import_csv_lines(args: argparse.Namespace) -> list[str]:
+    """``import-csv``: the bag of a CSV log; what it wrote, in a line."""
     fmt = csv_format(args)
     result = import_csv(args.csv, fmt)
     _write_recording(args, args.csv, result.imu, pose=result.pose, mag=result.mag,
@@ -102,10 +112,9 @@ def run_import_csv(args: argparse.Namespace) -> int:
         (topics.GROUND_TRUTH_POSE, result.pose)) if batch is not None]
     if fmt.quat_cols:
         written[-1] += " with attitude"
-    print(f"{args.out}: {', '.join(written)}; {_span(result.imu)}; "
-          f"{result.rows_read} rows read, {result.rows_duplicate} exact duplicates and "
-          f"{result.rows_invalid} invalid rows dropped")
-    return 0
+    return [f"{args.out}: {', '.join(written)}; {_span(result.imu)}; "
+            f"{result.rows_read} rows read, {result.rows_duplicate} exact duplicates and "
+            f"{result.rows_invalid} invalid rows dropped"]
 
 
 def _write_recording(args: argparse.Namespace, source: Path, imu: MessageBatch,
@@ -158,23 +167,24 @@ def add_import_oxiod(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--drop-invalid", action="store_true",
                    help="drop the rows with a NaN or Inf in either file, or a rotation that "
                         "is not a unit quaternion, from both, instead of failing")
-    p.set_defaults(func=run_import_oxiod)
+    p.set_defaults(func=_print_lines, lines=import_oxiod_lines)
 
 
-def run_import_oxiod(args: argparse.Namespace) -> int:
+def import_oxiod_lines(args: argparse.Namespace) -> list[str]:
+    """``import-oxiod``: the bag of an OxIOD sequence; what it wrote, in a line."""
     result = import_oxiod(args.sequence, start_s=args.start_s, drop_invalid=args.drop_invalid)
     _write_recording(args, result.sequence.imu_csv.parent, result.imu, pose=result.pose,
                      mag=result.mag)
     sequence = result.sequence
     magnetometer = "yes" if result.mag is not None else "none (constant columns)"
-    print(f"{args.out}: OxIOD {sequence.imu_csv.parent.name} ({sequence.imu_csv.name} + "
-          f"{sequence.vicon_csv.name}): {len(result.imu)} samples from "
-          f"{result.imu.t_s[0]:.3f} s, {_span(result.imu)}; magnetometer: {magnetometer}; "
-          f"truth: attitude and position ({len(result.pose)} ground_truth/pose); "
-          f"{result.glitches} truth glitches (attitude jumps > {GLITCH_STEP_RAD:g} rad "
-          f"between rows, kept); {result.repeated_frames} rows repeat the previous Vicon "
-          f"frame; {result.rows_read} rows read, {result.rows_invalid} invalid rows dropped")
-    return 0
+    return [f"{args.out}: OxIOD {sequence.imu_csv.parent.name} ({sequence.imu_csv.name} + "
+            f"{sequence.vicon_csv.name}): {len(result.imu)} samples from "
+            f"{result.imu.t_s[0]:.3f} s, {_span(result.imu)}; magnetometer: {magnetometer}; "
+            f"truth: attitude and position ({len(result.pose)} ground_truth/pose); "
+            f"{result.glitches} truth glitches (attitude jumps > {GLITCH_STEP_RAD:g} rad "
+            f"between rows, kept); {result.repeated_frames} rows repeat the previous Vicon "
+            f"frame; {result.rows_read} rows read, {result.rows_invalid} invalid rows "
+            "dropped"]
 
 
 def add_import_phone(sub: argparse._SubParsersAction) -> None:
@@ -219,18 +229,51 @@ def add_import_phone(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--force", action="store_true",
                    help="import data that fail a plausibility check of their units, each "
                         "with a warning")
-    p.set_defaults(func=run_import_phone)
+    p.set_defaults(func=_print_lines, lines=import_phone_lines)
 
 
-def run_import_phone(args: argparse.Namespace) -> int:
+def import_phone_lines(args: argparse.Namespace) -> list[str]:
+    """``import-phone``: the bag of a phone's own export; what it wrote, a line each."""
     with phone_layout(args) as layout:
         result = import_phone(layout)
         _write_recording(args, args.folder, result.imu, mag=result.mag,
                          pressure=result.pressure)
-    print(f"{args.out}: {_span(result.imu)}")
-    for line in result.lines:
-        print(f"  {line}")
-    for topic, batch in ((topics.IMU_MAG, result.mag), (topics.IMU_PRESSURE, result.pressure)):
-        if batch is None:
-            print(f"  {topic.lstrip('/')}: none (the export has no such sensor)")
+    return [f"{args.out}: {_span(result.imu)}", *(f"  {line}" for line in result.lines),
+            *(f"  {topic.lstrip('/')}: none (the export has no such sensor)"
+              for topic, batch in ((topics.IMU_MAG, result.mag),
+                                   (topics.IMU_PRESSURE, result.pressure)) if batch is None)]
+
+
+def _print_lines(args: argparse.Namespace) -> int:
+    """The import command's ``func``: its ``lines`` printed."""
+    print("\n".join(args.lines(args)))
     return 0
+
+
+class OptionsError(InputError):
+    """Options an import command refuses: ``source`` the command (``pdr-sim import-csv``,
+    or ``pdr-sim`` for arguments it does not know), ``problem`` argparse's message."""
+
+
+class _RefusingParser(CliParser):
+    """A parser whose errors raise :class:`OptionsError`, where argparse prints the usage
+    and exits."""
+
+    def error(self, message: str) -> NoReturn:
+        raise OptionsError(self.prog, message)
+
+
+# each import command's parser
+IMPORTERS = {"import-csv": add_import_csv, "import-oxiod": add_import_oxiod,
+             "import-phone": add_import_phone}
+
+
+def import_recording(importer: str, source: Path, options: Sequence[str], out: Path
+                     ) -> list[str]:
+    """``pdr-sim IMPORTER SOURCE OPTIONS --out OUT --overwrite`` in Python (module
+    docstring): the lines it prints, printed by none. OptionsError for ``options`` it
+    refuses, InputError for input it cannot use, InputWarning for input used in part."""
+    top = _RefusingParser(prog="pdr-sim")
+    IMPORTERS[importer](top.add_subparsers(dest="command", required=True))
+    args = top.parse_args([importer, str(source), *options, "--out", str(out), "--overwrite"])
+    return args.lines(args)
