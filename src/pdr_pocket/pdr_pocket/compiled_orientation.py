@@ -82,8 +82,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache, small_matrix
+from pdr_core import angles, kernel_cache, lowpass, small_matrix
 from pdr_core.angles import wrap_angle_jit
+from pdr_core.lowpass import lowpass_decay
 from pdr_core.small_matrix import (
     cholesky,
     euler_of,
@@ -146,7 +147,7 @@ from pdr_pocket.compiled_orientation_measurements import (
     zaru,
 )
 
-kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__,
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__, lowpass.__file__,
                                compiled_gait_window.__file__,
                                compiled_orientation_data.__file__,
                                compiled_orientation_detectors.__file__,
@@ -197,7 +198,7 @@ def predict(state, params, sample, work):
     n2 = 2 * N_STATE
     _sigma_points(state, work)
     sat, sbias = work.attitudes, work.biases
-    c_decay = 1.0 if not np.isfinite(params.bias_tau_s) else np.exp(-dt / params.bias_tau_s)
+    c_decay = lowpass_decay(dt, params.bias_tau_s)
     c_mean = c_decay if params.bias_mean_decays else 1.0
     inc = np.empty((3, 3))
     rotation_increment(state.attitude, gyro, prev, state.bias, params.earth_rate_n, dt, inc)

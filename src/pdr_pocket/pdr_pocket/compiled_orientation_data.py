@@ -14,11 +14,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache
+from pdr_core import kernel_cache, lowpass
 from pdr_pocket import compiled_gait_window
 from pdr_pocket.compiled_gait_window import GaitWindow, WindowParams, new_gait_window
 
-kernel_cache.forget_if_changed(__file__, compiled_gait_window.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_gait_window.__file__, lowpass.__file__)
 
 # the state's rows: the attitude error δθ (a small rotation in the navigation frame, ENU)
 # and the gyro bias error δb (body frame)
