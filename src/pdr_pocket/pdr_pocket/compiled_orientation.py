@@ -114,12 +114,9 @@ from pdr_pocket.compiled_orientation_data import (
     ATT_NORTH,
     ATT_UP,
     BIAS,
-    GAPS,
     MAG_STEADY,
     N_STATE,
     SATURATED,
-    STARTED,
-    T_PREV,
     ZERO_ACC,
     ZERO_RATE,
     Sample,
@@ -407,16 +404,16 @@ def _elapsed(scalars, gait, max_gap_s, t):
     """δt from the last sample to ``t`` [s] (0 at the first sample ever). After a gap the
     attitude across it is a guess (predict widens P), and a mean gravity window that
     straddles it would average two attitudes: the window starts anew."""
-    s = scalars
-    if s[STARTED] == 0.0:
+    s = scalars[0]
+    if not s.started:
         dt = 0.0
-        s[STARTED] = 1.0
+        s.started = True
     else:
-        dt = t - s[T_PREV]
+        dt = t - s.t_prev
         if dt > max_gap_s:
-            s[GAPS] += 1.0
+            s.gaps += 1
             forget_window(gait)
-    s[T_PREV] = t
+    s.t_prev = t
     return dt
 
 
