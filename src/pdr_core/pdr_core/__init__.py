@@ -64,6 +64,8 @@ Modules:
                               symmetric positive-definite matrices.
     kernel_cache              Keeps numba's on-disk cache valid when a kernel's callee in
                               another module changes.
+    lowpass                   The first-order low-pass's gains (exact, backward and forward
+                              Euler) and decay, one spelling for every kernel.
   Corrections
     correction                A drift correction as one value, sender to filter.
     answered_requests         A request sent again answered as the first time: the

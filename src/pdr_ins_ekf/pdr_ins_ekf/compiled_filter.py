@@ -2,12 +2,12 @@
 the block steps of :class:`pdr_ins_ekf.zupt_ekf.ZuptEkf` (the live node).
 
 The kernels take the named data of :mod:`pdr_ins_ekf.kernel_data`: the state
-(:class:`~pdr_ins_ekf.kernel_data.NavState`: p, v, C, b, P, prev, dx, nis), whose arrays they
-change in place; the settings (:class:`~pdr_ins_ekf.kernel_data.FilterParams`); the
-samples of a record (:class:`~pdr_ins_ekf.kernel_data.Samples`); and the rows of the
-error state by name (:data:`~pdr_ins_ekf.kernel_data.VELOCITY`, …). ENU navigation frame,
-FLU body frame, SI units. The first call compiles (seconds) and caches the machine code
-beside this module.
+(:class:`~pdr_ins_ekf.kernel_data.NavState`: p, v, C, b, P, prev, dx, nis, stance, Pb),
+whose arrays they change in place; the settings
+(:class:`~pdr_ins_ekf.kernel_data.FilterParams`); the samples of a record
+(:class:`~pdr_ins_ekf.kernel_data.Samples`); and the rows of the error state by name
+(:data:`~pdr_ins_ekf.kernel_data.VELOCITY`, …). ENU navigation frame, FLU body frame, SI
+units. The first call compiles (seconds) and caches the machine code beside this module.
 """
 from __future__ import annotations
 
@@ -25,7 +25,6 @@ from pdr_ins_ekf.kernel_data import (
     GAUSS_MARKOV,
     GYRO,
     GYRO_BIAS,
-    IN_STANCE,
     NAV_AND_BIAS_STATES,
     NIS_COUNT,
     NIS_SUM,
@@ -51,7 +50,8 @@ def new_state(C0, b0, P0):
     if P0.shape[0] == NAV_AND_BIAS_STATES:
         Pb[ACC_BIAS:, ACC_BIAS:] = P0[ACC_BIAS:, ACC_BIAS:]
     return NavState(np.zeros(3), np.zeros(3), C0.copy(), b0.copy(), P0.copy(),
-                    np.empty((3, 3)), np.zeros(P0.shape[0]), np.array([0.0, 0.0, 1.0]), Pb)
+                    np.empty((3, 3)), np.zeros(P0.shape[0]), np.zeros(2), np.ones(1, np.bool_),
+                    Pb)
 
 
 @njit(cache=True)
@@ -447,10 +447,10 @@ def count_touchdown(state, stance):
     the ZUPT will put into the estimate as well), P_v the covariance the filter predicted
     for it; the ZUPT's σ, which stands for the whole stance's micro-motion, is left out."""
     nis = state.nis
-    if stance and nis[IN_STANCE] == 0.0:
+    if stance and not state.stance[0]:
         nis[NIS_SUM] += normalised_innovation(state.P, -state.v, VELOCITY, 0.0) / AXES
         nis[NIS_COUNT] += 1.0
-    nis[IN_STANCE] = 1.0 if stance else 0.0
+    state.stance[0] = stance
 
 
 @njit(cache=True)

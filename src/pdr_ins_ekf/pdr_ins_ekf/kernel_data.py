@@ -34,7 +34,6 @@ GYRO = slice(3, 6)
 # scaled by (pdr_ins_ekf.compiled_filter.covariance_scale)
 NIS_SUM = 0         # Σ νᵀ·S⁻¹·ν / 3 over the first ZUPT of each stance
 NIS_COUNT = 1       # how many stances are in the sum
-IN_STANCE = 2       # 1.0 when the last sample was a stance sample (the next is no touchdown)
 
 # the rows of NavState.prev: what the trapezoidal mechanization keeps of the last sample
 PREV_FORCE = 0      # bias-corrected specific force f − b_a [m/s²], body frame
@@ -58,7 +57,9 @@ class NavState(NamedTuple):
     dx: np.ndarray    # (n,) error-state estimate δx̂: 0 between the closed-loop filter's
     #                   steps (each update feeds it back); the smoother's open-loop pass
     #                   carries it to the segment's end
-    nis: np.ndarray   # (3,) NIS_SUM, NIS_COUNT, IN_STANCE: the touchdown innovations so far
+    nis: np.ndarray   # (2,) NIS_SUM, NIS_COUNT: the touchdown innovations so far
+    stance: np.ndarray  # (1,) bool: the last sample was a stance sample (the next is no
+    #                     touchdown)
     Pb: np.ndarray    # (n, n) the biases' share of P: what the initial bias variance and
     #                   the bias driving noise alone put into it through the filter's own
     #                   F and gains (zeros with 9 states; compiled_filter.bias_share)

@@ -98,7 +98,7 @@ from numba import njit
 
 from pdr_core import angles, kernel_cache, lowpass, small_matrix
 from pdr_core.angles import wrap_angle_jit
-from pdr_core.lowpass import lowpass_gain
+from pdr_core.lowpass import lowpass_decay, lowpass_gain
 from pdr_core.small_matrix import product3, rotation_increment
 from pdr_pocket import (
     compiled_attitude_data,
@@ -225,7 +225,7 @@ def _attitude_noise(params, state, gyro, dt, gap, saturated, q, out):
 @njit(cache=True, inline='always')
 def predict(state, params, work, gyro, dt, gap, saturated):
     """The prediction over δt [s] (the module docstring)."""
-    c_decay = 1.0 if not np.isfinite(params.bias_tau_s) else np.exp(-dt / params.bias_tau_s)
+    c_decay = lowpass_decay(dt, params.bias_tau_s)
     c_mean = c_decay if params.bias_mean_decays else 1.0
     inc, moved = work.m1, work.m2
     rotation_increment(state.attitude, gyro, state.previous_gyro, state.bias,
@@ -284,7 +284,7 @@ def gyro_step(state, params, work, t, gyro, saturated):
                 s.gaps += 1
                 forget_window(state.gait)
             predict(state, params, work, gyro, dt, gap, saturated)
-            leak = np.exp(-dt / RATE_PEAK_TAU_S)
+            leak = lowpass_decay(dt, RATE_PEAK_TAU_S)
             for m in range(3):
                 state.rate_peak[m] = max(abs(gyro[m]), leak * state.rate_peak[m])
             s.marker = swing_marker(state.gait, params.window, gyro, dt)

@@ -11,11 +11,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache
+from pdr_core import kernel_cache, lowpass
 from pdr_pocket import compiled_gait_window
 from pdr_pocket.compiled_gait_window import GaitWindow, WindowParams, new_gait_window
 
-kernel_cache.forget_if_changed(__file__, compiled_gait_window.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_gait_window.__file__, lowpass.__file__)
 
 TILT_STAGES = 2                         # first-order stages of the tilt's low-pass
 # the error state's rows

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, small_matrix
+from pdr_core import kernel_cache, lowpass, small_matrix
 from pdr_core.small_matrix import product3, rodrigues
 from pdr_pocket import compiled_attitude_data, compiled_gait_window
 from pdr_pocket.compiled_attitude_data import (
@@ -29,7 +29,7 @@ from pdr_pocket.compiled_attitude_data import (
 from pdr_pocket.compiled_gait_window import turn_window
 
 kernel_cache.forget_if_changed(__file__, small_matrix.__file__, compiled_gait_window.__file__,
-                               compiled_attitude_data.__file__)
+                               lowpass.__file__, compiled_attitude_data.__file__)
 
 # --- the Kalman update -------------------------------------------------------------------
 @njit(cache=True)

@@ -34,10 +34,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, small_matrix
+from pdr_core import kernel_cache, lowpass, small_matrix
+from pdr_core.lowpass import forward_euler_gain
 from pdr_core.small_matrix import product3
 
-kernel_cache.forget_if_changed(__file__, small_matrix.__file__)
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__, lowpass.__file__)
 
 WINDOW_SCALARS = np.dtype([
     ("time_s", np.float64),         # the window's length so far [s]
@@ -90,7 +91,7 @@ def swing_marker(window, params, gyro, dt):
     """True once per gait cycle (the module docstring), at the sample with rate ω
     [rad/s] after δt [s]."""
     s = window.scalars[0]
-    alpha = min(dt / params.swing_time_constant_s, 1.0)
+    alpha = forward_euler_gain(dt, params.swing_time_constant_s)
     m, u = window.swing, window.swing_axis
     for a in range(3):
         for b in range(3):

@@ -1,5 +1,6 @@
 """The gravity direction without a gyroscope, compiled with numba: the specific force through
-two first-order low-passes in cascade, and a motion measure, for the pocket navigator's
+two first-order low-passes in cascade (backward Euler gains,
+:func:`pdr_core.lowpass.backward_euler_gain`), and a motion measure, for the pocket navigator's
 pitch from the gravity direction alone (pdr_pocket.pitch_source). Its state is
 :class:`GravityState` (a record of scalars, :data:`GRAVITY_SCALARS`).
 """
@@ -10,9 +11,10 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache
+from pdr_core import kernel_cache, lowpass
+from pdr_core.lowpass import backward_euler_gain
 
-kernel_cache.forget_if_changed(__file__)
+kernel_cache.forget_if_changed(__file__, lowpass.__file__)
 
 
 # GravityState.scalars, one record
@@ -53,11 +55,11 @@ def gravity_loop(state, tau_s, motion_tau_s, t, accel, out_gravity, out_motion):
         else:
             dt = t[k] - s.last_t
         s.last_t = t[k]
-        alpha = dt / (tau_s + dt)
+        alpha = backward_euler_gain(dt, tau_s)
         first += alpha * (a - first)
         gravity += alpha * (first - gravity)
         out_gravity[k] = gravity
         d = a - gravity
-        beta = dt / (motion_tau_s + dt)
+        beta = backward_euler_gain(dt, motion_tau_s)
         s.motion += beta * (np.sqrt(d @ d) - s.motion)
         out_motion[k] = s.motion

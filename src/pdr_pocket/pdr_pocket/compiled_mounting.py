@@ -49,10 +49,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache
+from pdr_core import angles, kernel_cache, lowpass
 from pdr_core.angles import wrap_angle_jit
+from pdr_core.lowpass import lowpass_decay
 
-kernel_cache.forget_if_changed(__file__, angles.__file__)
+kernel_cache.forget_if_changed(__file__, angles.__file__, lowpass.__file__)
 
 # the swing of the last moved_tau_s is a plane (the remount check) when its middle
 # eigenvalue is at least SWING_MIN (a pitch swing of about ±4°) and its smallest at most
@@ -295,13 +296,13 @@ def _motion(state, params, wn, dt, c):
     s = state.scalars[()]
     if wn <= params.moving_rate or dt <= 0:
         return
-    lam = np.exp(-dt / params.flexion_tau_s)
+    lam = lowpass_decay(dt, params.flexion_tau_s)
     g = c[2, :]                                  # the vertical in the sensor frame
     for i in range(3):
         state.mean[i] = lam * state.mean[i] + (1.0 - lam) * g[i]
         for j in range(3):
             state.moment[i, j] = lam * state.moment[i, j] + (1.0 - lam) * g[i] * g[j]
-    lam = np.exp(-dt / params.turned_tau_s)
+    lam = lowpass_decay(dt, params.turned_tau_s)
     for i in range(3):
         state.recent_mean[i] = lam * state.recent_mean[i] + (1.0 - lam) * g[i]
         for j in range(3):
@@ -397,7 +398,7 @@ def _foreign_turn(state, params, wn, dt, c, turn):
         _, f = _thigh_axes(state.up, state.flex_raw, s.flex_sign)
         g = c[2, :]
         normal = _unit(np.cross(f, g - (g @ f) * f))
-        s.foreign = np.exp(-dt / FOREIGN_TAU_S) * s.foreign + turn @ normal
+        s.foreign = lowpass_decay(dt, FOREIGN_TAU_S) * s.foreign + turn @ normal
         if not s.turn_seen and abs(s.foreign) > params.turned_angle:
             _seen_turn(state, s.last_t)
         _pitch_rate_moments(state, dt, -(turn @ f) / dt)   # θ̇ = −ω·f: a swing forward
@@ -415,7 +416,7 @@ def _pitch_rate_moments(state, dt, rate):
     Not used without a gyroscope: the pitch from the low-passed gravity loses the swing's
     fast rise (on the real Oxford phone it read reversed and flipped f)."""
     s = state.scalars[()]
-    lam = np.exp(-dt / SKEW_TAU_S)
+    lam = lowpass_decay(dt, SKEW_TAU_S)
     s.rate2 = lam * s.rate2 + (1.0 - lam) * rate * rate
     s.rate3 = lam * s.rate3 + (1.0 - lam) * rate * rate * rate
 

@@ -82,8 +82,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache, small_matrix
+from pdr_core import angles, kernel_cache, lowpass, small_matrix
 from pdr_core.angles import wrap_angle_jit
+from pdr_core.lowpass import lowpass_decay
 from pdr_core.small_matrix import (
     cholesky,
     euler_of,
@@ -113,12 +114,9 @@ from pdr_pocket.compiled_orientation_data import (
     ATT_NORTH,
     ATT_UP,
     BIAS,
-    GAPS,
     MAG_STEADY,
     N_STATE,
     SATURATED,
-    STARTED,
-    T_PREV,
     ZERO_ACC,
     ZERO_RATE,
     Sample,
@@ -146,7 +144,7 @@ from pdr_pocket.compiled_orientation_measurements import (
     zaru,
 )
 
-kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__,
+kernel_cache.forget_if_changed(__file__, small_matrix.__file__, angles.__file__, lowpass.__file__,
                                compiled_gait_window.__file__,
                                compiled_orientation_data.__file__,
                                compiled_orientation_detectors.__file__,
@@ -197,7 +195,7 @@ def predict(state, params, sample, work):
     n2 = 2 * N_STATE
     _sigma_points(state, work)
     sat, sbias = work.attitudes, work.biases
-    c_decay = 1.0 if not np.isfinite(params.bias_tau_s) else np.exp(-dt / params.bias_tau_s)
+    c_decay = lowpass_decay(dt, params.bias_tau_s)
     c_mean = c_decay if params.bias_mean_decays else 1.0
     inc = np.empty((3, 3))
     rotation_increment(state.attitude, gyro, prev, state.bias, params.earth_rate_n, dt, inc)
@@ -406,16 +404,16 @@ def _elapsed(scalars, gait, max_gap_s, t):
     """δt from the last sample to ``t`` [s] (0 at the first sample ever). After a gap the
     attitude across it is a guess (predict widens P), and a mean gravity window that
     straddles it would average two attitudes: the window starts anew."""
-    s = scalars
-    if s[STARTED] == 0.0:
+    s = scalars[0]
+    if not s.started:
         dt = 0.0
-        s[STARTED] = 1.0
+        s.started = True
     else:
-        dt = t - s[T_PREV]
+        dt = t - s.t_prev
         if dt > max_gap_s:
-            s[GAPS] += 1.0
+            s.gaps += 1
             forget_window(gait)
-    s[T_PREV] = t
+    s.t_prev = t
     return dt
 
 

@@ -1,7 +1,7 @@
 """The thesis' orientation filter's kernel data (pdr_pocket.compiled_orientation): what
 the configuration sets (:class:`FilterParams`), what every sample changes
-(:class:`FilterState`, :func:`initial_state`; its scalars' slots :data:`T_PREV` ...
-:data:`GAPS`), a record in and its estimates out (:class:`FilterInputs`,
+(:class:`FilterState`, :func:`initial_state`; its scalars one record of
+:data:`FILTER_SCALARS`), a record in and its estimates out (:class:`FilterInputs`,
 :class:`FilterOutputs`, shared with pdr_pocket.compiled_attitude), one sample
 (:class:`Sample`), the detectors at it (:class:`Detected`) and the scratch arrays
 (:class:`Workspace`). The rows of P are named by :data:`ATT_EAST` ... :data:`BIAS_Z`, the
@@ -14,11 +14,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache
+from pdr_core import kernel_cache, lowpass
 from pdr_pocket import compiled_gait_window
 from pdr_pocket.compiled_gait_window import GaitWindow, WindowParams, new_gait_window
 
-kernel_cache.forget_if_changed(__file__, compiled_gait_window.__file__)
+kernel_cache.forget_if_changed(__file__, compiled_gait_window.__file__, lowpass.__file__)
 
 # the state's rows: the attitude error δθ (a small rotation in the navigation frame, ENU)
 # and the gyro bias error δb (body frame)
@@ -74,7 +74,8 @@ class FilterState(NamedTuple):
     attitude: np.ndarray            # (3, 3) C_b^n
     bias: np.ndarray                # (3,) [rad/s]
     covariance: np.ndarray          # (N_STATE, N_STATE) of [δθ, δb]
-    scalars: np.ndarray             # (N_SCALARS,) indexed by T_PREV ... GAPS
+    scalars: np.ndarray             # (1,) record of FILTER_SCALARS (a NumPy record array:
+                                    # fields by name in plain Python too)
     gait: GaitWindow                # the mean gravity update's window
     previous_gyro: np.ndarray       # (3,)
     previous_accel: np.ndarray      # (3,)
@@ -89,14 +90,15 @@ class FilterState(NamedTuple):
                                     # older half, and the variance of ω over it per axis
 
 
-# FilterState.scalars
-T_PREV = 0              # the last sample's stamp [s]
-STARTED = 1             # 1: a sample has been seen
-RING_COUNT = 2          # samples in the trailing windows' ring
-RING_HEAD = 3           # where the next sample goes in it
-MAG_WAS_STEADY = 4      # 1: the field was steady (and anchored) at the last sample
-GAPS = 5                # gaps longer than max_gap_s seen
-N_SCALARS = 6
+# FilterState.scalars: one record, the scalars that change per sample
+FILTER_SCALARS = np.dtype([
+    ("t_prev", np.float64),         # the last sample's stamp [s]
+    ("started", np.bool_),          # a sample has been seen
+    ("ring_count", np.int64),       # samples in the trailing windows' ring
+    ("ring_head", np.int64),        # where the next sample goes in it
+    ("mag_was_steady", np.bool_),   # the field was steady (and anchored) at the last sample
+    ("gaps", np.int64),             # gaps longer than max_gap_s seen
+])
 
 
 def initial_state(attitude: np.ndarray, covariance: np.ndarray) -> FilterState:
@@ -105,8 +107,8 @@ def initial_state(attitude: np.ndarray, covariance: np.ndarray) -> FilterState:
     return FilterState(
         attitude=np.ascontiguousarray(attitude, dtype=float), bias=np.zeros(3),
         covariance=np.ascontiguousarray(covariance, dtype=float),
-        scalars=np.zeros(N_SCALARS), gait=new_gait_window(), previous_gyro=np.zeros(3),
-        previous_accel=np.zeros(3), previous_mag=np.full(3, np.nan),
+        scalars=np.zeros(1, dtype=FILTER_SCALARS).view(np.recarray), gait=new_gait_window(),
+        previous_gyro=np.zeros(3), previous_accel=np.zeros(3), previous_mag=np.full(3, np.nan),
         mag_reference=np.zeros(3), ring_t=np.zeros(RING), ring_acc=np.zeros(RING),
         ring_rate=np.zeros(RING), ring_mag=np.full((RING, 3), np.nan),
         ring_gyro=np.zeros((RING, 3)), rest_rate=np.zeros((2, 3)))

@@ -4,8 +4,9 @@ node gives the offline result: a ring of the last :data:`RING` samples' |‖α�
 and C·μ, and the tests over a window of it: the largest value (:func:`window_max`, zero
 acceleration), every rate within a threshold of the window's mean (:func:`at_rest`, zero
 angular rate) and a steady field (:func:`mag_steady`), all of them at a sample by
-:func:`detect`. The ring's count and head are slots of the filter state's scalars
-(pdr_pocket.compiled_orientation_data).
+:func:`detect`. The ring's count and head are fields of the filter state's scalars
+(``ring_count``, ``ring_head`` of pdr_pocket.compiled_orientation_data.FILTER_SCALARS),
+which the window tests are given as ``scalars`` (the state's (1,) record array).
 """
 from __future__ import annotations
 
@@ -17,10 +18,7 @@ from pdr_pocket import compiled_orientation_data
 from pdr_pocket.compiled_orientation_data import (
     ATT_EAST,
     ATT_NORTH,
-    MAG_WAS_STEADY,
     RING,
-    RING_COUNT,
-    RING_HEAD,
     Detected,
 )
 
@@ -32,8 +30,8 @@ kernel_cache.forget_if_changed(__file__, compiled_orientation_data.__file__)
 def push_ring(state, params, t, sample):
     """Add the sample to the trailing windows: |‖α‖ − g|, ‖ω‖ and C·μ (NaN: no reading);
     returns its row."""
-    s = state.scalars
-    head = int(s[RING_HEAD])
+    s = state.scalars[0]
+    head = s.ring_head
     a, w, mu, c = sample.accel, sample.gyro, sample.mag, state.attitude
     state.ring_t[head] = t
     state.ring_acc[head] = abs(np.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2) - params.gravity)
@@ -46,8 +44,8 @@ def push_ring(state, params, t, sample):
             nav[m] = c[m, 0] * mu[0] + c[m, 1] * mu[1] + c[m, 2] * mu[2]
     else:
         nav[:] = np.nan
-    s[RING_HEAD] = (head + 1) % RING
-    s[RING_COUNT] = min(RING, s[RING_COUNT] + 1)
+    s.ring_head = (head + 1) % RING
+    s.ring_count = min(RING, s.ring_count + 1)
     return head
 
 
@@ -55,7 +53,7 @@ def push_ring(state, params, t, sample):
 def window_count(ring_t, scalars, t, window_s):
     """How many of the ring's newest samples lie within the last ``window_s`` seconds before
     ``t`` (−1 while the ring does not yet reach back that far)."""
-    count, head = int(scalars[RING_COUNT]), int(scalars[RING_HEAD])
+    count, head = scalars[0].ring_count, scalars[0].ring_head
     for j in range(count):
         if t - ring_t[(head - 1 - j) % RING] > window_s + 1e-9:
             return j
@@ -66,7 +64,7 @@ def window_count(ring_t, scalars, t, window_s):
 def window_max(ring_t, values, scalars, t, window_s):
     """Max of ``values`` (a ring of the state) over the samples of the last ``window_s``
     seconds (−1 when the window is not yet full)."""
-    n, head = window_count(ring_t, scalars, t, window_s), int(scalars[RING_HEAD])
+    n, head = window_count(ring_t, scalars, t, window_s), scalars[0].ring_head
     if n < 0:
         return -1.0
     best = -np.inf
@@ -81,7 +79,7 @@ def at_rest(ring_t, ring_gyro, scalars, t, window_s, threshold, out):
     mean (False while the window is not yet full); then into ``out`` (2, 3) ω̄, the mean of
     the window's older half (a stop's last samples, the thigh starting to move below the
     threshold, are not in it), and the variance of ω over it per axis."""
-    n, head = window_count(ring_t, scalars, t, window_s), int(scalars[RING_HEAD])
+    n, head = window_count(ring_t, scalars, t, window_s), scalars[0].ring_head
     if n <= 0:
         return False
     m0 = m1 = m2 = 0.0
@@ -118,7 +116,7 @@ def at_rest(ring_t, ring_gyro, scalars, t, window_s, threshold, out):
 @njit(cache=True)
 def mag_steady(ring_t, ring_mag, scalars, t, params):
     """Norm spread and angle to the mean direction of C·μ over the trailing window."""
-    n, head = window_count(ring_t, scalars, t, params.mag_window_s), int(scalars[RING_HEAD])
+    n, head = window_count(ring_t, scalars, t, params.mag_window_s), scalars[0].ring_head
     if n < 2:
         return False
     total = np.zeros(3)
@@ -159,9 +157,10 @@ def detect(state, params, t, sample):
     # the start of the steady period: taken while the tilt is uncertain (after a gap)
     # it would hold an error as if it were known
     p = state.covariance
-    anchored = steady and (s[MAG_WAS_STEADY] == 1.0 or max(
+    was_steady = s[0].mag_was_steady
+    anchored = steady and (was_steady or max(
         p[ATT_EAST, ATT_EAST], p[ATT_NORTH, ATT_NORTH]) <= params.mag_reference_max_var)
-    if anchored and s[MAG_WAS_STEADY] == 0.0:
+    if anchored and not was_steady:
         state.mag_reference[:] = state.ring_mag[newest]
-    s[MAG_WAS_STEADY] = 1.0 if anchored else 0.0
+    s[0].mag_was_steady = anchored
     return Detected(zero_acc, zero_rate, steady, anchored)

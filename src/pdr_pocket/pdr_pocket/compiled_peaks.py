@@ -4,6 +4,10 @@ cycles closed by footfalls (:class:`pdr_pocket.steps.PitchMaximumDetector` and
 :class:`~pdr_pocket.steps.FootfallDetector` wrap them). Both carry their state between
 calls, so one sample at a time (the live node) and a whole record give the same events:
 rows of the ``EV_*`` columns. θ itself comes from :mod:`pdr_pocket.compiled_mounting`.
+Each state's scalars are one record (:data:`PEAK_SCALARS`, :data:`FOOTFALL_SCALARS`: one
+comment per field, read and written by name, ``s = state.scalars[0]``, ``s.seeking_max``),
+in a NumPy record array, whose fields read by name in plain Python as in numba (a kernel
+run uncompiled, as the twin tests' perturbed ones are, reads the same state).
 
 - :func:`peak_loop`: a hysteresis extremum detector. A maximum is confirmed once the
   signal has fallen ``drop`` below it, and the next one is sought once the signal has
@@ -37,9 +41,16 @@ from pdr_core.gait import GAIT_MIN_FOOTFALLS
 
 kernel_cache.forget_if_changed(__file__, gait.__file__)
 
-# peak detector scalars (PeakState.scalars)
-SEEKING_MAX, CUR_MAX, T_MAX, CUR_MIN, T_MIN, LAST_AMPLITUDE, LAST_STEP_T = range(7)
-N_PEAK_SCALARS = 7
+# PeakState.scalars: one record; angles [rad], times [s]
+PEAK_SCALARS = np.dtype([
+    ("seeking_max", np.bool_),      # risen enough above the minimum: a maximum is sought
+    ("cur_max", np.float64),        # the highest θ since then
+    ("t_max", np.float64),          # ... and its time
+    ("cur_min", np.float64),        # the lowest θ since the last maximum
+    ("t_min", np.float64),          # ... and its time
+    ("last_amplitude", np.float64),  # the last step's rise, θ_max − θ_min (0: forgotten)
+    ("last_step_t", np.float64),    # the last step's t of θ_max
+])
 # columns of the events (a confirmed maximum, or a gait cycle closed by footfalls):
 # t of θ_max [s], θ_max and θ_min [rad], t of θ_min and when the event was known [s]
 EV_T_MAX, EV_MAX, EV_MIN, EV_T_MIN, EV_T_CONFIRM = range(5)
@@ -62,15 +73,14 @@ class PeakParams(NamedTuple):
 
 
 class PeakState(NamedTuple):
-    scalars: np.ndarray         # (N_PEAK_SCALARS,)
+    scalars: np.ndarray         # (1,) record of PEAK_SCALARS
 
 
 def new_peak_state() -> PeakState:
     """Seeking a minimum first: a step needs one before its maximum."""
-    scalars = np.zeros(N_PEAK_SCALARS)
-    scalars[CUR_MIN] = np.inf
-    scalars[CUR_MAX] = -np.inf
-    scalars[LAST_STEP_T] = -np.inf
+    scalars = np.zeros(1, dtype=PEAK_SCALARS).view(np.recarray)
+    s = scalars[0]
+    s.cur_min, s.cur_max, s.last_step_t = np.inf, -np.inf, -np.inf
     return PeakState(scalars)
 
 
@@ -78,66 +88,87 @@ def new_peak_state() -> PeakState:
 def peak_loop(state, params, t, signal, events):
     """Confirmed maxima of ``signal`` (module docstring) into ``events`` (rows of
     EV_* columns); returns how many. NaN samples are skipped."""
-    s = state.scalars
+    s = state.scalars[0]
     count = 0
     for k in range(len(t)):
         x = signal[k]
         if not np.isfinite(x):
             continue
-        if t[k] - s[LAST_STEP_T] > params.forget_s:
-            s[LAST_AMPLITUDE] = 0.0
-        amplitude = s[LAST_AMPLITUDE]
-        if s[SEEKING_MAX] > 0:
-            if x > s[CUR_MAX]:
-                s[CUR_MAX] = x
-                s[T_MAX] = t[k]
-            if s[CUR_MAX] - x >= max(params.drop_min, params.drop_fraction * amplitude):
-                rise = s[CUR_MAX] - s[CUR_MIN]
+        if t[k] - s.last_step_t > params.forget_s:
+            s.last_amplitude = 0.0
+        amplitude = s.last_amplitude
+        if s.seeking_max:
+            if x > s.cur_max:
+                s.cur_max = x
+                s.t_max = t[k]
+            if s.cur_max - x >= max(params.drop_min, params.drop_fraction * amplitude):
+                rise = s.cur_max - s.cur_min
                 if (params.min_amplitude <= rise <= params.max_amplitude
-                        and s[T_MAX] - s[T_MIN] <= params.max_rise_s
-                        and t[k] - s[T_MAX] <= params.max_hold_s
-                        and s[T_MAX] - s[LAST_STEP_T] >= params.min_period_s):
-                    events[count, EV_T_MAX] = s[T_MAX]
-                    events[count, EV_MAX] = s[CUR_MAX]
-                    events[count, EV_MIN] = s[CUR_MIN]
-                    events[count, EV_T_MIN] = s[T_MIN]
+                        and s.t_max - s.t_min <= params.max_rise_s
+                        and t[k] - s.t_max <= params.max_hold_s
+                        and s.t_max - s.last_step_t >= params.min_period_s):
+                    events[count, EV_T_MAX] = s.t_max
+                    events[count, EV_MAX] = s.cur_max
+                    events[count, EV_MIN] = s.cur_min
+                    events[count, EV_T_MIN] = s.t_min
                     events[count, EV_T_CONFIRM] = t[k]
                     count += 1
-                    s[LAST_AMPLITUDE] = rise
-                    s[LAST_STEP_T] = s[T_MAX]
-                s[SEEKING_MAX] = 0.0
-                s[CUR_MIN] = x
-                s[T_MIN] = t[k]
+                    s.last_amplitude = rise
+                    s.last_step_t = s.t_max
+                s.seeking_max = False
+                s.cur_min = x
+                s.t_min = t[k]
         else:
-            if x < s[CUR_MIN]:
-                s[CUR_MIN] = x
-                s[T_MIN] = t[k]
-            if x - s[CUR_MIN] >= max(params.rise_min, params.rise_fraction * amplitude):
-                s[SEEKING_MAX] = 1.0
-                s[CUR_MAX] = x
-                s[T_MAX] = t[k]
+            if x < s.cur_min:
+                s.cur_min = x
+                s.t_min = t[k]
+            if x - s.cur_min >= max(params.rise_min, params.rise_fraction * amplitude):
+                s.seeking_max = True
+                s.cur_max = x
+                s.t_max = t[k]
     return count
 
 
-# footfall detector scalars (a (N_FOOTFALL_SCALARS,) array): FF_LAST_T is the last
-# footfall, counted or waiting for its run; FF_RUN the footfalls of the run; the first
-# GAIT_MIN_FOOTFALLS − 1 of a run wait from FF_WAITING on, WAITING_FIELDS each
-(FF_SEEKING_MAX, FF_CUR_MIN, FF_CUR_MAX, FF_T_MAX, FF_HELD_T, FF_HELD_VALUE, FF_LAST_T,
- FF_COUNT, FF_PITCH_MAX, FF_PITCH_MIN, FF_T_PITCH_MIN, FF_RUN, FF_WAITING) = range(13)
-# a waiting footfall: its time [s], whether it closes a cycle (1/0), and if so the cycle's
-# θ_max, θ_min [rad] and the time of θ_min [s]
-W_T, W_CLOSES, W_PITCH_MAX, W_PITCH_MIN, W_T_PITCH_MIN = range(5)
-WAITING_FIELDS = 5
-N_FOOTFALL_SCALARS = FF_WAITING + WAITING_FIELDS * (GAIT_MIN_FOOTFALLS - 1)
+# FootfallState.scalars: one record; the force [m/s²], angles [rad], times [s]
+FOOTFALL_SCALARS = np.dtype([
+    ("seeking_max", np.bool_),      # risen prominence above the trough: a peak is sought
+    ("cur_min", np.float64),        # the trough since the last peak
+    ("cur_max", np.float64),        # the highest force since the trough
+    ("t_max", np.float64),          # ... and its time
+    ("held_t", np.float64),         # the peak held for min_interval_s (−inf: none)
+    ("held_value", np.float64),     # ... and its force
+    ("last_t", np.float64),         # the last footfall, counted or waiting for its run
+    ("footfalls", np.int64),        # the footfalls counted
+    ("pitch_max", np.float64),      # θ_max since the last cycle closed
+    ("pitch_min", np.float64),      # θ_min since then
+    ("t_pitch_min", np.float64),    # ... and its time
+    ("run", np.int64),              # the footfalls of the current run
+])
+# FootfallState.waiting: the first GAIT_MIN_FOOTFALLS − 1 footfalls of a run, one record
+# each, waiting for the run to hold
+WAITING_FOOTFALL = np.dtype([
+    ("t", np.float64),              # the footfall's time [s]
+    ("closes", np.bool_),           # it closes a gait cycle of the sensor leg ...
+    ("pitch_max", np.float64),      # ... whose θ_max [rad]
+    ("pitch_min", np.float64),      # ... θ_min [rad]
+    ("t_pitch_min", np.float64),    # ... and the time of θ_min [s]
+])
 
 
-def new_footfall_state() -> np.ndarray:
+class FootfallState(NamedTuple):
+    scalars: np.ndarray         # (1,) record of FOOTFALL_SCALARS
+    waiting: np.ndarray         # (GAIT_MIN_FOOTFALLS − 1,) records of WAITING_FOOTFALL
+
+
+def new_footfall_state() -> FootfallState:
     """Seeking a minimum, nothing held, no footfall yet."""
-    s = np.zeros(N_FOOTFALL_SCALARS)
-    s[FF_CUR_MIN], s[FF_CUR_MAX] = np.inf, -np.inf
-    s[FF_HELD_T] = s[FF_LAST_T] = -np.inf
-    s[FF_PITCH_MAX], s[FF_PITCH_MIN] = -np.inf, np.inf
-    return s
+    scalars = np.zeros(1, dtype=FOOTFALL_SCALARS).view(np.recarray)
+    s = scalars[0]
+    s.cur_min, s.cur_max = np.inf, -np.inf
+    s.held_t = s.last_t = -np.inf
+    s.pitch_max, s.pitch_min = -np.inf, np.inf
+    return FootfallState(scalars, np.zeros(GAIT_MIN_FOOTFALLS - 1,
+                                           dtype=WAITING_FOOTFALL).view(np.recarray))
 
 
 @njit(cache=True)
@@ -152,44 +183,43 @@ def _cycle(events, count, t_ff, t_now, pitch_max, pitch_min, t_pitch_min):
 
 
 @njit(cache=True)
-def _in_rhythm(s, t_ff, t_now, max_interval_s, events, count):
+def _in_rhythm(state, t_ff, t_now, max_interval_s, events, count):
     """A footfall at ``t_ff`` found at ``t_now``, counted once its run holds
     GAIT_MIN_FOOTFALLS (the run's waiting ones first); a footfall farther than
     ``max_interval_s`` from the last starts a new run, dropping a shorter one. Every
     second footfall counted closes a gait cycle of the sensor leg with the pitch's
     extremes since the last: a waiting footfall that will close one keeps them."""
-    if t_ff - s[FF_LAST_T] > max_interval_s:
-        s[FF_RUN] = 0.0
-    s[FF_LAST_T] = t_ff
-    s[FF_RUN] += 1.0
-    run = int(s[FF_RUN])
+    s = state.scalars[0]
+    if t_ff - s.last_t > max_interval_s:
+        s.run = 0
+    s.last_t = t_ff
+    s.run += 1
+    run = s.run
     uncounted = run if run <= GAIT_MIN_FOOTFALLS else 1     # this one and those waiting
-    closes = (s[FF_COUNT] + uncounted) % 2 == 0.0
+    closes = (s.footfalls + uncounted) % 2 == 0
     if run < GAIT_MIN_FOOTFALLS:
-        w = FF_WAITING + WAITING_FIELDS * (run - 1)
-        s[w + W_T], s[w + W_CLOSES] = t_ff, 1.0 if closes else 0.0
+        w = state.waiting[run - 1]
+        w.t, w.closes = t_ff, closes
         if closes:
-            s[w + W_PITCH_MAX], s[w + W_PITCH_MIN] = s[FF_PITCH_MAX], s[FF_PITCH_MIN]
-            s[w + W_T_PITCH_MIN] = s[FF_T_PITCH_MIN]
-            s[FF_PITCH_MAX], s[FF_PITCH_MIN] = -np.inf, np.inf
+            w.pitch_max, w.pitch_min, w.t_pitch_min = s.pitch_max, s.pitch_min, s.t_pitch_min
+            s.pitch_max, s.pitch_min = -np.inf, np.inf
         return count
     if run == GAIT_MIN_FOOTFALLS:
         for i in range(GAIT_MIN_FOOTFALLS - 1):
-            w = FF_WAITING + WAITING_FIELDS * i
-            if s[w + W_CLOSES] > 0:
-                count = _cycle(events, count, s[w + W_T], t_now, s[w + W_PITCH_MAX],
-                               s[w + W_PITCH_MIN], s[w + W_T_PITCH_MIN])
-        s[FF_COUNT] += GAIT_MIN_FOOTFALLS - 1
-    s[FF_COUNT] += 1.0
+            w = state.waiting[i]
+            if w.closes:
+                count = _cycle(events, count, w.t, t_now, w.pitch_max, w.pitch_min,
+                               w.t_pitch_min)
+        s.footfalls += GAIT_MIN_FOOTFALLS - 1
+    s.footfalls += 1
     if closes:
-        count = _cycle(events, count, t_ff, t_now, s[FF_PITCH_MAX], s[FF_PITCH_MIN],
-                       s[FF_T_PITCH_MIN])
-        s[FF_PITCH_MAX], s[FF_PITCH_MIN] = -np.inf, np.inf
+        count = _cycle(events, count, t_ff, t_now, s.pitch_max, s.pitch_min, s.t_pitch_min)
+        s.pitch_max, s.pitch_min = -np.inf, np.inf
     return count
 
 
 @njit(cache=True)
-def footfall_loop(s, prominence, min_interval_s, max_interval_s, t, force, pitch, events):
+def footfall_loop(state, prominence, min_interval_s, max_interval_s, t, force, pitch, events):
     """Footfalls in the low-passed specific force's norm ``force`` [m/s²] (N,), and the
     gait cycles they close into ``events`` (rows of EV_* columns, every second footfall;
     returns how many). A footfall is a peak standing ``prominence`` above the troughs on
@@ -198,36 +228,37 @@ def footfall_loop(s, prominence, min_interval_s, max_interval_s, t, force, pitch
     within it takes its place (scipy.signal.find_peaks' ``distance``, causally, with
     ``min_interval_s`` of latency), and in a run of them (:func:`_in_rhythm`, spaced at
     most ``max_interval_s``). ``pitch`` [rad] (NaN: unknown) gives each cycle its θ_max
-    and θ_min."""
+    and θ_min. ``state``: a :class:`FootfallState`, changed in place."""
+    s = state.scalars[0]
     count = 0
     for k in range(len(t)):
         x = force[k]
         if np.isfinite(pitch[k]):
-            if pitch[k] > s[FF_PITCH_MAX]:
-                s[FF_PITCH_MAX] = pitch[k]
-            if pitch[k] < s[FF_PITCH_MIN]:
-                s[FF_PITCH_MIN] = pitch[k]
-                s[FF_T_PITCH_MIN] = t[k]
-        if s[FF_HELD_T] > -np.inf and t[k] - s[FF_HELD_T] >= min_interval_s:
-            count = _in_rhythm(s, s[FF_HELD_T], t[k], max_interval_s, events, count)
-            s[FF_HELD_T] = -np.inf
+            if pitch[k] > s.pitch_max:
+                s.pitch_max = pitch[k]
+            if pitch[k] < s.pitch_min:
+                s.pitch_min = pitch[k]
+                s.t_pitch_min = t[k]
+        if s.held_t > -np.inf and t[k] - s.held_t >= min_interval_s:
+            count = _in_rhythm(state, s.held_t, t[k], max_interval_s, events, count)
+            s.held_t = -np.inf
         if not np.isfinite(x):
             continue
-        if s[FF_SEEKING_MAX] > 0:
-            if x > s[FF_CUR_MAX]:
-                s[FF_CUR_MAX] = x
-                s[FF_T_MAX] = t[k]
-            if s[FF_CUR_MAX] - x >= prominence:
-                if (s[FF_T_MAX] - s[FF_LAST_T] >= min_interval_s
-                        and (s[FF_HELD_T] == -np.inf or s[FF_CUR_MAX] > s[FF_HELD_VALUE])):
-                    s[FF_HELD_T], s[FF_HELD_VALUE] = s[FF_T_MAX], s[FF_CUR_MAX]
-                s[FF_SEEKING_MAX] = 0.0
-                s[FF_CUR_MIN] = x
+        if s.seeking_max:
+            if x > s.cur_max:
+                s.cur_max = x
+                s.t_max = t[k]
+            if s.cur_max - x >= prominence:
+                if (s.t_max - s.last_t >= min_interval_s
+                        and (s.held_t == -np.inf or s.cur_max > s.held_value)):
+                    s.held_t, s.held_value = s.t_max, s.cur_max
+                s.seeking_max = False
+                s.cur_min = x
         else:
-            if x < s[FF_CUR_MIN]:
-                s[FF_CUR_MIN] = x
-            if x - s[FF_CUR_MIN] >= prominence:
-                s[FF_SEEKING_MAX] = 1.0
-                s[FF_CUR_MAX] = x
-                s[FF_T_MAX] = t[k]
+            if x < s.cur_min:
+                s.cur_min = x
+            if x - s.cur_min >= prominence:
+                s.seeking_max = True
+                s.cur_max = x
+                s.t_max = t[k]
     return count

@@ -250,7 +250,7 @@ class ThesisKernel:
 
     @staticmethod
     def gaps(state) -> int:
-        return int(state.scalars[compiled_orientation_data.GAPS])
+        return int(state.scalars[0]["gaps"])
 
 
 FILTERS = {"ekf": EkfKernel, "thesis": ThesisKernel}

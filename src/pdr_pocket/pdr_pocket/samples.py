@@ -8,8 +8,9 @@ base (the orientation filter runs at their rate, Muñoz Díaz 2016, chapter 3), 
 other sensor is paired with them by stamp before it comes in (pdr_core.magnetometer_pairing
 offline, pdr_pocket.streaming live): a chunk is one named stream, cut and joined as one.
 
-A new sensor is a new field here, its pairing where the magnetometer's is, and its use
-where the navigator reads it (docs/extending.md, "Add a sensor input").
+A new sensor read more slowly than the IMU is a new field here, a line of
+pdr_pocket.sensor_inputs (which pairs it) and its use where the navigator reads it
+(docs/extending.md, "Adding a sensor input").
 """
 from __future__ import annotations
 

@@ -6,8 +6,8 @@ topic and message type, and the message field that carries the value, in SI unit
 Offline (pdr_pocket.inputs), live (pdr_pocket.streaming) and in the node
 (pdr_pocket.nodes.pocket_pdr) each one is read, checked, paired with the IMU's samples
 (pdr_core.sample_pairing) and held for in the same way, so adding a sensor is a line
-here, a field of Samples, a topic name and the code that uses it (docs/extending.md,
-"Add a sensor input").
+here, a field of Samples, a topic name (and a message type's), the docs that list the
+inputs and the code that uses it (docs/extending.md, "Adding a sensor input").
 """
 from __future__ import annotations
 

@@ -32,7 +32,6 @@ from pdr_pocket.compiled_peaks import (
     EV_MIN,
     EV_T_MAX,
     EV_T_MIN,
-    FF_COUNT,
     N_EVENT_COLUMNS,
     PeakParams,
     footfall_loop,
@@ -123,7 +122,7 @@ class FootfallDetector:
 
     @property
     def footfalls(self) -> int:
-        return int(self.state[FF_COUNT])
+        return int(self.state.scalars[0].footfalls)
 
     def restart(self) -> None:
         """Nothing: the footfalls do not depend on how the phone sits."""

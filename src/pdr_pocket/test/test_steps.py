@@ -12,7 +12,6 @@ from pdr_pocket.compiled_peaks import (
     EV_MIN,
     EV_T_CONFIRM,
     EV_T_MAX,
-    FF_COUNT,
     N_EVENT_COLUMNS,
     footfall_loop,
     new_footfall_state,
@@ -76,7 +75,7 @@ def test_a_higher_peak_within_the_interval_takes_the_place_of_the_first():
         force += height * np.exp(-0.5 * ((t - at) / 0.03) ** 2)
     state, events = new_footfall_state(), np.empty((4, N_EVENT_COLUMNS))
     count = footfall_loop(state, 1.5, 0.3, 1.25, t, force, np.zeros(len(t)), events)
-    assert state[FF_COUNT] == 3 and count == 1
+    assert state.scalars[0].footfalls == 3 and count == 1
     assert events[0, EV_T_MAX] == pytest.approx(1.0)      # the second footfall closes it
 
 
@@ -94,7 +93,7 @@ def test_footfalls_count_in_a_run_of_three(gap_s, counted):
     pitch = np.where(t < 1.2, 0.1, 0.3)
     state, events = new_footfall_state(), np.empty((4, N_EVENT_COLUMNS))
     count = footfall_loop(state, 1.5, 0.3, 1.25, t, force, pitch, events)
-    assert state[FF_COUNT] == counted and count == counted // 2
+    assert state.scalars[0].footfalls == counted and count == counted // 2
     assert events[0, EV_T_MAX] == pytest.approx(1.5) and events[0, EV_T_CONFIRM] > 2.0
     assert events[0, EV_MIN] == 0.1 and events[0, EV_MAX] == 0.3
 

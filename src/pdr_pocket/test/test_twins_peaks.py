@@ -109,8 +109,8 @@ def test_peak_loop_is_its_twin_on_a_walking_swing():
 
 def test_a_factor_slipped_in_peak_loop_fails_its_twin(perturb):
     """The amplitude remembered at half the rise: every later confirmation comes early."""
-    wrong = perturb(peak_loop, compiled_peaks, "s[LAST_AMPLITUDE] = rise",
-                    "s[LAST_AMPLITUDE] = 0.5 * rise")
+    wrong = perturb(peak_loop, compiled_peaks, "s.last_amplitude = rise",
+                    "s.last_amplitude = 0.5 * rise")
     t, theta = walking_swing()
     with pytest.raises(AssertionError, match="Arrays are not equal"):
         np.testing.assert_array_equal(kernel_events(wrong, t, theta, REAL),
