@@ -4,14 +4,14 @@ phone turned in the pocket, θ and the thigh's heading; Muñoz Díaz 2016, Secti
 Fig. 4.1) against :class:`ThighFrame`, plain Python written from the module's docstrings:
 the axes by ``numpy.linalg.eigh`` where the kernel has its closed-form 2 × 2 eigenvector,
 the ring of anchors as a deque. Its helpers are compared on hypothesis-drawn attitudes
-and axes, the loop on simulated pocket walks (a remount while walking, sitting, a walk
-from a chair), whole and split into chunks. Not bit for bit: the eigenvectors come from
-other arithmetic, and f is only known up to its sign until the walk's mean pitch gives
-it, so the axes and angles agree to 1e-9 (a rounding error of the weighted covariance,
-about 1e-16, turned by the eigenvector's sensitivity) and the decisions (axes known, the
-changes counted) exactly. The last test changes one line of the kernel (the second
-moment of the vertical in place of its covariance, which the docstring warns against)
-and shows that the twin then fails.
+and axes, the loop on drawn swings and on simulated pocket walks (a remount while
+walking and one at a stop, sitting, a walk from a chair, no gyroscope), whole and split
+into chunks. Not bit for bit: the eigenvectors come from other arithmetic, and f is only
+known up to its sign until the walk's mean pitch gives it, so the axes and angles agree to
+1e-9 (a rounding error of the weighted covariance, about 1e-16, turned by the
+eigenvector's sensitivity) and the decisions (axes known, the changes counted) exactly.
+The last test changes one line of the kernel (the second moment of the vertical in place
+of its covariance, which the docstring warns against) and shows that the twin then fails.
 """
 from __future__ import annotations
 
@@ -413,6 +413,22 @@ def from_a_chair() -> MountingInputs:
     return walk_inputs([{"type": "sitting", "duration_s": 4, "pitch_deg": 85},
                         {"type": "walk", "distance_m": 30, "speed_kmh": 3.5},
                         {"type": "standing", "duration_s": 2}], [-70.0, 15.0, 200.0], seed=8)
+
+
+def test_mounting_loop_is_its_twin_with_the_phone_turned_while_standing():
+    """Turned in the pocket at a stop: the turn is seen at once, the axes are derived again
+    from the next walk's swing, and f then turns round (its mean pitch negative)."""
+    inputs = walk_inputs([{"type": "standing", "duration_s": 3},
+                          {"type": "walk", "distance_m": 20, "speed_kmh": 4.0},
+                          {"type": "standing", "duration_s": 6},
+                          {"type": "walk", "distance_m": 15}],
+                         [20.0, -35.0, 110.0],
+                         [{"at_s": 22, "duration_s": 1,
+                           "mounting": {"rpy_deg": [-60, 40, 200]}}], seed=3)
+    twin = ThighFrame(PARAMS)
+    expected = twin.run(*inputs)
+    assert twin.taken == [km.REMOUNT, km.REORIENT_FLIPPED]
+    assert_twins(kernel_outputs(mounting_loop, inputs, splits=(2500,)), expected)
 
 
 def test_mounting_loop_is_its_twin_through_a_remount(remounted):
