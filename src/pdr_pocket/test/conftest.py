@@ -1,31 +1,13 @@
-"""Shared by the NumPy twins (test_twins_orientation.py, test_twins_peaks.py): the
-``perturb`` fixture makes a copy of a compiled kernel with one source line changed, to
-show that a twin catches a one-line slip."""
+"""Shared by the NumPy twins (test_twins_*.py): the ``perturb`` fixture makes a copy of a
+compiled kernel with one source line changed, to show that a twin catches a one-line
+slip (test/mutants.py)."""
 from __future__ import annotations
 
-import inspect
-import textwrap
-from types import ModuleType
-
 import pytest
-
-
-def perturbed(kernel, module: ModuleType, old: str, new: str):
-    """``kernel`` (an njit function of ``module``) made afresh from its own source, with
-    ``old`` replaced by ``new`` in the one line that holds it, as plain Python (what numba
-    compiles, without the seconds compiling costs): it calls the module's other compiled
-    kernels, and the module itself is left alone."""
-    lines = textwrap.dedent(inspect.getsource(kernel.py_func)).splitlines()
-    rows = [i for i, line in enumerate(lines) if old in line]
-    assert len(rows) == 1, f"{old!r} is in {len(rows)} lines of {kernel.__name__}, not one"
-    lines[rows[0]] = lines[rows[0]].replace(old, new)
-    source = "\n".join(line for line in lines if not line.startswith("@njit"))
-    namespace = dict(vars(module))
-    exec(compile(source, f"<{kernel.__name__}, perturbed>", "exec"), namespace)
-    return namespace[kernel.__name__]
+from mutants import perturbed
 
 
 @pytest.fixture
 def perturb():
-    """:func:`perturbed`."""
+    """:func:`mutants.perturbed`."""
     return perturbed

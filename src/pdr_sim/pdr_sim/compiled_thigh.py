@@ -4,8 +4,7 @@
 x, y, z, route heading, thigh pitch θ, sway; :mod:`pdr_sim.thigh_trajectory`) with their
 first two derivatives, and turns them into the sensor's position, velocity, acceleration,
 attitude and body rate, one sample at a time without temporaries. The same equations in
-NumPy are in ``test_pocket_model.py`` (``test_compiled_kinematics_equal_the_numpy_equations``),
-asserted equal.
+NumPy are in ``test_twins_thigh.py`` (``sensor_motion``), asserted equal.
 
 With ψ = heading + sway, α = −θ and C_t = Rz(ψ)·Ry(α) (thigh → ENU):
     ω_t = (−sin α·ψ̇, α̇, cos α·ψ̇),

@@ -12,7 +12,6 @@ from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.magnetic_field import MagneticField, homogeneous
 from pdr_core.vocabulary import Activity
 from pdr_sim import signals
-from pdr_sim.compiled_thigh import HEADING, PITCH, SWAY
 from pdr_sim.pocket_scenario import (
     PersonSpec,
     load_pocket_scenario,
@@ -153,35 +152,6 @@ def test_magnetometer_is_the_field_in_the_sensor_frame(ten_minutes):
     field = MagneticField(tuple(homogeneous("munich")), ())
     expected = traj.attitude.inv().apply(field.at(traj.position))
     assert np.abs(signals.magnetic_field(traj, field) - expected).max() < 1e-12
-
-
-def test_compiled_kinematics_equal_the_numpy_equations(ten_minutes):
-    """The compiled kernel against the module docstring's equations written in NumPy."""
-    t = np.linspace(0.0, ten_minutes.duration_s, 20001)
-    traj = ten_minutes.at(t)
-    s0, s1, s2 = (ten_minutes.spline(t, nu) for nu in range(3))
-    psi, psi_d, psi_dd = (s[:, HEADING] + s[:, SWAY] for s in (s0, s1, s2))
-    alpha, alpha_d, alpha_dd = (-s[:, PITCH] for s in (s0, s1, s2))
-    thigh = Rotation.from_euler("ZY", np.stack([psi, alpha], axis=1))
-    omega = np.stack([-np.sin(alpha) * psi_d, alpha_d, np.cos(alpha) * psi_d], axis=1)
-    omega_d = np.stack([-np.cos(alpha) * alpha_d * psi_d - np.sin(alpha) * psi_dd, alpha_dd,
-                        -np.sin(alpha) * alpha_d * psi_d + np.cos(alpha) * psi_dd], axis=1)
-    body = ten_minutes.body
-    yaw = Rotation.from_euler("Z", psi[:, None])
-    ez = np.zeros_like(omega)
-    ez[:, 2] = 1.0
-    h, r = body.hip_offset, body.lever_arm
-    position = s0[:, :3] + yaw.apply(h) + thigh.apply(r)
-    w_r = np.cross(omega, r)
-    acceleration = (s2[:, :3]
-                    + yaw.apply(psi_dd[:, None] * np.cross(ez, h)
-                                + psi_d[:, None] ** 2 * np.cross(ez, np.cross(ez, h)))
-                    + thigh.apply(np.cross(omega_d, r) + np.cross(omega, w_r)))
-    np.testing.assert_allclose(traj.position, position, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(traj.acceleration, acceleration, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(traj.body_rate, omega @ body.mounting, rtol=0, atol=1e-12)
-    sensor = thigh * Rotation.from_matrix(body.mounting)
-    assert (sensor.inv() * traj.attitude).magnitude().max() < 1e-12
 
 
 def test_motion_is_smooth_through_every_knot(ten_minutes):
