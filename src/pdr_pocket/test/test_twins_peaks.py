@@ -25,7 +25,6 @@ from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.gait import GAIT_MIN_FOOTFALLS
 from pdr_pocket import compiled_peaks
 from pdr_pocket.compiled_peaks import (
-    FF_COUNT,
     N_EVENT_COLUMNS,
     PeakParams,
     footfall_loop,
@@ -204,7 +203,7 @@ def kernel_cycles(kernel, args, t, force, pitch, split: int | None = None):
         count = kernel(state, *args, *(np.ascontiguousarray(x[part]) for x in (t, force, pitch)),
                        events)
         rows.append(events[:count])
-    return np.concatenate(rows), state[FF_COUNT]
+    return np.concatenate(rows), state.scalars[0].footfalls
 
 
 def twin_cycles(args, t, force, pitch, split: int | None = None):
@@ -275,8 +274,8 @@ def test_a_parity_slipped_in_the_rhythm_fails_its_twin(perturb):
     """Every odd footfall closing the cycle instead of every second: the cycles end a
     footfall early, at the other leg's."""
     rhythm = perturb(compiled_peaks._in_rhythm, compiled_peaks,
-                     "closes = (s[FF_COUNT] + uncounted) % 2 == 0.0",
-                     "closes = (s[FF_COUNT] + uncounted) % 2 == 1.0")
+                     "closes = (s.footfalls + uncounted) % 2 == 0",
+                     "closes = (s.footfalls + uncounted) % 2 == 1")
     wrong = perturb(footfall_loop, compiled_peaks, "count = _in_rhythm(", "count = rhythm(",
                     calls={"rhythm": rhythm})
     t, force, pitch = striding_force()
