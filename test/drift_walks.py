@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
+from pdr_core.maths.angles import wrap_angle
 from pdr_drift.corners import StepSample
 
 LEVEL, UP, DOWN = 1, 2, 3

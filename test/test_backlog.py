@@ -1,4 +1,4 @@
-"""A callback takes its subscription's backlog in one go (pdr_core.backlog), with a real
+"""A callback takes its subscription's backlog in one go (pdr_core.ros.backlog), with a real
 rclpy publisher and subscription in the test's domain; and zupt_ekf's block handler
 drops a malformed message without losing the good ones around it (issue 19)."""
 from __future__ import annotations
@@ -7,9 +7,9 @@ import time
 
 import pytest
 
-from pdr_core import cdr
-from pdr_core.backlog import waiting_messages
-from pdr_core.bag import BagReader
+from pdr_core.io import cdr
+from pdr_core.io.bag import BagReader
+from pdr_core.ros.backlog import waiting_messages
 from wstest import ROOT
 
 pytestmark = pytest.mark.ros

@@ -7,8 +7,8 @@ import time
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader
-from pdr_core.msgtypes import IMU
+from pdr_core.io.bag import BagReader
+from pdr_core.io.msgtypes import IMU
 from wstest import imu_bag, log_text, play
 
 pytestmark = pytest.mark.ros

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from rosbags.rosbag2 import Reader
 
-from pdr_core.bag import BagReader, readable_extent
 from pdr_core.errors import InputWarning
+from pdr_core.io.bag import BagReader, readable_extent
 from pdr_ins_ekf import cli as ekf_cli
 from wstest import ROOT, imu_bag, log_text, play
 

@@ -8,7 +8,7 @@ import shlex
 
 import pytest
 
-from pdr_core.bag import BagReader, write_batches
+from pdr_core.io.bag import BagReader, write_batches
 from wstest import ROOT, cli
 
 POCKET_WALK = ROOT / "bags" / "pocket_walk"

@@ -80,7 +80,7 @@ def test_the_citation_patterns_catch_what_they_are_for():
 
 
 # What the navigators may not depend on: scores against a truth, and the studies.
-EVALUATION = re.compile(r"^pdr_core\.metrics$|^pdr_\w+\.studies(\.|$)|\.evaluation$"
+EVALUATION = re.compile(r"^pdr_core\.evaluation(\.|$)|^pdr_\w+\.studies(\.|$)|\.evaluation$"
                         r"|\.drift_report$|\.run_report$")
 # Offline jobs and presentation, which may: the command lines, the plots, the runs of
 # whole bags that write reports.
@@ -120,8 +120,9 @@ def import_closure() -> dict[str, set[str]]:
 
 
 def test_the_navigators_import_no_evaluation_or_study_module():
-    """Not even through another module: a node or a navigator that reached pdr_core.metrics
-    or a study would carry scoring code into a robot's graph (issue 31)."""
+    """Not even through another module: a node or a navigator that reached
+    pdr_core.evaluation (its metrics, say) or a study would carry scoring code into a
+    robot's graph (issue 31)."""
     closure = import_closure()
     navigators = [m for m in closure if m.startswith(NAVIGATOR_PACKAGES)
                   and not EVALUATION.search(m) and not JOBS.search(m)]
@@ -143,7 +144,7 @@ VOCABULARY = {"STANDING", "WALKING", "UPSTAIRS", "DOWNSTAIRS", "SITTING", "ACTIV
 # an activity or landmark type compared with a number, or a table sized by their count
 LITERAL_WORD = re.compile(r"\b(activity|activities|type)\b\s*(==|!=|<=|>=|<|>)\s*\d"
                           r"|\d\s*(<=|<)\s*activity\b|\bzeros\(\(5, 5\)")
-HOMES = {"wrap": "pdr_core/angles.py", "topic": "pdr_core/topics.py",
+HOMES = {"wrap": "pdr_core/maths/angles.py", "topic": "pdr_core/topics.py",
          "frame": "pdr_core/frames.py", "vocabulary": "pdr_core/vocabulary.py"}
 
 

@@ -113,7 +113,7 @@ def test_a_partial_section_keeps_the_shipped_values_of_the_keys_it_does_not_give
     assert config.smoother == run_config({"smoother": {}}).smoother == RunConfig().smoother
 
 
-# The nodes and the modules that declare their parameters (pdr_core.node_params.declare)
+# The nodes and the modules that declare their parameters (pdr_core.ros.node_params.declare)
 NODES = {
     "zupt_ekf": ["pdr_ins_ekf.nodes.zupt_ekf"],
     "pocket_pdr": ["pdr_pocket.nodes.pocket_pdr"],

@@ -2,7 +2,7 @@
 ``pocket_pdr`` (and ``zupt_ekf``) fed IMU samples from this process at 100 Hz, one of them
 poisoned (NaN), and a correction refused (a negative variance). An
 rclpy subscriber reads ``/diagnostics``: the node's status goes WARN naming the counter
-and how many, and back to OK after a clean report period (pdr_core.diagnostics). The
+and how many, and back to OK after a clean report period (pdr_core.ros.diagnostics). The
 pocket node's key-values name the inputs fused (issue 54): the barometer absent, then, once
 ``imu/pressure`` comes at 1 Hz, waiting for a step (a person at rest takes none), its
 offset jumps, and the magnetometer fused."""
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from pdr_core import topics
-from pdr_core.diagnostics import Level
 from pdr_core.frames import SENSOR_FRAME
+from pdr_core.ros.diagnostics import Level
 from pdr_core.topics import DIAGNOSTICS as DIAGNOSTICS_TOPIC
 from wstest import log_text, wait_for_log
 
@@ -209,7 +209,7 @@ def test_zupt_ekf_goes_warn_on_a_poisoned_sample_and_a_refused_correction(procs,
 
 def test_zupt_ekf_without_the_odometry_its_odom_frame_needs_goes_warn(procs, ros):
     """``odom_frame:=odom`` and no node publishing odom → base_link: the poses wait 10 s of
-    pose time for it (pdr_core.node_tf.ODOM_WAIT_S), then count as ``tf_no_odom`` and the
+    pose time for it (pdr_core.ros.node_tf.ODOM_WAIT_S), then count as ``tf_no_odom`` and the
     status goes WARN naming it (docs/nodes.md, "TF and odometry")."""
     from diagnostic_msgs.msg import DiagnosticArray
 

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 import yaml
 
-from pdr_core.bag import BagReader
-from pdr_core.nav_path import last_path
+from pdr_core.io.bag import BagReader
+from pdr_core.io.nav_path import last_path
 from pdr_ins_ekf.studies.drift_study import (
     IMU,
     WARMUP_BIAS_DEG_PER_S,

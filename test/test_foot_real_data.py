@@ -119,7 +119,7 @@ def test_the_drift_loop_changes_no_real_trial():
     (min_revisit_s, 120 s), so with config/foot_drift.yaml the online loop associates no
     landmark and its path is the run's without it, sample for sample (docs/foot_ins.md,
     "Drift corrections")."""
-    from pdr_core.bag import BagReader
+    from pdr_core.io.bag import BagReader
     from pdr_drift.config import load_drift_config
     from pdr_ins_ekf.config import load_run_config
     from pdr_ins_ekf.drift_loop import navigate_online

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from pdr_core import topics
-from pdr_core.bag import BagReader
-from pdr_core.metrics import error_report, truth_at
+from pdr_core.evaluation.metrics import error_report, truth_at
+from pdr_core.io.bag import BagReader
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import alignment_window
 from pdr_ins_ekf.zupt_ekf import run

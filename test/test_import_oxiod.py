@@ -27,10 +27,10 @@ import pytest
 from scipy.ndimage import uniform_filter1d
 from scipy.spatial.transform import Rotation
 
-from pdr_core.bag import BagReader
-from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.oxiod import attitude_jumps
+from pdr_core.io.bag import BagReader
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.oxiod import attitude_jumps
 from wstest import SHARED_DATA, cli, needs_shared
 
 OXIOD = SHARED_DATA / "attitude" / "oxiod"

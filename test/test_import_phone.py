@@ -25,9 +25,9 @@ import numpy as np
 import pytest
 
 from pdr_core import topics
-from pdr_core.bag import BagReader
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.walk_plausibility import EXIT_REFUSED
+from pdr_core.io.bag import BagReader
+from pdr_core.walking.walk_plausibility import EXIT_REFUSED
 from wstest import OXFORD, OXFORD_ARGS, SENSOR_LOGGER_EXPORTS, THIGH, cli, needs_shared
 
 NORM_THIGH = THIGH / "norm_thigh_1" / "imu.csv"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from wstest import OXFORD, OXFORD_ARGS, PYSHOE, PYSHOE_ARGS, XIO, XIO_ARGS, needs_shared
 
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from pdr_core.io.bag import BagReader
 from wstest import SHARED_DATA, cli, needs_shared
 
 COLUMNS = ["--time-col", "t", "--acc-cols", "ax,ay,az", "--gyro-cols", "gx,gy,gz",

@@ -5,7 +5,7 @@ import signal
 
 import pytest
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from wstest import log_text
 
 pytestmark = pytest.mark.ros

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader, write_batches
-from pdr_core.nav_path import last_path
+from pdr_core.io.bag import BagReader, write_batches
+from pdr_core.io.nav_path import last_path
 from wstest import ROOT, log_text, wait_for_log
 
 pytestmark = pytest.mark.ros
@@ -224,7 +224,7 @@ def test_pdr_drift_run_corrects_an_output_bag_offline(procs, tmp_path, walk, onl
 
 def test_pdr_pocket_and_pdr_drift_give_one_set_of_figures_per_walk(procs, tmp_path, walk):
     """Issue 29: the same walk's duration, distance and loop gap from both CLIs, from the
-    walk's start (the first IMU sample and the origin, pdr_core.metrics.walk_figures):
+    walk's start (the first IMU sample and the origin, pdr_core.evaluation.metrics.walk_figures):
     pdr-pocket run (--drift offline) and pdr-drift run of pdr-pocket run's output. The
     walk without its truth (its IMU topics alone): with one, pdr-pocket run's distance_m
     is the true path's (docs/reports.md)."""

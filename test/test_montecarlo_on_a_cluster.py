@@ -1,5 +1,5 @@
 """Monte-Carlo studies split into batches over a Dask cluster equal the unsplit ones
-(issue 43, acceptance 5): each run's noise is seeded by its index (pdr_core.parallel)."""
+(issue 43, acceptance 5): each run's noise is seeded by its index (pdr_core.evaluation.parallel)."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -97,7 +97,7 @@ def test_pdr_ekf_montecarlo_on_a_cluster_writes_the_same_tables(scheduler, tmp_p
 def test_every_task_on_the_cluster_runs_with_one_numba_thread(scheduler):
     import numba
 
-    from pdr_core.parallel import cluster_map
+    from pdr_core.evaluation.parallel import cluster_map
 
     ended = dict(cluster_map(scheduler, numba.get_num_threads, [()] * 4, "threads"))
     assert ended == {0: 1, 1: 1, 2: 1, 3: 1}

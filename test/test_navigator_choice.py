@@ -1,5 +1,5 @@
 """``pdr-eval --navigator auto``: the foot's or the pocket's navigator told from the data
-(pdr_core.navigator_choice; issue 54, acceptance 3), on every shared foot and pocket
+(pdr_core.walking.navigator_choice; issue 54, acceptance 3), on every shared foot and pocket
 recording and on the simulator's foot and thigh walks."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from pdr_eval.auto_navigator import bag_navigator, refusal
 
-from pdr_core.navigator_choice import (
+from pdr_core.walking.navigator_choice import (
     FOOT_MIN_STANCES_HZ,
     FOOT_SWING_PEAK_RADPS,
     MIN_MOVING_S,

@@ -11,7 +11,7 @@ import signal
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader, write_batches
+from pdr_core.io.bag import BagReader, write_batches
 from wstest import ROOT, log_text, wait_for_log
 
 pytestmark = pytest.mark.ros

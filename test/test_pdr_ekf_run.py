@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from pdr_core.bag import BagReader, write_batches
-from pdr_core.nav_path import last_path
+from pdr_core.io.bag import BagReader, write_batches
+from pdr_core.io.nav_path import last_path
 from wstest import ROOT, XIO, XIO_COLUMNS, needs_shared
 
 REPORT_KEYS = {"duration_s", "distance_m", "final_error_m", "final_error_pct",

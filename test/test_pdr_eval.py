@@ -13,9 +13,9 @@ import time
 import numpy as np
 import pytest
 
-from pdr_core.bag import write_batches
-from pdr_core.batch import MessageBatch
-from pdr_core.msgtypes import IMU
+from pdr_core.io.bag import write_batches
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import IMU
 from wstest import ROOT, cli, installed
 
 REPORTS = ROOT / "docs" / "reports.md"

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.answered_requests import new_request_id
-from pdr_core.bag import BagReader, write_batches
-from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, homogeneous
+from pdr_core.corrections.answered_requests import new_request_id
+from pdr_core.io.bag import BagReader, write_batches
+from pdr_core.sensors.magnetic_field import TABLE_3_3, IronDistortion, homogeneous
 from wstest import ROOT, log_text, wait_for_log
 
 pytestmark = pytest.mark.ros
@@ -216,7 +216,7 @@ def test_run_writes_steps_poses_path_and_report_on_the_sample_bag(procs, tmp_pat
 def halves(tmp_path):
     """bags/pocket_walk cut in two at the middle IMU sample, written as bags A and B; the
     whole record's inputs and the middle index."""
-    from pdr_core.bag import write_batches
+    from pdr_core.io.bag import write_batches
     from pdr_pocket.inputs import pocket_inputs
 
     batches = BagReader(BAG).read_batches(["/imu/data", "/imu/mag"])
@@ -231,7 +231,7 @@ def halves(tmp_path):
 def offline_with_correction(inputs, middle, correction):
     """The navigator on A, the correction (None: none), then B: the steps pocket_pdr must
     publish, and how many came before the correction."""
-    from pdr_core.correction import Correction
+    from pdr_core.corrections.correction import Correction
     from pdr_pocket.config import PocketConfig
     from pdr_pocket.navigator import PocketNavigator
 
@@ -474,7 +474,7 @@ def several_g(source: Path, out: Path) -> Path:
 @pytest.mark.parametrize(("cli", "bag"), [("pdr-pocket", "pocket_walk"),
                                           ("pdr-ekf", "foot_walk")])
 def test_several_g_warns_first_and_fails_under_strict(procs, tmp_path, cli, bag):
-    """Issue 54, acceptance 2, for both navigators (pdr_core.walk_plausibility): a median
+    """Issue 54, acceptance 2, for both navigators (pdr_core.walking.walk_plausibility): a median
     |f| of several g is a warning on the first line (the pocket navigator then navigates,
     the warning first in its report; the foot's finds no stance to align on, its own error
     after the warning), and --strict refuses it: exit 2, one line naming the file, no

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import yaml
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 
 
 def test_two_hour_static_allan_recovers_the_xsens_mtw_noise(procs, tmp_path):

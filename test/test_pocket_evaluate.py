@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, write_batches
-from pdr_core.csv_export import import_arguments, log_table
+from pdr_core.io.bag import BagReader, write_batches
+from pdr_core.io.csv_export import import_arguments, log_table
 from wstest import ROOT, Processes
 
 pytestmark = pytest.mark.ros

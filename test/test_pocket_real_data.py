@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from scipy.signal import find_peaks
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.evaluation import TruthStepsFormat, read_truth_steps
 from pdr_pocket.inputs import read_pocket_bag
@@ -222,7 +222,7 @@ def test_a_back_pocket_phone_walks_strides_a_person_walks():
     360° swings). The footfalls within 3 % of the foot switches' 198: 203 (205 before a
     footfall had to be in a run of three: two lone ones after the walk; the five more are
     in its first 11 s, where both foot switches skip footfalls, docs/pocket.md)."""
-    from pdr_core.gait import stride_bound_m
+    from pdr_core.walking.gait import stride_bound_m
     from wstest import imported
 
     bag = imported(BACK_POCKET / "accelerometer.csv",

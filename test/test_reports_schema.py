@@ -15,7 +15,7 @@ import re
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader, write_batches
+from pdr_core.io.bag import BagReader, write_batches
 from pdr_core.report_files import write_report
 from wstest import ROOT, Processes
 

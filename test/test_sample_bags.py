@@ -6,7 +6,7 @@ import shlex
 
 import pytest
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from wstest import ROOT
 
 

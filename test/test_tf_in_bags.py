@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from pdr_core.vocabulary import Activity
 from wstest import ROOT, cli
 

@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from pdr_ins_ekf.config import load_run_config
 from wstest import ROOT, log_text, wait_for_log
 
@@ -82,8 +82,8 @@ def test_with_an_odom_frame_it_publishes_map_to_odom(procs, ros, tmp_path):
     from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
     from scipy.spatial.transform import Rotation
 
-    from pdr_core.bag import write_batches
-    from pdr_core.odometry import transform_batch
+    from pdr_core.io.bag import write_batches
+    from pdr_core.io.odometry import transform_batch
     from tf2_msgs.msg import TFMessage
 
     foot = ROOT / "bags" / "foot_walk"

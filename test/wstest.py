@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pdr_core.bag import write_batches
-from pdr_core.batch import MessageBatch
-from pdr_core.imu_checks import MAX_PLAUSIBLE_ACCEL_MPS2, MAX_PLAUSIBLE_RATE_RADPS
-from pdr_core.msgtypes import IMU
+from pdr_core.io.bag import write_batches
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import IMU
+from pdr_core.sensors.imu_checks import MAX_PLAUSIBLE_ACCEL_MPS2, MAX_PLAUSIBLE_RATE_RADPS
 
 ROOT = Path(__file__).resolve().parents[1]
 # The real recordings (../shared/data beside the repository; PDR_SHARED_DATA overrides).

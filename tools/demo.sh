@@ -24,7 +24,7 @@ echo "== 2. bag_play -> zupt_ekf -> bag_record over ROS 2 (domain $ROS_DOMAIN_ID
 # zupt_ekf holds back its detector's look-ahead: that many samples stay unpublished.
 expected=$(python - "$out/simulated" "$config" <<'PY'
 import sys
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.zero_velocity import sample_rate_hz
 imu = BagReader(sys.argv[1]).read("/imu/data")
@@ -62,8 +62,8 @@ python - "$pocket" <<'PY'
 import sys
 from pathlib import Path
 import numpy as np
-from pdr_core.bag import BagReader
-from pdr_core.nav_path import last_path
+from pdr_core.io.bag import BagReader
+from pdr_core.io.nav_path import last_path
 from pdr_drift.plots import paths_png
 folder = Path(sys.argv[1])
 sim = BagReader(folder / "simulated")

@@ -37,7 +37,7 @@ python - "$out" <<'PY'
 import json, sys
 from pathlib import Path
 import numpy as np
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 out = Path(sys.argv[1])
 report = json.loads((out / "report.json").read_text())
 live = BagReader(out / "live").read("/pdr/pocket/pose")["pose.pose.position"]

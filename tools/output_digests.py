@@ -40,10 +40,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "test"))
 
-from pdr_core import cdr, topics  # noqa: E402
-from pdr_core.bag import BagReader  # noqa: E402
-from pdr_core.batch import MessageBatch  # noqa: E402
-from pdr_core.csv_export import has_gyroscope  # noqa: E402
+from pdr_core import topics  # noqa: E402
+from pdr_core.io import cdr  # noqa: E402
+from pdr_core.io.bag import BagReader  # noqa: E402
+from pdr_core.io.batch import MessageBatch  # noqa: E402
+from pdr_core.io.csv_export import has_gyroscope  # noqa: E402
 from wstest import SHARED_RECORDINGS, cli  # noqa: E402
 
 SAMPLE_BAGS = {"foot_walk": "foot", "vicon_walk": "foot", "pocket_walk": "pocket"}
@@ -148,7 +149,7 @@ def foot_chunks(bag: Path, block: int) -> tuple[str, str]:
 def pocket_chunks(bag: Path, block: int) -> tuple[str, str]:
     """pocket_pdr's streaming navigator in blocks: each step's step, pose and odometry
     fields as the node packs them, and the attitude, gyro bias and covariance per sample."""
-    from pdr_core.msgtypes import ODOMETRY
+    from pdr_core.io.msgtypes import ODOMETRY
     from pdr_pocket.config import load_pocket_config
     from pdr_pocket.messages import odometry_step_fields, step_fields
     from pdr_pocket.sensor_inputs import SENSOR_INPUTS

@@ -7,7 +7,7 @@
 # Skipped while the packages' sources are unchanged since the last warm-up (a stamp in
 # install/). Says what it compiles and about how long it takes before it starts, then each
 # command as it starts ("[warm foot 1/6] ...") and each kernel compiled, with its seconds
-# (pdr_core.kernel_cache.CompileProgress, on through PDR_COMPILE_PROGRESS); a command's
+# (pdr_core.maths.kernel_cache.CompileProgress, on through PDR_COMPILE_PROGRESS); a command's
 # other output only if it fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

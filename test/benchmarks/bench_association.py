@@ -176,8 +176,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=20, help="seeds 1 to N per scenario")
     parser.add_argument("--imu", default="xsens_mtw",
-                        help="the IMU error profile (pdr_core.imu_profiles), with the biases "
-                             "of Table 6.1")
+                        help="the IMU error profile (pdr_core.sensors.imu_profiles), with the "
+                             "biases of Table 6.1")
     parser.add_argument("--zaru", action="store_true",
                         help="the navigator's zero-rate update on (pocket_pdr.yaml's default)")
     parser.add_argument("--bias-model", default="allan", choices=("allan", "thesis"),

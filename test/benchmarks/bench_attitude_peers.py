@@ -15,8 +15,8 @@ Two tables:
 1. **Real phones** (issue 53): the OxIOD sequences of ../shared/data/attitude/oxiod (or
    PDR_SHARED_DATA), and any more given as arguments (``--oxiod DIR ...``, each a folder
    of OxIOD's synchronised ``imuK.csv``/``viK.csv`` pairs or a pair's file), read with
-   pdr_core.oxiod. Columns per sequence and filter: the heading error's RMS, mean and
-   final value [°] (pdr_core.attitude_metrics: the truth's most level body axis, relative
+   pdr_core.io.oxiod. Columns per sequence and filter: the heading error's RMS, mean and
+   final value [°] (pdr_core.evaluation.attitude_metrics: the truth's most level body axis, relative
    to its first 2 s, so that a filter with and one without an absolute heading are scored
    alike), the tilt error's RMS [°] (the Vicon object sits a few degrees off the phone's
    axes: a floor every filter shares), the largest gyro-bias estimate [°/s] and samples
@@ -41,8 +41,8 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from pdr_core.attitude_metrics import heading_error, tilt_error
-from pdr_core.oxiod import import_oxiod
+from pdr_core.evaluation.attitude_metrics import heading_error, tilt_error
+from pdr_core.io.oxiod import import_oxiod
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.orientation import FIELD_JUDGEMENTS, OrientationFilter
 from pdr_pocket.orientation_config import EkfConfig, OrientationConfig

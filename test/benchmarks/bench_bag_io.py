@@ -1,7 +1,7 @@
 """Benchmark: bag I/O of an hour of 200 Hz foot data (720,000 samples).
 
 Run on purpose (``make bench``), not in CI. Prints seconds and samples per second for
-CDR encoding and decoding (pdr_core.cdr), writing a bag with imu/data and
+CDR encoding and decoding (pdr_core.io.cdr), writing a bag with imu/data and
 ground_truth/pose, and reading imu/data back as a MessageBatch.
 """
 from __future__ import annotations
@@ -10,8 +10,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from pdr_core import cdr
-from pdr_core.bag import BagReader, write_batches
+from pdr_core.io import cdr
+from pdr_core.io.bag import BagReader, write_batches
 from pdr_sim.scenario import scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 

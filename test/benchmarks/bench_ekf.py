@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pdr_core.bag import write_batches
+from pdr_core.io.bag import write_batches
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import navigate
 from pdr_ins_ekf.streaming import StreamingNavigator

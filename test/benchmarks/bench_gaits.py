@@ -22,7 +22,7 @@ from dataclasses import replace
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.metrics import error_report, truth_at
+from pdr_core.evaluation.metrics import error_report, truth_at
 from pdr_ins_ekf.config import RunConfig, load_run_config
 from pdr_ins_ekf.offline import navigate, stance_scores
 from pdr_sim.foot_trajectory import level_walk_like

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pdr_core.bag import write_batches
-from pdr_core.imu_profiles import profile
+from pdr_core.io.bag import write_batches
+from pdr_core.sensors.imu_profiles import profile
 from pdr_sim.pocket_scenario import load_pocket_scenario
 from pdr_sim.simulation import SimulationConfig, scenario_of, simulate
 

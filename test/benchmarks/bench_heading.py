@@ -21,7 +21,7 @@ Every column is a filter: ``foot_ekf.yaml`` as shipped (9 states) and with its
 of ``pdr-ekf run`` (:func:`pdr_ins_ekf.offline.navigate`), the runs of a row in one
 parallel batch (:func:`pdr_ins_ekf.studies.ekf_montecarlo.ekf_batch`). Printed, as
 Markdown: the median over seeds of the final heading error |ψ̂ − ψ| [°] at the end of
-the walk, and of the final position error and ARMSE 3D [m] (pdr_core.metrics, at
+the walk, and of the final position error and ARMSE 3D [m] (pdr_core.evaluation.metrics, at
 100 Hz; the start heading is known in simulation, so the estimate is not turned onto
 the truth beyond the metric's own alignment on the first 0.8 m). Then, unless
 ``--no-recorded``, each filter on the recordings of ../shared/data: ARMSE 3D of the
@@ -40,11 +40,11 @@ import numpy as np
 import yaml
 
 from pdr_core import units
-from pdr_core.allan import gm_sigma_for_bias_instability
 from pdr_core.constants import earth_rate_enu
-from pdr_core.csv_import import CsvImuFormat, import_csv
-from pdr_core.imu_errors import ImuErrors, TriadErrors, corrupt
-from pdr_core.metrics import error_report, truth_at
+from pdr_core.evaluation.metrics import error_report, truth_at
+from pdr_core.io.csv_import import CsvImuFormat, import_csv
+from pdr_core.sensors.allan import gm_sigma_for_bias_instability
+from pdr_core.sensors.imu_errors import ImuErrors, TriadErrors, corrupt
 from pdr_ins_ekf.config import RunConfig, load_run_config
 from pdr_ins_ekf.kernel_data import GYRO
 from pdr_ins_ekf.offline import alignment_window, navigate

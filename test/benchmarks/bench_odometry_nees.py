@@ -28,9 +28,9 @@ added to it (:func:`truth_covariance`: the VICON marker's spread while the IMU s
 still, and its lever arm from the IMU).
 
 The navigators start at their own origin and with their configured heading (the heading
-is unobservable): the foot's NEES are pdr_core.consistency's, the reports' (both paths
+is unobservable): the foot's NEES are pdr_core.evaluation.consistency's, the reports' (both paths
 from their start, the estimate turned onto the truth where it is first 0.8 m from its
-start, pdr_core.metrics.alignment_yaw, its covariance and attitude turned with it), at
+start, pdr_core.evaluation.metrics.alignment_yaw, its covariance and attitude turned with it), at
 the first sample of each second. The pocket's are against the true strides, from the
 origin both start at.
 
@@ -80,8 +80,8 @@ def foot_run(args: tuple[str, bool, float, int]) -> tuple[np.ndarray, np.ndarray
     ``args[0]``, or with ``args[1]`` its level walk in the ``walk`` gait
     (pdr_sim.foot_trajectory.level_walk_like), at ``args[2]`` Hz, seed ``args[3]``."""
     from pdr_core import topics
-    from pdr_core.consistency import attitude_nees, checkpoints, position_nees
-    from pdr_core.metrics import alignment_yaw, truth_at, truth_orientation_at
+    from pdr_core.evaluation.consistency import attitude_nees, checkpoints, position_nees
+    from pdr_core.evaluation.metrics import alignment_yaw, truth_at, truth_orientation_at
     from pdr_ins_ekf.config import load_run_config
     from pdr_ins_ekf.offline import navigate, output_batches
     from pdr_sim.foot_trajectory import level_walk_like
@@ -113,7 +113,7 @@ def pocket_run(args: tuple[str, int]) -> np.ndarray | None:
     from dataclasses import replace
 
     from pdr_core import topics
-    from pdr_core.consistency import nees
+    from pdr_core.evaluation.consistency import nees
     from pdr_pocket.config import PocketConfig
     from pdr_pocket.messages import step_batches
     from pdr_pocket.navigator import PocketNavigator
@@ -166,9 +166,9 @@ def vicon_trial(csv: Path) -> tuple[np.ndarray, np.ndarray]:
     """Position NEES every second of one real VICON trial (shipped configuration): against
     the published covariance, and against it plus the truth's (:func:`truth_covariance`)."""
     from pdr_core import topics
-    from pdr_core.bag import BagReader
-    from pdr_core.consistency import checkpoints, position_nees
-    from pdr_core.metrics import truth_at
+    from pdr_core.evaluation.consistency import checkpoints, position_nees
+    from pdr_core.evaluation.metrics import truth_at
+    from pdr_core.io.bag import BagReader
     from pdr_ins_ekf.config import load_run_config
     from pdr_ins_ekf.offline import navigate, output_batches
 
@@ -215,8 +215,8 @@ def xio_loop() -> None:
     """The foot on the x-io short_walk loop (it ends where it starts): the NEES of the end
     point's error against its covariance (3 dof, one sample)."""
     from pdr_core import topics
-    from pdr_core.bag import BagReader
-    from pdr_core.consistency import nees
+    from pdr_core.evaluation.consistency import nees
+    from pdr_core.io.bag import BagReader
     from pdr_ins_ekf.config import load_run_config
     from pdr_ins_ekf.offline import navigate, output_batches
 
@@ -245,8 +245,8 @@ def oxiod_table() -> None:
     aligned at the start) and the tilt (2 dof)."""
     from bench_attitude_peers import oxiod_sequences
 
-    from pdr_core.attitude_metrics import tilt_error
-    from pdr_core.consistency import attitude_consistency
+    from pdr_core.evaluation.attitude_metrics import tilt_error
+    from pdr_core.evaluation.consistency import attitude_consistency
     from pdr_pocket.compiled_orientation_data import ATT_ROWS
     from pdr_pocket.config import PocketConfig
     from pdr_pocket.orientation import OrientationFilter

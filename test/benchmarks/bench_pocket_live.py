@@ -36,7 +36,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, write_batches
+from pdr_core.io.bag import BagReader, write_batches
 from wstest import Processes, log_text, wait_for_log
 
 DOMAIN = 92

@@ -72,7 +72,7 @@ LEVEL = {"norm_thigh_1", "fast_thigh_1", "jog_thigh_1", "tug_thigh_1", "oxford"}
 
 
 def board(name: str, gyroscope: bool = True):
-    from pdr_core.csv_import import CsvImuFormat, import_csv
+    from pdr_core.io.csv_import import CsvImuFormat, import_csv
 
     fmt = CsvImuFormat(time_col="time", acc_cols=("accel_x", "accel_y", "accel_z"),
                        gyro_cols=("gyro_x", "gyro_y", "gyro_z") if gyroscope else (),
@@ -83,7 +83,7 @@ def board(name: str, gyroscope: bool = True):
 
 
 def oxford():
-    from pdr_core.csv_import import CsvImuFormat, import_csv
+    from pdr_core.io.csv_import import CsvImuFormat, import_csv
 
     csv = next((DATA / "oxford_step_counter").glob("user1_frontpocket_*.csv"))
     fmt = CsvImuFormat(time_col="0", time_unit="ns", acc_cols=("1", "2", "3"), header=False)
@@ -145,7 +145,7 @@ def ours(t, gyro, accel, mag=None):
 
 
 def row(name, truth_footfalls, ours_run, book, truth_positions=None, level=True) -> str:
-    from pdr_core.metrics import error_report
+    from pdr_core.evaluation.metrics import error_report
     from pdr_pocket.config import PocketConfig
 
     t_ours, p_ours, footfalls, steps = ours_run
@@ -223,7 +223,7 @@ def heading_error(sim, config: OrientationConfig | None, seed: int
 
 
 def heading_table(seeds: int) -> None:
-    from pdr_core.chi2 import chi2_quantile
+    from pdr_core.maths.chi2 import chi2_quantile
 
     tail = chi2_quantile(0.025, seeds) / seeds, chi2_quantile(0.975, seeds) / seeds
     print(f"Heading without a magnetometer, seeds 1-{seeds}: median final |δψ| and RMS [°], "
@@ -307,7 +307,7 @@ def main() -> int:
 
 def peers_table() -> None:
     """The Markdown table of the module docstring, printed row by row."""
-    from pdr_core.metrics import truth_at
+    from pdr_core.evaluation.metrics import truth_at
     from pdr_pocket.inputs import pocket_inputs
 
     print("| walk | footfalls, ours | textbook | stairs steps on a level walk, ours | "

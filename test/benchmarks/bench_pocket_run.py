@@ -28,7 +28,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from pdr_core import topics
-from pdr_core.bag import write_batches
+from pdr_core.io.bag import write_batches
 from pdr_pocket.samples import Samples
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -41,7 +41,7 @@ def hour_bag(folder: Path) -> tuple[Path, int]:
     previous one ends."""
     from dataclasses import replace
 
-    from pdr_core.batch import MessageBatch
+    from pdr_core.io.batch import MessageBatch
     from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict
     from pdr_sim.simulation import SimulationConfig, simulate
 

@@ -24,7 +24,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, write_batches
+from pdr_core.io.bag import BagReader, write_batches
 from pdr_ins_ekf.config import load_run_config
 from wstest import Processes, imu_bag, log_text, wait_for_log
 

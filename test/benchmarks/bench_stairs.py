@@ -26,7 +26,7 @@ import numpy as np
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
 from pdr_core import topics
-from pdr_core.metrics import error_report, truth_at
+from pdr_core.evaluation.metrics import error_report, truth_at
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import navigate
 from pdr_ins_ekf.studies.plots import stance_statistic_png
@@ -82,8 +82,8 @@ def simulated(seed: int, level: bool = False) -> Recording:
 
 def armse(recording: Recording, detector) -> float:
     """ARMSE 3-D [m] of the shipped filter with ``detector``."""
-    from pdr_core.batch import MessageBatch
-    from pdr_core.msgtypes import IMU
+    from pdr_core.io.batch import MessageBatch
+    from pdr_core.io.msgtypes import IMU
 
     imu = MessageBatch(IMU, recording.stamp_ns, "imu_link", {
         "linear_acceleration": recording.accel, "angular_velocity": recording.gyro})

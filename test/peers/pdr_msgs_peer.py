@@ -4,7 +4,7 @@
     python pdr_msgs_peer.py serve     serve pdr/pocket/apply_correction until SIGINT
     python pdr_msgs_peer.py serve-late  the same, each correction's first answer LATE_S late,
                                         a call sent again answered from memory
-                                        (pdr_core.answered_requests)
+                                        (pdr_core.corrections.answered_requests)
 
 The samples are defined here (:func:`samples`) and imported by the test to compare.
 """
@@ -19,7 +19,7 @@ from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
-from pdr_core.answered_requests import AnsweredRequests
+from pdr_core.corrections.answered_requests import AnsweredRequests
 from pdr_msgs.msg import DriftEstimate, Landmark, Stance, Step
 from pdr_msgs.srv import ApplyCorrection
 

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from pdr_core.batch import MessageBatch
-from pdr_core.msgtypes import IMU, POSE_STAMPED
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import IMU, POSE_STAMPED
 
 
 def imu_batch(n: int, rate_hz: float = 200.0, seed: int = 0) -> MessageBatch:

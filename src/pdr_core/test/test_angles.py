@@ -1,5 +1,6 @@
-"""pdr_core.angles and the tilt and turn of pdr_core.rotations: the wrap, the axial wrap, the
-circular mean, the roll and pitch that level a specific force, the turn about the vertical."""
+"""pdr_core.maths.angles and the tilt and turn of pdr_core.maths.rotations: the wrap, the
+axial wrap, the circular mean, the roll and pitch that level a specific force, the turn
+about the vertical."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,8 +8,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from pdr_core.angles import circular_mean, wrap_angle, wrap_angle_jit, wrap_axial
-from pdr_core.rotations import about_vertical, rotation_from_euler, tilt_from_specific_force
+from pdr_core.maths.angles import circular_mean, wrap_angle, wrap_angle_jit, wrap_axial
+from pdr_core.maths.rotations import about_vertical, rotation_from_euler, tilt_from_specific_force
 
 ROUNDING = 1e-12            # [rad]: the wrap's rounding grows with |angle| (1e3 rad: 2e-13)
 angles = st.floats(-1e3, 1e3)

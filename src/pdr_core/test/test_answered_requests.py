@@ -3,7 +3,12 @@ from __future__ import annotations
 
 import pytest
 
-from pdr_core.answered_requests import NO_ID, REMEMBERED_ANSWERS, AnsweredRequests, new_request_id
+from pdr_core.corrections.answered_requests import (
+    NO_ID,
+    REMEMBERED_ANSWERS,
+    AnsweredRequests,
+    new_request_id,
+)
 
 
 class Receiver:

@@ -1,4 +1,4 @@
-"""The standard atmosphere's barometric formula (pdr_core.atmosphere): its published
+"""The standard atmosphere's barometric formula (pdr_core.sensors.atmosphere): its published
 values (ICAO Doc 7488: 89,874.6 Pa at 1,000 m), the inverse, and the slope."""
 from __future__ import annotations
 
@@ -7,7 +7,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from pdr_core.atmosphere import SEA_LEVEL_PRESSURE_PA, height_m, metres_per_pascal, pressure_pa
+from pdr_core.sensors.atmosphere import (
+    SEA_LEVEL_PRESSURE_PA,
+    height_m,
+    metres_per_pascal,
+    pressure_pa,
+)
 
 
 def test_the_standard_atmosphere_at_1000_m():

@@ -9,12 +9,12 @@ from hypothesis import strategies as st
 from mcap.reader import SeekingReader, make_reader
 from rosbags.highlevel import AnyReader
 
-from pdr_core import cdr, mcap_bulk
-from pdr_core.bag import BagReader, BagWriter, merged_messages, readable_extent, write_batches
-from pdr_core.batch import LazyBatch
 from pdr_core.errors import InputError, InputWarning
-from pdr_core.msgtypes import PATH, typestore
-from pdr_core.nav_path import last_path, path_message, path_poses
+from pdr_core.io import cdr, mcap_bulk
+from pdr_core.io.bag import BagReader, BagWriter, merged_messages, readable_extent, write_batches
+from pdr_core.io.batch import LazyBatch
+from pdr_core.io.msgtypes import PATH, typestore
+from pdr_core.io.nav_path import last_path, path_message, path_poses
 
 
 def assert_same(a, b):
@@ -162,7 +162,7 @@ def test_existing_output_is_refused(tmp_path, imu):
 @pytest.mark.parametrize("compress", [False, True])
 def test_vectorised_write_is_byte_identical_to_message_by_message(tmp_path, make_imu,
                                                                   make_pose, compress):
-    """pdr_core.mcap_bulk builds the MCAP records with NumPy; the bag must be the one
+    """pdr_core.io.mcap_bulk builds the MCAP records with NumPy; the bag must be the one
     rosbags writes message by message: several chunks, equal stamps across topics
     (merged stream by stream), an empty topic, and zstd chunks."""
     imu, pose = make_imu(9000), make_pose(4000, rate_hz=90.0)

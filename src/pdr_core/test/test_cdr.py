@@ -4,9 +4,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pdr_core import cdr
-from pdr_core.batch import MessageBatch
-from pdr_core.msgtypes import typestore
+from pdr_core.io import cdr
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import typestore
 
 FIXED_TYPES = [
     "sensor_msgs/msg/Imu", "sensor_msgs/msg/MagneticField", "geometry_msgs/msg/PoseStamped",
@@ -120,7 +120,7 @@ def test_truncated_message_is_refused():
 
 def test_a_step_of_an_older_bag_reads_its_appended_fields_as_zero():
     """pdr_msgs/Step gained ``ride`` and ``ride_height`` (issue 41,
-    pdr_core.msgtypes.APPENDED_FIELDS): a message written before, without them, reads
+    pdr_core.io.msgtypes.APPENDED_FIELDS): a message written before, without them, reads
     them as 0 and the rest as written; one cut shorter still is refused."""
     batch = random_batch("pdr_msgs/msg/Step", 4, np.random.default_rng(5), ["map"])
     older = cdr._record_dtype(batch.msgtype, len("map"), older=True).itemsize
@@ -157,7 +157,7 @@ def test_big_endian_is_refused():
 def test_encode_path_matches_rosbags_byte_for_byte(path_frame, pose_frames, n, seed):
     """Both paddings of the first pose (frame lengths of either parity), one or several
     pose frames (the generic fallback) and the empty path."""
-    from pdr_core.nav_path import encode_path, path_message
+    from pdr_core.io.nav_path import encode_path, path_message
     rng = np.random.default_rng(seed)
     poses = random_batch("geometry_msgs/msg/PoseStamped", n, rng, pose_frames)
     stamp = int(rng.integers(0, (2**31 - 1) * 10**9))

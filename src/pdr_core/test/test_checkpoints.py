@@ -1,4 +1,4 @@
-"""pdr_core.checkpoints: taken back and run again, a checkpoint gives the run as it went
+"""pdr_core.corrections.checkpoints: taken back and run again, a checkpoint gives the run as it went
 (and, corrected, the run corrected at its instant), within its window and capacity; a
 correction no checkpoint serves is late (None)."""
 from __future__ import annotations
@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pdr_core.checkpoints import Checkpoints
+from pdr_core.corrections.checkpoints import Checkpoints
 
 
 @dataclass

@@ -1,4 +1,4 @@
-"""pdr_core.consistency: the NEES of an estimate against a truth, aligned as the error
+"""pdr_core.evaluation.consistency: the NEES of an estimate against a truth, aligned as the error
 metrics are (docs/reports.md, "Consistency: is the covariance honest?")."""
 from __future__ import annotations
 
@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.consistency import (
+from pdr_core.evaluation.consistency import (
     attitude_consistency,
     checkpoints,
     consistency_report,
     nees,
     nees_figures,
 )
-from pdr_core.rotations import about_vertical
+from pdr_core.maths.rotations import about_vertical
 
 RATE_HZ = 10.0
 SECONDS = 2000

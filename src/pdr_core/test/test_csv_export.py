@@ -1,20 +1,20 @@
-"""CSV export (pdr_core.csv_export): the columns a bag's topics give, each topic at its
-own stamps with empty cells between, and a log that pdr_core.csv_import reads back to the
+"""CSV export (pdr_core.io.csv_export): the columns a bag's topics give, each topic at its
+own stamps with empty cells between, and a log that pdr_core.io.csv_import reads back to the
 same samples."""
 import numpy as np
 import pytest
 
-from pdr_core.csv_export import LogTable, import_arguments, log_table, write_csv
-from pdr_core.csv_import import CsvImuFormat, import_csv
 from pdr_core.errors import InputError
-from pdr_core.msgtypes import IMU, MAGNETIC_FIELD
+from pdr_core.io.csv_export import LogTable, import_arguments, log_table, write_csv
+from pdr_core.io.csv_import import CsvImuFormat, import_csv
+from pdr_core.io.msgtypes import IMU, MAGNETIC_FIELD
 
 START_NS = 1_700_000_000_123_456_789
 
 
 def imu_batch(n=50, gyro=True, seed=0):
     """``n`` samples at about 100 Hz with jittered stamps, at rest with noise."""
-    from pdr_core.batch import MessageBatch
+    from pdr_core.io.batch import MessageBatch
 
     rng = np.random.default_rng(seed)
     stamps = START_NS + np.cumsum(rng.integers(9_000_000, 11_000_000, n)) - 9_000_000
@@ -32,7 +32,7 @@ def imu_batch(n=50, gyro=True, seed=0):
 
 def mag_batch(stamps, growth=1e-3):
     """Readings in Munich's field, each ``growth`` times the field larger than the last."""
-    from pdr_core.batch import MessageBatch
+    from pdr_core.io.batch import MessageBatch
 
     n = len(stamps)
     return MessageBatch(MAGNETIC_FIELD, stamps, "imu_link", {

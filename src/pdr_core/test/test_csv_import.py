@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.csv_import import CsvImuFormat, axis_matrix, import_csv
-from pdr_core.csv_rows import MIN_ROWS_CONSTANT_AXIS, constant_columns
 from pdr_core.errors import InputError, InputWarning
+from pdr_core.io.csv_import import CsvImuFormat, axis_matrix, import_csv
+from pdr_core.io.csv_rows import MIN_ROWS_CONSTANT_AXIS, constant_columns
 
 HEADER = "time,ax,ay,az,gx,gy,gz,px,py,pz\n"
 

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.csv_import import CsvImuFormat, import_csv, sensor_attitude
-from pdr_core.csv_rows import QUATERNION_NORM_TOLERANCE
 from pdr_core.errors import InputError
+from pdr_core.io.csv_import import CsvImuFormat, import_csv, sensor_attitude
+from pdr_core.io.csv_rows import QUATERNION_NORM_TOLERANCE
 
 N = 6
 BODY = Rotation.random(N, rng=np.random.default_rng(53))   # C_world_body of each row

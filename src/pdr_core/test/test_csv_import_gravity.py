@@ -1,13 +1,13 @@
 """A gravity-removed accelerometer (a phone app's linear or user acceleration) is told from
-one in g (pdr_core.imu_checks.gravity_removed): import-csv says it looks gravity-removed,
+one in g (pdr_core.sensors.imu_checks.gravity_removed): import-csv says it looks gravity-removed,
 with the figures and the remedy, and never proposes --acc-unit g for it."""
 import numpy as np
 import pytest
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.csv_import import CsvImuFormat, gravity_removed_problem, import_csv
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import gravity_removed, slow_part_median_norm
+from pdr_core.io.csv_import import CsvImuFormat, gravity_removed_problem, import_csv
+from pdr_core.sensors.imu_checks import gravity_removed, slow_part_median_norm
 
 RATE_HZ = 100.0
 T_S = np.arange(2000) / RATE_HZ

@@ -1,4 +1,4 @@
-"""pdr_core.diagnostics: the level, the reason and the key-values of a report from the
+"""pdr_core.ros.diagnostics: the level, the reason and the key-values of a report from the
 counters at its period's start and end (issue 42): ERROR while not navigating, WARN when a
 problem counter rose since the last report or while a condition holds, OK again after a
 clean period."""
@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from pdr_core.diagnostics import Counters, Level, StatusReports, risen, status
+from pdr_core.ros.diagnostics import Counters, Level, StatusReports, risen, status
 
 DROPS = {"non_finite": 0, "implausible": 0, "stamp_not_increasing": 0, "gaps": 0}
 

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from pdr_core import units
-from pdr_core.allan import allan_deviation, allan_deviation_model, noise_parameters
 from pdr_core.errors import InputError
-from pdr_core.imu_errors import TriadErrors, corrupt, gauss_markov
-from pdr_core.imu_profiles import imu_errors, profile
+from pdr_core.sensors.allan import allan_deviation, allan_deviation_model, noise_parameters
+from pdr_core.sensors.imu_errors import TriadErrors, corrupt, gauss_markov
+from pdr_core.sensors.imu_profiles import imu_errors, profile
 
 
 def test_white_noise_std_is_density_times_sqrt_rate():

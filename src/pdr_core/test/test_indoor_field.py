@@ -5,8 +5,8 @@ magnetometer offset)."""
 import numpy as np
 import pytest
 
-from pdr_core.imu_profiles import PROFILES, profile
-from pdr_core.magnetic_field import UT, IndoorDisturbance, MagneticField, homogeneous
+from pdr_core.sensors.imu_profiles import PROFILES, profile
+from pdr_core.sensors.magnetic_field import UT, IndoorDisturbance, MagneticField, homogeneous
 
 ROOM_T = np.array([0.0, 14.3, -34.5]) * UT          # the OxIOD room's Earth field
 POINTS = 20000
@@ -107,7 +107,7 @@ def test_calibrated_phone_is_consumer_phone_with_the_os_calibration():
     """The same sensors as consumer_phone (noise, misalignment, accelerometer), the gyro's
     turn-on bias replaced by the small residual an OS calibration leaves and its slow
     variation, a 0.3 % scale factor, and a smoother magnetometer with a phone-fixed offset
-    of σ 3 µT per axis (values and sources in pdr_core.imu_profiles)."""
+    of σ 3 µT per axis (values and sources in pdr_core.sensors.imu_profiles)."""
     phone, calibrated = PROFILES["consumer_phone"], PROFILES["calibrated_phone"]
     assert set(calibrated) == {"gyro", "accel", "mag", "baro"}
     assert calibrated["accel"] == phone["accel"] and calibrated["baro"] == phone["baro"]

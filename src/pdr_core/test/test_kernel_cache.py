@@ -2,7 +2,7 @@
 is announced, and each kernel compiled said with its seconds (issue 54)."""
 import re
 
-from pdr_core.kernel_cache import forget_if_changed
+from pdr_core.maths.kernel_cache import forget_if_changed
 
 
 def test_cache_files_are_forgotten_when_a_dependency_changes(tmp_path):
@@ -37,8 +37,8 @@ def test_a_compilation_is_announced_then_each_kernel_said_with_its_seconds(monke
     from numba import njit
     from numba.core import event
 
-    from pdr_core import kernel_cache
-    from pdr_core.kernel_cache import FIRST_COMPILE_S, CompileProgress
+    from pdr_core.maths import kernel_cache
+    from pdr_core.maths.kernel_cache import FIRST_COMPILE_S, CompileProgress
 
     monkeypatch.setattr(kernel_cache, "PROGRESS_EVERY_S", 0.0)
 

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.magnetic_field import (
+from pdr_core.sensors.magnetic_field import (
     PRESETS_T,
     TABLE_3_3,
     UT,
@@ -12,7 +12,7 @@ from pdr_core.magnetic_field import (
     MagneticField,
     homogeneous,
 )
-from pdr_core.magnetometer_calibration import fit_ellipsoid
+from pdr_core.sensors.magnetometer_calibration import fit_ellipsoid
 
 
 def test_presets_are_table_3_1():

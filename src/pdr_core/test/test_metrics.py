@@ -4,7 +4,7 @@ import itertools
 import numpy as np
 import pytest
 
-from pdr_core.metrics import aligned, error_report, walk_figures, within_step_rmse
+from pdr_core.evaluation.metrics import aligned, error_report, walk_figures, within_step_rmse
 
 
 def test_rotated_and_shifted_estimate_has_no_error():

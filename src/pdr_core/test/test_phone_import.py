@@ -1,4 +1,4 @@
-"""A phone's own export, one CSV per sensor (pdr_core.phone_import, issue 54): the
+"""A phone's own export, one CSV per sensor (pdr_core.io.phone_import, issue 54): the
 accelerometer paired with its gravity file and the gyroscope without inventing data, iOS's
 sign turned, the magnetometer and the barometer at their own stamps, and the refusals that
 name the option that fixes them."""
@@ -15,13 +15,13 @@ from scipy.spatial.transform import Rotation
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.phone_import import (
+from pdr_core.io.phone_import import (
     PhoneLayout,
     SensorFile,
     import_phone,
     sensor_logger_layout,
 )
-from pdr_core.sample_pairing import interval_bounds, interval_means
+from pdr_core.sensors.sample_pairing import interval_bounds, interval_means
 
 T0_NS = 1_610_478_706_799_378_400          # a Sensor Logger stamp: ns since the epoch
 YAW_RATE_RADPS = 0.4

@@ -9,7 +9,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from pdr_core.plot_layout import (
+from pdr_core.evaluation.plot_layout import (
     HEIGHT_MARGIN,
     MAX_EQUAL_RATIO,
     MAX_WARNINGS_SHOWN,

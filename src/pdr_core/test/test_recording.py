@@ -7,9 +7,9 @@ import time
 import pytest
 from rosbags.rosbag2 import Reader
 
-from pdr_core.bag import BagReader, repair, write_batches
 from pdr_core.errors import InputError, InputWarning
-from pdr_core.recording import RecordingBag
+from pdr_core.io.bag import BagReader, repair, write_batches
+from pdr_core.io.recording import RecordingBag
 
 
 @pytest.fixture

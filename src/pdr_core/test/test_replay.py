@@ -1,5 +1,5 @@
-"""pdr_core.replay: the one replay of a late correction, on a toy navigator whose state is
-a running sum: a correction adds its yaw to the sum, and a correction whose yaw is
+"""pdr_core.corrections.replay: the one replay of a late correction, on a toy navigator whose state
+is a running sum: a correction adds its yaw to the sum, and a correction whose yaw is
 negative is refused. Taken late at its instant, with the inputs since run again, it gives
 what the correction taken in its place, in time, gives."""
 from __future__ import annotations
@@ -11,8 +11,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pdr_core.correction import Correction, refusal
-from pdr_core.replay import Replay, TakenCorrection, split
+from pdr_core.corrections.correction import Correction, refusal
+from pdr_core.corrections.replay import Replay, TakenCorrection, split
 
 
 @dataclass
@@ -150,7 +150,7 @@ def test_a_refused_correction_leaves_the_history_as_it_was():
 
 
 def test_what_no_state_can_take_is_refused_once_for_both_navigators():
-    """pdr_core.correction.refusal, which the pocket and the foot navigators both ask
+    """pdr_core.corrections.correction.refusal, which the pocket and the foot navigators both ask
     first: no part, numbers that cannot be used, a part without a variance."""
     assert refusal(Correction()).startswith("nothing to apply")
     assert refusal(Correction(yaw_rad=0.1)) == \

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from pdr_core.small_matrix import cholesky, product3, rodrigues
+from pdr_core.maths.small_matrix import cholesky, product3, rodrigues
 
 vectors = st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3)
 

@@ -1,10 +1,10 @@
-"""Transforms over time and REP-105's map → odom (pdr_core.transform_history)."""
+"""Transforms over time and REP-105's map → odom (pdr_core.ros.transform_history)."""
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from pdr_core.transform_history import TransformHistory, map_to_odom
+from pdr_core.ros.transform_history import TransformHistory, map_to_odom
 
 
 def moving(stamps_ns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -1,4 +1,4 @@
-"""pdr_core.walk_plausibility: a walk's median |f| and a thigh's swing, the warnings and
+"""pdr_core.walking.walk_plausibility: a walk's median |f| and a thigh's swing, the warnings and
 the --strict refusal both navigators share (issue 54, point 2)."""
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import pytest
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_units
-from pdr_core.walk_plausibility import (
+from pdr_core.sensors.imu_checks import check_units
+from pdr_core.walking.walk_plausibility import (
     THIGH_SWING_MAX_RATIO,
     implausible_input,
     specific_force_problem,

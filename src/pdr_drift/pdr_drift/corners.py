@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdr_core.angles import circular_mean, wrap_angle
+from pdr_core.maths.angles import circular_mean, wrap_angle
 
 
 @dataclass(frozen=True)

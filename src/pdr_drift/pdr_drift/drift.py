@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pdr_core.angles import wrap_axial
+from pdr_core.maths.angles import wrap_axial
 from pdr_core.vocabulary import LandmarkType
 from pdr_drift.landmarks import Association
 

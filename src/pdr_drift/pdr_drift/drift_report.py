@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
-from pdr_core.batch import MessageBatch
+from pdr_core.io.batch import MessageBatch
+from pdr_core.maths.angles import wrap_angle
 from pdr_drift.drift_log import DriftLog
 
 MATCH_S = 10.0

@@ -3,7 +3,7 @@
 :class:`DriftEstimator` takes the navigator's steps as :class:`~pdr_drift.corners.StepSample`
 and returns what happened at each: the landmark detected (a corner or a flight of
 stairs), and when it revisits a stored one, the association, the drift estimate and the
-online correction of Section 6.1 (:class:`pdr_core.correction.Correction`, carried by
+online correction of Section 6.1 (:class:`pdr_core.corrections.correction.Correction`, carried by
 pdr_msgs/srv/ApplyCorrection): the yaw to add, δ, so that the heading is the first
 visit's again (direction-adjusted), with the variance of one landmark yaw; the drift ε to
 add to the z gyro bias with its variance; and the first visit's position with its
@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.correction import Correction
+from pdr_core.corrections.correction import Correction
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import BufferCornerDetector, StepSample, TurnCornerDetector
 from pdr_drift.drift import DriftEstimate, drift_of

@@ -47,7 +47,7 @@ that pairs some revisit with another place is ``commit_margin`` worse (one that 
 out some of its associations, or made more, does not stand against it): the others are
 dropped, and its correction is sent as one, expressed from the current step: the yaw
 its frame adds now (δ with the drift's effect since carried forward, the contract of
-pdr_core.checkpoints for a correction committed late), the drift it holds for the z
+pdr_core.corrections.checkpoints for a correction committed late), the drift it holds for the z
 gyro bias, and the position its frame puts the current step at, with the covariance.
 When the navigator takes the corrections (``feedback``, the live loop), the hypothesis
 then starts again from the navigator's own output at the next step; otherwise it keeps
@@ -66,8 +66,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
-from pdr_core.rotations import about_vertical
+from pdr_core.maths.angles import wrap_angle
+from pdr_core.maths.rotations import about_vertical
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.drift import DriftEstimate, drift_of

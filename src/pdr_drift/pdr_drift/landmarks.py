@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.angles import circular_mean
-from pdr_core.chi2 import chi2_quantile
+from pdr_core.maths.angles import circular_mean
+from pdr_core.maths.chi2 import chi2_quantile
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, LandmarkType
 from pdr_drift.corners import Corner, StepSample
 

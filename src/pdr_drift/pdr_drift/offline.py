@@ -11,7 +11,7 @@ t counts from the walk's start, the first IMU sample: the first ``pdr/pocket/att
 message (``pdr-pocket run`` writes it at every sample; record it with the steps and
 poses). A bag without it counts from the first step's start (its stamp less its
 duration) and says so in the report's ``warnings``. The report's ``duration_s``,
-``distance_m`` and ``loop_gap_m`` are :func:`pdr_core.metrics.walk_figures` of the
+``distance_m`` and ``loop_gap_m`` are :func:`pdr_core.evaluation.metrics.walk_figures` of the
 corrected path from that start and the position before the first step, the figures
 ``pdr-pocket run`` gives for the same walk; :func:`report` lists every field.
 """
@@ -22,14 +22,15 @@ from pathlib import Path
 
 import numpy as np
 
-from pdr_core import cdr, topics
-from pdr_core.bag import BagReader, BagWriter
-from pdr_core.batch import MessageBatch
+from pdr_core import topics
 from pdr_core.errors import InputError
+from pdr_core.evaluation.metrics import walk_figures
 from pdr_core.frames import MAP_FRAME
-from pdr_core.metrics import walk_figures
-from pdr_core.msgtypes import DRIFT_ESTIMATE, LANDMARK, PATH, POSE_STAMPED
-from pdr_core.nav_path import encode_path
+from pdr_core.io import cdr
+from pdr_core.io.bag import BagReader, BagWriter
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import DRIFT_ESTIMATE, LANDMARK, PATH, POSE_STAMPED
+from pdr_core.io.nav_path import encode_path
 from pdr_core.report_files import write_report
 from pdr_drift.config import DriftConfig
 from pdr_drift.drift import DriftEstimate, offline_drift
@@ -114,7 +115,7 @@ def batches(result: OfflineResult) -> dict[str, MessageBatch]:
 def walk_path(result: OfflineResult, positions: np.ndarray, stamps: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray]:
     """Times [s] from the walk's start and positions [m] from the start position, each
-    with the start first, for :func:`pdr_core.metrics.walk_figures`."""
+    with the start first, for :func:`pdr_core.evaluation.metrics.walk_figures`."""
     return (np.r_[result.start_ns, stamps] - result.start_ns) * 1e-9, \
         np.vstack([result.start, positions])
 
@@ -122,8 +123,9 @@ def walk_path(result: OfflineResult, positions: np.ndarray, stamps: np.ndarray
 def report(result: OfflineResult, warnings: list[str] = ()) -> dict:
     """``report.json``:
 
-    - ``duration_s``, ``distance_m``, ``loop_gap_m``: :func:`pdr_core.metrics.walk_figures`
-      of the corrected path (module docstring) [s, m, m];
+    - ``duration_s``, ``distance_m``, ``loop_gap_m``:
+      :func:`pdr_core.evaluation.metrics.walk_figures` of the corrected path (module
+      docstring) [s, m, m];
     - ``steps``, ``landmarks``, ``associations``; ``drift_deg_per_s``: each association's
       drift [°/s]; ``kept``: the drifts ε₀ is taken from (outliers rejected);
       ``offline_drift_deg_per_s``: ε₀ [°/s], None without an association;

@@ -9,7 +9,7 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from pdr_core.plot_layout import figure_title, top_view
+from pdr_core.evaluation.plot_layout import figure_title, top_view
 
 SAME_M = 0.01       # two paths closer than this at a step are drawn as one there [m]
 SHARED_NOTE = 0.1   # the legend says how many steps the paths share beyond this share
@@ -38,7 +38,7 @@ def paths_png(corrected: np.ndarray, uncorrected: np.ndarray, landmarks: np.ndar
     landmarks (○). The title: ``source``'s name, what it ``shows``, the steps and the
     final error of both paths against ``truth`` (the distance between the last rows, in
     the columns all three have), or without one their final loop gaps (start to end, as
-    :func:`pdr_core.metrics.walk_figures`)."""
+    :func:`pdr_core.evaluation.metrics.walk_figures`)."""
     fig, ax = plt.subplots(figsize=(9, 7.5))
     if truth is not None:
         ax.plot(truth[:, 0], truth[:, 1], color="k", lw=1.0, label="truth")

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
+from pdr_core.maths.angles import wrap_angle
 
 QUARTER_TURN = np.array([[0.0, -1.0], [1.0, 0.0]])
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pdr_core.batch import MessageBatch
-from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, STEP
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import POSE_WITH_COVARIANCE_STAMPED, STEP
 from pdr_drift.config import DriftConfig
 from pdr_drift.offline import correct, report
 

@@ -1,5 +1,5 @@
 """``--navigator auto``: the navigator of a bag, told from its ``imu/data``
-(pdr_core.navigator_choice: a foot's still stances, a pocket's tilt swing)."""
+(pdr_core.walking.navigator_choice: a foot's still stances, a pocket's tilt swing)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -7,14 +7,14 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import clean_samples
-from pdr_core.navigator_choice import NavigatorChoice, choose_navigator
+from pdr_core.io.bag import BagReader
+from pdr_core.sensors.imu_checks import clean_samples
+from pdr_core.walking.navigator_choice import NavigatorChoice, choose_navigator
 
 
 def bag_navigator(bag: Path) -> NavigatorChoice:
-    """The :class:`~pdr_core.navigator_choice.NavigatorChoice` of ``bag``'s usable
+    """The :class:`~pdr_core.walking.navigator_choice.NavigatorChoice` of ``bag``'s usable
     ``imu/data`` samples (no gyroscope: REP-145's angular velocity covariance −1)."""
     imu = BagReader(bag).read_batches([topics.IMU_DATA])[topics.IMU_DATA]
     keep, _ = clean_samples(imu)

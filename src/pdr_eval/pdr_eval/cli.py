@@ -6,7 +6,7 @@
 Each recording (a bag directory, an ``.mcap`` file, or a CSV with its ``pdr-sim
 import-csv`` options in a manifest; paths, globs or a manifest: pdr_eval.recordings) is
 navigated by ``pdr-ekf run`` or ``pdr-pocket run`` (``auto``, the default: the one its
-data fit, pdr_core.navigator_choice) into ``OUT/<name>/run`` (the output bag and
+data fit, pdr_core.walking.navigator_choice) into ``OUT/<name>/run`` (the output bag and
 ``report.json``), in parallel: a process per core here, or the workers of a Dask cluster
 with ``--scheduler``. ``OUT/summary.csv`` and ``OUT/summary.md`` hold a line per
 recording (steps, footfalls, distance, floor, placement, barometer, warnings, the

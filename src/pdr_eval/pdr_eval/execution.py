@@ -1,8 +1,8 @@
 """Where the recordings of a dataset run go: a pool of processes on this machine (one per
 core by default), or a Dask cluster (``--scheduler ADDRESS``, Dask distributed: its
 scheduler, its workers, its protocol). Every worker runs one recording at a time with one
-numba thread (pdr_core.parallel), and compiles the kernels once, from the on-disk
-cache (pdr_core.kernel_cache). Inputs and outputs are paths: on a cluster, the workers
+numba thread (pdr_core.evaluation.parallel), and compiles the kernels once, from the on-disk
+cache (pdr_core.maths.kernel_cache). Inputs and outputs are paths: on a cluster, the workers
 must reach them (a shared filesystem).
 
 :func:`run_all` returns the outcomes in the recordings' order, showing one progress bar
@@ -16,7 +16,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from pdr_core.parallel import cluster_map, on_one_thread
+from pdr_core.evaluation.parallel import cluster_map, on_one_thread
 from pdr_eval.job import Outcome, run_recording
 from pdr_eval.recordings import Recording
 

@@ -8,7 +8,7 @@ A manifest is a CSV file with a header and one row per recording:
   export (folder or zip), relative to the manifest's folder unless absolute;
 - ``dataset``: the name its figures are grouped under (default: the recording's parent
   folder, as for paths given on the command line);
-- ``navigator``: ``auto`` (chosen from the data: pdr_core.navigator_choice), ``foot`` or
+- ``navigator``: ``auto`` (chosen from the data: pdr_core.walking.navigator_choice), ``foot`` or
   ``pocket`` (default: ``--navigator``);
 - ``import_options``: for a CSV, the ``pdr-sim import-csv`` options that read it, as one
   shell-quoted string (``--time-col t_s --acc-cols ax,ay,az``); its truth columns

@@ -11,7 +11,7 @@ pocket navigator that found the phone in no pocket (its report's placement), who
 figures are no walk's. The truth figures are those of docs/reports.md that a report has
 against a truth (a pose, true steps, floors or the stance truth) for ``pdr-ekf run`` and
 ``pdr-pocket run``, the smoothed path's, the drift's and the consistency's (the NEES of
-the position and attitude, pdr_core.consistency) included where a report has them;
+the position and attitude, pdr_core.evaluation.consistency) included where a report has them;
 test_pdr_eval.py checks the list against that page.
 """
 from __future__ import annotations

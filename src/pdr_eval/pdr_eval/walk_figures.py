@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 
 

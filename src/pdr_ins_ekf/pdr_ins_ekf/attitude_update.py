@@ -19,7 +19,7 @@ from math import factorial
 
 import numpy as np
 
-from pdr_core.rotations import skew
+from pdr_core.maths.rotations import skew
 
 METHODS = ("pade11", "pade22", "pade33", "closed_form", "expm", "quaternion")
 

@@ -18,7 +18,7 @@ Subcommands:
                           (Wang et al. 2020, Figs. 3–6): table, CSV, PNG.
 
 Errors in the input exit with status 2 and one line naming the problem. ``run`` on input
-no walk gives (a median |f| beyond 0.5-2.5 g, pdr_core.walk_plausibility) warns on the
+no walk gives (a median |f| beyond 0.5-2.5 g, pdr_core.walking.walk_plausibility) warns on the
 first line of its output and in the report's ``warnings``; --strict refuses it (status 2).
 Plotting modules
 are imported only when a figure is asked for (Matplotlib alone costs 0.4 s of start-up).
@@ -31,10 +31,10 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, add_strict_option
 from pdr_core.errors import InputError, cli_parser, dispatch
-from pdr_core.metrics import error_report, truth_at
-from pdr_core.msgtypes import POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
+from pdr_core.evaluation.metrics import error_report, truth_at
+from pdr_core.io.bag import BagReader, add_strict_option
+from pdr_core.io.msgtypes import POSE_STAMPED, POSE_WITH_COVARIANCE_STAMPED
 from pdr_core.report_files import print_report
 from pdr_ins_ekf.foot_offline import DRIFT_MODES, FootOptions, run
 from pdr_ins_ekf.studies.cli import add_study_commands

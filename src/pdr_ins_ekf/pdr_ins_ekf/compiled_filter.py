@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, small_matrix
-from pdr_core.small_matrix import product3, rodrigues
+from pdr_core.maths import kernel_cache, small_matrix
+from pdr_core.maths.small_matrix import product3, rodrigues
 from pdr_ins_ekf import kernel_data
 from pdr_ins_ekf.kernel_data import (
     ACC,

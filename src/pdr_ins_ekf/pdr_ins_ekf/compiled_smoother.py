@@ -40,8 +40,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, small_matrix
-from pdr_core.small_matrix import cholesky, product3, rodrigues
+from pdr_core.maths import kernel_cache, small_matrix
+from pdr_core.maths.small_matrix import cholesky, product3, rodrigues
 from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import (
     apply_transition,

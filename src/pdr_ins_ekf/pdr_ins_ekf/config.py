@@ -17,7 +17,7 @@ Unknown keys are refused with their path (a key renamed to carry its unit, with 
 name: :data:`RENAMED_KEYS`); a key not given keeps RunConfig's default, the shipped
 ``foot_ekf.yaml``'s (tested, test/test_config_defaults.py). That file is the default of
 the node and the CLI; ``foot_ekf_<profile>.yaml`` adapt it to the IMU profiles
-of :mod:`pdr_core.imu_profiles` (``--imu-profile``).
+of :mod:`pdr_core.sensors.imu_profiles` (``--imu-profile``).
 """
 from __future__ import annotations
 
@@ -128,7 +128,7 @@ def imu_profiles() -> list[str]:
 
 
 def profile_config_path(profile: str) -> Path:
-    """The shipped configuration for an IMU profile of :mod:`pdr_core.imu_profiles`."""
+    """The shipped configuration for an IMU profile of :mod:`pdr_core.sensors.imu_profiles`."""
     known = imu_profiles()
     if profile not in known:
         raise InputError("imu_profile", f"no configuration for '{profile}' (known: "

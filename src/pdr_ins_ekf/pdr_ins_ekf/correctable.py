@@ -6,15 +6,15 @@ at the stride they belong to (``zupt_ekf``'s ``pdr/foot/apply_correction``, ``pd
 decided samples and finds the strides in them (pdr_ins_ekf.strides). Each block is cut
 right after every stance onset, so a stride ends a piece; after each stride the filter's
 state and the stride tracker are kept as a checkpoint at the stride's instant, with the
-pieces filtered since (pdr_core.checkpoints), for ``window_s`` of data.
+pieces filtered since (pdr_core.corrections.checkpoints), for ``window_s`` of data.
 
 A correction names its stride by stamp (pdr_msgs/srv/ApplyCorrection). The filter goes
 back to the checkpoint at or before it, runs the pieces up to the stamp, gates the
 correction there (pdr_ins_ekf.corrections) and, when every part passes, applies it and
 runs the pieces since again: the estimates and strides after the stamp come back with the
-answer (pdr_core.replay.CorrectionResult, the :class:`Filtered` parts run again) to
-replace those given out before the call came; the replay is pdr_core.replay's, the pocket
-navigator's too. A refused correction changes nothing. The corrections taken are inputs
+answer (pdr_core.corrections.replay.CorrectionResult, the :class:`Filtered` parts run again) to
+replace those given out before the call came; the replay is pdr_core.corrections.replay's, the
+pocket navigator's too. A refused correction changes nothing. The corrections taken are inputs
 too, so one that reaches further back takes them again in their place. A zero stamp
 applies the correction to the state now. A stamp later than the last sample filtered, or
 older than the window, is refused by name.
@@ -25,8 +25,8 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from pdr_core.correction import Correction
-from pdr_core.replay import CorrectionResult, Replay, TakenCorrection
+from pdr_core.corrections.correction import Correction
+from pdr_core.corrections.replay import CorrectionResult, Replay, TakenCorrection
 from pdr_ins_ekf import corrections
 from pdr_ins_ekf.kernel_data import NavState
 from pdr_ins_ekf.strides import Stride, StrideTracker
@@ -153,7 +153,7 @@ class CorrectableFilter:
             return self._apply_now(correction)
         return self.replay.correct(self, correction, t_s)
 
-    # --- the replay's side (pdr_core.replay.Replayable) -------------------------------
+    # --- the replay's side (pdr_core.corrections.replay.Replayable) -------------------------------
     def worker(self, state: FilterState) -> Scratch:
         """A filter at ``state`` (the replay's copy), outside the history."""
         scratch = CorrectableFilter(ZuptEkf(self.ekf.config, self.ekf.C))
@@ -209,7 +209,7 @@ class CorrectableFilter:
 @dataclass
 class Scratch:
     """A filter at a kept state taking the inputs again outside the history, on a replay
-    (pdr_core.replay.Worker)."""
+    (pdr_core.corrections.replay.Worker)."""
 
     filter: CorrectableFilter
 

@@ -1,6 +1,6 @@
 """Drift corrections taken by the foot navigator's filter (Muñoz Díaz 2016, Eqs.
-(6.2)-(6.3)): a :class:`~pdr_core.correction.Correction` from ``pdr_drift``, whole or not
-at all, with the pocket navigator's semantics (pdr_pocket.corrections).
+(6.2)-(6.3)): a :class:`~pdr_core.corrections.correction.Correction` from ``pdr_drift``, whole or
+not at all, with the pocket navigator's semantics (pdr_pocket.corrections).
 
 Each part is a measurement of the error state δx = [δp, δv, δθ (, δb_a, δb_g)]
 (pdr_ins_ekf.zupt_ekf), with C = (I − [δθ×])·Ĉ:
@@ -14,7 +14,7 @@ Each part is a measurement of the error state δx = [δp, δv, δθ (, δb_a, δ
 
 Every part is gated on its own against the covariance before any is applied: its
 normalised innovation squared z·S⁻¹·z, S = H·P·Hᵀ + R, below the χ² bound at
-:data:`pdr_core.correction.GATE_PROBABILITY` (1 dof for the yaw and the bias, 3 for the
+:data:`pdr_core.corrections.correction.GATE_PROBABILITY` (1 dof for the yaw and the bias, 3 for the
 position). Then all parts are one Kalman update, in Joseph form, fed back into the nominal
 state as the ZUPT's is (Simón Colomar et al. 2012, Eq. (8)), with the attitude turned by the
 exact rotation exp(−[δθ×]) rather than its first order: a correction may be degrees. A
@@ -30,9 +30,9 @@ import numpy as np
 from scipy.linalg import block_diag
 from scipy.spatial.transform import Rotation
 
-from pdr_core.chi2 import chi2_quantile
-from pdr_core.correction import GATE_PROBABILITY, Correction
-from pdr_core.correction import refusal as stateless_refusal
+from pdr_core.corrections.correction import GATE_PROBABILITY, Correction
+from pdr_core.corrections.correction import refusal as stateless_refusal
+from pdr_core.maths.chi2 import chi2_quantile
 from pdr_ins_ekf.kernel_data import (
     ACC_BIAS,
     ATTITUDE,
@@ -52,7 +52,7 @@ BIAS_Z = GYRO_BIAS + 2       # the error state's row of the body z gyro bias
 
 def refusal(correction: Correction, states: int) -> str | None:
     """Why the correction cannot be taken whatever the state (None: it can): those of
-    pdr_core.correction.refusal, and a bias part for a filter without bias states, named
+    pdr_core.corrections.correction.refusal, and a bias part for a filter without bias states, named
     by its field of pdr_msgs/srv/ApplyCorrection."""
     problem = stateless_refusal(correction)
     problems = [problem] if problem else []

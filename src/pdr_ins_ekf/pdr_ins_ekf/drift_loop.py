@@ -22,8 +22,8 @@ from dataclasses import replace
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from pdr_core.batch import MessageBatch
-from pdr_core.rotations import about_vertical
+from pdr_core.io.batch import MessageBatch
+from pdr_core.maths.rotations import about_vertical
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_drift.config import DriftConfig
 from pdr_drift.drift import offline_drift

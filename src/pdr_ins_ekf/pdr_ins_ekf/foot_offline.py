@@ -7,10 +7,10 @@ docs/reports.md) and optionally its plots.
   written to ``out`` when it is given. It prints nothing and sets no process-wide state
   (no stdout, no working directory, no global configuration): the CLI prints its
   warnings and report. Input no walk gives (a median |f| beyond 0.5-2.5 g,
-  pdr_core.walk_plausibility) is the report's first warnings, told to ``warn`` as soon as
+  pdr_core.walking.walk_plausibility) is the report's first warnings, told to ``warn`` as soon as
   found, before the navigation that may fail on it (the CLI prints them then), or with
   ``strict`` an InputError; a damaged bag read in part is an InputWarning
-  (pdr_core.bag).
+  (pdr_core.io.bag).
 - Its three jobs: :func:`navigate_bag` (the navigator on the bag, a :class:`FootBagRun`),
   :func:`report_of` (what it gave) and :func:`write_run` (the messages, the report and
   the plots, :func:`plot_run`).
@@ -25,16 +25,21 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, BagWriter
-from pdr_core.batch import MessageBatch
-from pdr_core.consistency import checkpoints, consistency_report, has_attitude
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_units, clean_samples
-from pdr_core.metrics import error_report, truth_at, truth_orientation_at, within_step_rmse
-from pdr_core.msgtypes import PATH
-from pdr_core.odometry import ANGULAR, LINEAR
+from pdr_core.evaluation.consistency import checkpoints, consistency_report, has_attitude
+from pdr_core.evaluation.metrics import (
+    error_report,
+    truth_at,
+    truth_orientation_at,
+    within_step_rmse,
+)
+from pdr_core.io.bag import BagReader, BagWriter
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import PATH
+from pdr_core.io.odometry import ANGULAR, LINEAR
 from pdr_core.report_files import write_report
-from pdr_core.walk_plausibility import implausible_input, specific_force_problem
+from pdr_core.sensors.imu_checks import check_units, clean_samples
+from pdr_core.walking.walk_plausibility import implausible_input, specific_force_problem
 from pdr_ins_ekf.config import RunConfig, load_run_config
 from pdr_ins_ekf.offline import (
     FootRun,
@@ -106,8 +111,8 @@ class FootBagRun:
 
 
 def walk_problem(imu: MessageBatch) -> str | None:
-    """What makes ``imu`` no walk (pdr_core.walk_plausibility), once its units are checked:
-    data a unit away are refused first (pdr_core.imu_checks.check_units), with one line,
+    """What makes ``imu`` no walk (pdr_core.walking.walk_plausibility), once its units are checked:
+    data a unit away are refused first (pdr_core.sensors.imu_checks.check_units), with one line,
     as :func:`~pdr_ins_ekf.offline.navigate` would refuse them."""
     keep, _ = clean_samples(imu)
     t_s, accel = imu.t_s[keep], imu["linear_acceleration"][keep]
@@ -166,8 +171,8 @@ def drift_run(imu: MessageBatch, truth_pose: MessageBatch | None, config: RunCon
 
 
 def foot_consistency(result: FootRun, truth_pose: MessageBatch, truth: np.ndarray) -> dict:
-    """The report's ``consistency`` (pdr_core.consistency): the NEES, one sample a second,
-    of the pose ``pdr/foot/pose`` publishes (its position and, where ``truth_pose`` holds
+    """The report's ``consistency`` (pdr_core.evaluation.consistency): the NEES, one sample a
+    second, of the pose ``pdr/foot/pose`` publishes (its position and, where ``truth_pose`` holds
     an attitude, its attitude with their covariances) against ``truth_pose`` (``truth``:
     its positions at every sample navigated)."""
     at = checkpoints((result.stamp_ns - result.stamp_ns[0]) * 1e-9)
@@ -182,7 +187,7 @@ def foot_consistency(result: FootRun, truth_pose: MessageBatch, truth: np.ndarra
 
 def step_report(t_s: np.ndarray, position: np.ndarray, truth: np.ndarray | None,
                 stance: np.ndarray) -> dict:
-    """The report of docs/reports.md, plus ``within_step_rmse_m`` (pdr_core.metrics) over
+    """The report of docs/reports.md, plus ``within_step_rmse_m`` (pdr_core.evaluation.metrics) over
     the steps between swings when there is a truth and at least one whole step."""
     report = error_report(t_s, position, truth)
     cuts = np.flatnonzero(stance[:-1] & ~stance[1:])

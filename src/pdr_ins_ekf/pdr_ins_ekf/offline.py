@@ -20,25 +20,25 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.batch import LazyBatch, MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.frames import BASE_FRAME, MAP_FRAME, SENSOR_FRAME
-from pdr_core.imu_checks import check_units, clean_samples
-from pdr_core.msgtypes import (
+from pdr_core.io.batch import LazyBatch, MessageBatch
+from pdr_core.io.msgtypes import (
     ODOMETRY,
     POSE_WITH_COVARIANCE_STAMPED,
     STEP,
     TWIST_WITH_COVARIANCE_STAMPED,
 )
-from pdr_core.nav_path import encode_path
-from pdr_core.odometry import (
+from pdr_core.io.nav_path import encode_path
+from pdr_core.io.odometry import (
     ANGULAR,
     LINEAR,
     UNKNOWN_VARIANCE,
     odometry_fields,
 )
-from pdr_core.odometry import tf_batches as pose_tf
-from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_core.io.odometry import tf_batches as pose_tf
+from pdr_core.maths.rotations import quaternion_from_orthonormal
+from pdr_core.sensors.imu_checks import check_units, clean_samples
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.kernel_data import ATTITUDE, AXES
 from pdr_ins_ekf.strides import Stride, StrideTracker
@@ -187,7 +187,7 @@ def output_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE
 def tf_batches(run_: FootRun, frame: str = MAP_FRAME, base_frame: str = BASE_FRAME,
                sensor_frame: str = SENSOR_FRAME) -> dict[str, LazyBatch | MessageBatch]:
     """``/tf``: ``frame → base_frame`` at every sample; ``/tf_static``: ``base_frame →
-    sensor_frame``, the identity, at the first (pdr_core.odometry)."""
+    sensor_frame``, the identity, at the first (pdr_core.io.odometry)."""
     out = run_.output
     return pose_tf(run_.stamp_ns, frame, base_frame, sensor_frame, lambda index: (
         out.position[index], quaternion_from_orthonormal(out.attitude[index])))

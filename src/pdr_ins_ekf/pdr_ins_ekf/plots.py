@@ -10,8 +10,14 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from pdr_core.metrics import aligned
-from pdr_core.plot_layout import figure_title, height_axis, lay_out, top_view, walk_summary
+from pdr_core.evaluation.metrics import aligned
+from pdr_core.evaluation.plot_layout import (
+    figure_title,
+    height_axis,
+    lay_out,
+    top_view,
+    walk_summary,
+)
 
 
 def path_png(t: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None, path: Path,
@@ -19,7 +25,7 @@ def path_png(t: np.ndarray, estimate: np.ndarray, truth: np.ndarray | None, path
              shows: str = "the estimated path") -> None:
     """Top view and height of the estimate (aligned as the report) against the truth, and
     the error over time. The top view is to scale unless it is a strip and the height
-    axis fits the heights (pdr_core.plot_layout); the title gives ``source``'s name,
+    axis fits the heights (pdr_core.evaluation.plot_layout); the title gives ``source``'s name,
     what it ``shows``, the ``steps`` and the report's final error, or without truth the
     loop gap."""
     fig, ax = plt.subplots(1, 3 if truth is not None else 2, figsize=(16, 5))

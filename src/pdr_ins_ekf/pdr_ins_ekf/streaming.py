@@ -14,7 +14,7 @@ subscription's backlog in blocks keeps up with input rates far above its per-mes
 overhead.
 
 Input hygiene as offline: samples with NaN/Inf or beyond any IMU's range
-(pdr_core.imu_checks.plausible) and stamps that do not increase are dropped and counted;
+(pdr_core.sensors.imu_checks.plausible) and stamps that do not increase are dropped and counted;
 gaps longer than ``max_gap_s`` are counted (the filter propagates over them).
 Data in g or deg/s is refused at alignment (:class:`UnitsError`), after which nothing is
 navigated until :meth:`reset`.
@@ -30,10 +30,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.correction import Correction
+from pdr_core.corrections.correction import Correction
+from pdr_core.corrections.replay import CorrectionResult
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_units, usable_samples
-from pdr_core.replay import CorrectionResult
+from pdr_core.sensors.imu_checks import check_units, usable_samples
 from pdr_ins_ekf.config import RunConfig
 from pdr_ins_ekf.correctable import CORRECTION_WINDOW_S, CorrectableFilter, FilterBlock
 from pdr_ins_ekf.offline import FootRun, check_rest

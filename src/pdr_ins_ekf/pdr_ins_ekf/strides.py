@@ -12,12 +12,12 @@ pocket:
   0 east, counter-clockwise positive). It is not the foot's yaw, which differs by the
   person's toe-out angle; a yaw correction turns both alike;
 - ``pitch_max_rad``, ``pitch_min_rad``: the foot's extreme pitches over the stride (the
-  ZYX Euler pitch of pdr_core.rotations.rotation_from_euler);
+  ZYX Euler pitch of pdr_core.maths.rotations.rotation_from_euler);
 - ``activity``: :class:`~pdr_core.vocabulary.Activity` UPSTAIRS or DOWNSTAIRS when the
-  height changed by at least one riser (:data:`pdr_core.stair_geometry.RISER_MIN_M`;
+  height changed by at least one riser (:data:`pdr_core.walking.stair_geometry.RISER_MIN_M`;
   a level stride's height error is centimetres), WALKING otherwise.
 
-A footfall less than :data:`pdr_core.gait.FOOT_STRIDE_MIN_M` from the last stride's end
+A footfall less than :data:`pdr_core.walking.gait.FOOT_STRIDE_MIN_M` from the last stride's end
 (stepping in place, a turn on the spot) has no direction of travel: it ends no stride,
 and the next stride runs from the last one's end.
 
@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.gait import FOOT_STRIDE_MIN_M
-from pdr_core.stair_geometry import RISER_MIN_M
 from pdr_core.vocabulary import Activity
+from pdr_core.walking.gait import FOOT_STRIDE_MIN_M
+from pdr_core.walking.stair_geometry import RISER_MIN_M
 from pdr_ins_ekf.kernel_data import ATTITUDE, AXES
 from pdr_ins_ekf.zupt_ekf import FilterOutput
 

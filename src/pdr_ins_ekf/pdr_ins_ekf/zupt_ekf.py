@@ -28,7 +28,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
+from pdr_core.maths.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_ins_ekf import compiled_filter as kernels
 from pdr_ins_ekf import compiled_smoother
 from pdr_ins_ekf.compiled_smoother import SmootherParams

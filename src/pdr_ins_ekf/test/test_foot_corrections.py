@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.bag import BagReader
-from pdr_core.correction import Correction
+from pdr_core.corrections.correction import Correction
+from pdr_core.io.bag import BagReader
 from pdr_ins_ekf import corrections
 from pdr_ins_ekf.config import load_run_config, run_config
 from pdr_ins_ekf.correctable import concatenated

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from pdr_core.errors import InputError
-from pdr_core.metrics import error_report, truth_at
+from pdr_core.evaluation.metrics import error_report, truth_at
 from pdr_ins_ekf.config import imu_profiles, load_run_config
 from pdr_ins_ekf.offline import navigate
 from pdr_sim.scenario import load_scenario

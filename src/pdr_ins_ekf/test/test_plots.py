@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pdr_core.metrics import error_report
-from pdr_core.plot_layout import HEIGHT_MARGIN, MIN_LEVEL_SPAN_M
+from pdr_core.evaluation.metrics import error_report
+from pdr_core.evaluation.plot_layout import HEIGHT_MARGIN, MIN_LEVEL_SPAN_M
 from pdr_ins_ekf.plots import path_png
 from wstest import kept_figures
 

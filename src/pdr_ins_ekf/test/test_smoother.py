@@ -3,7 +3,7 @@ simulated 200-step walk with xsens_mtw noise."""
 import numpy as np
 import pytest
 
-from pdr_core.metrics import within_step_rmse
+from pdr_core.evaluation.metrics import within_step_rmse
 from pdr_ins_ekf.compiled_smoother import spd_solve
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.kernel_data import AXES, VELOCITY
@@ -114,7 +114,7 @@ def test_smoothing_reduces_the_error_within_steps(simulated, walk, mode, gain):
     gyro bias (1.5 m), which no smoother can see, and both stay within 1 % of each other
     (filter 1.557, segmented 1.563, full 1.584 m; with the IMU's own configuration see
     the next test). With each step's
-    heading error removed (pdr_core.metrics.within_step_rmse) the smoothed steps are
+    heading error removed (pdr_core.evaluation.metrics.within_step_rmse) the smoothed steps are
     30 % (segmented) and 48 % (full) closer to the truth: 1.59 against 1.11 and 0.83 mm."""
     stance, filtered, smoothed = walk
     truth = simulated.trajectory.position

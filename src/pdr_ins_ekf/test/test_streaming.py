@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from pdr_core.bag import BagReader
+from pdr_core.io.bag import BagReader
 from pdr_ins_ekf.config import RunConfig, run_config
 from pdr_ins_ekf.offline import navigate
 from pdr_ins_ekf.streaming import StreamingNavigator

@@ -43,15 +43,15 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, BagWriter, add_strict_option
-from pdr_core.csv_import import MAG_UNITS_T, implausible, refuse_implausible
-from pdr_core.csv_table import read_columns
 from pdr_core.errors import InputError, cli_parser, dispatch
-from pdr_core.imu_checks import FIELD_RANGE, median_field_t
-from pdr_core.magnetic_field import homogeneous
-from pdr_core.metrics import truth_orientation_at
+from pdr_core.evaluation.metrics import truth_orientation_at
+from pdr_core.io.bag import BagReader, BagWriter, add_strict_option
+from pdr_core.io.csv_import import MAG_UNITS_T, implausible, refuse_implausible
+from pdr_core.io.csv_table import read_columns
 from pdr_core.report_files import print_report, write_report, write_report_file
-from pdr_core.walk_plausibility import EXIT_REFUSED
+from pdr_core.sensors.imu_checks import FIELD_RANGE, median_field_t
+from pdr_core.sensors.magnetic_field import homogeneous
+from pdr_core.walking.walk_plausibility import EXIT_REFUSED
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.evaluation import STEPS_PER
 from pdr_pocket.inputs import read_pocket_bag

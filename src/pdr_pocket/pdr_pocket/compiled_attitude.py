@@ -24,7 +24,7 @@ rows of P, named by :data:`ATT_EAST` ... :data:`FIELD_DOWN`):
 One entry point per sensor, each taking what that sensor tells, at its own stamps:
 
 - :func:`gyro_step`, the gyroscope: the prediction, C ← C·A(ω − b) (Eqs. (3.3)–(3.5) with
-  the trapezoid and the coning term: pdr_core.small_matrix.rotation_increment) and
+  the trapezoid and the coning term: pdr_core.maths.small_matrix.rotation_increment) and
   P ← F·P·Fᵀ + Q, F = I but δθ ← δθ − C·δb·δt; Q holds the white noise σ_ν²δt, the scale
   and cross-axis errors (σ_s times the angle turned, per body axis), the bias's AR(1)
   noise σ_bias²(1 − c²), and what the samples do not tell: over a gap the rate is
@@ -96,10 +96,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache, lowpass, small_matrix
-from pdr_core.angles import wrap_angle_jit
-from pdr_core.lowpass import lowpass_decay, lowpass_gain
-from pdr_core.small_matrix import product3, rotation_increment
+from pdr_core.maths import angles, kernel_cache, lowpass, small_matrix
+from pdr_core.maths.angles import wrap_angle_jit
+from pdr_core.maths.lowpass import lowpass_decay, lowpass_gain
+from pdr_core.maths.small_matrix import product3, rotation_increment
 from pdr_pocket import (
     compiled_attitude_data,
     compiled_attitude_field,

@@ -11,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, lowpass
+from pdr_core.maths import kernel_cache, lowpass
 from pdr_pocket import compiled_gait_window
 from pdr_pocket.compiled_gait_window import GaitWindow, WindowParams, new_gait_window
 

@@ -11,10 +11,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache, lowpass, small_matrix
-from pdr_core.angles import wrap_angle_jit
-from pdr_core.lowpass import lowpass_gain
-from pdr_core.small_matrix import product3, rodrigues
+from pdr_core.maths import angles, kernel_cache, lowpass, small_matrix
+from pdr_core.maths.angles import wrap_angle_jit
+from pdr_core.maths.lowpass import lowpass_gain
+from pdr_core.maths.small_matrix import product3, rodrigues
 from pdr_pocket import compiled_attitude_data, compiled_attitude_kalman
 from pdr_pocket.compiled_attitude_data import (
     ATT_EAST,

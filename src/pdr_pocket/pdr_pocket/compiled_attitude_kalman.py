@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, lowpass, small_matrix
-from pdr_core.small_matrix import product3, rodrigues
+from pdr_core.maths import kernel_cache, lowpass, small_matrix
+from pdr_core.maths.small_matrix import product3, rodrigues
 from pdr_pocket import compiled_attitude_data, compiled_gait_window
 from pdr_pocket.compiled_attitude_data import (
     ACCEL_BIAS,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache
+from pdr_core.maths import kernel_cache
 
 kernel_cache.forget_if_changed(__file__)
 

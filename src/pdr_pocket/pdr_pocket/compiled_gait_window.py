@@ -34,9 +34,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, lowpass, small_matrix
-from pdr_core.lowpass import forward_euler_gain
-from pdr_core.small_matrix import product3
+from pdr_core.maths import kernel_cache, lowpass, small_matrix
+from pdr_core.maths.lowpass import forward_euler_gain
+from pdr_core.maths.small_matrix import product3
 
 kernel_cache.forget_if_changed(__file__, small_matrix.__file__, lowpass.__file__)
 

@@ -1,7 +1,7 @@
 """The gravity direction without a gyroscope, compiled with numba: the specific force through
 two first-order low-passes in cascade (backward Euler gains,
-:func:`pdr_core.lowpass.backward_euler_gain`), and a motion measure, for the pocket navigator's
-pitch from the gravity direction alone (pdr_pocket.pitch_source). Its state is
+:func:`pdr_core.maths.lowpass.backward_euler_gain`), and a motion measure, for the pocket
+navigator's pitch from the gravity direction alone (pdr_pocket.pitch_source). Its state is
 :class:`GravityState` (a record of scalars, :data:`GRAVITY_SCALARS`).
 """
 from __future__ import annotations
@@ -11,8 +11,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache, lowpass
-from pdr_core.lowpass import backward_euler_gain
+from pdr_core.maths import kernel_cache, lowpass
+from pdr_core.maths.lowpass import backward_euler_gain
 
 kernel_cache.forget_if_changed(__file__, lowpass.__file__)
 

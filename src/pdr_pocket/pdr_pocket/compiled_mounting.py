@@ -49,9 +49,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache, lowpass
-from pdr_core.angles import wrap_angle_jit
-from pdr_core.lowpass import lowpass_decay
+from pdr_core.maths import angles, kernel_cache, lowpass
+from pdr_core.maths.angles import wrap_angle_jit
+from pdr_core.maths.lowpass import lowpass_decay
 
 kernel_cache.forget_if_changed(__file__, angles.__file__, lowpass.__file__)
 

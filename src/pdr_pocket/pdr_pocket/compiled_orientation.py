@@ -5,7 +5,7 @@ The attitude part is carried as the direction cosine matrix C = C_b^n (ENU, FLU 
 a 3-vector error δθ, a small rotation in the navigation frame (C_true = exp([δθ×])·C): the
 sigma points are C_i = exp([δθ_i×])·C, so nothing ever divides by cos θ, and θ = ±90°
 (a sitting thigh comes close) gives neither NaN nor a jump. φ, θ, ψ are read from C
-(ZYX, :mod:`pdr_core.rotations`) and their covariance from the δθ block; near θ = ±90° only
+(ZYX, :mod:`pdr_core.maths.rotations`) and their covariance from the δθ block; near θ = ±90° only
 the split of the attitude between roll and yaw is ill-defined, as it is for any Euler
 angles. P is the 6 × 6 covariance of [δθ, δb], rows named by :data:`ATT_EAST` ...
 :data:`BIAS_Z`.
@@ -67,7 +67,7 @@ saturated leave the biases alone (their bias gain is zeroed).
 What each departure from the thesis was measured to do, on simulated and real walks:
 docs/pocket.md, "The thesis' filter". The measurement builders are
 pdr_pocket.compiled_orientation_measurements, the detectors' trailing windows
-pdr_pocket.compiled_orientation_detectors, the 3 × 3 helpers pdr_core.small_matrix.
+pdr_pocket.compiled_orientation_detectors, the 3 × 3 helpers pdr_core.maths.small_matrix.
 
 Kernel data, as NamedTuples: :class:`FilterParams` (set by the configuration),
 :class:`FilterState` (changed by every sample), :class:`FilterInputs` and
@@ -82,10 +82,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache, lowpass, small_matrix
-from pdr_core.angles import wrap_angle_jit
-from pdr_core.lowpass import lowpass_decay
-from pdr_core.small_matrix import (
+from pdr_core.maths import angles, kernel_cache, lowpass, small_matrix
+from pdr_core.maths.angles import wrap_angle_jit
+from pdr_core.maths.lowpass import lowpass_decay
+from pdr_core.maths.small_matrix import (
     cholesky,
     euler_of,
     inverse_spd,
@@ -190,7 +190,7 @@ def _sigma_points(state, work):
 @njit(cache=True)
 def predict(state, params, sample, work):
     """Propagate mean and covariance over δt with the (bias-corrected) rate: see
-    :func:`pdr_core.small_matrix.rotation_increment`."""
+    :func:`pdr_core.maths.small_matrix.rotation_increment`."""
     gyro, prev, dt = sample.gyro, sample.previous_gyro, sample.dt
     n2 = 2 * N_STATE
     _sigma_points(state, work)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from pdr_core import kernel_cache
+from pdr_core.maths import kernel_cache
 from pdr_pocket import compiled_orientation_data
 from pdr_pocket.compiled_orientation_data import (
     ATT_EAST,

@@ -21,9 +21,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import angles, kernel_cache, small_matrix
-from pdr_core.angles import wrap_angle_jit
-from pdr_core.small_matrix import euler_of
+from pdr_core.maths import angles, kernel_cache, small_matrix
+from pdr_core.maths.angles import wrap_angle_jit
+from pdr_core.maths.small_matrix import euler_of
 from pdr_pocket import compiled_gait_window
 from pdr_pocket.compiled_gait_window import across, force_in_body
 

@@ -25,7 +25,7 @@ run uncompiled, as the twin tests' perturbed ones are, reads the same state).
 - :func:`footfall_loop`, beyond the thesis: footfalls as prominent peaks of the
   low-passed specific force's norm, every second one closing a gait cycle of the sensor
   leg with the pitch's extremes since the last. A gait is a rhythm: a footfall counts
-  only in a run of at least :data:`~pdr_core.gait.GAIT_MIN_FOOTFALLS`, each within
+  only in a run of at least :data:`~pdr_core.walking.gait.GAIT_MIN_FOOTFALLS`, each within
   ``max_interval_s`` (half the longest gait cycle) of the last; the first ones of a run
   wait for it, and a shorter run (the phone taken out, a stumble, a bump) is dropped.
 """
@@ -36,8 +36,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from pdr_core import gait, kernel_cache
-from pdr_core.gait import GAIT_MIN_FOOTFALLS
+from pdr_core.maths import kernel_cache
+from pdr_core.walking import gait
+from pdr_core.walking.gait import GAIT_MIN_FOOTFALLS
 
 kernel_cache.forget_if_changed(__file__, gait.__file__)
 

@@ -27,8 +27,13 @@ from pdr_core.config_files import (
     read_config_file,
     shipped_config_dir,
 )
-from pdr_core.stair_geometry import FLIGHT_MAX_RISERS, FLIGHT_MIN_RISERS, RISER_MAX_M, RISER_MIN_M
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
+from pdr_core.walking.stair_geometry import (
+    FLIGHT_MAX_RISERS,
+    FLIGHT_MIN_RISERS,
+    RISER_MAX_M,
+    RISER_MIN_M,
+)
 from pdr_pocket.orientation_config import OrientationConfig, orientation_config
 from pdr_pocket.step_length import StepLengthConfig
 
@@ -181,7 +186,7 @@ class StairsConfig:
     """Vertical displacement per step (Muñoz Díaz 2016, Eqs. (4.4)-(4.5)), v in cm and Δθ
     in degrees as there, and floors; and what makes a run of stairs steps a staircase
     (pdr_pocket.stairs.FlightCheck, beyond the thesis): its mean riser [m] within the
-    building codes' span (pdr_core.stair_geometry), each step a whole number of its risers
+    building codes' span (pdr_core.walking.stair_geometry), each step a whole number of its risers
     (one or two) within ``riser_count_tolerance`` (relative), at most ``flight_max_risers``
     risers without a landing."""
 
@@ -266,7 +271,7 @@ class BarometerConfig:
     barometric height, the barometer's offset b and its weather drift as states, and the
     lift and escalator rides told from the barometer's own offsets. Pressures in hPa at
     this edge, as phones and weather reports give them (1 hPa ≈ 8.3 m near the ground);
-    SI inside. The figures: a phone's barometer (pdr_core.imu_profiles, PHONE_BAROMETER),
+    SI inside. The figures: a phone's barometer (pdr_core.sensors.imu_profiles, PHONE_BAROMETER),
     the weather's drift of up to about 1 hPa/h (Parviainen et al. 2008), offsets of
     0.2-0.4 hPa by a stairwell's or lift lobby's ventilation."""
 

@@ -1,5 +1,5 @@
 """Drift corrections taken by the pocket navigator (Muñoz Díaz 2016, Eqs. (6.2)-(6.3)):
-a :class:`~pdr_core.correction.Correction` from ``pdr_drift``, whole or not at all.
+a :class:`~pdr_core.corrections.correction.Correction` from ``pdr_drift``, whole or not at all.
 
 The yaw and the z gyro bias are Kalman updates of the orientation filter
 (pdr_pocket.orientation), the position fix one of the position filter
@@ -7,7 +7,7 @@ The yaw and the z gyro bias are Kalman updates of the orientation filter
 before any part is applied; one refused part refuses the whole correction, changes
 nothing, and the message names each refused part and why, by its field of
 pdr_msgs/srv/ApplyCorrection. What refuses a correction whatever the state (no part,
-numbers that cannot be used, a part without a variance) is pdr_core.correction.refusal,
+numbers that cannot be used, a part without a variance) is pdr_core.corrections.correction.refusal,
 the foot navigator's too.
 A yaw correction also turns the heading summed since the last step
 (:meth:`pdr_pocket.step_assembly.StepAssembly.turn_partial_heading`), so it counts from
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.correction import Correction, refusal
+from pdr_core.corrections.correction import Correction, refusal
 from pdr_pocket.compiled_orientation_measurements import BIAS_Z_CORRECTION, YAW_CORRECTION
 from pdr_pocket.orientation import CORRECTION_NAMES, OrientationFilter
 from pdr_pocket.position import PSI

@@ -8,7 +8,7 @@
   the sample that confirmed its step, where the live graph applies it too, whenever the
   call comes: the request carries that step's stamp (pdr_pocket.streaming). Here the
   chunk is run again from a copy of the navigator taken before it, up to that sample,
-  and on from there with the correction: the one replay of pdr_core.replay, the live
+  and on from there with the correction: the one replay of pdr_core.corrections.replay, the live
   navigator's (:class:`ChunkLoop`). Applied at the end of the chunk instead, the poses
   ended 0.13 m from the live graph's.
 - :func:`navigate_offline`: a first pass collects every association's drift, ε₀ of
@@ -25,8 +25,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pdr_core.correction import Correction
-from pdr_core.replay import Replay, TakenCorrection
+from pdr_core.corrections.correction import Correction
+from pdr_core.corrections.replay import Replay, TakenCorrection
 from pdr_drift.config import DriftConfig
 from pdr_drift.corners import StepSample
 from pdr_drift.drift import offline_drift
@@ -81,7 +81,7 @@ def navigate_online(config: PocketConfig, drift: DriftConfig, samples: Samples,
 @dataclass
 class Rerun:
     """The navigator kept before a chunk, taking its samples up to a correction again
-    (pdr_core.replay.Worker), with what they give: the chunk's output up to there."""
+    (pdr_core.corrections.replay.Worker), with what they give: the chunk's output up to there."""
 
     navigator: PocketNavigator
     outputs: list[NavigatorOutput] = field(default_factory=list)
@@ -98,8 +98,8 @@ class Rerun:
 
 class ChunkLoop:
     """The navigator over the record's chunks, its state kept before each
-    (pdr_core.replay, one checkpoint), a correction taken at its step's sample and the
-    chunk's samples since run again (pdr_core.replay.Replayable)."""
+    (pdr_core.corrections.replay, one checkpoint), a correction taken at its step's sample and the
+    chunk's samples since run again (pdr_core.corrections.replay.Replayable)."""
 
     def __init__(self, config: PocketConfig) -> None:
         self.navigator = PocketNavigator(config)

@@ -28,8 +28,8 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
+from pdr_core.io.batch import MessageBatch
 from pdr_core.units import TIME_UNITS_S
 from pdr_pocket.config import StairsConfig
 from pdr_pocket.pocket_offline import RUN_RECORD
@@ -71,7 +71,7 @@ def _not_a_run(path: Path, why: str) -> InputError:
 
 def read_run(path: Path, *, strict: bool = False) -> RunOutput:
     """The run output at ``path`` (module docstring); InputError when it is none."""
-    from pdr_core.bag import BagReader
+    from pdr_core.io.bag import BagReader
 
     reader = BagReader(path, strict=strict)
     missing = [t for t in (topics.POCKET_STEP, topics.POCKET_POSE) if t not in reader.topics]
@@ -129,7 +129,7 @@ class TruthBag:
 def read_truth_bag(path: Path, run: RunOutput, *, strict: bool = False) -> TruthBag:
     """``path``'s truth topics, their stamps moved onto the run's clock (module
     docstring); InputError when it has neither."""
-    from pdr_core.bag import BagReader
+    from pdr_core.io.bag import BagReader
 
     reader = BagReader(path, strict=strict)
     wanted = [t for t in (topics.GROUND_TRUTH_STEP, topics.GROUND_TRUTH_POSE)
@@ -198,7 +198,7 @@ def read_truth_steps(path: Path, fmt: TruthStepsFormat = TruthStepsFormat()) -> 
     left's before the right's in a row; a foot down in the first row is no footfall, its
     edge came before). InputError for a time that is not a number, a switch that reads
     other than 0 or 1, or a foot switch without a footfall."""
-    from pdr_core.csv_table import read_columns
+    from pdr_core.io.csv_table import read_columns
 
     cols = _checked(fmt)
     try:
@@ -280,7 +280,7 @@ def evaluate(run_out: Path, truth: Path | None = None, truth_steps: Path | None 
              strict: bool = False) -> dict:
     """The report of ``run_out`` against what is given (module docstring); ``truth_steps``
     read as ``steps_format`` says."""
-    from pdr_core.metrics import truth_at
+    from pdr_core.evaluation.metrics import truth_at
 
     if truth is None and truth_steps is None and distance_m is None:
         raise InputError(run_out, "nothing to evaluate against: give --truth BAG, "

@@ -14,13 +14,13 @@ drift. Each sensor comes in through its own entry point, as VQF's updateGyr/upda
   max(σ_v², (f·v)²) with f = ``step_vertical_sigma_fraction`` (a step's v is no better
   than that fraction of itself however small the navigator's σ);
 - :meth:`HeightFilter.pressure`: readings p [Pa] become barometric heights
-  z = pdr_core.atmosphere.height_m(p) and are averaged over epochs of ``epoch_s``
+  z = pdr_core.sensors.atmosphere.height_m(p) and are averaged over epochs of ``epoch_s``
   (a fixed grid of absolute time, so any chunking cuts them alike); each epoch's mean is
   one measurement z = h + b + n of the height at the epoch's middle, R = σ_z²/N + σ_c² with
   σ_z² = (σ_p² + q²/12)·(dh/dp)² (σ_p a reading's noise at 25 Hz, q its step, dh/dp at the
   first reading), σ_c the slow noise the mean keeps (``correlated_noise_hpa``) and N the
   epoch's readings counted by the time they span: N = 25 Hz·Σ s_i
-  (pdr_core.barometry.PRESSURE_NOISE_RATE_HZ), s_i the time since the last new reading
+  (pdr_core.sensors.barometry.PRESSURE_NOISE_RATE_HZ), s_i the time since the last new reading
   (at most 1 s, READING_SPAN_MAX_S), 0 for a reading that repeats the one before. A
   barometer read at 1 Hz averages a second (its noise is 5 times smaller than at 25 Hz),
   so an epoch of it weighs what the same time at 25 Hz weighs; a held value repeated
@@ -46,7 +46,7 @@ A sudden offset (a door to a pressurised stairwell, a lift lobby's ventilation: 
 2-3 m, for a minute) is a jump of b: an innovation ν = z − h − b beyond the χ² gate
 (``offset_jump_gate_probability``, 1 dof) adds a jump's variance σ_j² to P_bb before the
 update, so b takes the jump and h keeps its value. More than
-pdr_core.barometry.OFFSET_JUMPS_MAX_PER_MIN (4) jumps within 60 s while the barometric
+pdr_core.sensors.barometry.OFFSET_JUMPS_MAX_PER_MIN (4) jumps within 60 s while the barometric
 height is still (no change in progress below: a lift ride jumps at every epoch until it is
 judged) is no barometer to trust: from then on the filter stops fusing it (no update, no
 change judged; h goes on from the steps alone, as without a barometer) and says so once
@@ -117,8 +117,9 @@ import warnings
 
 import numpy as np
 
-from pdr_core.atmosphere import height_m, metres_per_pascal
-from pdr_core.barometry import (
+from pdr_core.errors import InputWarning
+from pdr_core.sensors.atmosphere import height_m, metres_per_pascal
+from pdr_core.sensors.barometry import (
     MISGIVEN_UNITS_PA,
     OFFSET_JUMPS_MAX_PER_MIN,
     PRESSURE_NOISE_RATE_HZ,
@@ -128,7 +129,6 @@ from pdr_core.barometry import (
     misgiven_unit,
     plausible_pressure,
 )
-from pdr_core.errors import InputWarning
 from pdr_core.topics import IMU_PRESSURE
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_pocket.config import BarometerConfig

@@ -12,8 +12,8 @@ from typing import Literal, NamedTuple
 
 import numpy as np
 
-from pdr_core.barometry import PA_PER_HPA, RIDE_KINDS, HeightChangeKind
-from pdr_core.chi2 import chi2_quantile
+from pdr_core.maths.chi2 import chi2_quantile
+from pdr_core.sensors.barometry import PA_PER_HPA, RIDE_KINDS, HeightChangeKind
 from pdr_pocket.config import BarometerConfig
 
 EPOCH_COLUMNS = ("start_s", "z", "n", "force", "still", "h")

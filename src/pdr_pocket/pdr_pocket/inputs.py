@@ -2,10 +2,10 @@
 
 - :func:`pocket_inputs`: ``imu/data`` cleaned (NaN/Inf, values beyond any IMU's range
   and stamps that do not increase dropped and counted, units and rate checked) and
-  ``imu/mag`` paired with it (:mod:`pdr_core.magnetometer_pairing`: the latest reading at
+  ``imu/mag`` paired with it (:mod:`pdr_core.sensors.magnetometer_pairing`: the latest reading at
   most ``MAG_MAX_AGE_S`` old, else none), calibrated when a calibration is given, and
   the other sensors of pdr_pocket.sensor_inputs the bag has (``imu/pressure``), each
-  reading on the first sample at or after it (pdr_core.sample_pairing);
+  reading on the first sample at or after it (pdr_core.sensors.sample_pairing);
 - :func:`read_pocket_bag`: a bag's batches (``imu/data``, ``imu/mag``, the other sensors'
   and the truth topics it has) and those inputs.
 """
@@ -16,16 +16,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import (
+from pdr_core.io.batch import MessageBatch
+from pdr_core.sensors.imu_checks import (
     check_mag_units,
     check_sample_interval,
     check_units,
     clean_samples,
 )
-from pdr_core.magnetometer_pairing import paired_mag
-from pdr_core.sample_pairing import readings_at_samples
+from pdr_core.sensors.magnetometer_pairing import paired_mag
+from pdr_core.sensors.sample_pairing import readings_at_samples
 from pdr_pocket.magnetometer import MagCalibration
 from pdr_pocket.samples import Samples
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
@@ -90,7 +90,7 @@ def paired_readings(stamp_ns: np.ndarray, sensors: dict[str, MessageBatch],
     """The readings of each sensor of pdr_pocket.sensor_inputs with a batch in ``sensors``
     (by topic) on the IMU's samples stamped ``stamp_ns`` [ns]: non-finite readings dropped
     and counted (``<name>_non_finite``), the rest each on the first sample at or after it
-    (pdr_core.sample_pairing). What a reading means is its user's to check (the height
+    (pdr_core.sensors.sample_pairing). What a reading means is its user's to check (the height
     filter drops and counts what is no air pressure)."""
     out = {}
     for sensor in SENSOR_INPUTS:
@@ -114,8 +114,8 @@ TRUTH_TOPICS = (topics.GROUND_TRUTH_POSE, topics.GROUND_TRUTH_STEP,
 def read_pocket_bag(bag, calibration_file=None, require=(), *, strict=False):
     """A bag's reader, its batches (imu/data, imu/mag and the truth topics it has) and
     the filter's inputs; ``require``: topics it must have besides imu/data; ``strict``:
-    refuse a bag cut short (pdr_core.bag)."""
-    from pdr_core.bag import BagReader
+    refuse a bag cut short (pdr_core.io.bag)."""
+    from pdr_core.io.bag import BagReader
 
     reader = BagReader(bag, strict=strict)
     reader.require_topics([topics.IMU_DATA, *require])

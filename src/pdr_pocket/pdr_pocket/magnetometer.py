@@ -1,6 +1,6 @@
 """Magnetometer calibration for the pocket navigator (Muñoz Díaz 2016, Section 3.4.4).
 
-The fit itself is :func:`pdr_core.magnetometer_calibration.fit_ellipsoid` (rotation M,
+The fit itself is :func:`pdr_core.sensors.magnetometer_calibration.fit_ellipsoid` (rotation M,
 offset l, scale ξ bringing the raw ellipsoid to the unit sphere, l in units of the local
 field strength |H∞|). This module adds what a user needs around it:
 
@@ -21,8 +21,8 @@ import numpy as np
 import yaml
 
 from pdr_core.errors import InputError
-from pdr_core.magnetic_field import IronDistortion
-from pdr_core.magnetometer_calibration import fit_ellipsoid
+from pdr_core.sensors.magnetic_field import IronDistortion
+from pdr_core.sensors.magnetometer_calibration import fit_ellipsoid
 
 COVERAGE_CELLS = 200                # equal-area directions (Fibonacci sphere)
 MIN_COVERAGE = 0.6                  # below this share of the sphere a fit is refused (more

@@ -17,9 +17,9 @@ from __future__ import annotations
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.batch import MessageBatch
 from pdr_core.frames import BASE_FRAME, MAP_FRAME, SENSOR_FRAME
-from pdr_core.msgtypes import (
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import (
     IMU,
     ODOMETRY,
     POSE_STAMPED,
@@ -27,8 +27,8 @@ from pdr_core.msgtypes import (
     STEP,
     VECTOR3_STAMPED,
 )
-from pdr_core.odometry import ANGULAR, odometry_fields, tf_batches
-from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_core.io.odometry import ANGULAR, odometry_fields, tf_batches
+from pdr_core.maths.rotations import quaternion_from_orthonormal
 from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.orientation import AttitudeEstimate
@@ -77,7 +77,7 @@ def odometry_step_fields(steps: list[StepRecord], attitude: np.ndarray,
     covariance, turned from the map frame into ``base_frame`` (REP-105: the twist is the
     child frame's), whose orientation is the sensor attitude C (N, 3, 3) of the pose:
     v_b = Cᵀ·v_n, Σ_b = Cᵀ·Σ_n·C. The angular rate is not given
-    (pdr_core.odometry.UNKNOWN_VARIANCE), nor a velocity a step does not know (a run read
+    (pdr_core.io.odometry.UNKNOWN_VARIANCE), nor a velocity a step does not know (a run read
     back from its bag)."""
     pose = pose_fields(steps, attitude)
     cov = pose["pose.covariance"].reshape(-1, 6, 6)
@@ -124,7 +124,7 @@ def path_batch(steps: list[StepRecord], stamps: np.ndarray) -> MessageBatch:
 
 def step_tf(out: NavigatorOutput, stamp_ns: np.ndarray) -> dict[str, MessageBatch]:
     """A bag's ``/tf`` (``map → base_link`` at each step, the pose of ``pdr/pocket/pose``)
-    and ``/tf_static`` (``base_link → imu_link``; pdr_core.odometry.tf_batches); none
+    and ``/tf_static`` (``base_link → imu_link``; pdr_core.io.odometry.tf_batches); none
     without a step."""
     if not out.steps:
         return {}

@@ -12,7 +12,8 @@ in the module named for it:
    activity, stride, vertical displacement, heading and position; with a barometer the
    height, floors and lift rides from the height filter (:mod:`pdr_pocket.height_filter`);
 3. the corrections (:mod:`pdr_pocket.corrections`, Eqs. (6.2)-(6.3)): a
-   :class:`~pdr_core.correction.Correction` through :meth:`PocketNavigator.apply_correction`.
+   :class:`~pdr_core.corrections.correction.Correction` through
+   :meth:`PocketNavigator.apply_correction`.
 
 The first chunk says which sensors there are: without a gyroscope the footfalls count
 the steps and every step is level.
@@ -24,8 +25,8 @@ from dataclasses import fields, is_dataclass, replace
 
 import numpy as np
 
-from pdr_core.correction import Correction
-from pdr_core.replay import TakenCorrection
+from pdr_core.corrections.correction import Correction
+from pdr_core.corrections.replay import TakenCorrection
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.corrections import CorrectionTaker
 from pdr_pocket.height_records import BarometerStatus
@@ -152,7 +153,7 @@ class PocketNavigator:
         return self.taker.take(correction)
 
     def rerun(self, item: Samples | TakenCorrection) -> None:
-        """A kept input again, on a replay (pdr_core.replay.Worker): a chunk of samples,
+        """A kept input again, on a replay (pdr_core.corrections.replay.Worker): a chunk of samples,
         or a correction taken before (gated again)."""
         if isinstance(item, TakenCorrection):
             self.apply_correction(item.correction)

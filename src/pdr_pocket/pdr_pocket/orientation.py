@@ -27,9 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdr_core import units
-from pdr_core.angles import wrap_angle
-from pdr_core.chi2 import chi2_quantile
-from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
+from pdr_core.maths.angles import wrap_angle
+from pdr_core.maths.chi2 import chi2_quantile
+from pdr_core.maths.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_pocket import (
     compiled_attitude,
     compiled_attitude_data,

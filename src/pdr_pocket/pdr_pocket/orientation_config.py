@@ -1,6 +1,6 @@
 """The orientation filter's configuration (``orientation:`` of the pocket navigator's YAML;
 pdr_pocket.config holds the rest): the filter and its bias model, the sensor's noise from
-its named profile (pdr_core.imu_profiles) or given, the updates that run
+its named profile (pdr_core.sensors.imu_profiles) or given, the updates that run
 (:class:`Updates`), the default filter's own settings (:class:`EkfConfig`), and the
 kernels' parameters in SI units built from them (:meth:`OrientationConfig.ekf_params`,
 :meth:`OrientationConfig.thesis_params`). :func:`orientation_from_allan` makes the section
@@ -16,15 +16,19 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import units
-from pdr_core.allan import allan_deviation_model, first_minimum, gm_sigma_for_bias_instability
-from pdr_core.chi2 import chi2_quantile
 from pdr_core.config_files import (
     check_positive,
     dataclass_from_mapping,
 )
 from pdr_core.constants import EARTH_FIELD_RANGE_UT, STANDARD_GRAVITY_MPS2, earth_rate_enu
 from pdr_core.errors import InputError
-from pdr_core.imu_profiles import PROFILES
+from pdr_core.maths.chi2 import chi2_quantile
+from pdr_core.sensors.allan import (
+    allan_deviation_model,
+    first_minimum,
+    gm_sigma_for_bias_instability,
+)
+from pdr_core.sensors.imu_profiles import PROFILES
 from pdr_pocket.compiled_attitude_data import AttitudeParams
 from pdr_pocket.compiled_gait_window import WindowParams
 from pdr_pocket.compiled_orientation_data import FilterParams
@@ -151,7 +155,7 @@ PROFILE_KEYS = ("gyro_arw_deg_per_sqrt_h", "bias_instability_deg_per_h",
                 "bias_instability_time_s", "initial_bias_sigma_deg_per_s")
 
 
-# The filter's initial gyro bias σ [°/s] for the profiles of pdr_core.imu_profiles it knows:
+# The filter's initial gyro bias σ [°/s] for the profiles of pdr_core.sensors.imu_profiles it knows:
 # calibrated_phone's, what a phone's own calibration leaves (the gyroscope a phone's OS
 # hands to apps: iOS Core Motion's rotation rate and Android's calibrated TYPE_GYROSCOPE;
 # the OxIOD iPhones drift by up to 0.7 °/s against their Vicon truth, docs/pocket.md);
@@ -163,7 +167,7 @@ PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S = {"calibrated_phone": 0.25, "consumer_phon
 
 def profile_noise(name: str) -> dict[str, float]:
     """The :data:`PROFILE_KEYS` of an IMU profile: the gyroscope's white noise, bias
-    instability β and correlation time as pdr_core.imu_profiles gives them to the simulator
+    instability β and correlation time as pdr_core.sensors.imu_profiles gives them to the simulator
     (the correlation time is the t_β of Eq. (3.10); a profile that gives the Gauss-Markov
     σ instead has the β of its modelled Allan deviation's first minimum, so that the allan
     bias model gives that σ back), and the initial bias σ."""
@@ -183,7 +187,7 @@ def profile_noise(name: str) -> dict[str, float]:
 def allan_minimum_deg_per_h(arw_deg_per_sqrt_h: float, gm_sigma_deg_per_s: float,
                             tau_s: float) -> float:
     """β [°/h]: the first minimum of the modelled Allan deviation of white noise and a
-    Gauss-Markov bias (pdr_core.allan.allan_deviation_model)."""
+    Gauss-Markov bias (pdr_core.sensors.allan.allan_deviation_model)."""
     curve = allan_deviation_model(np.logspace(-3, 5, 1600), units.arw_to_si(arw_deg_per_sqrt_h),
                                   np.radians(gm_sigma_deg_per_s), tau_s)
     return float(curve[first_minimum(curve)] / units.deg_per_h_to_si(1))
@@ -193,7 +197,7 @@ def allan_minimum_deg_per_h(arw_deg_per_sqrt_h: float, gm_sigma_deg_per_s: float
 def allan_bias_sigma(beta_radps: float, t_beta_s: float, arw_rad_per_sqrt_s: float) -> float:
     """σ [rad/s] of the AR(1) gyro bias of correlation time t_β [s] whose modelled Allan
     deviation with the white noise σ_ν [rad/√s] has its minimum β [rad/s]
-    (pdr_core.allan.gm_sigma_for_bias_instability); ValueError naming the keys when β
+    (pdr_core.sensors.allan.gm_sigma_for_bias_instability); ValueError naming the keys when β
     leaves no such minimum."""
     try:
         return gm_sigma_for_bias_instability(beta_radps, t_beta_s, arw_rad_per_sqrt_s)
@@ -220,7 +224,7 @@ class OrientationConfig:
     keys above ``updates`` serve both.
 
     The sensor noise. ``imu_profile`` names the gyroscope: its white noise, bias
-    instability β and correlation time t_β are those pdr_core.imu_profiles gives the
+    instability β and correlation time t_β are those pdr_core.sensors.imu_profiles gives the
     simulator, and its initial bias σ is in :data:`PROFILE_INITIAL_BIAS_SIGMA_DEG_PER_S`;
     each of the four keys given (not None) overrides the profile's. The default,
     calibrated_phone, is a phone's gyroscope as its OS hands it to apps, its turn-on bias
@@ -240,8 +244,8 @@ class OrientationConfig:
     Eq. (3.8) to the estimate as written. ``bias_model`` sets σ_bias:
 
     - allan (default): the σ of the Gauss-Markov bias whose modelled Allan deviation (white
-      noise σ_ν and the AR(1), pdr_core.allan.allan_deviation_model) has its minimum β
-      (pdr_core.allan.gm_sigma_for_bias_instability): what ``pdr-sim allan`` fits and the
+      noise σ_ν and the AR(1), pdr_core.sensors.allan.allan_deviation_model) has its minimum β
+      (pdr_core.sensors.allan.gm_sigma_for_bias_instability): what ``pdr-sim allan`` fits and the
       simulator draws; 25 °/h for β = 10 °/h, t_β = 200 s, σ_ν = 0.6 °/√h;
     - thesis: σ_bias = β/√τ, Eq. (3.11) as written (0.07 °/h for the same sensor at
       100 Hz: the filter holds the bias for constant); the reproductions of the thesis'
@@ -348,7 +352,7 @@ class OrientationConfig:
     def bias_sigma_radps(self) -> float:
         """σ_bias [rad/s] of the AR(1) bias: ``bias_model`` allan, the σ of the Gauss-Markov
         bias (correlation time t_β) whose Allan deviation with the white noise σ_ν has its
-        minimum β (pdr_core.allan.gm_sigma_for_bias_instability); thesis, β/√τ
+        minimum β (pdr_core.sensors.allan.gm_sigma_for_bias_instability); thesis, β/√τ
         (Eq. (3.11), τ of Eq. (3.10))."""
         beta = units.deg_per_h_to_si(self.noise("bias_instability_deg_per_h"))
         if self.bias_model == "thesis":

@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from pdr_core.rotations import rotation_from_euler, tilt_from_specific_force
+from pdr_core.maths.rotations import rotation_from_euler, tilt_from_specific_force
 from pdr_pocket.compiled_gravity import gravity_loop, new_gravity_state
 from pdr_pocket.compiled_mounting import (
     MountingInputs,

@@ -12,9 +12,9 @@ part, so its swing is a fraction of that: the pitch line would shorten every str
 39 % on the simulated back-pocket walk), while the cadence says how far a person walks.
 
 The swing ratio ρ = median Δθ / Δθ_thigh(median f), over the last
-:data:`~pdr_core.gait.PLACEMENT_WINDOW_STEPS` level gait cycles, names the placement:
+:data:`~pdr_core.walking.gait.PLACEMENT_WINDOW_STEPS` level gait cycles, names the placement:
 
-- ρ ≥ :data:`~pdr_core.gait.THIGH_SWING_MIN_RATIO`: a thigh's swing, the **front pocket**,
+- ρ ≥ :data:`~pdr_core.walking.gait.THIGH_SWING_MIN_RATIO`: a thigh's swing, the **front pocket**,
   where the pitch line holds;
 - below it: not a thigh's swing, the **back pocket**: strides from the cadence-and-height
   line (Eq. (4.3), scaled by ``person.height_m`` as every uncalibrated line is);
@@ -33,7 +33,7 @@ walk: ``pdr-pocket run`` writes no step. A limit: a phone swung in the hand like
 pendulum swings once per cycle too (OxIOD's multi_users_user2_seq4: 2.0 footfalls per
 cycle, a swing of 0.7 of a thigh's) and is taken for a back pocket.
 
-It is judged only at a cadence of at least :data:`~pdr_core.gait.PLACEMENT_MIN_CADENCE_HZ`
+It is judged only at a cadence of at least :data:`~pdr_core.walking.gait.PLACEMENT_MIN_CADENCE_HZ`
 (90 steps/min): slower, the cadence line does not hold and a slow thigh swings as little
 as a back pocket, so the placement stays as it was judged last (unknown at first).
 
@@ -50,7 +50,7 @@ from statistics import median
 
 import numpy as np
 
-from pdr_core.gait import (
+from pdr_core.walking.gait import (
     PLACEMENT_MIN_CADENCE_HZ,
     PLACEMENT_WINDOW_STEPS,
     THIGH_SWING_MIN_RATIO,

@@ -12,7 +12,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.collections import LineCollection
 
-from pdr_core.plot_layout import figure_title, height_axis, lay_out, top_view, walk_summary
+from pdr_core.evaluation.plot_layout import (
+    figure_title,
+    height_axis,
+    lay_out,
+    top_view,
+    walk_summary,
+)
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
 from pdr_pocket.orientation import FIELD_JUDGEMENTS, AttitudeEstimate
 
@@ -24,8 +30,8 @@ def attitude_png(estimate: AttitudeEstimate, errors_deg: np.ndarray | None,
                  heading_deg: np.ndarray | None, true_bias: np.ndarray | None, path: Path,
                  source: str | Path) -> None:
     """Three panels against minutes: roll and pitch errors [°] with ±σ (±σ alone without
-    a truth); the heading error [°] (pdr_core.attitude_metrics) with ±σ, the samples whose
-    field reading was refused as disturbed shaded; the three gyro biases [°/s] with ±σ and
+    a truth); the heading error [°] (pdr_core.evaluation.attitude_metrics) with ±σ, the samples
+    whose field reading was refused as disturbed shaded; the three gyro biases [°/s] with ±σ and
     the true values. The title: ``source``'s name and the final roll, pitch, yaw and
     heading errors (or "no truth")."""
     t_s = estimate.t
@@ -113,7 +119,7 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
                    warnings: list[str] = ()) -> None:
     """The 3D path (``positions`` (N + 1, 3) [m] from the start, one point per step,
     coloured by activity (pdr_core.vocabulary.Activity.colour); the height axis fitted to
-    them, a floor high at least with stairs steps, pdr_core.plot_layout), the top view
+    them, a floor high at least with stairs steps, pdr_core.evaluation.plot_layout), the top view
     with the 1σ position ellipses of :func:`ellipse_steps` (to scale unless it is a strip,
     then stretched and labelled so; the limits are the path's and the truth's, so
     ellipses wider than the walk are cut at the frame rather than shrinking the path to a
@@ -124,7 +130,7 @@ def navigation_png(positions: np.ndarray, covariances: np.ndarray, activity: np.
     and ``associations`` (pairs of positions), the top view marks them, as Muñoz Díaz
     2016, Figs. 6.8-6.9. The title: ``source``'s name, the steps and ``final_error_m``
     (against a truth) or ``loop_gap_m`` (the report's); the report's ``warnings`` in full
-    in a box below the axes (pdr_core.plot_layout.lay_out)."""
+    in a box below the axes (pdr_core.evaluation.plot_layout.lay_out)."""
     fig = plt.figure(figsize=(15, 10))
     grid = fig.add_gridspec(2, 4)
     ax3 = fig.add_subplot(grid[0, :2], projection="3d")

@@ -10,12 +10,12 @@ drift corrections, writing its messages (:mod:`pdr_pocket.messages`), its report
   warnings, its refusal and its report. Three jobs: :func:`navigate_bag` (the navigator
   on the bag, a :class:`PocketRun`), :func:`report_of` (what it gave) and
   :func:`write_run` (the messages, the report and the plot, :func:`plot_run`). Its input
-  is checked first (pdr_core.walk_plausibility: a median |f| no walk gives, a swing many
+  is checked first (pdr_core.walking.walk_plausibility: a median |f| no walk gives, a swing many
   times a thigh's): each problem a warning, the first of the report's, or with ``strict``
   an InputError. A phone that is not in a
   pocket (pdr_pocket.placement's verdict) is refused: its report and attitude are
   written, no step, pose or path (``report["refused"]``; the CLI exits
-  pdr_core.walk_plausibility.EXIT_REFUSED, 3);
+  pdr_core.walking.walk_plausibility.EXIT_REFUSED, 3);
 - :func:`run_record`: what ``pdr-pocket evaluate`` (pdr_pocket.evaluation) needs beyond
   the messages, kept in the output's metadata.yaml;
 - :func:`magnetometer_use`: the report's ``inputs.magnetometer`` (``inputs.barometer``:
@@ -31,7 +31,11 @@ import numpy as np
 
 from pdr_core.frames import MAP_FRAME
 from pdr_core.report_files import write_report
-from pdr_core.walk_plausibility import implausible_input, specific_force_problem, swing_problem
+from pdr_core.walking.walk_plausibility import (
+    implausible_input,
+    specific_force_problem,
+    swing_problem,
+)
 from pdr_pocket.compiled_mounting import CHANGES
 from pdr_pocket.inputs import PocketInputs
 from pdr_pocket.messages import (
@@ -68,7 +72,7 @@ def _drift_against_truth(log, reader, truth, inputs, corrected, truth_positions,
     from scipy.spatial.transform import Rotation
 
     from pdr_core import topics
-    from pdr_core.metrics import truth_orientation_at
+    from pdr_core.evaluation.metrics import truth_orientation_at
     from pdr_drift.drift_report import final_errors, truth_report
 
     record = reader.custom_data("pdr.simulation") or {}
@@ -155,7 +159,7 @@ def navigate_bag(bag: Path, config, mag_calibration: Path | None = None, *,
     landmark drift corrections (pdr_pocket.drift_loop); its input checked (module
     docstring). Nothing is written: :func:`report_of` says what it gave."""
     from pdr_core import topics
-    from pdr_core.metrics import truth_at
+    from pdr_core.evaluation.metrics import truth_at
     from pdr_pocket.inputs import read_pocket_bag
     from pdr_pocket.navigator import PocketNavigator
 
@@ -229,9 +233,9 @@ def write_run(run: PocketRun, report: dict, out: Path, floor_height_m: float, *,
     import yaml
 
     from pdr_core import topics
-    from pdr_core.bag import BagWriter
-    from pdr_core.msgtypes import PATH
-    from pdr_core.nav_path import encode_path
+    from pdr_core.io.bag import BagWriter
+    from pdr_core.io.msgtypes import PATH
+    from pdr_core.io.nav_path import encode_path
 
     inputs, result, steps, stamps = run.inputs, run.result, run.result.steps, run.stamps
     record_text = yaml.safe_dump(run_record(

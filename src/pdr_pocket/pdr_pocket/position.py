@@ -57,8 +57,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
-from pdr_core.chi2 import chi2_quantile
+from pdr_core.maths.angles import wrap_angle
+from pdr_core.maths.chi2 import chi2_quantile
 from pdr_pocket.config import PositionConfig
 
 X, Y, Z, PSI, EPS, B = range(6)

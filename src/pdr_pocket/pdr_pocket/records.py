@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.barometry import HeightChangeKind
+from pdr_core.sensors.barometry import HeightChangeKind
 from pdr_core.vocabulary import Ride
 from pdr_pocket.orientation import AttitudeEstimate
 

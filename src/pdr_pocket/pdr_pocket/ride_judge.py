@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.barometry import PRESSURE_NOISE_RATE_HZ, HeightChangeKind
+from pdr_core.sensors.barometry import PRESSURE_NOISE_RATE_HZ, HeightChangeKind
 from pdr_pocket.config import BarometerConfig
 from pdr_pocket.height_records import Epochs, HeightCoefficients, epoch_count
 

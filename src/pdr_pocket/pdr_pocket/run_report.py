@@ -3,10 +3,10 @@
 - :func:`navigation_report`: without truth, steps, footfalls, the distance walked (sum of
   the strides, ``step_distance_m``), height gained and lost, floors (:func:`summary`),
   and the walk's ``duration_s``, ``distance_m`` and ``loop_gap_m`` of
-  :func:`pdr_core.metrics.walk_figures` (from the first IMU sample and the origin to the
+  :func:`pdr_core.evaluation.metrics.walk_figures` (from the first IMU sample and the origin to the
   last step's confirmation, the stamp of its messages: ``pdr-drift run`` gives the same
   figures for the same walk); with ``ground_truth/pose`` ``distance_m`` is the true
-  path's and the error metrics of pdr_core.metrics on the per-step positions replace the
+  path's and the error metrics of pdr_core.evaluation.metrics on the per-step positions replace the
   loop gap; with ``ground_truth/step`` (the simulator's) steps matched, missed and false
   (a true step is found when one detection falls within its cycle, :func:`match_steps`),
   the activity confusion matrix, the distance error % (Muñoz Díaz 2016, Table 4.4: total
@@ -14,7 +14,7 @@
   :func:`riser_errors`) and the floor error. Every field, its unit and when it is there:
   docs/reports.md;
 - :func:`attitude_report`: ``pdr-pocket attitude``'s roll, pitch and yaw RMSE, the tilt
-  and the heading error (pdr_core.attitude_metrics) against ``ground_truth/pose``, the
+  and the heading error (pdr_core.evaluation.attitude_metrics) against ``ground_truth/pose``, the
   gyro bias estimates and their final errors against the simulation's true biases, and
   the share of samples each update ran.
 """
@@ -22,22 +22,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
-from pdr_core.attitude_metrics import (
+from pdr_core.evaluation.attitude_metrics import (
     HEADING_REFERENCE_S,
     error_summary,
     heading_error,
     level_axis,
     tilt_error,
 )
-from pdr_core.batch import MessageBatch
-from pdr_core.consistency import (
+from pdr_core.evaluation.consistency import (
     attitude_consistency,
     checkpoints,
     consistency_report,
     has_attitude,
 )
-from pdr_core.metrics import error_report
+from pdr_core.evaluation.metrics import error_report
+from pdr_core.io.batch import MessageBatch
+from pdr_core.maths.angles import wrap_angle
 from pdr_core.vocabulary import ACTIVITY_NAMES, Activity
 from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
@@ -102,8 +102,8 @@ def true_staircases(activity: np.ndarray, vertical: np.ndarray, end_s: np.ndarra
 
 
 def step_consistency(steps: list[StepRecord], truth_positions: np.ndarray) -> dict:
-    """The report's ``consistency`` (pdr_core.consistency): the position NEES of the first
-    step confirmed in each second, with the covariance ``pdr/pocket/pose`` publishes,
+    """The report's ``consistency`` (pdr_core.evaluation.consistency): the position NEES of the
+    first step confirmed in each second, with the covariance ``pdr/pocket/pose`` publishes,
     against ``truth_positions`` (N + 1, 3) [m] at the start and at each step's stamp."""
     at = checkpoints(np.r_[0.0, [s.t_confirm for s in steps]])
     cov = np.reshape([s.covariance for s in steps], (-1, 3, 3))[at - 1]
@@ -198,7 +198,7 @@ def attitude_errors(estimate: AttitudeEstimate, truth_quat: np.ndarray) -> np.nd
 
 
 def truth_heading_error(estimate: AttitudeEstimate, truth_quat: np.ndarray) -> np.ndarray:
-    """The heading error [rad] of pdr_core.attitude_metrics (the truth's most level body
+    """The heading error [rad] of pdr_core.evaluation.attitude_metrics (the truth's most level body
     axis, relative to the first seconds), (N,)."""
     from scipy.spatial.transform import Rotation
 
@@ -212,7 +212,7 @@ def attitude_report(inputs: PocketInputs, estimate: AttitudeEstimate,
     """The report of ``pdr-pocket attitude`` (angles in degrees, biases in °/s): the
     updates that ran and the detectors' shares, the bias estimates (final, with σ, and
     the largest |b| of the walk), and with a truth the roll, pitch and yaw RMSE and final
-    errors, the tilt error and the heading error of pdr_core.attitude_metrics (every
+    errors, the tilt error and the heading error of pdr_core.evaluation.attitude_metrics (every
     field: docs/reports.md)."""
     report: dict = {"samples": len(inputs.t), "duration_s": float(inputs.t[-1]),
                     "dropped": inputs.counts,

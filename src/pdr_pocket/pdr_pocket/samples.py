@@ -5,7 +5,7 @@ does not have is ``None``, never zeros.
 robot_localization turns every input into one measurement type in one time-ordered queue;
 VQF takes each sensor through its own entry point. Here the IMU's samples set the time
 base (the orientation filter runs at their rate, Muñoz Díaz 2016, chapter 3), and every
-other sensor is paired with them by stamp before it comes in (pdr_core.magnetometer_pairing
+other sensor is paired with them by stamp before it comes in (pdr_core.sensors.magnetometer_pairing
 offline, pdr_pocket.streaming live): a chunk is one named stream, cut and joined as one.
 
 A new sensor read more slowly than the IMU is a new field here, a line of
@@ -29,7 +29,7 @@ class Samples:
     - ``mag`` (N, 3) [T], or None: no magnetometer; a NaN row: no reading paired with
       that sample;
     - ``pressure`` (N,) [Pa], or None: no barometer; each reading on the first sample
-      stamped at or after it (pdr_core.barometry.readings_at_samples), NaN elsewhere.
+      stamped at or after it (pdr_core.sensors.barometry.readings_at_samples), NaN elsewhere.
     """
 
     t: np.ndarray

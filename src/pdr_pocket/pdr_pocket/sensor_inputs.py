@@ -5,7 +5,7 @@ per reading: its name (the :class:`~pdr_pocket.samples.Samples` field it fills),
 topic and message type, and the message field that carries the value, in SI units.
 Offline (pdr_pocket.inputs), live (pdr_pocket.streaming) and in the node
 (pdr_pocket.nodes.pocket_pdr) each one is read, checked, paired with the IMU's samples
-(pdr_core.sample_pairing) and held for in the same way, so adding a sensor is a line
+(pdr_core.sensors.sample_pairing) and held for in the same way, so adding a sensor is a line
 here, a field of Samples, a topic name (and a message type's), the docs that list the
 inputs and the code that uses it (docs/extending.md, "Adding a sensor input").
 """
@@ -14,13 +14,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pdr_core import topics
-from pdr_core.msgtypes import FLUID_PRESSURE
+from pdr_core.io.msgtypes import FLUID_PRESSURE
 
 
 @dataclass(frozen=True)
 class SensorInput:
     """A sensor by name: the Samples field ``name``, the bag ``topic`` (pdr_core.topics),
-    its message type ``msgtype`` (pdr_core.msgtypes, e.g. "sensor_msgs/msg/FluidPressure")
+    its message type ``msgtype`` (pdr_core.io.msgtypes, e.g. "sensor_msgs/msg/FluidPressure")
     and the message ``field`` that holds the value in ``unit``."""
 
     name: str

@@ -17,11 +17,11 @@ thigh pitch's shape (pdr_pocket.activity); the height a step climbs comes from i
 amplitude through Eqs. (4.4)-(4.5), and a run of steps the pitch calls stairs becomes a
 staircase only when that height is a staircase's too. With r̄ = mean |v| / 2 the run's
 riser (Section 4.3.2's average; a gait cycle is two footfalls, one riser each,
-pdr_core.stair_geometry.RISERS_PER_GAIT_CYCLE):
+pdr_core.walking.stair_geometry.RISERS_PER_GAIT_CYCLE):
 
 1. every v has the run's sign (up: v > 0);
 2. r̄ lies within [``riser_min_m``, ``riser_max_m``]: the building codes' span, IBC 2015's
-   4 in to the IRC's spiral 9½ in (0.102–0.241 m, pdr_core.stair_geometry). Eqs. (4.4)-
+   4 in to the IRC's spiral 9½ in (0.102–0.241 m, pdr_core.walking.stair_geometry). Eqs. (4.4)-
    (4.5) map a level gait's swing to no stair: a level swing of 30–40° called a step up
    climbs 0.08–0.12 m a riser, called a step down 0.20–0.30 m, where a step up swings
    about 53° and a step down about 27° on 17 cm risers (Section 4.3.1);
@@ -36,7 +36,7 @@ pdr_core.stair_geometry.RISERS_PER_GAIT_CYCLE):
    18/2 + 1 (its two end cycles may hold one riser each). A landing the pitch read as
    stairs (its one or two cycles, or samples lost over it) joins two flights into one run:
    where the heading turned by at least a landing's turn over the run's last flight
-   (pdr_core.stair_geometry.LANDING_TURN_MIN_DEG, an L-shaped stair's quarter turn), the
+   (pdr_core.walking.stair_geometry.LANDING_TURN_MIN_DEG, an L-shaped stair's quarter turn), the
    run is a staircase of several flights and a new flight starts at the step that
    overflows, to be shown again (rule 4); a straight run is refused from there.
 
@@ -62,13 +62,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
-from pdr_core.stair_geometry import (
+from pdr_core.maths.angles import wrap_angle
+from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
+from pdr_core.walking.stair_geometry import (
     FLIGHT_MIN_RISERS,
     LANDING_TURN_MIN_DEG,
     RISERS_PER_GAIT_CYCLE,
 )
-from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity
 from pdr_pocket.config import StairsConfig
 
 # the gait cycles a run needs to show a flight's least risers (rule 4): two

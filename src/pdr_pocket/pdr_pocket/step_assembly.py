@@ -4,7 +4,7 @@ stream the pitch source gives (pdr_pocket.pitch_source) to steps with their pose
 - the step detector (:mod:`pdr_pocket.steps`): the pitch maxima (Section 4.1), or
   without a gyroscope the footfalls;
 - per step: the activity (Section 4.1.3), the stride (the placement's model, bounded by
-  what a person walks, pdr_pocket.placement and pdr_core.gait), the vertical displacement
+  what a person walks, pdr_pocket.placement and pdr_core.walking.gait), the vertical displacement
   (Eqs. (4.4)-(4.5)) checked against a staircase's (pdr_pocket.stairs), the heading (the
   circular mean of the thigh's heading over the cycle, which cancels the hip sway, less
   ``heading_drift_correction_deg_per_s`` times the time: the offline drift correction)
@@ -24,10 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from pdr_core.angles import wrap_angle
-from pdr_core.gait import MAX_WALKING_SPEED_MPS, WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
-from pdr_core.rotations import about_vertical, covariance_about_vertical
+from pdr_core.maths.angles import wrap_angle
+from pdr_core.maths.rotations import about_vertical, covariance_about_vertical
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity, Ride
+from pdr_core.walking.gait import MAX_WALKING_SPEED_MPS, WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
 from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
 from pdr_pocket.compiled_peaks import EV_MAX, EV_MIN, EV_T_CONFIRM, EV_T_MAX
 from pdr_pocket.config import PocketConfig
@@ -231,7 +231,7 @@ class StepAssembly:
 
     def speed_warning(self) -> str | None:
         """What to say when the level steps, taken together, walk faster than a person
-        walks (pdr_core.gait.MAX_WALKING_SPEED_MPS; None otherwise)."""
+        walks (pdr_core.walking.gait.MAX_WALKING_SPEED_MPS; None otherwise)."""
         level = [s for s in self.steps if s.activity == Activity.WALKING]
         walked_s = sum(s.duration for s in level)
         if not walked_s:
@@ -245,7 +245,7 @@ class StepAssembly:
 
     def _walked(self, x: StrideInputs) -> float:
         """The stride [m] of the placement's model (pdr_pocket.placement), at most what a
-        person walks at the cycle's cadence (pdr_core.gait.stride_bound_m); a stride cut to
+        person walks at the cycle's cadence (pdr_core.walking.gait.stride_bound_m); a stride cut to
         it is counted."""
         model = self.placement.add(x).model
         length = self.strides[model].length(x)

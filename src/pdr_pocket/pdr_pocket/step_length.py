@@ -38,7 +38,7 @@ import numpy as np
 
 from pdr_core.config_files import check_positive
 from pdr_core.errors import InputError
-from pdr_core.gait import POPULATION_HEIGHT_M
+from pdr_core.walking.gait import POPULATION_HEIGHT_M
 
 MIN_CALIBRATION_STEPS = 20
 MIN_AMPLITUDE_SPREAD_DEG = 3.0      # a slope needs Δθ spread over at least this (1σ)
@@ -118,7 +118,7 @@ class Scaled:
 
 def height_scale(config: StepLengthConfig, height_m: float | None) -> float:
     """The factor on an uncalibrated line's strides: height / POPULATION_HEIGHT_M
-    (:mod:`pdr_core.gait`; 1 for a calibrated line or an unknown height)."""
+    (:mod:`pdr_core.walking.gait`; 1 for a calibrated line or an unknown height)."""
     return 1.0 if config.calibrated or height_m is None else height_m / POPULATION_HEIGHT_M
 
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.gait import GAIT_MIN_FOOTFALLS
+from pdr_core.walking.gait import GAIT_MIN_FOOTFALLS
 from pdr_pocket.compiled_biquads import sos_filter
 from pdr_pocket.compiled_peaks import (
     EV_MAX,

@@ -7,10 +7,10 @@ It applies the offline rules one message at a time, so the node and ``pdr-pocket
 (and ``attitude``) give the same estimates on the same bag (the navigator gives the same
 result whatever the chunks, pdr_pocket.navigator):
 
-- an IMU sample with NaN/Inf, beyond any IMU's range (pdr_core.imu_checks.plausible), or
+- an IMU sample with NaN/Inf, beyond any IMU's range (pdr_core.sensors.imu_checks.plausible), or
   with a stamp that does not increase, is dropped and counted;
 - each IMU sample pairs with the latest magnetometer reading stamped at or before it and
-  at most :data:`~pdr_core.magnetometer_pairing.MAG_MAX_AGE_S` older, as offline. The two
+  at most :data:`~pdr_core.sensors.magnetometer_pairing.MAG_MAX_AGE_S` older, as offline. The two
   topics travel separately, so a reading may arrive after IMU samples stamped later than
   it: a sample is held until a reading stamped at or after it arrives (at once when the
   magnetometer keeps pace) or until ``mag_wait_s`` of IMU data has come after it. A
@@ -18,7 +18,7 @@ result whatever the chunks, pdr_pocket.navigator):
   :attr:`mag_stale`) and only pauses the magnetic updates: samples processed without a
   reading for ``mag_wait_s`` of IMU data (:attr:`mag_paused`, what the node reports);
 - the other sensors' readings (pdr_pocket.sensor_inputs: ``imu/pressure``) land each on
-  the first sample stamped at or after them, as offline (pdr_core.sample_pairing): once a
+  the first sample stamped at or after them, as offline (pdr_core.sensors.sample_pairing): once a
   sensor's reading has come, a sample is held, as for the magnetometer, until a reading
   stamped at or after it has come or ``mag_wait_s`` of IMU data has passed since the
   sensor's last; a reading that is not finite, or stamped at or before the last kept
@@ -34,13 +34,13 @@ result whatever the chunks, pdr_pocket.navigator):
   depend on when the call came. ``pdr-pocket run --drift online`` applies it at that same
   point (pdr_pocket.drift_loop), so the two agree at any replay speed. The navigator's
   state is kept at most every :data:`CHECKPOINT_EVERY_S` with the inputs processed since
-  (pdr_core.checkpoints), for ``correction_window_s`` of IMU data; the corrections taken
+  (pdr_core.corrections.checkpoints), for ``correction_window_s`` of IMU data; the corrections taken
   are inputs too, so one that reaches further back runs them again in their place. A
   stamp older than the window, or later than the last sample processed, is refused by
   name; a zero stamp applies the correction now, to the current state. The steps run
-  again come back with the answer (pdr_core.replay.CorrectionResult, their
+  again come back with the answer (pdr_core.corrections.replay.CorrectionResult, their
   :class:`Revised`): they replace the ones given out before the call came. The replay
-  is pdr_core.replay's, the foot's too.
+  is pdr_core.corrections.replay's, the foot's too.
 """
 from __future__ import annotations
 
@@ -48,12 +48,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.correction import Correction
+from pdr_core.corrections.correction import Correction
+from pdr_core.corrections.replay import CorrectionResult, Replay, TakenCorrection
 from pdr_core.errors import InputError
-from pdr_core.imu_checks import check_mag_units, check_units, plausible
-from pdr_core.magnetometer_pairing import latest_readings
-from pdr_core.replay import CorrectionResult, Replay, TakenCorrection
-from pdr_core.sample_pairing import readings_at_samples
+from pdr_core.sensors.imu_checks import check_mag_units, check_units, plausible
+from pdr_core.sensors.magnetometer_pairing import latest_readings
+from pdr_core.sensors.sample_pairing import readings_at_samples
 from pdr_pocket.arrivals import MAG, Arrivals
 from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.config import PocketConfig
@@ -201,7 +201,7 @@ class Readings:
 
     def take(self, stamps: np.ndarray, previous_ns: int | None) -> np.ndarray:
         """The readings on the samples stamped ``stamps`` [ns], the next to be processed
-        after the one stamped ``previous_ns`` (pdr_core.sample_pairing); those put on them
+        after the one stamped ``previous_ns`` (pdr_core.sensors.sample_pairing); those put on them
         are let go."""
         out = readings_at_samples(stamps, self.stamps, self.values, previous_ns)
         used = int(np.searchsorted(self.stamps, stamps[-1], side="right"))
@@ -521,7 +521,7 @@ class StreamingPocket:
             return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
         return self._counted(self.replay.correct(self, correction, self._time_s(stamp_ns)))
 
-    # --- the replay's side (pdr_core.replay.Replayable) -------------------------------
+    # --- the replay's side (pdr_core.corrections.replay.Replayable) -------------------------------
     @staticmethod
     def worker(state: PocketNavigator) -> PocketNavigator:
         """The navigator kept at a past instant (the replay's copy) runs the inputs again

@@ -1,10 +1,10 @@
 """The orientation filter's gyro bias model and its rest bias update (issue 40).
 
 - ``bias_model``: allan, the σ of the Gauss-Markov bias whose modelled Allan deviation
-  has its minimum at the bias instability β (what pdr_core.allan fits and the simulator
+  has its minimum at the bias instability β (what pdr_core.sensors.allan fits and the simulator
   draws), or thesis, σ_bias = β/√τ (Muñoz Díaz 2016, Eq. (3.11)); either drives the
   process noise σ_n² = σ_bias²(1 − e^{−2/τ}) of Eq. (3.9). Bad values are named.
-- ``imu_profile``: the gyroscope noise of a profile of pdr_core.imu_profiles for each key
+- ``imu_profile``: the gyroscope noise of a profile of pdr_core.sensors.imu_profiles for each key
   not given.
 - ZARU (Eq. (3.22)) at rest as VQF finds it (Laidig and Seel 2023): every rate of the
   window close to their mean, whatever the bias; the mean of the window's older half is
@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 from pdr_core import units
-from pdr_core.allan import gm_sigma_for_bias_instability
 from pdr_core.errors import InputError
-from pdr_core.imu_profiles import PROFILES
+from pdr_core.sensors.allan import gm_sigma_for_bias_instability
+from pdr_core.sensors.imu_profiles import PROFILES
 from pdr_pocket import compiled_orientation as k
 from pdr_pocket.config import pocket_config
 from pdr_pocket.orientation import OrientationFilter

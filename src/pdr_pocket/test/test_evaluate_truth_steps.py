@@ -12,11 +12,11 @@ import pytest
 import yaml
 
 from pdr_core import topics
-from pdr_core.bag import write_batches
-from pdr_core.batch import MessageBatch
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME
-from pdr_core.msgtypes import POSE_WITH_COVARIANCE_STAMPED, STEP
+from pdr_core.io.bag import write_batches
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import POSE_WITH_COVARIANCE_STAMPED, STEP
 from pdr_pocket.evaluation import TruthStepsFormat, read_truth_steps
 from pdr_pocket.messages import pose_fields, step_fields
 from pdr_pocket.pocket_offline import RUN_RECORD, run_record

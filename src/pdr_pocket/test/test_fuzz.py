@@ -24,8 +24,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from pdr_core.bag import BagReader
-from pdr_core.correction import from_request
+from pdr_core.corrections.correction import from_request
+from pdr_core.io.bag import BagReader
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.streaming import BLOCK_S, UNIT_CHECK_SAMPLES, StreamingPocket
 from wstest import ROOT, drop_reason

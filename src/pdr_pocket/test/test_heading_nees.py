@@ -8,7 +8,7 @@ so its mean over the walk lies, 95 % of the time, within [χ²_{2.5 %}(M), χ²_
 (Bar-Shalom, Li and Kirubarajan 2001, Section 5.4; the mean over time is tighter still,
 so the interval of one instant is the conservative test). The walks: Theresienhöhe
 (Muñoz Díaz 2016, Fig. 5.7: 22 min, three laps with stops), a phone in the front pocket
-with the ``consumer_phone`` errors of pdr_core.imu_profiles (a raw MEMS gyroscope), no
+with the ``consumer_phone`` errors of pdr_core.sensors.imu_profiles (a raw MEMS gyroscope), no
 magnetometer, the default filter told the sensor (``imu_profile: consumer_phone``,
 ``bias_model: allan``, the rest update on), the initial yaw drawn about the truth with the
 σ it is given. The thesis' bias model, Eq. (3.11) as
@@ -22,7 +22,7 @@ from functools import cache
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from pdr_core.chi2 import chi2_quantile
+from pdr_core.maths.chi2 import chi2_quantile
 from pdr_pocket.compiled_orientation_data import ATT_UP
 from pdr_pocket.orientation import OrientationFilter
 from pdr_pocket.orientation_config import OrientationConfig

@@ -12,9 +12,9 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from pdr_core.atmosphere import pressure_pa
-from pdr_core.barometry import PA_PER_HPA, HeightChangeKind
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from pdr_core.sensors.atmosphere import pressure_pa
+from pdr_core.sensors.barometry import PA_PER_HPA, HeightChangeKind
 from pdr_core.vocabulary import FLOOR_HEIGHT_M
 from pdr_pocket.config import BarometerConfig
 from pdr_pocket.height_filter import HeightFilter

@@ -1,7 +1,7 @@
 """The height filter at a phone's barometer rates (issue 54): a reading weighs the time it
 spans, held readings add nothing, a barometer whose offset jumps too often stops being
 fused (and says so), and a simulated level pocket walk with an iPhone's 1 Hz barometer
-(pdr_core.imu_profiles.IPHONE_BAROMETER) stays level.
+(pdr_core.sensors.imu_profiles.IPHONE_BAROMETER) stays level.
 
 The user's iPhone walk ended 0.34 m up with one step labelled up and one down: the pitch
 took two level steps for stairs, the flight check held each back and refused it (both
@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 
 from pdr_core import topics
-from pdr_core.atmosphere import pressure_pa
-from pdr_core.barometry import OFFSET_JUMPS_MAX_PER_MIN
 from pdr_core.errors import InputWarning
-from pdr_core.imu_profiles import IPHONE_BAROMETER
+from pdr_core.sensors.atmosphere import pressure_pa
+from pdr_core.sensors.barometry import OFFSET_JUMPS_MAX_PER_MIN
+from pdr_core.sensors.imu_profiles import IPHONE_BAROMETER
 from pdr_core.vocabulary import Activity
 from pdr_pocket.config import BarometerConfig, load_pocket_config
 from pdr_pocket.height_filter import HeightFilter

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pdr_core.attitude_metrics import heading_error
+from pdr_core.evaluation.attitude_metrics import heading_error
 from pdr_pocket.config import load_pocket_config
 from pdr_pocket.orientation import OrientationFilter
 from pdr_pocket.orientation_config import OrientationConfig

@@ -13,10 +13,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pdr_core.correction import Correction
+from pdr_core.corrections.correction import Correction
 from pdr_core.errors import InputError
-from pdr_core.gait import PLACEMENT_WINDOW_STEPS
 from pdr_core.vocabulary import Activity
+from pdr_core.walking.gait import PLACEMENT_WINDOW_STEPS
 from pdr_pocket.compiled_mounting import CHANGES
 from pdr_pocket.config import (
     MountingConfig,

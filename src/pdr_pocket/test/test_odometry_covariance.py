@@ -11,7 +11,7 @@ from functools import cache
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.odometry import UNKNOWN_VARIANCE
+from pdr_core.io.odometry import UNKNOWN_VARIANCE
 from pdr_core.vocabulary import STAIRS_ACTIVITIES
 from pdr_pocket.config import PocketConfig, PositionConfig
 from pdr_pocket.messages import step_batches

@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from pdr_core.small_matrix import rodrigues
+from pdr_core.maths.small_matrix import rodrigues
 from pdr_pocket import compiled_attitude, compiled_gait_window
 from pdr_pocket import compiled_orientation as k
 from pdr_pocket import compiled_orientation_measurements as km

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pdr_core.gait import (
+from pdr_core.walking.gait import (
     PLACEMENT_MIN_CADENCE_HZ,
     PLACEMENT_WINDOW_STEPS,
     THIGH_SWING_MIN_RATIO,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from matplotlib.inset import InsetIndicator
 
-from pdr_core.plot_layout import MIN_FLOORS_SPAN_M, MIN_LEVEL_SPAN_M
+from pdr_core.evaluation.plot_layout import MIN_FLOORS_SPAN_M, MIN_LEVEL_SPAN_M
 from pdr_core.vocabulary import Activity
 from pdr_pocket import plots
 from pdr_pocket.orientation import AttitudeEstimate

@@ -11,8 +11,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from pdr_core.stair_geometry import RISER_MAX_M, RISER_MIN_M
 from pdr_core.vocabulary import Activity
+from pdr_core.walking.stair_geometry import RISER_MAX_M, RISER_MIN_M
 from pdr_pocket.config import StairsConfig
 from pdr_pocket.stairs import Staircases, flight_problem, max_flight_cycles
 
@@ -140,7 +140,7 @@ def test_the_rule_on_whole_runs():
     assert "more than a flight" in flight_problem(DOWN, [-0.34] * 11, config)
     # the first step of a flight may be its odd one: only its sign counts before a second
     assert flight_problem(DOWN, [-0.6], config, whole=False) is None
-    # the edges are the codes' (pdr_core.stair_geometry)
+    # the edges are the codes' (pdr_core.walking.stair_geometry)
     assert flight_problem(UP, [2.001 * RISER_MIN_M] * 3, config) is None
     assert flight_problem(UP, [1.999 * RISER_MAX_M] * 3, config) is None
     assert flight_problem(UP, [1.99 * RISER_MIN_M] * 3, config) is not None

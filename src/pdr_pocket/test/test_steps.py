@@ -81,7 +81,7 @@ def test_a_higher_peak_within_the_interval_takes_the_place_of_the_first():
 
 @pytest.mark.parametrize(("gap_s", "counted"), [(1.2, 5), (1.3, 3)])
 def test_footfalls_count_in_a_run_of_three(gap_s, counted):
-    """A gait is a rhythm (pdr_core.gait.GAIT_MIN_FOOTFALLS): a footfall farther than half
+    """A gait is a rhythm (pdr_core.walking.gait.GAIT_MIN_FOOTFALLS): a footfall farther than half
     the longest gait cycle (1.25 s) from the last starts a new run, and a run of two is
     dropped: a bump, or the phone taken out of the pocket. The run's first footfalls wait
     for the third, and the cycles keep the pitch of their own stretch."""

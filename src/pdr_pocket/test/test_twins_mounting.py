@@ -25,7 +25,7 @@ from hypothesis import Phase, assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from pdr_core.angles import wrap_angle
+from pdr_core.maths.angles import wrap_angle
 from pdr_pocket import compiled_mounting as km
 from pdr_pocket.compiled_mounting import (
     MountingInputs,

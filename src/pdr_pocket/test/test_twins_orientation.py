@@ -41,7 +41,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from pdr_core.constants import earth_rate_enu
-from pdr_core.rotations import rotation_from_euler
+from pdr_core.maths.rotations import rotation_from_euler
 from pdr_pocket import compiled_orientation as k
 from pdr_pocket import compiled_orientation_data as kd
 from pdr_pocket import compiled_orientation_measurements as km

@@ -22,7 +22,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.gait import GAIT_MIN_FOOTFALLS
+from pdr_core.walking.gait import GAIT_MIN_FOOTFALLS
 from pdr_pocket import compiled_peaks
 from pdr_pocket.compiled_peaks import (
     N_EVENT_COLUMNS,

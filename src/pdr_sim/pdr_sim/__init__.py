@@ -2,7 +2,7 @@
 the ``pdr-sim`` CLI.
 
 Data flow: scenario -> trajectory (the truth) -> true signals (:mod:`signals`) -> sensor
-errors (:mod:`pdr_core.imu_errors`) -> message batches (:mod:`simulation`) -> bag
+errors (:mod:`pdr_core.sensors.imu_errors`) -> message batches (:mod:`simulation`) -> bag
 (``pdr-sim generate``) or the live graph (:mod:`nodes.imu_sim`).
 
 - :mod:`scenario`: foot scenarios, segments of standing, walking, curves, turns and the

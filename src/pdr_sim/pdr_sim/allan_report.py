@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from pdr_core import units
-from pdr_core.allan import NoiseParameters, allan_deviation, noise_parameters
-from pdr_core.batch import MessageBatch
+from pdr_core.io.batch import MessageBatch
+from pdr_core.sensors.allan import NoiseParameters, allan_deviation, noise_parameters
 from pdr_sim import plots
 
 SENSORS = {"gyro": "angular_velocity", "accel": "linear_acceleration"}

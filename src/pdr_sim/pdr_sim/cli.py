@@ -30,15 +30,15 @@ import numpy as np
 import yaml
 
 from pdr_core import topics
-from pdr_core.bag import BagReader, add_strict_option, repair, write_batches
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.csv_export import export_bag, import_arguments
-from pdr_core.csv_import import (
+from pdr_core.errors import InputError, cli_parser, dispatch
+from pdr_core.io.bag import BagReader, add_strict_option, repair, write_batches
+from pdr_core.io.csv_export import export_bag, import_arguments
+from pdr_core.io.csv_import import (
     import_csv,
 )
-from pdr_core.errors import InputError, cli_parser, dispatch
-from pdr_core.imu_profiles import PROFILES
-from pdr_core.odometry import truth_tf
+from pdr_core.io.odometry import truth_tf
+from pdr_core.sensors.imu_profiles import PROFILES
 from pdr_sim.allan_report import allan_report
 from pdr_sim.cli_options import add_bag_output, add_csv_format, csv_format
 from pdr_sim.foot_trajectory import level_walk_like

@@ -1,6 +1,6 @@
 """The options ``pdr-sim``'s commands share: a bag to write (``--out``, ``--overwrite``,
 ``--compress``) and a CSV's format (its time, accelerometer, gyroscope columns, units and
-axes), read into :class:`pdr_core.csv_import.CsvImuFormat`.
+axes), read into :class:`pdr_core.io.csv_import.CsvImuFormat`.
 """
 from __future__ import annotations
 
@@ -8,13 +8,13 @@ import argparse
 from pathlib import Path
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.csv_import import (
+from pdr_core.errors import InputError
+from pdr_core.io.csv_import import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
     TIME_UNITS_S,
     CsvImuFormat,
 )
-from pdr_core.errors import InputError
 
 
 def columns(text: str) -> tuple[str, ...]:

@@ -1,6 +1,6 @@
-"""``pdr-sim``'s import commands: ``import-csv`` (a CSV log, pdr_core.csv_import),
-``import-oxiod`` (an OxIOD sequence, pdr_core.oxiod) and ``import-phone`` (a phone app's
-export folder, pdr_core.phone_import), each writing a bag of what it read and printing
+"""``pdr-sim``'s import commands: ``import-csv`` (a CSV log, pdr_core.io.csv_import),
+``import-oxiod`` (an OxIOD sequence, pdr_core.io.oxiod) and ``import-phone`` (a phone app's
+export folder, pdr_core.io.phone_import), each writing a bag of what it read and printing
 what it wrote.
 
 :func:`import_recording` is the same commands in Python (``pdr-eval``'s import of a CSV
@@ -19,10 +19,11 @@ from typing import NoReturn
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.bag import write_batches
-from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.csv_import import (
+from pdr_core.errors import CliParser, InputError
+from pdr_core.io.bag import write_batches
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.csv_import import (
     ACC_UNITS_MPS2,
     GYRO_UNITS_RADPS,
     MAG_UNITS_T,
@@ -33,11 +34,10 @@ from pdr_core.csv_import import (
     TIME_UNITS_S,
     import_csv,
 )
-from pdr_core.csv_rows import QUATERNION_NORM_TOLERANCE
-from pdr_core.errors import CliParser, InputError
-from pdr_core.odometry import truth_tf
-from pdr_core.oxiod import GLITCH_STEP_RAD, import_oxiod
-from pdr_core.phone_import import CONVENTION_SIGNS, import_phone
+from pdr_core.io.csv_rows import QUATERNION_NORM_TOLERANCE
+from pdr_core.io.odometry import truth_tf
+from pdr_core.io.oxiod import GLITCH_STEP_RAD, import_oxiod
+from pdr_core.io.phone_import import CONVENTION_SIGNS, import_phone
 from pdr_sim.cli_options import add_bag_output, add_csv_format, columns, csv_format
 from pdr_sim.phone_layouts import phone_layout
 

@@ -1,4 +1,4 @@
-"""``pdr-sim import-phone``'s options turned into a pdr_core.phone_import.PhoneLayout.
+"""``pdr-sim import-phone``'s options turned into a pdr_core.io.phone_import.PhoneLayout.
 
 - :func:`sensor_file`: ``FILE:TIME:X,Y,Z`` (or ``FILE:TIME:COL``) -> SensorFile, FILE
   relative to the export's folder;
@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from pdr_core.errors import InputError
-from pdr_core.phone_import import (
+from pdr_core.io.phone_import import (
     CONVENTION_SIGNS,
     PhoneLayout,
     SensorFile,

@@ -11,7 +11,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from pdr_core.plot_layout import figure_title, height_axis, lay_out, top_view, walk_summary
+from pdr_core.evaluation.plot_layout import (
+    figure_title,
+    height_axis,
+    lay_out,
+    top_view,
+    walk_summary,
+)
 from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity, LandmarkType
 from pdr_sim.trajectory import Trajectory
 
@@ -62,7 +68,7 @@ def windowed_speed(t: np.ndarray, speed: np.ndarray) -> tuple[np.ndarray, np.nda
 
 def trajectory_png(traj: Trajectory, path: Path, title: str, *, steps: int | None = None,
                    foot: bool = True) -> None:
-    """Top view (to scale unless it is a strip, pdr_core.plot_layout), position and
+    """Top view (to scale unless it is a strip, pdr_core.evaluation.plot_layout), position and
     attitude against time, the speed's mean and peak per window (:func:`windowed_speed`).
     ``foot``: a foot's trajectory, whose position and attitude panels are Zampella et al.
     2011's Figs. 1a and 1b (a thigh's are not)."""

@@ -41,7 +41,7 @@ or right), ``back_steps`` and ``crawl``, each with ``steps`` (strides) and an op
 ``step:`` and no per-stride ``variation`` beyond their own stride-time scatter.
 
 ``indoor`` adds a building's own field to the Earth's, spatially correlated
-(:class:`pdr_core.magnetic_field.IndoorDisturbance`, whose defaults, from the room of the
+(:class:`pdr_core.sensors.magnetic_field.IndoorDisturbance`, whose defaults, from the room of the
 OxIOD recordings, are the values above; ``indoor: {}`` takes them all, ``seed`` picks
 another building).
 
@@ -58,7 +58,7 @@ from typing import Any
 
 from pdr_core.config_files import check_keys, parse_yaml
 from pdr_core.errors import InputError
-from pdr_core.magnetic_field import Cylinder, IndoorDisturbance
+from pdr_core.sensors.magnetic_field import Cylinder, IndoorDisturbance
 from pdr_sim.foot_gaits import GAIT_TYPES, GaitSpec, gait_defaults, gait_keys, with_overrides
 from pdr_sim.step_pattern import TIMINGS
 

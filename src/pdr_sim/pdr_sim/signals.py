@@ -5,7 +5,7 @@
   Muñoz Díaz 2016, Eq. (3.24): ω_ie^n = ω_e·[0, cos λ, sin λ]ᵀ (ENU); omitted when
   no latitude is given (the transport rate of a pedestrian is negligible).
 - Magnetic field, Muñoz Díaz 2016, Eq. (3.26) without its noise term:
-  μ = C_b^nᵀ·H(p), H from :class:`pdr_core.magnetic_field.MagneticField`.
+  μ = C_b^nᵀ·H(p), H from :class:`pdr_core.sensors.magnetic_field.MagneticField`.
 
 All outputs are (N, 3) in the body frame (FLU), SI units.
 """
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2, earth_rate_enu
-from pdr_core.magnetic_field import MagneticField
+from pdr_core.sensors.magnetic_field import MagneticField
 from pdr_sim.trajectory import Trajectory
 
 

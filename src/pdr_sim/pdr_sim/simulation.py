@@ -3,7 +3,7 @@
 :func:`simulate` samples the trajectory model of the placement (the foot,
 :mod:`pdr_sim.foot_trajectory`, or the thigh in a trouser pocket,
 :mod:`pdr_sim.thigh_trajectory`), computes the true signals (:mod:`pdr_sim.signals`) and
-corrupts them with the profile's errors (:mod:`pdr_core.imu_errors`), all vectorised. The
+corrupts them with the profile's errors (:mod:`pdr_core.sensors.imu_errors`), all vectorised. The
 result holds ``imu/data`` (sensor_msgs/Imu, REP-145, covariances from the white-noise
 level), ``imu/mag`` (sensor_msgs/MagneticField) and ``ground_truth/pose``
 (geometry_msgs/PoseStamped, every sample) as batches; the foot placement adds
@@ -29,12 +29,14 @@ from typing import Any
 import numpy as np
 
 from pdr_core import topics
-from pdr_core.atmosphere import pressure_pa
-from pdr_core.batch import MessageBatch
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
-from pdr_core.imu_errors import (
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import FLUID_PRESSURE, IMU, LANDMARK, MAGNETIC_FIELD, POSE_STAMPED, STEP
+from pdr_core.maths.rotations import quaternion_xyzw
+from pdr_core.sensors.atmosphere import pressure_pa
+from pdr_core.sensors.imu_errors import (
     BarometerErrors,
     BarometerRun,
     ImuErrors,
@@ -42,10 +44,8 @@ from pdr_core.imu_errors import (
     corrupt,
     turn_on_bias,
 )
-from pdr_core.imu_profiles import PA_PER_HPA, PROFILES, profile
-from pdr_core.magnetic_field import TABLE_3_3, IronDistortion, MagneticField, homogeneous
-from pdr_core.msgtypes import FLUID_PRESSURE, IMU, LANDMARK, MAGNETIC_FIELD, POSE_STAMPED, STEP
-from pdr_core.rotations import quaternion_xyzw
+from pdr_core.sensors.imu_profiles import PA_PER_HPA, PROFILES, profile
+from pdr_core.sensors.magnetic_field import TABLE_3_3, IronDistortion, MagneticField, homogeneous
 from pdr_core.vocabulary import ACTIVITY_NAMES, LandmarkType
 from pdr_sim import signals
 from pdr_sim.foot_trajectory import FootTrajectory, sample_times
@@ -260,8 +260,8 @@ def barometer_batch(model: TrajectoryModel, errors: BarometerErrors,
                     seed: int) -> tuple[MessageBatch, BarometerRun]:
     """``imu/pressure`` of a run and what its barometer drew: at the barometer's rate
     (``errors.rate_hz``) from the start, the standard atmosphere's pressure
-    (pdr_core.atmosphere) at the sensor's true height z [m] above the map's z = 0, where it
-    is ``errors.reference_pa``, with the barometer's errors (pdr_core.imu_errors); stamps
+    (pdr_core.sensors.atmosphere) at the sensor's true height z [m] above the map's z = 0, where it
+    is ``errors.reference_pa``, with the barometer's errors (pdr_core.sensors.imu_errors); stamps
     from the simulated time, frame the IMU's, ``variance`` the white noise's [Pa²]."""
     t = sample_times(model.duration_s, errors.rate_hz)
     true = pressure_pa(model.at(t).position[:, 2], errors.reference_pa)

@@ -30,7 +30,7 @@ from scipy.optimize import least_squares
 
 from pdr_core.config_files import parse_yaml
 from pdr_core.errors import InputError
-from pdr_core.rotations import about_vertical
+from pdr_core.maths.rotations import about_vertical
 from pdr_sim.step_pattern import FittedPattern, RaisedCosines
 
 

@@ -38,7 +38,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline, PPoly
 from scipy.spatial.transform import Rotation
 
-from pdr_core.angles import wrap_angle
+from pdr_core.maths.angles import wrap_angle
 from pdr_core.vocabulary import Activity, LandmarkType
 from pdr_sim.compiled_thigh import (
     HEADING,

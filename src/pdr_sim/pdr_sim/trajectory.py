@@ -5,7 +5,7 @@ Any placement (foot, thigh) is a *trajectory model* that produces a :class:`Traj
 new model, not a new simulator.
 
 Frames and units: navigation frame ENU [m], body frame FLU, attitude C_b^n from Euler
-angles (see :mod:`pdr_core.rotations`), time [s].
+angles (see :mod:`pdr_core.maths.rotations`), time [s].
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from typing import Protocol
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from pdr_core.rotations import body_rate_from_euler, rotation_from_euler
+from pdr_core.maths.rotations import body_rate_from_euler, rotation_from_euler
 
 
 @dataclass(frozen=True)
@@ -51,7 +51,7 @@ class Trajectory:
                    acceleration: np.ndarray, euler: np.ndarray,
                    euler_rate: np.ndarray) -> Trajectory:
         """A trajectory whose attitude is given as Euler angles and their rates [rad, rad/s]
-        (:mod:`pdr_core.rotations` conventions)."""
+        (:mod:`pdr_core.maths.rotations` conventions)."""
         return cls(t, position, velocity, acceleration, rotation_from_euler(*euler.T),
                    body_rate_from_euler(*euler.T, *euler_rate.T), euler)
 

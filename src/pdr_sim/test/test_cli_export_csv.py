@@ -6,10 +6,10 @@ import shlex
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from pdr_core.bag import BagReader, write_batches
-from pdr_core.batch import MessageBatch
-from pdr_core.csv_import import imu_batch, mag_batch, pose_batch
-from pdr_core.msgtypes import FLUID_PRESSURE
+from pdr_core.io.bag import BagReader, write_batches
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.csv_import import imu_batch, mag_batch, pose_batch
+from pdr_core.io.msgtypes import FLUID_PRESSURE
 from wstest import cli
 
 START_NS = 1_700_000_000_123_456_789

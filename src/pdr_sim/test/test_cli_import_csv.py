@@ -2,8 +2,8 @@
 wstest.cli): bad input gives exit 2, one line, no output."""
 import pytest
 
-from pdr_core.bag import BagReader
-from pdr_core.csv_rows import MIN_ROWS_CONSTANT_AXIS
+from pdr_core.io.bag import BagReader
+from pdr_core.io.csv_rows import MIN_ROWS_CONSTANT_AXIS
 from wstest import cli
 
 GOOD = "t,ax,ay,az\n0.00,0,0,9.8\n0.01,0,0,9.8\n0.02,0,0,9.8\n"

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from pdr_core.bag import BagReader
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
+from pdr_core.io.bag import BagReader
 from wstest import cli
 
 N = 200

@@ -8,7 +8,7 @@ from scipy.spatial.transform import Rotation
 from pdr_core import topics
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.rotations import body_rate_from_matrix_log
+from pdr_core.maths.rotations import body_rate_from_matrix_log
 from pdr_sim import signals
 from pdr_sim.foot_gaits import GAITS, stance_timing
 from pdr_sim.foot_pieces import SWING

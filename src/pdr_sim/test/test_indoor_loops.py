@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from pdr_core import topics
-from pdr_core.bag import BagReader
 from pdr_core.errors import InputError
-from pdr_core.magnetic_field import UT, IndoorDisturbance, MagneticField
+from pdr_core.io.bag import BagReader
+from pdr_core.sensors.magnetic_field import UT, IndoorDisturbance, MagneticField
 from pdr_sim.cli import main
 from pdr_sim.pocket_scenario import POCKET_BUILTIN, load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, magnetic_environment, simulate
@@ -50,7 +50,7 @@ def test_indoor_loops_walks_loops_around_a_small_room():
 
 def test_a_walk_of_the_room_measures_the_oxiod_spread():
     """Along the walk, about its own median, as measured on OxIOD's room (documented in
-    pdr_core.magnetic_field.IndoorDisturbance): on average over ten buildings (seeds)
+    pdr_core.sensors.magnetic_field.IndoorDisturbance): on average over ten buildings (seeds)
     6.2° azimuth, 1.9 µT norm, 2.9° dip, the azimuth's autocorrelation at 1/e in about
     1.6 s; OxIOD's walks: 5.5-6.8°, 1.8-1.9 µT, 2.3-4.3°, 1.5-2.2 s."""
     position = walk_positions()

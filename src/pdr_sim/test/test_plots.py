@@ -9,7 +9,7 @@ from functools import cache
 import numpy as np
 import pytest
 
-from pdr_core.plot_layout import MIN_LEVEL_SPAN_M
+from pdr_core.evaluation.plot_layout import MIN_LEVEL_SPAN_M
 from pdr_sim import plots
 from pdr_sim.foot_trajectory import FootTrajectory
 from pdr_sim.pocket_scenario import pocket_scenario_from_dict

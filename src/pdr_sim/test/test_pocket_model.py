@@ -9,7 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.magnetic_field import MagneticField, homogeneous
+from pdr_core.sensors.magnetic_field import MagneticField, homogeneous
 from pdr_core.vocabulary import Activity
 from pdr_sim import signals
 from pdr_sim.pocket_scenario import (

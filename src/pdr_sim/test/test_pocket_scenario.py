@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pdr_core.errors import InputError
-from pdr_core.imu_profiles import PROFILES
+from pdr_core.sensors.imu_profiles import PROFILES
 from pdr_sim.pocket_scenario import POCKET_BUILTIN, load_pocket_scenario, pocket_scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 

@@ -7,15 +7,26 @@ import numpy as np
 import pytest
 import yaml
 
-from pdr_core import cdr, topics
-from pdr_core.atmosphere import height_m, metres_per_pascal, pressure_pa
-from pdr_core.bag import BagReader
-from pdr_core.batch import MessageBatch
+from pdr_core import topics
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.imu_errors import BarometerErrors, barometer_readings, barometer_run, low_passed
-from pdr_core.imu_profiles import IPHONE_BAROMETER, PHONE_BAROMETER, barometer_errors, profile
-from pdr_core.msgtypes import FLUID_PRESSURE, typestore
+from pdr_core.io import cdr
+from pdr_core.io.bag import BagReader
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.msgtypes import FLUID_PRESSURE, typestore
+from pdr_core.sensors.atmosphere import height_m, metres_per_pascal, pressure_pa
+from pdr_core.sensors.imu_errors import (
+    BarometerErrors,
+    barometer_readings,
+    barometer_run,
+    low_passed,
+)
+from pdr_core.sensors.imu_profiles import (
+    IPHONE_BAROMETER,
+    PHONE_BAROMETER,
+    barometer_errors,
+    profile,
+)
 from pdr_core.vocabulary import FLOOR_HEIGHT_M, LandmarkType
 from pdr_sim.lift import LiftMotion, LiftRide
 from pdr_sim.pocket_scenario import load_pocket_scenario, pocket_scenario_from_dict

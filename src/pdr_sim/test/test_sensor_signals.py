@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from pdr_core.constants import EARTH_RATE_RADPS
-from pdr_core.magnetic_field import UT
+from pdr_core.sensors.magnetic_field import UT
 from pdr_sim.scenario import load_scenario, scenario_from_dict
 from pdr_sim.simulation import SimulationConfig, simulate
 

@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.rotations import body_rate_from_matrix_log
+from pdr_core.maths.rotations import body_rate_from_matrix_log
 from pdr_sim import signals
 from pdr_sim.foot_trajectory import FootTrajectory
 from pdr_sim.scenario import scenario_from_dict

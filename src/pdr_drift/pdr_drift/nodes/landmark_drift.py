@@ -8,8 +8,8 @@ estimate on ``pdr/drift`` (pdr_msgs/DriftEstimate). After each association it ca
 ``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection) with an asynchronous
 client: a call not answered within ``correction_timeout_s`` is sent again, the same
 request with the same ``request_id`` (a new random id per correction,
-pdr_core.answered_requests), so the navigator applies it once and answers both alike; the
-resends are counted in the log. While the service is not there the correction waits and
+pdr_core.corrections.answered_requests), so the navigator applies it once and answers both alike;
+the resends are counted in the log. While the service is not there the correction waits and
 is retried every ``retry_period_s``, up to ``max_retries`` tries in all, so a restarting
 ``pocket_pdr`` is caught up with and a refused correction blocks nothing. What happens to
 each correction is logged.
@@ -52,14 +52,14 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from pdr_core import topics
-from pdr_core.answered_requests import new_request_id
-from pdr_core.correction import request_fields
+from pdr_core.corrections.answered_requests import new_request_id
+from pdr_core.corrections.correction import request_fields
 from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME
-from pdr_core.headers import set_header, set_time, stamp_ns
-from pdr_core.node_main import spin_node
-from pdr_core.node_params import declare, refuse_removed
-from pdr_core.node_wiring import wiring
+from pdr_core.io.headers import set_header, set_time, stamp_ns
+from pdr_core.ros.node_main import spin_node
+from pdr_core.ros.node_params import declare, refuse_removed
+from pdr_core.ros.node_wiring import wiring
 from pdr_core.topics import graph_name
 from pdr_core.vocabulary import FLOOR_HEIGHT_M, LandmarkType
 from pdr_drift.config import default_config_path, load_drift_config

@@ -4,7 +4,7 @@ Subscribes ``imu/data`` (sensor_msgs/Imu) and publishes, per sample, ``pdr/foot/
 (PoseWithCovarianceStamped), ``pdr/foot/velocity`` (TwistWithCovarianceStamped),
 ``pdr/foot/odometry`` (nav_msgs/Odometry: the pose and its covariance, the velocity in
 ``base_frame``, for a fusion node), ``pdr/foot/stance`` (pdr_msgs/Stance) and the pose on
-``/tf`` (pdr_core.node_tf: ``map_frame → base_frame``, or ``map_frame → odom_frame``),
+``/tf`` (pdr_core.ros.node_tf: ``map_frame → base_frame``, or ``map_frame → odom_frame``),
 and at every stride (pdr_ins_ekf.strides: from one footfall to the next) ``pdr/foot/step``
 (pdr_msgs/Step), ``pdr/foot/step_pose`` (PoseWithCovarianceStamped, at the stride's stamp)
 and ``pdr/foot/path`` (one pose per stride). With
@@ -17,7 +17,7 @@ foot's topics by remapping (docs/nodes.md): taken whole or not at all at the str
 request's stamp names, the samples since filtered again (pdr_ins_ekf.correctable); the
 strides run again go back in the answer and replace theirs in the path, published again;
 a request whose ``request_id`` was answered before gets the first answer and changes
-nothing (pdr_core.answered_requests).
+nothing (pdr_core.corrections.answered_requests).
 A z gyro bias part needs the 15-state form and is refused with 9 states, saying so.
 
 Parameters (docs/nodes.md): ``config`` (navigator YAML, see pdr_ins_ekf.config; default
@@ -32,14 +32,14 @@ services.
 Estimates lag the input by the detector's look-ahead (a few samples) and agree with
 ``pdr-ekf run`` on the same data. The node keeps up with input far faster than real
 time: each callback takes the subscription's waiting messages as one block (up to
-``MAX_BLOCK``; pdr_core.backlog), runs the navigator once over the block, and decodes
-and encodes the messages as raw CDR (pdr_core.cdr). ``pdr/foot/path`` is latched
+``MAX_BLOCK``; pdr_core.ros.backlog), runs the navigator once over the block, and decodes
+and encodes the messages as raw CDR (pdr_core.io.cdr). ``pdr/foot/path`` is latched
 (depth 1: its last message holds every step).
 
 Bad samples (NaN/Inf, stamps going backwards) and malformed messages are dropped and
 counted with a throttled warning; data in g or deg/s is refused at alignment with an
 error, and nothing is navigated until ``~/reset``. The node's health, with those
-counters, goes on ``/diagnostics`` once a second (pdr_core.node_diagnostics: OK, WARN
+counters, goes on ``/diagnostics`` once a second (pdr_core.ros.node_diagnostics: OK, WARN
 when something was dropped since the last report, ERROR while not navigating).
 """
 from __future__ import annotations
@@ -58,21 +58,21 @@ from sensor_msgs.msg import Imu
 from std_srvs.srv import Trigger
 
 from pdr_core import topics
-from pdr_core.answered_requests import AnsweredRequests
-from pdr_core.backlog import decode_block, publish_acked, waiting_messages
-from pdr_core.cdr import encode
-from pdr_core.correction import from_request
-from pdr_core.diagnostics import Counters
+from pdr_core.corrections.answered_requests import AnsweredRequests
+from pdr_core.corrections.correction import from_request
+from pdr_core.corrections.replay import CorrectionResult
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
-from pdr_core.headers import time_ns
-from pdr_core.msgtypes import IMU
-from pdr_core.node_diagnostics import NodeDiagnostics
-from pdr_core.node_main import spin_node
-from pdr_core.node_params import declare, refuse_removed
-from pdr_core.node_tf import TfBroadcaster
-from pdr_core.node_wiring import wiring
-from pdr_core.replay import CorrectionResult
-from pdr_core.rotations import quaternion_from_orthonormal
+from pdr_core.io.cdr import encode
+from pdr_core.io.headers import time_ns
+from pdr_core.io.msgtypes import IMU
+from pdr_core.maths.rotations import quaternion_from_orthonormal
+from pdr_core.ros.backlog import decode_block, publish_acked, waiting_messages
+from pdr_core.ros.diagnostics import Counters
+from pdr_core.ros.node_diagnostics import NodeDiagnostics
+from pdr_core.ros.node_main import spin_node
+from pdr_core.ros.node_params import declare, refuse_removed
+from pdr_core.ros.node_tf import TfBroadcaster
+from pdr_core.ros.node_wiring import wiring
 from pdr_core.topics import graph_name
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.offline import FootRun, output_batches, pose_path, step_path, stride_batches
@@ -184,7 +184,7 @@ class ZuptEkfNode(Node):
                                     throttle_duration_sec=5.0)
 
     def diagnostic_counters(self) -> Counters:
-        """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
+        """The counters of ``/diagnostics`` (pdr_core.ros.diagnostics, copies): the samples
         dropped by reason, the gaps and the malformed messages (the log's); the units
         refused; the poses not on /tf for want of an odom_frame transform at their stamp;
         the corrections refused, and the accepted and resent ones as tallies."""
@@ -223,7 +223,7 @@ class ZuptEkfNode(Node):
 
     def on_correction(self, request, response):
         """pdr/foot/apply_correction: a request id answered before gets the first answer
-        and changes nothing (pdr_core.answered_requests); logged."""
+        and changes nothing (pdr_core.corrections.answered_requests); logged."""
         return self.answered.answer(request.request_id,
                                     lambda: self.correction_answer(request, response),
                                     self.get_logger().info)

@@ -5,7 +5,7 @@ bias, which ZUPTs do not observe).
 The walk: twenty minutes around a block (pdr_sim scenario ``block_laps``, thirteen laps of
 90 s, every corner revisited), an Xsens MTw (``xsens_mtw``) whose z gyro warms by
 :data:`WARMUP_BIAS_DEG_PER_S` with the time constant :data:`WARMUP_TIME_CONSTANT_S` after
-the start (pdr_core.imu_errors' warm-up): the rest alignment at the start calibrates the
+the start (pdr_core.sensors.imu_errors' warm-up): the rest alignment at the start calibrates the
 bias the gyro has then, and the 0.05 °/s it takes on afterwards is what the navigator
 cannot see. The navigator is config/foot_drift.yaml (15 states), run without corrections
 and with ``--drift online`` (pdr_ins_ekf.drift_loop) and the drift estimator's
@@ -17,10 +17,10 @@ from dataclasses import dataclass
 
 from scipy.spatial.transform import Rotation
 
-from pdr_core.batch import MessageBatch
 from pdr_core.config_files import shipped_config_dir
-from pdr_core.metrics import truth_at, truth_orientation_at
-from pdr_core.rotations import yaw_of
+from pdr_core.evaluation.metrics import truth_at, truth_orientation_at
+from pdr_core.io.batch import MessageBatch
+from pdr_core.maths.rotations import yaw_of
 from pdr_drift.config import load_drift_config
 from pdr_drift.drift_report import final_errors
 from pdr_ins_ekf.config import load_run_config

@@ -20,8 +20,9 @@ from functools import partial
 import numpy as np
 from numba import njit, prange
 
-from pdr_core import kernel_cache, small_matrix, units
-from pdr_core.parallel import run_batches
+from pdr_core import units
+from pdr_core.evaluation.parallel import run_batches
+from pdr_core.maths import kernel_cache, small_matrix
 from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import filter_loop
 from pdr_ins_ekf.kernel_data import GYRO, HEADING, NAV_AND_BIAS_STATES, NAV_STATES, Samples
@@ -196,7 +197,7 @@ def ekf_study(walk: Walk, noise: NoiseLevels, runs: int, detector: StanceDetecto
     """``runs`` EKF runs in blocks of ``block`` (memory: block × T × 6 doubles for the
     signals, plus one filter history per thread); ``progress(done, runs)`` per block.
     ``rest_gyro_bias``: see :func:`run_batch`. The blocks run here, or on the Dask
-    ``scheduler`` (pdr_core.parallel); a run's noise depends on its index only."""
+    ``scheduler`` (pdr_core.evaluation.parallel); a run's noise depends on its index only."""
     if runs < 2:
         raise ValueError(f"runs must be >= 2, got {runs}")
     keep = stance_times(walk, 1.0, points)

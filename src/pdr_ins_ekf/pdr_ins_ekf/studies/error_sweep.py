@@ -25,7 +25,7 @@ The Monte-Carlo spread of the final position error is reported beside them. It i
 below σ_∥: the simulated foot is exactly still in stance, while the model and the
 filter take the ZUPT as a measurement with noise r. Its runs go in batches of
 :data:`SWEEP_BATCH_RUNS`, here or on a Dask cluster (``scheduler``), each run seeded by its
-index (pdr_core.parallel): the split does not change the figures.
+index (pdr_core.evaluation.parallel): the split does not change the figures.
 """
 from __future__ import annotations
 
@@ -35,8 +35,8 @@ from functools import partial
 import numpy as np
 
 from pdr_core import units
-from pdr_core.chi2 import chi2_quantile
-from pdr_core.parallel import run_batches
+from pdr_core.evaluation.parallel import run_batches
+from pdr_core.maths.chi2 import chi2_quantile
 from pdr_ins_ekf.studies.ekf_montecarlo import filter_for, run_batch
 from pdr_ins_ekf.studies.montecarlo import NoiseLevels, Walk, noisy_signals, straight_walk
 from pdr_ins_ekf.studies.zupt_error_model import Gait, NoiseDensities, ZuptErrorModel

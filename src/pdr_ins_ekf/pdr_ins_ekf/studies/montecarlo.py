@@ -16,8 +16,8 @@ and ``gyro_noise_radps_per_sqrt_hz`` (per-sample std density/√Δt), and consta
 gyro bias random walk ``gyro_rrw_radps_per_sqrt_s`` (RRW of Wang et al. 2020).
 
 Each run draws its errors from its own generator, seeded by the study's seed and its index
-(:func:`pdr_core.parallel.run_generator`): the runs can be split into batches, here or on a
-Dask cluster (``scheduler``), and the study is the same.
+(:func:`pdr_core.evaluation.parallel.run_generator`): the runs can be split into batches, here or on
+a Dask cluster (``scheduler``), and the study is the same.
 """
 from __future__ import annotations
 
@@ -27,10 +27,10 @@ from functools import partial
 import numpy as np
 from numba import njit, prange
 
-from pdr_core import kernel_cache, small_matrix
-from pdr_core.angles import wrap_angle
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
-from pdr_core.parallel import run_batches, run_generator
+from pdr_core.evaluation.parallel import run_batches, run_generator
+from pdr_core.maths import kernel_cache, small_matrix
+from pdr_core.maths.angles import wrap_angle
 from pdr_ins_ekf import compiled_filter, kernel_data
 from pdr_ins_ekf.compiled_filter import mechanize, new_state, start
 from pdr_sim.scenario import scenario_from_dict
@@ -97,7 +97,7 @@ class NoiseLevels:
 def noisy_signals(accel: np.ndarray, gyro: np.ndarray, rate_hz: float, noise: NoiseLevels,
                   seed: int, runs: range) -> tuple[np.ndarray, np.ndarray]:
     """Noisy copies (len(runs), T, 3) of the noiseless specific force and rate, run k from
-    its own generator (:func:`pdr_core.parallel.run_generator`), whatever the batch."""
+    its own generator (:func:`pdr_core.evaluation.parallel.run_generator`), whatever the batch."""
     a = np.empty((len(runs), *accel.shape))
     w = np.empty_like(a)
     for i, run in enumerate(runs):
@@ -207,7 +207,7 @@ def ins_study(walk: Walk, noise: NoiseLevels, runs: int, seed: int = 0, block: i
               progress=None, scheduler: str | None = None) -> InsStudy:
     """``runs`` pure-INS runs in blocks of ``block`` (memory: block × T × 6 doubles),
     sampled at ``points`` log-spaced times from 1 s; ``progress(done, runs)`` after each
-    block. The blocks run here, or on the Dask ``scheduler`` (pdr_core.parallel)."""
+    block. The blocks run here, or on the Dask ``scheduler`` (pdr_core.evaluation.parallel)."""
     if runs < 2:
         raise ValueError(f"runs must be >= 2, got {runs}")
     keep = log_spaced(len(walk.t_s), int(np.ceil(walk.rate_hz)), points)

@@ -10,7 +10,7 @@ barometer fused with the steps, pdr_pocket.height_filter) and publishes, per sam
 (pdr_msgs/Step), ``pdr/pocket/pose`` (geometry_msgs/PoseWithCovarianceStamped),
 ``pdr/pocket/odometry`` (nav_msgs/Odometry: the pose with the position's and the
 attitude's covariance, for a fusion node; pdr_pocket.messages), the pose on ``/tf``
-(pdr_core.node_tf: ``map_frame → base_frame``, or ``map_frame → odom_frame``) and
+(pdr_core.ros.node_tf: ``map_frame → base_frame``, or ``map_frame → odom_frame``) and
 ``pdr/pocket/path`` (nav_msgs/Path, every step so far), stamped with the IMU sample that
 confirmed the step. Serves ``~/reset`` (std_srvs/Trigger) and
 ``pdr/pocket/apply_correction`` (pdr_msgs/srv/ApplyCorrection: yaw and z gyro bias added
@@ -20,7 +20,7 @@ pdr_pocket.navigator.PocketNavigator.apply_correction). A correction is taken at
 stamp, the step it belongs to, the samples since run again (pdr_pocket.streaming); the
 steps run again go back in the response and replace theirs in ``pdr/pocket/path``,
 published again. A request whose ``request_id`` was answered before (sent again after a
-timeout) gets the first answer and changes nothing (pdr_core.answered_requests).
+timeout) gets the first answer and changes nothing (pdr_core.corrections.answered_requests).
 
 Parameters (docs/nodes.md): ``config`` (the navigator YAML, pdr_pocket.config; default
 the installed config/pocket_pdr.yaml), ``mag_calibration`` (YAML of pdr-pocket
@@ -37,7 +37,7 @@ The start-up line names the resolved topics and services.
 A sample goes out once the magnetometer reading for it has come (at once when the two
 topics keep pace), so the estimates equal ``pdr-pocket run``'s on the same bag, byte for
 byte for the attitude. Each callback takes its subscription's waiting messages as one
-block (up to :data:`MAX_BLOCK`, pdr_core.backlog), decoded and encoded as raw CDR, so a
+block (up to :data:`MAX_BLOCK`, pdr_core.ros.backlog), decoded and encoded as raw CDR, so a
 backlog (a bag played as fast as it is acknowledged) is worked off far faster than real
 time. Bad samples and malformed messages are dropped and counted with a throttled
 warning (pdr_pocket.streaming); data in g or deg/s is
@@ -45,12 +45,12 @@ refused with an error until ``~/reset``; when the configuration has magnetic upd
 magnetometer quiet for ``mag_wait_s`` of IMU data pauses them with a warning naming its
 topic, and its next reading resumes them (logged too). The node's health, with those
 counters and the corrections', goes on ``/diagnostics`` once a second
-(pdr_core.node_diagnostics: OK, WARN when something was dropped or a correction refused
+(pdr_core.ros.node_diagnostics: OK, WARN when something was dropped or a correction refused
 since the last report, while the magnetometer is paused or once the barometer is no
 longer trusted, ERROR while not navigating), with the inputs fused: ``barometer``
 ("fused", "not fused: why", "absent: why"), ``barometer_offset_jumps`` and
 ``magnetometer`` (its magnetic updates, the first reading's heading only, paused or off).
-A barometer whose offset jumps more than pdr_core.barometry.OFFSET_JUMPS_MAX_PER_MIN times
+A barometer whose offset jumps more than pdr_core.sensors.barometry.OFFSET_JUMPS_MAX_PER_MIN times
 a minute is no longer fused (pdr_pocket.height_filter): a throttled warning says so.
 """
 from __future__ import annotations
@@ -64,22 +64,23 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from sensor_msgs.msg import Imu, MagneticField
 from std_srvs.srv import Trigger
 
-from pdr_core import cdr, topics
-from pdr_core.answered_requests import AnsweredRequests
-from pdr_core.backlog import decode_block, publish_acked, waiting_messages
-from pdr_core.batch import MessageBatch
-from pdr_core.correction import from_request
-from pdr_core.diagnostics import Counters
+from pdr_core import topics
+from pdr_core.corrections.answered_requests import AnsweredRequests
+from pdr_core.corrections.correction import from_request
+from pdr_core.corrections.replay import CorrectionResult
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
-from pdr_core.headers import set_header, stamp_ns, time_ns
-from pdr_core.msgtypes import IMU, MAGNETIC_FIELD, ODOMETRY
-from pdr_core.node_diagnostics import NodeDiagnostics
-from pdr_core.node_main import spin_node
-from pdr_core.node_params import declare, refuse_removed
-from pdr_core.node_tf import TfBroadcaster
-from pdr_core.node_wiring import wiring
-from pdr_core.replay import CorrectionResult
-from pdr_core.ros_types import message_class
+from pdr_core.io import cdr
+from pdr_core.io.batch import MessageBatch
+from pdr_core.io.headers import set_header, stamp_ns, time_ns
+from pdr_core.io.msgtypes import IMU, MAGNETIC_FIELD, ODOMETRY
+from pdr_core.ros.backlog import decode_block, publish_acked, waiting_messages
+from pdr_core.ros.diagnostics import Counters
+from pdr_core.ros.node_diagnostics import NodeDiagnostics
+from pdr_core.ros.node_main import spin_node
+from pdr_core.ros.node_params import declare, refuse_removed
+from pdr_core.ros.node_tf import TfBroadcaster
+from pdr_core.ros.node_wiring import wiring
+from pdr_core.ros.ros_types import message_class
 from pdr_core.topics import graph_name
 from pdr_msgs.msg import Step
 from pdr_msgs.srv import ApplyCorrection
@@ -99,11 +100,11 @@ from pdr_pocket.streaming import BLOCK_S, CORRECTION_WINDOW_S, MAG_WAIT_S, Strea
 NO_GAIT_WARN_S = 10.0   # moving this long without a step: the warning, once
 IMPLAUSIBLE_WARN_S = 30.0   # implausible strides or speed: said at most this often
 DURABILITIES = ("volatile", "transient_local")
-# messages taken from a subscription's queue per callback (pdr_core.backlog): 4 s at
+# messages taken from a subscription's queue per callback (pdr_core.ros.backlog): 4 s at
 # 100 Hz, so a backlog is worked off in large blocks while the services get their turn
 MAX_BLOCK = 400
 # history of the publishers (messages); the attitude goes out in acknowledged slices of
-# half of it (pdr_core.backlog.publish_acked), as zupt_ekf's estimates do
+# half of it (pdr_core.ros.backlog.publish_acked), as zupt_ekf's estimates do
 HISTORY = 1000
 ACK_TIMEOUT = Duration(seconds=1.0)
 
@@ -291,7 +292,7 @@ class PocketPdrNode(Node):
 
     def on_correction(self, request, response):
         """pdr/pocket/apply_correction: a request id answered before gets the first answer
-        and changes nothing (pdr_core.answered_requests); logged."""
+        and changes nothing (pdr_core.corrections.answered_requests); logged."""
         return self.answered.answer(request.request_id,
                                     lambda: self.correction_answer(request, response),
                                     self.get_logger().info)
@@ -393,7 +394,7 @@ class PocketPdrNode(Node):
         self.mag_was_paused = paused
 
     def diagnostic_counters(self) -> Counters:
-        """The counters of ``/diagnostics`` (pdr_core.diagnostics, copies): the samples
+        """The counters of ``/diagnostics`` (pdr_core.ros.diagnostics, copies): the samples
         and readings dropped by reason and the malformed messages (the log's), the gaps
         the orientation filter propagated over, the refused corrections; the accepted and
         resent ones and the samples without a magnetometer reading as tallies; the magnetometer off

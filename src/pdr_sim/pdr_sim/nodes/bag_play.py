@@ -12,7 +12,7 @@ Parameters (``--ros-args -p name:=value`` or ``--params-file``):
 Bag topics are absolute (``/imu/data``) and are published relative to the node's
 namespace (``imu/data``); the truth topics of a simulated bag (``ground_truth/pose``,
 ``stance``, ``step``, ``landmarks``) are played like any other. A bag cut short
-(pdr_core.bag) is played up to its last complete chunk, with a warning saying how much;
+(pdr_core.io.bag) is played up to its last complete chunk, with a warning saying how much;
 damage inside an intact bag stops the playback there, reported, with exit status 1. Bad
 parameters or an unreadable bag exit with status 2.
 """
@@ -24,9 +24,9 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from pdr_core import topics as bag_topics
-from pdr_core.bag import BagReader
 from pdr_core.errors import InputError, InputWarning
-from pdr_core.node_params import declare
+from pdr_core.io.bag import BagReader
+from pdr_core.ros.node_params import declare
 from pdr_sim.nodes.playback import Playback, run_player
 
 

@@ -6,7 +6,7 @@ Parameters:
         (``imu/data``); stored in the bag as absolute names (``/imu/data``).
     max_messages (int, 0): stop after this many messages in all (0: until stopped).
     flush_interval_s (float, 1.0): the open chunk is written and synced at least this
-        often (pdr_core.recording).
+        often (pdr_core.io.recording).
 
 Each topic is subscribed once a publisher of it appears, with its type taken from the
 graph and its reliability and durability matching the publishers'. Messages are stored
@@ -14,7 +14,7 @@ as received (raw CDR). The log time is the message's ``header.stamp`` when it ha
 the bag replays in data time; messages without a header (``/clock``) are logged at
 reception.
 
-The bag is written at ``out`` as it goes (:class:`pdr_core.recording.RecordingBag`): a
+The bag is written at ``out`` as it goes (:class:`pdr_core.io.recording.RecordingBag`): a
 SIGKILL or a power cut loses at most the last ``flush_interval_s``, and what is left is
 read with a warning or repaired by ``pdr-sim repair``. SIGINT or SIGTERM stops recording:
 messages already received are drained from the subscriptions and the bag is closed with
@@ -35,16 +35,16 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.signals import SignalHandlerOptions
 
 from pdr_core import topics as bag_topics
-from pdr_core.backlog import waiting_messages
 from pdr_core.errors import InputError
-from pdr_core.msgtypes import typestore
-from pdr_core.node_main import check_params_files
-from pdr_core.node_params import declare
-from pdr_core.recording import RecordingBag
-from pdr_core.ros_types import message_class
+from pdr_core.io.msgtypes import typestore
+from pdr_core.io.recording import RecordingBag
+from pdr_core.ros.backlog import waiting_messages
+from pdr_core.ros.node_main import check_params_files
+from pdr_core.ros.node_params import declare
+from pdr_core.ros.ros_types import message_class
 
 _NS = 1_000_000_000
-# messages taken from a subscription's queue per callback (pdr_core.backlog)
+# messages taken from a subscription's queue per callback (pdr_core.ros.backlog)
 BACKLOG_BLOCK = 1000
 _HEADER = ("header", "std_msgs/msg/Header")
 
@@ -130,7 +130,7 @@ class BagRecorder(Node):
 
     def _callback(self, topic: str, bag_topic: str, msgtype: str):
         """The topic's callback: its message and the ones waiting behind it (up to
-        BACKLOG_BLOCK, pdr_core.backlog), written until done."""
+        BACKLOG_BLOCK, pdr_core.ros.backlog), written until done."""
         stamped = has_header(msgtype)
 
         def record(data: bytes) -> None:

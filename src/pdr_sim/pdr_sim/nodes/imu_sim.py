@@ -24,11 +24,11 @@ from __future__ import annotations
 
 from rclpy.node import Node
 
-from pdr_core.bag import merged_messages
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
 from pdr_core.errors import InputError
-from pdr_core.imu_profiles import PROFILES
-from pdr_core.node_params import declare
+from pdr_core.io.bag import merged_messages
+from pdr_core.ros.node_params import declare
+from pdr_core.sensors.imu_profiles import PROFILES
 from pdr_sim.nodes.playback import Playback, run_player
 from pdr_sim.simulation import PLACEMENTS, SimulationConfig, load_placement_scenario, simulate
 

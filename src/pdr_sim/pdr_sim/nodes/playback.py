@@ -28,11 +28,11 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from pdr_core import topics as bag_topics
-from pdr_core.bag import RawMessage
 from pdr_core.errors import InputError
-from pdr_core.node_main import check_params_files, use_fast_acks
-from pdr_core.node_params import declare
-from pdr_core.ros_types import message_class
+from pdr_core.io.bag import RawMessage
+from pdr_core.ros.node_main import check_params_files, use_fast_acks
+from pdr_core.ros.node_params import declare
+from pdr_core.ros.ros_types import message_class
 
 RELIABLE = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
                       reliability=ReliabilityPolicy.RELIABLE,
