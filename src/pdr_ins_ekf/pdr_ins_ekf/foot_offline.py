@@ -148,6 +148,20 @@ def navigate_bag(bag: Path, config: RunConfig, options: FootOptions,
                       truth, problems, smoothed, drift_report)
 
 
+def final_errors_against(run: FootRun, truth: MessageBatch) -> dict:
+    """pdr_drift.drift_report.final_errors of a run against its ``ground_truth/pose``: the
+    foot's yaw [deg] and position [m] errors at the last sample navigated."""
+    from scipy.spatial.transform import Rotation
+
+    from pdr_core.maths.rotations import yaw_of
+    from pdr_drift.drift_report import final_errors
+
+    last = run.stamp_ns[-1:]
+    true_yaw = yaw_of(Rotation.from_quat(truth_orientation_at(truth, last)).as_matrix())
+    return final_errors(yaw_of(run.output.attitude[-1:]), true_yaw, run.output.position[-1:],
+                        truth_at(truth, last))
+
+
 def drift_run(imu: MessageBatch, truth_pose: MessageBatch | None, config: RunConfig,
               options: FootOptions) -> tuple[FootRun, dict]:
     """The run with the drift corrections (pdr_ins_ekf.drift_loop) and the report's
@@ -155,7 +169,6 @@ def drift_run(imu: MessageBatch, truth_pose: MessageBatch | None, config: RunCon
     and position errors with the corrections and without (a run without them)."""
     from pdr_drift.config import default_config_path, load_drift_config
     from pdr_ins_ekf.drift_loop import navigate_offline, navigate_online
-    from pdr_ins_ekf.studies.drift_study import final_errors_against
 
     if config.smoother.mode != "none":
         raise InputError("--drift", "the smoother cannot take corrections: use --smoother "

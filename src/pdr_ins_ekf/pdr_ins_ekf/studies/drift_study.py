@@ -15,17 +15,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from scipy.spatial.transform import Rotation
-
 from pdr_core.config_files import shipped_config_dir
-from pdr_core.evaluation.metrics import truth_at, truth_orientation_at
 from pdr_core.io.batch import MessageBatch
-from pdr_core.maths.rotations import yaw_of
 from pdr_drift.config import load_drift_config
-from pdr_drift.drift_report import final_errors
 from pdr_ins_ekf.config import load_run_config
 from pdr_ins_ekf.drift_loop import navigate_online
-from pdr_ins_ekf.offline import FootRun, navigate
+from pdr_ins_ekf.foot_offline import final_errors_against
+from pdr_ins_ekf.offline import navigate
 
 WALK = "block_laps"
 IMU = "xsens_mtw"
@@ -58,15 +54,6 @@ class DriftOutcome:
     uncorrected_position_m: float
     corrected_position_m: float
     corrections: int
-
-
-def final_errors_against(run: FootRun, truth: MessageBatch) -> dict:
-    """pdr_drift.drift_report.final_errors of a run against its ``ground_truth/pose``: the
-    foot's yaw [deg] and position [m] errors at the last sample navigated."""
-    last = run.stamp_ns[-1:]
-    true_yaw = yaw_of(Rotation.from_quat(truth_orientation_at(truth, last)).as_matrix())
-    return final_errors(yaw_of(run.output.attitude[-1:]), true_yaw, run.output.position[-1:],
-                        truth_at(truth, last))
 
 
 def drift_outcome(seed: int) -> DriftOutcome:
