@@ -54,6 +54,7 @@ def frozen_records(config: PocketConfig) -> dict[int, object]:
 class PocketNavigator:
     def __init__(self, config: PocketConfig) -> None:
         self.config = config
+        self.shared = frozen_records(config)    # what a copy shares (copy_state)
         self.reset()
 
     def reset(self) -> None:
@@ -69,7 +70,7 @@ class PocketNavigator:
         frozen records (:func:`frozen_records`; copying them was 40 % of the copy's time)."""
         steps, self.assembly.steps = self.assembly.steps, []
         try:
-            duplicate = copy.deepcopy(self, frozen_records(self.config))
+            duplicate = copy.deepcopy(self, dict(self.shared))
         finally:
             self.assembly.steps = steps
         duplicate.assembly.steps = list(steps)

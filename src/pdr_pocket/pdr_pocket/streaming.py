@@ -78,12 +78,14 @@ minute costs 60 checkpoints of the navigator's state and a minute of samples."""
 CHECKPOINT_EVERY_S = 1.0
 """The navigator's state is kept at most this often [s of IMU data]: a correction runs
 again at most this much besides the samples since its step."""
-BLOCK_S = 0.1
+BLOCK_S = 0.25
 """The node's default ``block_s`` [s of IMU data]: a call of the navigator costs about
-400 µs besides 20 µs a sample, so blocks of 0.1 s (10 samples at 100 Hz) cost 60 µs a
-sample instead of 420 µs one by one, for 0.1 s more latency of the attitude
-(test/benchmarks/bench_pocket_live.py); a step is confirmed after its pitch maximum
-anyway, a few tenths of a second after it."""
+450 µs besides about 37 µs a sample, so live at 100 Hz, a message at a time, a sample
+costs 489 µs processed at once, 76 µs in blocks of 0.1 s, 47 µs in blocks of 0.25 s and
+41 µs in blocks of 0.5 s (test/benchmarks/bench_pocket_live.py; issue 56 asks at most
+50 µs). The price is latency: a sample's attitude goes out up to 0.25 s later; a step is
+confirmed a few tenths of a second after its pitch maximum anyway. ``block_s`` 0 gives
+each sample's attitude at once."""
 ATTITUDE_KEPT_S = 30.0
 """How long the orientation filter's output is kept [s of IMU data]: a step is confirmed
 after its sample, the first one, once the thigh frame is learnt, up to seconds after and

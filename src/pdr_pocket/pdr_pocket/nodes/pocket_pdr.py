@@ -29,9 +29,10 @@ poses and path: REP-105's map, pdr_core.frames), ``sensor_frame`` (the frame of 
 attitude's rates and of the gyro bias: the IMU's), ``imu_durability`` (volatile or
 transient_local, to match the publisher), ``correction_window_s`` (60.0: how far back a
 stamped correction may reach, in seconds of IMU data), ``mag_wait_s`` (1.0: how long a
-sample waits for a late magnetometer reading, in seconds of IMU data), ``block_s`` (0.1:
+sample waits for a late magnetometer reading, in seconds of IMU data), ``block_s`` (0.25:
 how long a sample may wait to be processed with the ones after it, in seconds of IMU data;
-a call of the navigator costs far more than a sample in it, pdr_pocket.streaming.BLOCK_S).
+a call of the navigator costs far more than a sample in it, pdr_pocket.streaming.BLOCK_S;
+0: each sample's attitude at once).
 The start-up line names the resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
