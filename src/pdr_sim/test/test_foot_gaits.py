@@ -3,6 +3,7 @@ truth is where the velocity is zero, stairs climb their height, and each gait ha
 stance fraction, cadence and impact its docstring (pdr_sim.foot_gaits) documents."""
 import numpy as np
 import pytest
+from rotation_products import prefix_products
 from scipy.spatial.transform import Rotation
 
 from pdr_core import topics
@@ -89,10 +90,9 @@ def test_strapdown_of_the_signals_returns_to_the_truth(name):
     traj = gait_walk(name).sample(rate)
     gyro, accel, dt = signals.angular_rate(traj), signals.specific_force(traj), 1 / rate
     increments = (gyro[:-1] + gyro[1:]) / 2 * dt + np.cross(gyro[:-1], gyro[1:]) * dt**2 / 12
-    attitude = [traj.attitude[0]]
-    for inc in Rotation.from_rotvec(increments):
-        attitude.append(attitude[-1] * inc)
-    acc_n = Rotation.concatenate(attitude).apply(accel) - [0.0, 0.0, G]
+    attitude = prefix_products(Rotation.concatenate([traj.attitude[0],
+                                                     Rotation.from_rotvec(increments)]))
+    acc_n = attitude.apply(accel) - [0.0, 0.0, G]
     vel = np.concatenate([[np.zeros(3)], np.cumsum((acc_n[1:] + acc_n[:-1]) / 2 * dt, 0)])
     pos = traj.position[0] + np.concatenate([[np.zeros(3)],
                                              np.cumsum((vel[1:] + vel[:-1]) / 2 * dt, 0)])

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from rotation_products import prefix_products
 from scipy.spatial.transform import Rotation
 
 from pdr_core.constants import STANDARD_GRAVITY_MPS2
@@ -70,17 +71,6 @@ def integration_grid(model: ThighTrajectory, rate_hz: float) -> np.ndarray:
     within one polynomial piece."""
     t = np.arange(0.0, model.duration_s, 1.0 / rate_hz)
     return np.unique(np.concatenate([t, model.spline.x, [model.duration_s]]))
-
-
-def prefix_products(steps: Rotation) -> Rotation:
-    """R₁, R₁R₂, R₁R₂R₃, ... by doubling (log₂ N vectorised products)."""
-    q = steps
-    k = 1
-    while k < len(q):
-        head, tail = q[:k], q[:-k] * q[k:]
-        q = Rotation.concatenate([head, tail])
-        k *= 2
-    return q
 
 
 def test_gyroscope_integrates_to_the_true_attitude(ten_minutes):
