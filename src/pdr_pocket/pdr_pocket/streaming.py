@@ -413,6 +413,15 @@ class StreamingPocket:
                 return []
         return self._process(self._ready())
 
+    def release(self) -> list[Processed]:
+        """Process what waits only for its block (``block_s``): the samples held for it and
+        the readings that came with them, as the other sensors let them go (the IMU went
+        quiet, or a correction comes that applies now: the node's idle timer and service)."""
+        released = self._release()
+        if not self.checked or self.failed is not None:
+            return released
+        return released + self._process(self._covered())
+
     def flush(self) -> list[Processed]:
         """Process every held sample (the end of a stream)."""
         released = self._release()
@@ -510,7 +519,8 @@ class StreamingPocket:
     def apply_correction(self, correction: Correction) -> CorrectionResult:
         """:meth:`PocketNavigator.apply_correction` as of the sample stamped with the
         correction's ``stamp_ns`` [ns], the samples since run again; now when the stamp is
-        0 (the module docstring)."""
+        0 (the module docstring): after the last sample processed, so with ``block_s``
+        call :meth:`release` first for the samples that came before it."""
         stamp_ns = correction.stamp_ns
         if stamp_ns == 0:
             accepted, message = self.navigator.apply_correction(correction)

@@ -217,3 +217,15 @@ def test_nothing_waits_after_flush():
     assert live.push_imus(stamps[:200], accel[:200], gyro[:200]) == []
     assert sum(len(c.stamp_ns) for c in live.flush()) == 200
     assert live.flush() == []
+
+
+def test_release_lets_go_what_waits_only_for_its_block():
+    """The node's idle timer and its service call ``release``: the samples held for their
+    block go, with their magnetometer readings; one whose reading has not come stays."""
+    stamps, accel, gyro, field_t = walk()
+    live = StreamingPocket(CONFIG, block_s=10.0)
+    assert live.push_mags(stamps[:199], field_t[:199]) == []
+    assert live.push_imus(stamps[:200], accel[:200], gyro[:200]) == []
+    assert sum(len(c.stamp_ns) for c in live.release()) == 199
+    assert live.release() == []
+    assert sum(len(c.stamp_ns) for c in live.flush()) == 1

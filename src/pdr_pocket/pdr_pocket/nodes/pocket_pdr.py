@@ -32,7 +32,8 @@ stamped correction may reach, in seconds of IMU data), ``mag_wait_s`` (1.0: how 
 sample waits for a late magnetometer reading, in seconds of IMU data), ``block_s`` (0.25:
 how long a sample may wait to be processed with the ones after it, in seconds of IMU data;
 a call of the navigator costs far more than a sample in it, pdr_pocket.streaming.BLOCK_S;
-0: each sample's attitude at once).
+0: each sample's attitude at once; the samples waiting for their block go out once no IMU
+message has come for ``block_s`` of the node's clock, and before a correction is taken).
 The start-up line names the resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
@@ -173,6 +174,10 @@ class PocketPdrNode(Node):
         self.create_service(ApplyCorrection, graph_name(topics.POCKET_APPLY_CORRECTION),
                             self.on_correction)
         self.answered = AnsweredRequests()
+        # the samples that wait for their block go out when the IMU goes quiet
+        self.quiet_since_ns = self.get_clock().now().nanoseconds
+        if block_s > 0:
+            self.create_timer(block_s, self.on_quiet)
         self.sources = _Sources()
         self.undecodable = 0
         self.reported: dict[str, int] = {}
@@ -189,11 +194,20 @@ class PocketPdrNode(Node):
             f"strides: {stride_choice(self.navigator.config.step_length)}; "
             f"{wiring(self)}")
 
+    def on_quiet(self) -> None:
+        """The samples that wait for their block (``block_s``) processed and published once
+        no IMU message has come for ``block_s`` (of the node's clock): the end of a bag, or
+        a sensor that stalled. Data time alone decides otherwise."""
+        quiet_ns = self.get_clock().now().nanoseconds - self.quiet_since_ns
+        if quiet_ns >= self.navigator.block_s * 1e9:
+            self.publish(self.navigator.release())
+
     def on_imu(self, raw: bytes) -> None:
         """One message from the executor, and the ones waiting behind it, as one block,
         given to the navigator in parts of at most half ``mag_wait_s`` each after the
         magnetometer readings that have come: a sample waits for its reading ``mag_wait_s``
         of IMU data, and a whole block at once would let that time pass unseen."""
+        self.quiet_since_ns = self.get_clock().now().nanoseconds
         imu, malformed = decode_block(IMU, [raw, *waiting_messages(self.imu_sub,
                                                                    MAX_BLOCK - 1)])
         self.undecodable += malformed
@@ -303,6 +317,7 @@ class PocketPdrNode(Node):
         (pdr_pocket.streaming); logged and counted. The steps it ran again go back in the
         response and replace theirs in the path, published again."""
         stamp = time_ns(request.stamp)
+        self.publish(self.navigator.release())      # the samples before the call first
         try:
             result = self.navigator.apply_correction(from_request(request, stamp))
         except (ValueError, np.linalg.LinAlgError) as exc:
