@@ -7,6 +7,8 @@ Modules:
     backlog            A subscription's backlog taken in one callback, and blocks
                        published as the reliable subscribers acknowledge them.
     ros_types          ROS type names to their rclpy message classes.
+    message_yaml       A message as `ros2 topic echo` prints it: YAML or a CSV line
+                       (rosidl_runtime_py's rules, no rclpy).
     diagnostics        A navigator's health from its counters: OK, WARN or ERROR with the
                        reason (no rclpy).
     node_diagnostics   /diagnostics at 1 Hz for a node (diagnostic_msgs).
