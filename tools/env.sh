@@ -10,4 +10,9 @@ export RMW_IMPLEMENTATION="${RMW_IMPLEMENTATION:-rmw_fastrtps_cpp}"
 set +u
 # shellcheck disable=SC1091
 source "$_pdr_root/install/setup.bash"
+# `ros2` (pdr_ros2, issue 58) appended, not prepended: a real ROS 2's ros2 comes first.
+case ":$PATH:" in
+  *":$_pdr_root/install/pdr_ros2/lib/pdr_ros2:"*) ;;
+  *) export PATH="$PATH:$_pdr_root/install/pdr_ros2/lib/pdr_ros2" ;;
+esac
 unset _pdr_root

@@ -1,0 +1,14 @@
+"""A ``ros2`` command for a workspace whose ROS 2 comes from PyPI wheels, which carry rclpy
+but not ros2cli (issue 58; docs/studies/issue58_ros2_cli.md). Not ros2cli: a few of its
+verbs, with its syntax and output format; where a real ``ros2`` is on the PATH, that one
+runs instead (tools/env.sh appends this package's lib/pdr_ros2 to the PATH, after any
+ROS install's bin).
+
+Modules:
+    command      The ``ros2`` console script: argparse tree, stepping aside for a real
+                 ros2, ``ros2 run``.
+    graph        The CLI's hidden node after its discovery wait; ``node list`` and
+                 ``topic list`` lines.
+    topic_echo   ``ros2 topic echo``: the topic's type from the graph, ros2cli's QoS
+                 choice, messages as YAML or CSV.
+"""

@@ -1,0 +1,67 @@
+"""The CLI's node on the graph and what it lists: ``ros2 node list``, ``ros2 topic list``.
+
+As ros2cli without its daemon (``ros2cli/node/direct.py``): a hidden node
+``_ros2cli_<pid>``, without parameter services, spun for ``--spin-time`` (0.5 s) so that
+discovery has seen the graph before it is asked. Names starting with ``_`` (hidden) are
+left out of the lists, as ros2cli does without ``-a``.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+NODE_NAME_PREFIX = "_ros2cli"     # ros2cli's name for its own (hidden) node
+DISCOVERY_S = 0.5                 # ros2cli's DirectNode DEFAULT_TIMEOUT (--spin-time)
+HIDDEN_PREFIX = "_"
+DUPLICATE_NODES_WARNING = ("WARNING: Be aware that there are nodes in the graph that share "
+                           "an exact name, which can have unintended side effects.")
+
+
+@contextmanager
+def graph_node(spin_time: float = DISCOVERY_S) -> Iterator:
+    """A hidden rclpy node in ``$ROS_DOMAIN_ID``, after ``spin_time`` [s] of discovery;
+    rclpy shut down on leaving."""
+    import rclpy
+
+    rclpy.init()
+    try:
+        node = rclpy.create_node(f"{NODE_NAME_PREFIX}_{os.getpid()}",
+                                 start_parameter_services=False)
+        deadline = time.monotonic() + spin_time
+        while (left := deadline - time.monotonic()) > 0:
+            rclpy.spin_once(node, timeout_sec=left)
+        yield node
+    finally:
+        rclpy.try_shutdown()
+
+
+def node_list(args) -> None:
+    """``ros2 node list``: the nodes' full names, sorted, one a line; a warning on stderr
+    when two share a name."""
+    with graph_node(args.spin_time) as node:
+        names = [full_name(name, namespace)
+                 for name, namespace in node.get_node_names_and_namespaces()
+                 if not name.startswith(HIDDEN_PREFIX)]
+    if len(set(names)) < len(names):
+        print(DUPLICATE_NODES_WARNING, file=sys.stderr)
+    if names:
+        print(*sorted(names), sep="\n")
+
+
+def full_name(name: str, namespace: str) -> str:
+    """``/ns/name`` from a node's name and namespace (``/`` or ``/ns``)."""
+    return namespace + ("" if namespace.endswith("/") else "/") + name
+
+
+def topic_list(args) -> None:
+    """``ros2 topic list [-t]``: the topics, one a line, with ``[type, ...]`` under -t."""
+    from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
+
+    with graph_node(args.spin_time) as node:
+        topics = node.get_topic_names_and_types()
+    for name, types in sorted(topics):
+        if not topic_or_service_is_hidden(name):
+            print(f"{name} [{', '.join(types)}]" if args.show_types else name)

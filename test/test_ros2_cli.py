@@ -1,0 +1,144 @@
+"""The workspace's ``ros2`` (pdr_ros2, issue 58, acceptance 1 in part): ``pocket_pdr``
+started with ``ros2 run`` on the sample bag, its topics seen with ``ros2 topic list -t``
+and one odometry message with ``ros2 topic echo --once`` in ros2cli's YAML (and CSV);
+the help says it is not ros2cli, and a real ``ros2`` earlier on the PATH runs instead.
+One graph for the module (tests/conftest.py ``module_procs``): a node start and a bag
+played once."""
+from __future__ import annotations
+
+import os
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+from wstest import ROOT, command, wait_for_log
+
+pytestmark = pytest.mark.ros
+BAG = ROOT / "bags" / "pocket_walk"
+DISCOVERY_WAIT_S = 10.0     # a ros2 call retried until the graph shows what it asks
+ODOMETRY_FIELDS = ["header", "child_frame_id", "pose", "twist"]
+ODOMETRY_LEAVES = 3 + 1 + 7 + 36 + 6 + 36   # stamp, frame, child, pose, twist, covariances
+
+
+@pytest.fixture(scope="module")
+def pocket_graph(module_procs):
+    """``ros2 run pdr_pocket pocket_pdr`` while bag_play feeds it the sample bag's IMU and
+    magnetometer (as fast as it acknowledges; not waited for: an ``echo --once`` of a
+    kept output waits for the first message). Its outputs are kept (transient local,
+    depth 1000)."""
+    node = module_procs.start("ros2", "run", "pdr_pocket", "pocket_pdr", "--ros-args", "-p",
+                              "imu_durability:=transient_local", name="pocket_pdr")
+    wait_for_log(node, "publishes")
+    module_procs.start("bag_play", "--ros-args", "-p", f"bag:={BAG}", "-p",
+                       "topics:=[/imu/data, /imu/mag]", "-p", "rate:=0.0", "-p",
+                       "wait_for_subscribers:=1", name="bag_play")
+    return module_procs, node
+
+
+def ros2_until(procs, shows, *args: str) -> subprocess.CompletedProcess:
+    """``ros2 ARGS`` run again until its stdout ``shows`` what is asked (discovery is not
+    instant); the last run."""
+    deadline = time.monotonic() + DISCOVERY_WAIT_S
+    while True:
+        result = procs.run("ros2", *args, timeout=30)
+        if shows(result.stdout) or time.monotonic() > deadline:
+            return result
+
+
+def test_ros2_run_execs_the_node_in_its_own_process(pocket_graph):
+    """The process ``ros2 run`` started is the node (executed in place: a SIGINT to it
+    reaches the node)."""
+    procs, node = pocket_graph
+    listed = ros2_until(procs, lambda out: "/pocket_pdr" in out, "node", "list")
+    lines = listed.stdout.splitlines()
+    assert "/pocket_pdr" in lines and lines == sorted(lines), listed.stderr
+    executable = ROOT / "install" / "pdr_pocket" / "lib" / "pdr_pocket" / "pocket_pdr"
+    assert str(executable) in Path(f"/proc/{node.pid}/cmdline").read_text().split("\0")
+
+
+def test_topic_list_shows_the_nodes_topics_with_their_types(pocket_graph):
+    procs, _ = pocket_graph
+    want = ["/pdr/pocket/odometry [nav_msgs/msg/Odometry]",
+            "/pdr/pocket/step [pdr_msgs/msg/Step]", "/imu/data [sensor_msgs/msg/Imu]",
+            "/rosout [rcl_interfaces/msg/Log]"]
+    listed = ros2_until(procs, lambda out: all(w in out.splitlines() for w in want),
+                        "topic", "list", "-t")
+    lines = listed.stdout.splitlines()
+    assert set(want) <= set(lines) and lines == sorted(lines), listed.stdout
+
+
+def test_echo_once_prints_one_odometry_message_as_ros2cli_yaml(pocket_graph):
+    procs, _ = pocket_graph
+    echoed = ros2_until(procs, bool, "topic", "echo", "--once", "/pdr/pocket/odometry")
+    assert echoed.returncode == 0, echoed.stderr
+    text = echoed.stdout
+    assert text.endswith("\n---\n") and text.count("---\n") == 1, text
+    message = yaml.safe_load(text.removesuffix("---\n"))
+    assert list(message) == ODOMETRY_FIELDS
+    assert message["header"]["frame_id"] == "map" and message["child_frame_id"] == "base_link"
+    assert len(message["pose"]["covariance"]) == 36
+    assert isinstance(message["pose"]["pose"]["position"]["x"], float)
+    assert text.startswith("header:\n  stamp:\n    sec: ")
+    assert "\n  covariance:\n  - " in text             # a list in a map is not indented
+
+
+def test_echo_once_csv_is_one_line_of_every_leaf(pocket_graph):
+    procs, _ = pocket_graph
+    echoed = ros2_until(procs, bool, "topic", "echo", "--once", "--csv",
+                        "/pdr/pocket/odometry")
+    assert echoed.returncode == 0, echoed.stderr
+    [line] = echoed.stdout.splitlines()
+    values = line.split(",")
+    assert len(values) == ODOMETRY_LEAVES and values[2:4] == ["map", "base_link"]
+
+
+def test_echo_of_a_topic_the_graph_does_not_have_says_so(pocket_graph):
+    procs, _ = pocket_graph
+    echoed = procs.run("ros2", "topic", "echo", "--once", "/no/such/topic", timeout=30)
+    assert echoed.returncode == 1
+    assert echoed.stderr == "Could not determine the type for the passed topic\n"
+
+
+def test_help_names_the_verbs_and_says_it_is_not_ros2cli():
+    result = subprocess.run([command("ros2"), "-h"], capture_output=True, text=True,
+                            timeout=30, env={**os.environ, "PATH": "/usr/bin:/bin"})
+    assert result.returncode == 0, result.stderr
+    assert "NOT ros2cli" in result.stdout
+    for verb in ("ros2 run PKG EXE", "ros2 node list", "ros2 topic list [-t]",
+                 "ros2 topic echo TOPIC [--once] [--csv]"):
+        assert verb in result.stdout
+
+
+def test_run_of_a_missing_package_or_executable_fails_with_ros2runs_words():
+    missing_package = subprocess.run([command("ros2"), "run", "no_such_pkg", "x"],
+                                     capture_output=True, text=True, timeout=30)
+    missing_exe = subprocess.run([command("ros2"), "run", "pdr_pocket", "no_such_exe"],
+                                 capture_output=True, text=True, timeout=30)
+    assert (missing_package.returncode, missing_package.stderr) == \
+        (1, "Package 'no_such_pkg' not found\n")
+    assert (missing_exe.returncode, missing_exe.stderr) == (1, "No executable found\n")
+
+
+def test_a_real_ros2_on_the_path_runs_instead(tmp_path):
+    real = tmp_path / "ros2"
+    real.write_text('#!/bin/sh\necho "real ros2: $*"\n')
+    real.chmod(0o755)
+    result = subprocess.run([command("ros2"), "topic", "list", "-t"], capture_output=True,
+                            text=True, timeout=30,
+                            env={**os.environ, "PATH": f"{os.environ['PATH']}:{tmp_path}"})
+    assert result.stdout == "real ros2: topic list -t\n", result.stderr
+
+
+def test_env_sh_appends_the_stand_in_to_the_path(tmp_path):
+    """After ``source tools/env.sh`` ``ros2`` is ours, unless a real one is on the PATH."""
+    real = tmp_path / "ros2"
+    real.write_text("#!/bin/sh\n")
+    real.chmod(0o755)
+    found = [subprocess.run(["bash", "-c", f"source {ROOT}/tools/env.sh && command -v ros2"],
+                            capture_output=True, text=True, timeout=30,
+                            env={**os.environ, "PATH": path}).stdout
+             for path in ("/usr/bin:/bin", f"/usr/bin:/bin:{tmp_path}")]
+    assert found == [command("ros2") + "\n", f"{real}\n"]
