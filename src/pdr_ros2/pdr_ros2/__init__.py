@@ -5,8 +5,12 @@ runs instead (tools/env.sh appends this package's lib/pdr_ros2 to the PATH, afte
 ROS install's bin).
 
 Modules:
-    command      The ``ros2`` console script: argparse tree, stepping aside for a real
-                 ros2, ``ros2 run``.
+    command      The ``ros2`` console script: stepping aside for a real ros2, the
+                 argparse tree of the commands below.
+    cli_parsers  Shared argparse shapes: a command's verbs, a graph verb's --spin-time.
+    cli_run      ``ros2 run PKG EXE``: the executable's path, executed in place.
+    cli_node     ``ros2 node`` verbs.
+    cli_topic    ``ros2 topic`` verbs.
     graph        The CLI's hidden node after its discovery wait; ``node list`` and
                  ``topic list`` lines.
     topic_echo   ``ros2 topic echo``: the topic's type from the graph, ros2cli's QoS

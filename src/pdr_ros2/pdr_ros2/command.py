@@ -4,9 +4,7 @@ It steps aside first: when another ``ros2`` (not a pdr_ros2 one) is on the PATH,
 ROS 2 install's, it is executed with the same arguments, so ``./ws ros2 ...`` (which finds
 this script in install/) and a PATH on which this one comes first still run the real one.
 
-``ros2 run PKG EXE [args]`` executes ``<prefix of PKG>/lib/PKG/EXE`` in place of this
-process (ros2run starts it as a child and searches lib/PKG's sub-folders too); its errors
-are ros2run's: ``Package 'PKG' not found``, ``No executable found``. As ros2cli's main,
+Each command's parser is in its module (``cli_run``, ``cli_node``, ...). As ros2cli's main,
 an error is one line on stderr and exit status 1, Ctrl-C exit status 2 (SIGINT).
 """
 from __future__ import annotations
@@ -18,9 +16,7 @@ import signal
 import sys
 from pathlib import Path
 
-from pdr_core.ros.message_yaml import ECHO_TRUNCATE_LENGTH
-from pdr_ros2.graph import DISCOVERY_S, node_list, topic_list
-from pdr_ros2.topic_echo import topic_echo
+from pdr_ros2 import cli_node, cli_run, cli_topic
 
 DESCRIPTION = """\
 ros2 of the pdr stack: NOT ros2cli. A stand-in for a workspace whose ROS 2 comes from
@@ -31,6 +27,7 @@ PyPI wheels (rclpy without ros2cli), with ros2cli's syntax and output format for
   ros2 topic echo TOPIC [--once] [--csv]
 Where a real ros2 is on the PATH, that one runs instead of this one."""
 SHIM_FOLDER = "lib/pdr_ros2"       # where colcon installs this script (setup.cfg)
+COMMANDS = (cli_run, cli_node, cli_topic)   # in the order -h lists them
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -55,60 +52,11 @@ def real_ros2() -> str | None:
     return None
 
 
-def run(args) -> str:
-    """``ros2 run``: execute PKG's EXE with the remaining arguments (returns an error)."""
-    from ament_index_python.packages import PackageNotFoundError, get_package_prefix
-
-    try:
-        prefix = get_package_prefix(args.package_name)
-    except PackageNotFoundError:
-        return f"Package '{args.package_name}' not found"
-    path = os.path.join(prefix, "lib", args.package_name, args.executable_name)
-    if not (os.path.isfile(path) and os.access(path, os.X_OK)):
-        return "No executable found"
-    os.execv(path, [path, *args.argv])
-
-
 def parser() -> argparse.ArgumentParser:
+    """The argparse tree: one module per command, each adding its own verbs."""
     top = argparse.ArgumentParser(prog="ros2", description=DESCRIPTION,
                                   formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = top.add_subparsers(title="commands", metavar="COMMAND", required=True)
-    run_cmd = commands.add_parser("run", help="Run a package specific executable")
-    run_cmd.add_argument("package_name", help="Name of the ROS package")
-    run_cmd.add_argument("executable_name", help="Name of the executable")
-    run_cmd.add_argument("argv", nargs=argparse.REMAINDER,
-                         help="Pass arbitrary arguments to the executable")
-    run_cmd.set_defaults(verb=run)
-    node_verbs = verbs(commands, "node", "Various node related sub-commands")
-    graph_verb(node_verbs, "list", "Output a list of available nodes", node_list)
-    topic_verbs = verbs(commands, "topic", "Various topic related sub-commands")
-    listing = graph_verb(topic_verbs, "list", "Output a list of available topics", topic_list)
-    listing.add_argument("-t", "--show-types", action="store_true",
-                         help="Additionally show the topic type")
-    echo = graph_verb(topic_verbs, "echo", "Output messages from a topic", topic_echo)
-    echo.add_argument("topic_name", help="Name of the ROS topic to listen to (e.g. '/chatter')")
-    echo.add_argument("--csv", action="store_true",
-                      help="Output all recursive fields separated by commas")
-    echo.add_argument("--once", action="store_true",
-                      help="Print the first message received and then exit.")
-    echo.add_argument("--full-length", "-f", action="store_true",
-                      help="Output all elements for arrays, bytes, and strings")
-    echo.add_argument("--truncate-length", "-l", type=int, default=ECHO_TRUNCATE_LENGTH,
-                      help=f"The length to truncate arrays, bytes, and string to "
-                           f"(default: {ECHO_TRUNCATE_LENGTH})")
+    for command in COMMANDS:
+        command.add(commands)
     return top
-
-
-def verbs(commands, name: str, summary: str):
-    """A command (``node``, ``topic``) and the sub-parsers of its verbs."""
-    command = commands.add_parser(name, help=summary, description=summary)
-    return command.add_subparsers(title="verbs", metavar="VERB", required=True)
-
-
-def graph_verb(verb_parsers, name: str, summary: str, function) -> argparse.ArgumentParser:
-    """A verb that asks the graph, with ros2cli's ``--spin-time``."""
-    verb = verb_parsers.add_parser(name, help=summary, description=summary)
-    verb.add_argument("--spin-time", type=float, default=DISCOVERY_S,
-                      help="Spin time in seconds to wait for discovery")
-    verb.set_defaults(verb=function)
-    return verb
