@@ -68,18 +68,44 @@ class GraphRun:
     estimator_log: str
 
 
+RECORDED = "[pdr/pocket/pose, pdr/pocket/path, pdr/landmarks, pdr/drift]"
+
+
+def expected_messages(report: dict) -> int:
+    """What the recorder of a graph run gets for the in-process ``report``: a path per
+    step, one again per accepted correction, and the estimator's outputs."""
+    drift = report["drift"]
+    return (2 * report["steps"] + drift["landmarks"] + drift["associations"]
+            + drift["corrections_accepted"])
+
+
+def launch_graph(procs, folder, walk, report: dict) -> GraphRun:
+    """``make demo``'s live graph: ``ros2 launch pdr_sim replay.launch.xml`` of
+    pdr_drift/pocket_drift.launch.xml on ``walk``, with tools/demo.sh's arguments, until
+    the recorder has what the in-process ``report`` says and the launch has stopped every
+    node; each node's log is its prefixed lines of the launch's."""
+    launcher = procs.start("ros2", "launch", "pdr_sim", "replay.launch.xml",
+                           "package:=pdr_drift", "graph:=pocket_drift.launch.xml",
+                           f"bag:={walk}", f"out:={folder / 'live'}", f"record:={RECORDED}",
+                           f"max_messages:={expected_messages(report)}", f"config:={NO_MAG}",
+                           "imu_durability:=transient_local", name="launch")
+    assert launcher.wait(timeout=300) == 0, log_text(launcher)
+    lines = log_text(launcher).splitlines()
+    return GraphRun(BagReader(folder / "live"), *("\n".join(
+        line for line in lines if line.startswith(f"[{node}-"))
+        for node in ("pocket_pdr", "landmark_drift")))
+
+
 def run_graph(procs, folder, walk, report: dict, rate: float = 0.0,
               estimator_args: tuple[str, ...] = ()) -> GraphRun:
     """bag_play (at ``rate``; 0: as fast as acknowledged) → pocket_pdr ⇄ landmark_drift
     (``estimator_args``: its ROS arguments) → bag_record on ``walk``, until the recorder
     has the poses, paths, landmarks and drift estimates of the in-process ``report`` (a
     path per step, and one again per accepted correction); both nodes stopped cleanly."""
-    drift = report["drift"]
-    expected = (2 * report["steps"] + drift["landmarks"] + drift["associations"]
-                + drift["corrections_accepted"])
+    expected = expected_messages(report)
     recorder = procs.start("bag_record", "--ros-args", "-p", f"out:={folder / 'live'}", "-p",
-                           "topics:=[pdr/pocket/pose, pdr/pocket/path, pdr/landmarks, "
-                           "pdr/drift]", "-p", f"max_messages:={expected}", name="record")
+                           f"topics:={RECORDED}", "-p", f"max_messages:={expected}",
+                           name="record")
     navigator = procs.start("pocket_pdr", "--ros-args", "-p", "imu_durability:=transient_local",
                             "-p", f"config:={NO_MAG}", name="pocket_pdr")
     estimator = procs.start("landmark_drift", *estimator_args, name="landmark_drift")
@@ -127,9 +153,9 @@ def assert_equals_in_process(run: GraphRun, offline, report: dict, atol: float) 
 
 @pytest.fixture(scope="module")
 def graph(module_procs, walk, online, tmp_path_factory) -> GraphRun:
-    """The demo's graph on the demo's walk, played as fast as acknowledged: one run that
-    the tests of what the graph gives share."""
-    return run_graph(module_procs, tmp_path_factory.mktemp("graph_run"), walk, online[1])
+    """The demo's graph on the demo's walk from its launch files, played as fast as
+    acknowledged: one run that the tests of what the graph gives share."""
+    return launch_graph(module_procs, tmp_path_factory.mktemp("graph_run"), walk, online[1])
 
 
 def test_landmark_drift_corrects_pocket_pdr_over_the_service(graph, online):

@@ -2,9 +2,10 @@
 # make demo: the foot pipeline end to end through the live ROS 2 graph.
 #   1. pdr-sim generate simulates the built-in long mixed walk (Xsens MTw errors, 100 Hz)
 #      with PNGs of the trajectory and the signals;
-#   2. bag_play publishes its imu/data as fast as the subscribers keep up; zupt_ekf
-#      navigates on it; bag_record records pdr/foot/pose and pdr/foot/stance
-#      (three processes);
+#   2. ros2 launch of the foot graph on it (pdr_sim/launch/replay.launch.xml with
+#      pdr_ins_ekf/launch/foot.launch.xml): bag_play publishes its imu/data as fast as the
+#      subscribers keep up; zupt_ekf navigates on it; bag_record records pdr/foot/pose and
+#      pdr/foot/stance (three processes);
 #   3. pdr-ekf evaluate prints the report against the ground truth and writes a PNG.
 # Run through `make demo`, which bootstraps and sets up the environment first.
 set -euo pipefail
@@ -12,8 +13,8 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/out/demo"
 config="$root/src/pdr_ins_ekf/config/foot_ekf.yaml"
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$((RANDOM % 100 + 1))}"
-# shellcheck source=tools/live_graph.sh
-source "$root/tools/live_graph.sh"
+# shellcheck source=tools/replay.sh
+source "$root/tools/replay.sh"
 rm -rf "$out" && mkdir -p "$out"
 
 echo "== 1. simulate the built-in long mixed walk"
@@ -32,13 +33,15 @@ lag = load_run_config(sys.argv[2]).detector.context(sample_rate_hz(imu.stamp_ns)
 print(2 * (len(imu) - lag))
 PY
 )
-live_graph "$out" "$out/simulated" "[/imu/data]" "[pdr/foot/pose, pdr/foot/stance]" \
-  "$expected" 0.0 "zupt_ekf --ros-args -p config:=$config -p imu_durability:=transient_local"
+replay "$out/launch.log" package:=pdr_ins_ekf graph:=foot.launch.xml bag:="$out/simulated" \
+  out:="$out/live" play:="[/imu/data]" record:="[pdr/foot/pose, pdr/foot/stance]" \
+  max_messages:="$expected" config:="$config" imu_durability:=transient_local
 
 echo "== 3. report against the ground truth"
 "$root/ws" pdr-ekf evaluate "$out/live" --truth "$out/simulated" --plot "$out/estimate.png"
 
-echo "== 4. the pocket graph: bag_play -> pocket_pdr <-> landmark_drift -> bag_record"
+echo "== 4. the pocket graph with the drift loop (pdr_drift/launch/pocket_drift.launch.xml):"
+echo "      bag_play -> pocket_pdr <-> landmark_drift -> bag_record"
 pocket="$out/pocket" && mkdir -p "$pocket"
 # without magnetometer updates (the thesis' setting): the heading has no reference but
 # the landmarks
@@ -53,11 +56,11 @@ no_mag="$root/src/pdr_pocket/config/pocket_pdr_no_mag.yaml"
 expected=$(python -c "import json,sys; r=json.load(open(sys.argv[1])); d=r['drift']
 print(2 * r['steps'] + d['landmarks'] + d['associations'] + d['corrections_accepted'])" \
   "$pocket/report.json")
-live_graph "$pocket" "$pocket/simulated" "[/imu/data, /imu/mag]" \
-  "[pdr/pocket/pose, pdr/pocket/path, pdr/landmarks, pdr/drift]" "$expected" 0.0 \
-  "pocket_pdr --ros-args -p imu_durability:=transient_local -p config:=$no_mag" \
-  "landmark_drift"
-grep -h "correction accepted\|correction refused" "$pocket/landmark_drift.log" | tail -n 3
+replay "$pocket/launch.log" package:=pdr_drift graph:=pocket_drift.launch.xml \
+  bag:="$pocket/simulated" out:="$pocket/live" \
+  record:="[pdr/pocket/pose, pdr/pocket/path, pdr/landmarks, pdr/drift]" \
+  max_messages:="$expected" config:="$no_mag" imu_durability:=transient_local
+grep -h "\[landmark_drift.*correction \(accepted\|refused\)" "$pocket/launch.log" | tail -n 3
 python - "$pocket" <<'PY'
 import sys
 from pathlib import Path

@@ -2,10 +2,11 @@
 # make demo-pocket: the pocket pipeline end to end through the live ROS 2 graph.
 #   1. pdr-sim generate simulates UP/DW of Muñoz Díaz 2016 (40 m, four floors up a
 #      staircase and down again, a phone in the front pocket, Xsens MTw errors);
-#   2. bag_play publishes its imu/data and imu/mag as fast as the subscribers keep up;
-#      pocket_pdr navigates with the filter for that sensor (config/pocket_pdr_xsens_mtw.yaml);
-#      bag_record records pdr/pocket/step and pdr/pocket/pose
-#      (three processes);
+#   2. ros2 launch of the pocket graph on it (pdr_sim/launch/replay.launch.xml with
+#      pdr_pocket/launch/pocket.launch.xml): bag_play publishes its imu/data and imu/mag as
+#      fast as the subscribers keep up; pocket_pdr navigates with the filter for that
+#      sensor (config/pocket_pdr_xsens_mtw.yaml); bag_record records pdr/pocket/step and
+#      pdr/pocket/pose (three processes);
 #   3. pdr-pocket run navigates the same bag offline for the report against the truth
 #      (steps, activities, distance and riser errors, floors) and its PNG, and the live
 #      poses are checked against it.
@@ -14,8 +15,8 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/out/demo_pocket"
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$((RANDOM % 100 + 1))}"
-# shellcheck source=tools/live_graph.sh
-source "$root/tools/live_graph.sh"
+# shellcheck source=tools/replay.sh
+source "$root/tools/replay.sh"
 rm -rf "$out" && mkdir -p "$out"
 
 echo "== 1. simulate UP/DW with a phone in the front pocket"
@@ -28,9 +29,9 @@ config="$root/src/pdr_pocket/config/pocket_pdr_xsens_mtw.yaml"
   > "$out/report.json"
 steps=$(python -c "import json,sys; print(json.load(open(sys.argv[1]))['steps'])" \
   "$out/report.json")
-live_graph "$out" "$out/simulated" "[/imu/data, /imu/mag]" \
-  "[pdr/pocket/step, pdr/pocket/pose]" "$((2 * steps))" 0.0 \
-  "pocket_pdr --ros-args -p imu_durability:=transient_local -p config:=$config"
+replay "$out/launch.log" package:=pdr_pocket graph:=pocket.launch.xml bag:="$out/simulated" \
+  out:="$out/live" record:="[pdr/pocket/step, pdr/pocket/pose]" \
+  max_messages:="$((2 * steps))" config:="$config" imu_durability:=transient_local
 
 echo "== 3. report against the ground truth"
 python - "$out" <<'PY'

@@ -8,6 +8,10 @@ Parameters it declares on its node:
     clock (bool, false): also publish ``/clock`` (rosgraph_msgs/Clock) at each log time.
     wait_for_subscribers (int, 0): before publishing, wait until every publisher has this
         many subscribers (a start handshake: nothing goes out before discovery).
+    wait_for_topics (str[], none): before publishing, also wait until each of these graph
+        topics has a subscriber: the recorder of a launch file (pdr_sim/launch/
+        replay.launch.xml), which subscribes to an output once its node publishes it, so
+        that nothing is played before the graph downstream listens.
     wait_timeout_s (float, 30.0): give up waiting after this long.
     ack_every (int, 100): with rate 0, messages between acknowledgement waits.
 
@@ -25,6 +29,7 @@ import rclpy
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from pdr_core import topics as bag_topics
@@ -73,6 +78,8 @@ class Playback:
         self.clock = declare(node, "clock", False, "also publish /clock")
         self.wait_for_subscribers = declare(node, "wait_for_subscribers", 0, "wait until every "
                                             "publisher has this many subscribers")
+        self.wait_for_topics = (node.declare_parameter(
+            "wait_for_topics", Parameter.Type.STRING_ARRAY).value or [])
         self.wait_timeout_s = declare(node, "wait_timeout_s", 30.0,
                                       "give up waiting after this long [s]")
         self.ack_every = max(1, declare(node, "ack_every", 100, "with rate 0, messages "
@@ -93,18 +100,24 @@ class Playback:
                                                         bag_topics.CLOCK, RELIABLE)
 
     def wait_for_subscribers_or_timeout(self) -> bool:
-        """True once every publisher has its subscribers (or none are required)."""
-        if self.wait_for_subscribers <= 0:
-            return True
+        """True once every publisher has its subscribers and every topic of
+        ``wait_for_topics`` one (or none are required)."""
         deadline = time.monotonic() + self.wait_timeout_s
-        while min(p.get_subscription_count() for p in self.publishers.values()) \
-                < self.wait_for_subscribers:
+        while missing := self.missing_subscribers():
             if time.monotonic() > deadline:
-                self.node.get_logger().error(
-                    f"no {self.wait_for_subscribers} subscriber(s) after {self.wait_timeout_s} s")
+                self.node.get_logger().error(f"no subscriber(s) after {self.wait_timeout_s} s: "
+                                             f"{', '.join(missing)}")
                 return False
             time.sleep(0.01)
         return True
+
+    def missing_subscribers(self) -> list[str]:
+        """What the start handshake still waits for, in words."""
+        missing = [f"{self.wait_for_subscribers} on {bag_topics.graph_name(topic)}"
+                   for topic, pub in self.publishers.items()
+                   if pub.get_subscription_count() < self.wait_for_subscribers]
+        return missing + [f"1 on {topic}" for topic in self.wait_for_topics
+                          if self.node.count_subscribers(topic) < 1]
 
     def wait_acked(self) -> None:
         for pub in self.publishers.values():
