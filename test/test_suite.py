@@ -18,7 +18,7 @@ SHARED_TEST = "test/test_import_shared_datasets.py::test_xio_without_drop_duplic
 def test_every_package_test_directory_is_collected():
     options = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["pytest"]
     packages = sorted(str(p.relative_to(ROOT)) for p in ROOT.glob("src/*/test") if p.is_dir())
-    assert len(packages) == 6                    # pdr_msgs: test/test_pdr_msgs.py
+    assert len(packages) == 7                    # pdr_msgs: test/test_pdr_msgs.py
     assert set(packages) <= set(options["ini_options"]["testpaths"])
     assert (ROOT / "test" / "test_pdr_msgs.py").is_file() and "test" in \
         options["ini_options"]["testpaths"]
