@@ -38,42 +38,42 @@ def absolute_name(node_name: str) -> str:
     return node_name if node_name.startswith("/") else "/" + node_name
 
 
-def wait_for_node(node, full_name: str, timeout_s: float) -> bool:
-    """True once ``full_name`` is among the graph's nodes, spinning up to ``timeout_s``."""
+def spin_until(node, ready, timeout_s: float) -> bool:
+    """True once ``ready()`` holds, spinning ``node`` in steps of 0.05 s up to
+    ``timeout_s`` [s] (``ros2node.api.wait_for_node``'s loop)."""
     import rclpy
 
     deadline = time.monotonic() + timeout_s
-    while full_name not in node_names(node):
+    while not ready():
         if time.monotonic() >= deadline:
             return False
-        rclpy.spin_once(node, timeout_sec=0.1)
+        rclpy.spin_once(node, timeout_sec=0.05)
     return True
 
 
 def client_for(node, node_name: str, wait_s: float):
     """An AsyncParameterClient of ``node_name`` with its services up; ParamError when the
     node is not in the graph after ``wait_s`` [s] or its services do not appear."""
-    import rclpy
     from rclpy.parameter_client import AsyncParameterClient
 
     full_name = absolute_name(node_name)
-    if not wait_for_node(node, full_name, wait_s):
+    if not spin_until(node, lambda: full_name in node_names(node), wait_s):
         raise ParamError(NODE_NOT_FOUND)
     client = AsyncParameterClient(node, full_name)
-    deadline = time.monotonic() + SERVICE_TIMEOUT_S
-    while not client.services_are_ready():
-        if time.monotonic() >= deadline:
-            raise ParamError(NO_SERVICE)
-        rclpy.spin_once(node, timeout_sec=0.05)
+    if not spin_until(node, client.services_are_ready, SERVICE_TIMEOUT_S):
+        raise ParamError(NO_SERVICE)
     return client
 
 
 def answer(node, future):
-    """The response of a service call, spinning ``node`` for it (SERVICE_TIMEOUT_S)."""
+    """The response of a service call, spinning ``node`` for it up to SERVICE_TIMEOUT_S."""
     import rclpy
 
     rclpy.spin_until_future_complete(node, future, timeout_sec=SERVICE_TIMEOUT_S)
-    if not future.done() or future.result() is None:
+    if not future.done():
+        raise ParamError(f"No answer from the node's parameter service in "
+                         f"{SERVICE_TIMEOUT_S} s")
+    if future.result() is None:
         raise ParamError(f"Exception while calling service: {future.exception()}")
     return future.result()
 
