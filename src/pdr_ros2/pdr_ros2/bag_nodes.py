@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from datetime import datetime
 
-DEFAULT_BAG_PREFIX = "rosbag2_"        # rosbag2's record: rosbag2_YYYY_MM_DD-HH_MM_SS
+DEFAULT_BAG_PREFIX = "rosbag2_"        # ros2bag/verb/record.py: datetime.now().strftime(...)
 DEFAULT_BAG_TIME = "%Y_%m_%d-%H_%M_%S"
 
 

@@ -23,6 +23,7 @@ from pdr_ros2.bag_nodes import default_bag_name, play_arguments, record_argument
 from pdr_ros2.cli_run import executable_path
 
 BAG_PACKAGE = "pdr_sim"
+OUTPUT_EXISTS = "[ERROR] [ros2bag]: Output folder '{}' already exists."   # verb/record.py
 NO_TOPICS = ("No topics to record: this stand-in (NOT ros2cli) records the topics named "
              "(-a, --regex, --services and the like are not supported)")
 
@@ -94,11 +95,14 @@ def bag_play(args) -> str:
 
 
 def bag_record(args) -> str:
-    """``ros2 bag record [-o OUT] TOPIC ...``: bag_record in place of this process."""
+    """``ros2 bag record [-o OUT] TOPIC ...``: bag_record in place of this process; an
+    existing OUT refused with ros2bag's words."""
     topics = [*args.topics_positional, *(args.topics or [])]
     if not topics:
         return NO_TOPICS
     out = args.output or default_bag_name(datetime.now())
+    if os.path.isdir(out):
+        return OUTPUT_EXISTS.format(out)
     return run_node("bag_record", record_arguments(out, topics), args.ros_args)
 
 

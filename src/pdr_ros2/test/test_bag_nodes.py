@@ -1,6 +1,6 @@
 """The bag_play and bag_record arguments of ``ros2 bag play/record`` (their parameters:
 pdr_sim/nodes/bag_play.py, playback.py, bag_record.py), and rosbag2's default bag name
-(``rosbag2_transport``: ``rosbag2_%Y_%m_%d-%H_%M_%S``)."""
+(``ros2bag/ros2bag/verb/record.py``: ``datetime.now().strftime('rosbag2_%Y_%m_%d-%H_%M_%S')``)."""
 from __future__ import annotations
 
 from datetime import datetime

@@ -23,9 +23,15 @@ def test_play_refuses_a_clock_rate_and_a_negative_rate():
     assert play(rate=-1.0).startswith("Invalid rate -1.0: this stand-in takes a factor >= 0")
 
 
-def test_record_needs_topics():
-    assert bag_record(argparse.Namespace(topics_positional=[], topics=None, output=None,
-                                         ros_args=None)) == NO_TOPICS
+def record(**given) -> str:
+    options = {"topics_positional": ["/a"], "topics": None, "output": None, "ros_args": None}
+    return bag_record(argparse.Namespace(**{**options, **given}))
+
+
+def test_record_needs_topics_and_a_new_output(tmp_path):
+    assert record(topics_positional=[]) == NO_TOPICS
+    assert record(output=str(tmp_path)) == \
+        f"[ERROR] [ros2bag]: Output folder '{tmp_path}' already exists."
 
 
 def test_the_parsed_options_are_the_ones_the_verbs_read():
