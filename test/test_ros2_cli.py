@@ -1,9 +1,10 @@
 """The workspace's ``ros2`` (pdr_ros2, issue 58, acceptance 1 in part): ``pocket_pdr``
-started with ``ros2 run`` on the sample bag, its topics seen with ``ros2 topic list -t``
-and one odometry message with ``ros2 topic echo --once`` in ros2cli's YAML (and CSV);
-the help says it is not ros2cli, and a real ``ros2`` earlier on the PATH runs instead.
-One graph for the module (tests/conftest.py ``module_procs``): a node start and a bag
-played once."""
+started with ``ros2 run`` on the sample bag (played by ``ros2 bag play``), its topics seen
+with ``ros2 topic list -t`` and one odometry message with ``ros2 topic echo --once`` in
+ros2cli's YAML (and CSV); its parameters listed, read, set and dumped with ``ros2 param``,
+an output recorded by ``ros2 bag record``; the help says it is not ros2cli, and a real
+``ros2`` earlier on the PATH runs instead. One graph for the module (tests/conftest.py
+``module_procs``): a node start and a bag played once."""
 from __future__ import annotations
 
 import os
@@ -25,16 +26,16 @@ ODOMETRY_LEAVES = 3 + 1 + 7 + 36 + 6 + 36   # stamp, frame, child, pose, twist, 
 
 @pytest.fixture(scope="module")
 def pocket_graph(module_procs):
-    """``ros2 run pdr_pocket pocket_pdr`` while bag_play feeds it the sample bag's IMU and
-    magnetometer (as fast as it acknowledges; not waited for: an ``echo --once`` of a
-    kept output waits for the first message). Its outputs are kept (transient local,
-    depth 1000)."""
+    """``ros2 run pdr_pocket pocket_pdr`` while ``ros2 bag play`` (pdr_sim's bag_play)
+    feeds it the sample bag's IMU and magnetometer (as fast as it acknowledges; not
+    waited for: an ``echo --once`` of a kept output waits for the first message). Its
+    outputs are kept (transient local, depth 1000)."""
     node = module_procs.start("ros2", "run", "pdr_pocket", "pocket_pdr", "--ros-args", "-p",
                               "imu_durability:=transient_local", name="pocket_pdr")
     wait_for_log(node, "publishes")
-    module_procs.start("bag_play", "--ros-args", "-p", f"bag:={BAG}", "-p",
-                       "topics:=[/imu/data, /imu/mag]", "-p", "rate:=0.0", "-p",
-                       "wait_for_subscribers:=1", name="bag_play")
+    module_procs.start("ros2", "bag", "play", str(BAG), "--topics", "/imu/data", "/imu/mag",
+                       "-r", "0", "--ros-args", "-p", "wait_for_subscribers:=1",
+                       name="bag_play")
     return module_procs, node
 
 
@@ -108,7 +109,11 @@ def test_help_names_the_verbs_and_says_it_is_not_ros2cli():
     assert result.returncode == 0, result.stderr
     assert "NOT ros2cli" in result.stdout
     for verb in ("ros2 run PKG EXE", "ros2 node list", "ros2 topic list [-t]",
-                 "ros2 topic echo TOPIC [--once] [--csv]"):
+                 "ros2 topic echo TOPIC [--once] [--csv]",
+                 "ros2 param list [NODE] [--param-type]", "ros2 param get NODE PARAM",
+                 "ros2 param set NODE PARAM VALUE", "ros2 param dump NODE",
+                 "ros2 bag info BAG", "ros2 bag play BAG [--topics T ...] [-r RATE] [--clock]",
+                 "ros2 bag record [-o OUT] TOPIC ..."):
         assert verb in result.stdout
 
 
@@ -142,3 +147,61 @@ def test_env_sh_appends_the_stand_in_to_the_path(tmp_path):
                             env={**os.environ, "PATH": path}).stdout
              for path in ("/usr/bin:/bin", f"/usr/bin:/bin:{tmp_path}")]
     assert found == [command("ros2") + "\n", f"{real}\n"]
+
+
+
+def ros2_at_once(procs, *calls: tuple[str, ...]) -> list[subprocess.CompletedProcess]:
+    """Each ``ros2 ARGS`` of ``calls`` started at the same time (each waits for discovery
+    on its own, up to 4.5 s with the param verbs); their results in order."""
+    started = [subprocess.Popen([command("ros2"), *args], env=procs.env, cwd=ROOT, text=True,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+               for args in calls]
+    outputs = [p.communicate(timeout=30) for p in started]
+    return [subprocess.CompletedProcess(p.args, p.returncode, *output)
+            for p, output in zip(started, outputs, strict=True)]
+
+
+def test_param_list_get_and_dump_show_the_nodes_parameters(pocket_graph):
+    procs, _ = pocket_graph
+    listed, got, missing, dumped = ros2_at_once(
+        procs, ("param", "list", "/pocket_pdr"), ("param", "get", "/pocket_pdr", "block_s"),
+        ("param", "get", "/pocket_pdr", "no_such_param"), ("param", "dump", "/pocket_pdr"))
+    lines = listed.stdout.splitlines()
+    assert {"  block_s", "  imu_durability", "  use_sim_time"} <= set(lines), listed.stderr
+    assert lines == sorted(lines) and all(line.startswith("  ") for line in lines)
+    assert (got.returncode, got.stdout) == (0, "Double value is: 0.25\n"), got.stderr
+    assert (missing.returncode, missing.stderr) == (1, "Parameter not set\n")
+    assert dumped.stdout.startswith("/pocket_pdr:\n  ros__parameters:\n    "), dumped.stderr
+    assert dumped.stdout.endswith("\n\n")                 # print of yaml.dump's text
+    parameters = yaml.safe_load(dumped.stdout)["/pocket_pdr"]["ros__parameters"]
+    assert sorted(parameters) == [line.strip() for line in lines]
+    assert parameters["imu_durability"] == "transient_local"
+    assert parameters["block_s"] == 0.25 and parameters["use_sim_time"] is False
+
+
+def test_param_set_changes_the_value_or_says_why_not(pocket_graph):
+    procs, _ = pocket_graph
+    done, refused = ros2_at_once(procs, ("param", "set", "/pocket_pdr", "mag_wait_s", "2.5"),
+                                 ("param", "set", "/pocket_pdr", "mag_wait_s", "soon"))
+    assert (done.returncode, done.stdout) == (0, "Set parameter successful\n"), done.stderr
+    assert (refused.returncode, refused.stderr) == (
+        1, "Setting parameter failed: Wrong parameter type, expected 'Type.DOUBLE' got "
+           "'Type.STRING'\n")
+    got = procs.run("ros2", "param", "get", "/pocket_pdr", "mag_wait_s", timeout=30)
+    assert got.stdout == "Double value is: 2.5\n", got.stderr
+
+
+def test_bag_record_writes_the_topics_it_is_given(pocket_graph, tmp_path):
+    """``ros2 bag record -o OUT TOPIC`` of a kept output (transient local: the recorder
+    gets what was published before it subscribed), stopped after 5 messages by a
+    parameter of bag_record passed through ``--ros-args``."""
+    from pdr_core.io.bag import BagReader
+
+    procs, _ = pocket_graph
+    out = tmp_path / "odometry"
+    recorder = procs.start("ros2", "bag", "record", "-o", str(out), "/pdr/pocket/odometry",
+                           "--ros-args", "-p", "max_messages:=5", name="bag_record")
+    assert recorder.wait(timeout=30) == 0, recorder.log_path.read_text()
+    reader = BagReader(out)
+    assert reader.topics == {"/pdr/pocket/odometry": "nav_msgs/msg/Odometry"}
+    assert len(reader.read_messages("/pdr/pocket/odometry")) == 5

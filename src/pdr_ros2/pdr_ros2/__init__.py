@@ -7,12 +7,24 @@ ROS install's bin).
 Modules:
     command      The ``ros2`` console script: stepping aside for a real ros2, the
                  argparse tree of the commands below.
-    cli_parsers  Shared argparse shapes: a command's verbs, a graph verb's --spin-time.
+    cli_parsers  Shared argparse shapes: the parser whose errors name this stand-in, a
+                 command's verbs, a graph verb's --spin-time.
     cli_run      ``ros2 run PKG EXE``: the executable's path, executed in place.
     cli_node     ``ros2 node`` verbs.
     cli_topic    ``ros2 topic`` verbs.
-    graph        The CLI's hidden node after its discovery wait; ``node list`` and
-                 ``topic list`` lines.
+    cli_param    ``ros2 param`` verbs.
+    cli_bag      ``ros2 bag`` verbs.
+    graph        The CLI's hidden node after its discovery wait; the graph's node
+                 names; ``node list`` and ``topic list`` lines.
     topic_echo   ``ros2 topic echo``: the topic's type from the graph, ros2cli's QoS
                  choice, messages as YAML or CSV.
+    param_verbs  ``ros2 param list/get/set/dump``: rclpy's parameter client on the
+                 hidden node, ros2param's errors.
+    param_text   What they print: ``param get``'s labels, ``list`` lines, ``dump``'s
+                 YAML (pure).
+    bag_verbs    ``ros2 bag info`` from a bag's metadata.yaml (pdr_core.io.bag);
+                 ``play``/``record`` execute pdr_sim's bag_play/bag_record in place.
+    bag_info_text  rosbag2's ``bag info`` text from a bag's metadata (pure).
+    bag_nodes    bag_play's and bag_record's ``--ros-args -p`` for the bag verbs'
+                 options, the default name of a recorded bag (pure).
 """

@@ -16,7 +16,8 @@ import signal
 import sys
 from pathlib import Path
 
-from pdr_ros2 import cli_launch, cli_node, cli_run, cli_topic
+from pdr_ros2 import cli_bag, cli_launch, cli_node, cli_param, cli_run, cli_topic
+from pdr_ros2.cli_parsers import StandInParser
 
 DESCRIPTION = """\
 ros2 of the pdr stack: NOT ros2cli. A stand-in for a workspace whose ROS 2 comes from
@@ -26,9 +27,16 @@ PyPI wheels (rclpy without ros2cli), with ros2cli's syntax and output format for
   ros2 node list
   ros2 topic list [-t]
   ros2 topic echo TOPIC [--once] [--csv]
+  ros2 param list [NODE] [--param-type]
+  ros2 param get NODE PARAM
+  ros2 param set NODE PARAM VALUE
+  ros2 param dump NODE
+  ros2 bag info BAG
+  ros2 bag play BAG [--topics T ...] [-r RATE] [--clock]
+  ros2 bag record [-o OUT] TOPIC ...
 Where a real ros2 is on the PATH, that one runs instead of this one."""
 SHIM_FOLDER = "lib/pdr_ros2"       # where colcon installs this script (setup.cfg)
-COMMANDS = (cli_run, cli_launch, cli_node, cli_topic)   # in the order -h lists them
+COMMANDS = (cli_run, cli_launch, cli_node, cli_topic, cli_param, cli_bag)   # as -h lists them
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -55,8 +63,8 @@ def real_ros2() -> str | None:
 
 def parser() -> argparse.ArgumentParser:
     """The argparse tree: one module per command, each adding its own verbs."""
-    top = argparse.ArgumentParser(prog="ros2", description=DESCRIPTION,
-                                  formatter_class=argparse.RawDescriptionHelpFormatter)
+    top = StandInParser(prog="ros2", description=DESCRIPTION,
+                        formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = top.add_subparsers(title="commands", metavar="COMMAND", required=True)
     for command in COMMANDS:
         command.add(commands)

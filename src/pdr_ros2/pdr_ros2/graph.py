@@ -42,13 +42,18 @@ def node_list(args) -> None:
     """``ros2 node list``: the nodes' full names, sorted, one a line; a warning on stderr
     when two share a name."""
     with graph_node(args.spin_time) as node:
-        names = [full_name(name, namespace)
-                 for name, namespace in node.get_node_names_and_namespaces()
-                 if not name.startswith(HIDDEN_PREFIX)]
+        names = node_names(node)
     if len(set(names)) < len(names):
         print(DUPLICATE_NODES_WARNING, file=sys.stderr)
     if names:
         print(*sorted(names), sep="\n")
+
+
+def node_names(node) -> list[str]:
+    """The full names of the graph's nodes that are not hidden, as rclpy lists them."""
+    return [full_name(name, namespace)
+            for name, namespace in node.get_node_names_and_namespaces()
+            if not name.startswith(HIDDEN_PREFIX)]
 
 
 def full_name(name: str, namespace: str) -> str:
