@@ -11,8 +11,13 @@ Modules:
     cli_run      ``ros2 run PKG EXE``: the executable's path, executed in place.
     cli_node     ``ros2 node`` verbs.
     cli_topic    ``ros2 topic`` verbs.
-    graph        The CLI's hidden node after its discovery wait; ``node list`` and
-                 ``topic list`` lines.
+    cli_service  ``ros2 service`` verbs.
+    graph        The CLI's hidden node after its discovery wait; ``node list``,
+                 ``topic list`` and ``service list`` lines.
     topic_echo   ``ros2 topic echo``: the topic's type from the graph, ros2cli's QoS
                  choice, messages as YAML or CSV.
+    topic_hz     ``ros2 topic hz``: a topic's reception rate every second of messages.
+    topic_info   ``ros2 topic info [-v]``: a topic's type, publishers and subscriptions.
+    service_call  ``ros2 service call``: a request filled from YAML, sent once, the
+                  request and the response printed.
 """

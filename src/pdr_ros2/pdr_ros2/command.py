@@ -16,7 +16,7 @@ import signal
 import sys
 from pathlib import Path
 
-from pdr_ros2 import cli_node, cli_run, cli_topic
+from pdr_ros2 import cli_node, cli_run, cli_service, cli_topic
 
 DESCRIPTION = """\
 ros2 of the pdr stack: NOT ros2cli. A stand-in for a workspace whose ROS 2 comes from
@@ -25,9 +25,13 @@ PyPI wheels (rclpy without ros2cli), with ros2cli's syntax and output format for
   ros2 node list
   ros2 topic list [-t]
   ros2 topic echo TOPIC [--once] [--csv]
+  ros2 topic hz TOPIC [--window N]
+  ros2 topic info TOPIC [-v]
+  ros2 service list [-t]
+  ros2 service call SERVICE TYPE [VALUES]
 Where a real ros2 is on the PATH, that one runs instead of this one."""
 SHIM_FOLDER = "lib/pdr_ros2"       # where colcon installs this script (setup.cfg)
-COMMANDS = (cli_run, cli_node, cli_topic)   # in the order -h lists them
+COMMANDS = (cli_run, cli_node, cli_topic, cli_service)   # in the order -h lists them
 
 
 def main(argv: list[str] | None = None) -> None:
