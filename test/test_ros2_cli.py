@@ -205,13 +205,19 @@ def test_service_call_prints_the_request_and_the_answer(pocket_graph):
     assert text.endswith(", revised_steps=[], revised_poses=[])\n\n")
 
 
-def test_service_call_of_an_unknown_field_fails_with_ros2clis_words(pocket_graph):
-    procs, _ = pocket_graph
-    called = procs.run("ros2", "service", "call", "/pdr/pocket/apply_correction",
-                       "pdr_msgs/srv/ApplyCorrection", "{yawn: 0.1}", timeout=30)
-    assert (called.returncode, called.stdout) == (1, "")
-    assert called.stderr == ("Failed to populate field: 'ApplyCorrection_Request' object "
-                             "has no attribute 'yawn'\n")
+@pytest.mark.parametrize(("service_type", "values", "error"), [
+    ("pdr_msgs/srv/ApplyCorrection", "{yawn: 0.1}",
+     "Failed to populate field: 'ApplyCorrection_Request' object has no attribute 'yawn'"),
+    ("pdr_msgs/msg/Step", "{}", "The passed type is not a service"),
+    ("no_such_pkg/srv/Call", "{}", "The passed service type is invalid"),
+])
+def test_service_call_of_a_bad_type_or_field_fails_with_ros2clis_words(service_type, values,
+                                                                        error):
+    """Before any node starts: no graph needed."""
+    called = subprocess.run([command("ros2"), "service", "call", "/pdr/pocket/apply_correction",
+                             service_type, values], capture_output=True, text=True, timeout=30)
+    assert (called.returncode, called.stdout, called.stderr) == (1, "", error + "\n")
+
 
 def test_help_names_the_verbs_and_says_it_is_not_ros2cli():
     result = subprocess.run([command("ros2"), "-h"], capture_output=True, text=True,
