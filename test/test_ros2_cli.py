@@ -1,20 +1,29 @@
 """The workspace's ``ros2`` (pdr_ros2, issue 58, acceptance 1 in part): ``pocket_pdr``
 started with ``ros2 run`` on the sample bag (played by ``ros2 bag play``), its topics seen
 with ``ros2 topic list -t`` and one odometry message with ``ros2 topic echo --once`` in
-ros2cli's YAML (and CSV); its parameters listed, read, set and dumped with ``ros2 param``,
-an output recorded by ``ros2 bag record``; the help says it is not ros2cli, and a real
-``ros2`` earlier on the PATH runs instead. One graph for the module (tests/conftest.py
-``module_procs``): a node start and a bag played once."""
+ros2cli's YAML (and CSV); ``topic hz`` of a second playback at real time, ``topic info
+-v`` of the odometry, ``service list -t`` and ``service call`` of the correction service;
+its parameters listed, read, set and dumped with ``ros2 param``, an output recorded by
+``ros2 bag record``; the help says it is not ros2cli, and a real ``ros2`` earlier on the
+PATH runs instead. One graph for the module (tests/conftest.py ``module_procs``): a node
+start and a bag played once."""
 from __future__ import annotations
 
 import os
+import re
+import select
+import signal
 import subprocess
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
+from geometry_msgs.msg import Point
 
+from pdr_core.io.bag import BagReader
+from pdr_msgs.srv import ApplyCorrection
 from wstest import ROOT, command, wait_for_log
 
 pytestmark = pytest.mark.ros
@@ -22,6 +31,10 @@ BAG = ROOT / "bags" / "pocket_walk"
 DISCOVERY_WAIT_S = 10.0     # a ros2 call retried until the graph shows what it asks
 ODOMETRY_FIELDS = ["header", "child_frame_id", "pose", "twist"]
 ODOMETRY_LEAVES = 3 + 1 + 7 + 36 + 6 + 36   # stamp, frame, child, pose, twist, covariances
+HZ_NAMESPACE = "/hz"        # of the IMU played at real time for ros2 topic hz
+HZ_WAIT_S = 20.0            # ros2 topic hz's first block: at most a playback's start and 1 s
+HZ_BLOCK = re.compile(r"average rate: (\d+\.\d{3})\n\tmin: (\d+\.\d{3})s max: (\d+\.\d{3})s "
+                      r"std dev: (\d+\.\d{5})s window: (\d+)")
 
 
 @pytest.fixture(scope="module")
@@ -65,8 +78,13 @@ def test_topic_list_shows_the_nodes_topics_with_their_types(pocket_graph):
     want = ["/pdr/pocket/odometry [nav_msgs/msg/Odometry]",
             "/pdr/pocket/step [pdr_msgs/msg/Step]", "/imu/data [sensor_msgs/msg/Imu]",
             "/rosout [rcl_interfaces/msg/Log]"]
-    listed = ros2_until(procs, lambda out: all(w in out.splitlines() for w in want),
-                        "topic", "list", "-t")
+    assert_sorted_lines_include(procs, want, "topic", "list", "-t")
+
+
+def assert_sorted_lines_include(procs, want: list[str], *args: str) -> None:
+    """``ros2 ARGS`` (a list verb), run until it shows every line of ``want``, prints
+    sorted lines that include them."""
+    listed = ros2_until(procs, lambda out: all(w in out.splitlines() for w in want), *args)
     lines = listed.stdout.splitlines()
     assert set(want) <= set(lines) and lines == sorted(lines), listed.stdout
 
@@ -103,13 +121,115 @@ def test_echo_of_a_topic_the_graph_does_not_have_says_so(pocket_graph):
     assert echoed.stderr == "Could not determine the type for the passed topic\n"
 
 
+
+def test_topic_hz_gives_the_rate_of_a_playback_at_real_time(pocket_graph):
+    """``topic hz`` on a second playback of the bag's IMU, at real time, in a namespace of
+    its own (apart from pocket_pdr's input): its first block within 10 % of the bag's
+    rate, in ros2cli's format; Ctrl-C ends it quietly. The two start at once: hz waits
+    for the topic."""
+    procs, _ = pocket_graph
+    stamps = BagReader(BAG).read("/imu/data").stamp_ns
+    bag_rate = 1e9 / np.mean(np.diff(stamps))
+    player = procs.start("bag_play", "--ros-args", "-r", f"__ns:={HZ_NAMESPACE}", "-p",
+                         f"bag:={BAG}", "-p", "topics:=[/imu/data]", "-p", "rate:=1.0",
+                         name="bag_play_hz")
+    topic = f"{HZ_NAMESPACE}/imu/data"
+    hz = subprocess.Popen([command("ros2"), "topic", "hz", topic], env=procs.env,
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lines = lines_until(hz, lambda line: line.startswith("\tmin: "), HZ_WAIT_S)
+    procs.stop(player)
+    assert procs.stop(hz) == signal.SIGINT and hz.stderr.read() == ""
+    *before, first, second = lines
+    assert set(before) <= {f"WARNING: topic [{topic}] does not appear to be published yet"}
+    block = HZ_BLOCK.fullmatch(f"{first}\n{second}")
+    assert block, lines
+    rate, shortest, longest, _, window = map(float, block.groups())
+    assert abs(rate - bag_rate) < 0.1 * bag_rate, (rate, bag_rate)
+    assert shortest <= round(1 / rate, 3) <= longest     # the mean, to the printed digits
+    assert window >= 0.5 * bag_rate
+
+
+def lines_until(proc: subprocess.Popen, last, timeout: float) -> list[str]:
+    """The lines ``proc`` prints up to the first for which ``last`` is true (without their
+    newlines); AssertionError after ``timeout`` [s]."""
+    deadline = time.monotonic() + timeout
+    lines: list[str] = []
+    while not (lines and last(lines[-1])):
+        ready, _, _ = select.select([proc.stdout], [], [], max(0.0, deadline - time.monotonic()))
+        assert ready, f"no line for {timeout} s; so far: {lines}"
+        lines.append(proc.stdout.readline().removesuffix("\n"))
+    return lines
+
+
+def test_topic_info_verbose_shows_each_endpoint_of_the_odometry(pocket_graph):
+    """``topic info -v``: each line followed by a blank one, the publisher's block (rclpy's
+    TopicEndpointInfo) after its count, pocket_pdr's QoS (reliable, transient local)."""
+    procs, _ = pocket_graph
+    info = ros2_until(procs, lambda out: "Node name: pocket_pdr" in out, "topic", "info", "-v",
+                      "/pdr/pocket/odometry")
+    parts = info.stdout.split("\n\n")
+    assert parts[:2] == ["Type: nav_msgs/msg/Odometry", "Publisher count: 1"], info.stdout
+    publisher = parts[2].splitlines()
+    assert publisher[:3] == ["Node name: pocket_pdr", "Node namespace: /",
+                             "Topic type: nav_msgs/msg/Odometry"]
+    assert publisher[3].startswith("Topic type hash: RIHS01_")
+    assert publisher[4:5] == ["Endpoint type: PUBLISHER"] and publisher[5].startswith("GID: ")
+    assert publisher[6:8] == ["QoS profile:", "  Reliability: RELIABLE"]
+    assert "  Durability: TRANSIENT_LOCAL" in publisher
+    assert parts[3].startswith("Subscription count: ")
+    subscriptions, end = parts[4:-1], parts[-1]
+    assert len(subscriptions) == int(parts[3].removeprefix("Subscription count: "))
+    assert all("\nEndpoint type: SUBSCRIPTION\n" in p for p in subscriptions) and end == ""
+
+
+def test_service_list_shows_the_correction_service_with_its_type(pocket_graph):
+    procs, _ = pocket_graph
+    want = ["/pdr/pocket/apply_correction [pdr_msgs/srv/ApplyCorrection]",
+            "/pocket_pdr/reset [std_srvs/srv/Trigger]"]
+    assert_sorted_lines_include(procs, want, "service", "list", "-t")
+
+
+def test_service_call_prints_the_request_and_the_answer(pocket_graph):
+    """A well-formed correction with no part: the request as filled from the YAML
+    (nested, array), pocket_pdr's refusal as the response, each as its repr."""
+    procs, _ = pocket_graph
+    values = ("{stamp: {sec: 0}, request_id: 0, position: {x: 0.0},"
+              " position_covariance: [0, 0, 0, 0, 0, 0, 0, 0, 0]}")
+    called = procs.run("ros2", "service", "call", "/pdr/pocket/apply_correction",
+                       "pdr_msgs/srv/ApplyCorrection", values, timeout=30)
+    assert called.returncode == 0, called.stderr
+    text = called.stdout.removeprefix("waiting for service to become available...\n")
+    request = ApplyCorrection.Request(position=Point(x=0.0))
+    assert text.startswith(f"requester: making request: {request!r}\n\nresponse:\n"
+                           "pdr_msgs.srv.ApplyCorrection_Response(accepted=False, "
+                           "message='nothing to apply"), text
+    assert text.endswith(", revised_steps=[], revised_poses=[])\n\n")
+
+
+@pytest.mark.parametrize(("service_type", "values", "error"), [
+    ("pdr_msgs/srv/ApplyCorrection", "{yawn: 0.1}",
+     "Failed to populate field: 'ApplyCorrection_Request' object has no attribute 'yawn'"),
+    ("pdr_msgs/msg/Step", "{}", "The passed type is not a service"),
+    ("no_such_pkg/srv/Call", "{}", "The passed service type is invalid"),
+])
+def test_service_call_of_a_bad_type_or_field_fails_with_ros2clis_words(service_type, values,
+                                                                        error):
+    """Before any node starts: no graph needed."""
+    called = subprocess.run([command("ros2"), "service", "call", "/pdr/pocket/apply_correction",
+                             service_type, values], capture_output=True, text=True, timeout=30)
+    assert (called.returncode, called.stdout, called.stderr) == (1, "", error + "\n")
+
+
 def test_help_names_the_verbs_and_says_it_is_not_ros2cli():
     result = subprocess.run([command("ros2"), "-h"], capture_output=True, text=True,
                             timeout=30, env={**os.environ, "PATH": "/usr/bin:/bin"})
     assert result.returncode == 0, result.stderr
     assert "NOT ros2cli" in result.stdout
     for verb in ("ros2 run PKG EXE", "ros2 node list", "ros2 topic list [-t]",
-                 "ros2 topic echo TOPIC [--once] [--csv]",
+                 "ros2 topic echo TOPIC [--once] [--csv]", "ros2 topic hz TOPIC [--window N]",
+                 "ros2 topic info TOPIC [-v]", "ros2 service list [-t]",
+                 "ros2 service call SERVICE TYPE [VALUES]",
+                 "ros2 launch PKG FILE [name:=value ...]",
                  "ros2 param list [NODE] [--param-type]", "ros2 param get NODE PARAM",
                  "ros2 param set NODE PARAM VALUE", "ros2 param dump NODE",
                  "ros2 bag info BAG", "ros2 bag play BAG [--topics T ...] [-r RATE] [--clock]",

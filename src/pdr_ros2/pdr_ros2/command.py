@@ -16,7 +16,7 @@ import signal
 import sys
 from pathlib import Path
 
-from pdr_ros2 import cli_bag, cli_launch, cli_node, cli_param, cli_run, cli_topic
+from pdr_ros2 import cli_bag, cli_launch, cli_node, cli_param, cli_run, cli_service, cli_topic
 from pdr_ros2.cli_parsers import StandInParser
 
 DESCRIPTION = """\
@@ -27,6 +27,10 @@ PyPI wheels (rclpy without ros2cli), with ros2cli's syntax and output format for
   ros2 node list
   ros2 topic list [-t]
   ros2 topic echo TOPIC [--once] [--csv]
+  ros2 topic hz TOPIC [--window N]
+  ros2 topic info TOPIC [-v]
+  ros2 service list [-t]
+  ros2 service call SERVICE TYPE [VALUES]
   ros2 param list [NODE] [--param-type]
   ros2 param get NODE PARAM
   ros2 param set NODE PARAM VALUE
@@ -36,7 +40,8 @@ PyPI wheels (rclpy without ros2cli), with ros2cli's syntax and output format for
   ros2 bag record [-o OUT] TOPIC ...
 Where a real ros2 is on the PATH, that one runs instead of this one."""
 SHIM_FOLDER = "lib/pdr_ros2"       # where colcon installs this script (setup.cfg)
-COMMANDS = (cli_run, cli_launch, cli_node, cli_topic, cli_param, cli_bag)   # as -h lists them
+COMMANDS = (cli_run, cli_launch, cli_node, cli_topic, cli_service, cli_param,
+            cli_bag)   # in the order -h lists them
 
 
 def main(argv: list[str] | None = None) -> None:

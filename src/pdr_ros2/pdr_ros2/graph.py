@@ -1,4 +1,5 @@
-"""The CLI's node on the graph and what it lists: ``ros2 node list``, ``ros2 topic list``.
+"""The CLI's node on the graph and what it lists: ``ros2 node list``, ``ros2 topic list``,
+``ros2 service list``.
 
 As ros2cli without its daemon (``ros2cli/node/direct.py``): a hidden node
 ``_ros2cli_<pid>``, without parameter services, spun for ``--spin-time`` (0.5 s) so that
@@ -21,14 +22,14 @@ DUPLICATE_NODES_WARNING = ("WARNING: Be aware that there are nodes in the graph 
 
 
 @contextmanager
-def graph_node(spin_time: float = DISCOVERY_S) -> Iterator:
-    """A hidden rclpy node in ``$ROS_DOMAIN_ID``, after ``spin_time`` [s] of discovery;
-    rclpy shut down on leaving."""
+def graph_node(spin_time: float = DISCOVERY_S, name: str | None = None) -> Iterator:
+    """A hidden rclpy node in ``$ROS_DOMAIN_ID`` (``name``, by default ``_ros2cli_<pid>``),
+    after ``spin_time`` [s] of discovery; rclpy shut down on leaving."""
     import rclpy
 
     rclpy.init()
     try:
-        node = rclpy.create_node(f"{NODE_NAME_PREFIX}_{os.getpid()}",
+        node = rclpy.create_node(name or f"{NODE_NAME_PREFIX}_{os.getpid()}",
                                  start_parameter_services=False)
         deadline = time.monotonic() + spin_time
         while (left := deadline - time.monotonic()) > 0:
@@ -36,6 +37,11 @@ def graph_node(spin_time: float = DISCOVERY_S) -> Iterator:
         yield node
     finally:
         rclpy.try_shutdown()
+
+
+def topic_types(node, topic: str) -> list[str]:
+    """The types the graph gives ``topic`` (its exact name, hidden or not); [] if none."""
+    return dict(node.get_topic_names_and_types()).get(topic, [])
 
 
 def node_list(args) -> None:
@@ -63,10 +69,22 @@ def full_name(name: str, namespace: str) -> str:
 
 def topic_list(args) -> None:
     """``ros2 topic list [-t]``: the topics, one a line, with ``[type, ...]`` under -t."""
+    with graph_node(args.spin_time) as node:
+        print_names(node.get_topic_names_and_types(), args.show_types)
+
+
+def service_list(args) -> None:
+    """``ros2 service list [-t]`` (``ros2service/verb/list.py``): the services, one a line,
+    with ``[type, ...]`` under -t."""
+    with graph_node(args.spin_time) as node:
+        print_names(node.get_service_names_and_types(), args.show_types)
+
+
+def print_names(names_and_types: list[tuple[str, list[str]]], show_types: bool) -> None:
+    """The names that are not hidden, sorted, one a line, each followed by
+    `` [type, ...]`` when ``show_types``."""
     from rclpy.topic_or_service_is_hidden import topic_or_service_is_hidden
 
-    with graph_node(args.spin_time) as node:
-        topics = node.get_topic_names_and_types()
-    for name, types in sorted(topics):
+    for name, types in sorted(names_and_types):
         if not topic_or_service_is_hidden(name):
-            print(f"{name} [{', '.join(types)}]" if args.show_types else name)
+            print(f"{name} [{', '.join(types)}]" if show_types else name)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pdr_core.ros.message_yaml import SEPARATOR, message_csv, message_yaml
 from pdr_core.ros.ros_types import message_class
-from pdr_ros2.graph import graph_node
+from pdr_ros2.graph import graph_node, topic_types
 
 NO_TYPE = "Could not determine the type for the passed topic"
 SOME_RELIABLE = ("Some, but not all, publishers are offering QoSReliabilityPolicy.RELIABLE. "
@@ -31,7 +31,7 @@ def topic_echo(args) -> str | None:
 
     truncate_length = None if args.full_length else args.truncate_length
     with graph_node(args.spin_time) as node:
-        types = dict(node.get_topic_names_and_types()).get(args.topic_name)
+        types = topic_types(node, args.topic_name)
         if not types:
             return NO_TYPE
         printed = Future()

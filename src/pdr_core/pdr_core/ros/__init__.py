@@ -9,6 +9,10 @@ Modules:
     ros_types          ROS type names to their rclpy message classes.
     message_yaml       A message as `ros2 topic echo` prints it: YAML or a CSV line
                        (rosidl_runtime_py's rules, no rclpy).
+    message_fields     A message's fields set from a YAML mapping, as `ros2 service call`
+                       fills a request (rosidl_runtime_py's rules, no rclpy).
+    reception_rate     A topic's reception rate, intervals and window as `ros2 topic hz`
+                       reports them (no rclpy).
     diagnostics        A navigator's health from its counters: OK, WARN or ERROR with the
                        reason (no rclpy).
     node_diagnostics   /diagnostics at 1 Hz for a node (diagnostic_msgs).
