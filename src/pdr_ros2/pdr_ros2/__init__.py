@@ -1,5 +1,5 @@
 """A ``ros2`` command for a workspace whose ROS 2 comes from PyPI wheels, which carry rclpy
-but not ros2cli (issue 58; docs/studies/issue58_ros2_cli.md). Not ros2cli: a few of its
+but not ros2cli (issue 58; docs/ros2.md). Not ros2cli: a few of its
 verbs, with its syntax and output format; where a real ``ros2`` is on the PATH, that one
 runs instead (tools/env.sh appends this package's lib/pdr_ros2 to the PATH, after any
 ROS install's bin).

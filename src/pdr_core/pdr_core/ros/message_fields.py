@@ -3,7 +3,7 @@ pub`` fill a request or a message (no rclpy import).
 
 The rules are those of Jazzy's rosidl_runtime_py (``rosidl_runtime_py/set_message.py``:
 ``set_message_fields``) as ros2cli's ``ros2service/verb/call.py`` calls it, written again
-because neither package is on PyPI (docs/studies/issue58_ros2_cli.md, section 1):
+because neither package is on PyPI (docs/ros2.md):
 
 - The values are a mapping of field names (YAML, ``{}`` when none are given); a field
   not named keeps its default.

@@ -3,7 +3,7 @@
 The rules are those of Jazzy's rosidl_runtime_py (``rosidl_runtime_py/convert.py``:
 ``message_to_ordereddict``, ``_convert_value``, ``message_to_yaml``, ``message_to_csv``)
 as ros2cli's ``ros2topic/verb/echo.py`` calls them, written again here because neither
-package is on PyPI (docs/studies/issue58_ros2_cli.md, section 1):
+package is on PyPI (docs/ros2.md):
 
 - Fields in the order of the message's ``get_fields_and_field_types()``; a field whose
   value has that method is a nested message.

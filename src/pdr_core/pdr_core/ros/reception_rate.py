@@ -2,7 +2,7 @@
 
 The rules are those of ros2cli's ``ros2topic/verb/hz.py`` (Jazzy: ``ROSTopicHz``'s
 ``callback_hz``, ``get_hz`` and ``print_hz``), written again because ros2cli is not on
-PyPI (docs/studies/issue58_ros2_cli.md, section 1):
+PyPI (docs/ros2.md):
 
 - Each message's reception time [ns] is taken; the first one only starts the count, each
   next one adds the interval since the one before. The last ``window`` intervals are kept
