@@ -1,7 +1,7 @@
 """``ros2 launch`` of the project's graphs (issue 58, acceptance 2): the pocket graph with
 the drift loop started from its launch file stops on Ctrl-C, every node within 5 s. That
-the launched graph gives the in-process loop's final path is test_landmark_drift.py's
-``graph`` (the demo's walk through the same files as ``make demo``)."""
+the launched graph gives the in-process loop's final path is test_demo.py's
+``test_make_demo`` (``make demo`` runs its graphs from the launch files)."""
 from __future__ import annotations
 
 import os

@@ -31,11 +31,15 @@ def parameter(name: str, value: str | list[str] | float | bool) -> list[str]:
     return ["-p", f"{name}:={text}"]
 
 
-def play_arguments(bag: str, topics: list[str], rate: float, clock: bool) -> list[str]:
+def play_arguments(bag: str, topics: list[str], rate: float, clock: bool,
+                   start_offset_s: float = 0.0, duration_s: float = 0.0) -> list[str]:
     """bag_play's ROS arguments: the bag, its topics (all when empty), the rate factor
-    (0: as fast as the subscribers acknowledge, this stand-in's), /clock."""
+    (0: as fast as the subscribers acknowledge, this stand-in's), /clock, and the part
+    played (from ``start_offset_s``, for ``duration_s`` [s]; 0: to the end), when set."""
     arguments = ["--ros-args", *parameter("bag", bag), *parameter("rate", rate)]
     arguments += parameter("topics", topics) if topics else []
+    arguments += parameter("start_offset_s", start_offset_s) if start_offset_s else []
+    arguments += parameter("playback_duration_s", duration_s) if duration_s else []
     return arguments + (parameter("clock", True) if clock else [])
 
 

@@ -90,8 +90,11 @@ def bag_play(args) -> str:
     if args.rate < 0:
         return f"Invalid rate {args.rate}: this stand-in takes a factor >= 0 (0: as fast as "\
                "the subscribers acknowledge)"
+    if args.start_offset < 0 or args.playback_duration < 0:
+        return "--start-offset and --playback-duration take seconds >= 0"
     return run_node("bag_play", play_arguments(args.bag_path, args.topics or [], args.rate,
-                                               args.clock is True), args.ros_args)
+                                               args.clock is True, args.start_offset,
+                                               args.playback_duration), args.ros_args)
 
 
 def bag_record(args) -> str:

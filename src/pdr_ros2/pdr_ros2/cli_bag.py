@@ -25,6 +25,11 @@ def add(commands) -> None:
     play.add_argument("--clock", nargs="?", const=True, metavar="HZ",
                       help="Publish to /clock at each message's time (no HZ in this "
                            "stand-in)")
+    play.add_argument("--start-offset", type=float, default=0.0, metavar="SECONDS",
+                      help="Start the playback this many seconds into the bag (from its "
+                           "first played message)")
+    play.add_argument("--playback-duration", type=float, default=0.0, metavar="SECONDS",
+                      help="Playback duration, in seconds (0: to the end)")
     add_ros_args(play, "bag_play")
     record = verb(bag_verbs, "record", "Record ROS data to a bag (pdr_sim's bag_record)",
                   bag_record)

@@ -21,6 +21,11 @@ def test_play_of_every_topic_leaves_the_topics_out():
                                                  "rate:=2.0"]
 
 
+def test_play_passes_the_part_played_only_when_it_is_set():
+    assert play_arguments("b", [], 0, False, 270.0, 60.5)[-4:] == [
+        "-p", "start_offset_s:=270.0", "-p", "playback_duration_s:=60.5"]
+
+
 def test_record_passes_out_and_topics():
     assert record_arguments("out/x", ["pdr/pocket/step"]) == [
         "--ros-args", "-p", "out:='out/x'", "-p", "topics:=['pdr/pocket/step']"]

@@ -8,6 +8,10 @@ Parameters (``--ros-args -p name:=value`` or ``--params-file``):
 
     strict (bool, false): refuse a bag cut short or without its index (exit status 2)
         instead of playing its readable part with a warning.
+    start_offset_s (float, 0.0): skip the messages logged in the first this many seconds
+        after the first played message (``ros2 bag play --start-offset``).
+    playback_duration_s (float, 0.0): stop this many seconds of log time after the start
+        offset; 0: at the end of the bag (``ros2 bag play --playback-duration``).
 
 Bag topics are absolute (``/imu/data``) and are published relative to the node's
 namespace (``imu/data``); the truth topics of a simulated bag (``ground_truth/pose``,
@@ -19,13 +23,14 @@ parameters or an unreadable bag exit with status 2.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Iterator
 
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from pdr_core import topics as bag_topics
 from pdr_core.errors import InputError, InputWarning
-from pdr_core.io.bag import BagReader
+from pdr_core.io.bag import BagReader, RawMessage
 from pdr_core.ros.node_params import declare
 from pdr_sim.nodes.playback import Playback, run_player
 
@@ -40,6 +45,13 @@ class BagPlayer(Node):
                              or [])
         self.strict = declare(self, "strict", False, "refuse a bag cut short instead of "
                               "playing its readable part")
+        self.start_offset_s = declare(self, "start_offset_s", 0.0, "skip the first this many "
+                                      "seconds of log time [s]")
+        self.duration_s = declare(self, "playback_duration_s", 0.0, "stop this many seconds "
+                                  "of log time after the start offset; 0: at the end [s]")
+        if self.start_offset_s < 0 or self.duration_s < 0:
+            raise ValueError("start_offset_s and playback_duration_s must be >= 0, got "
+                             f"{self.start_offset_s} and {self.duration_s}")
         self.playback = Playback(self)
 
     def run(self) -> int:
@@ -65,7 +77,8 @@ class BagPlayer(Node):
         if not self.playback.wait_for_subscribers_or_timeout():
             return 1
         try:
-            self.playback.publish(reader.raw_messages(wanted))
+            self.playback.publish(in_window(reader.raw_messages(wanted), self.start_offset_s,
+                                            self.duration_s))
         except InputError as exc:
             self.playback.wait_acked()
             self.get_logger().error(
@@ -75,6 +88,21 @@ class BagPlayer(Node):
         self.get_logger().info(f"published {self.playback.published} messages "
                                f"from {self.bag_path}")
         return 0
+
+
+def in_window(messages: Iterator[RawMessage], start_offset_s: float,
+              duration_s: float) -> Iterator[RawMessage]:
+    """The messages (in log-time order) from ``start_offset_s`` after the first one, for
+    ``duration_s`` of log time (0: to the end) [s]."""
+    first = None
+    for message in messages:
+        first = message.log_time_ns if first is None else first
+        elapsed_s = (message.log_time_ns - first) / 1e9
+        if elapsed_s < start_offset_s:
+            continue
+        if duration_s and elapsed_s >= start_offset_s + duration_s:
+            return
+        yield message
 
 
 def main(args: list[str] | None = None) -> None:
