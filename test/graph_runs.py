@@ -1,14 +1,39 @@
-"""What the pocket graph with the drift loop left (pocket_pdr ⇄ landmark_drift, recorded
-by bag_record), and the check that it equals the in-process loop (``pdr-pocket run
---drift online``): shared by test_landmark_drift.py and test_demo.py."""
+"""The pocket graph with the drift loop (pocket_pdr ⇄ landmark_drift, recorded by
+bag_record) on the demo's kind of walk: the walk, the in-process loop (``pdr-pocket run
+--drift online``), what a graph run left and the check that it equals the in-process
+loop; shared by test_landmark_drift.py, test_landmark_drift_restarts.py and
+test_demo.py."""
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 
 import numpy as np
 
 from pdr_core.io.bag import BagReader
 from pdr_core.io.nav_path import last_path
+from wstest import ROOT, Processes
+
+NO_MAG = str(ROOT / "src" / "pdr_pocket" / "config" / "pocket_pdr_no_mag.yaml")
+
+
+def generate(folder, seed: int):
+    """Two laps of a block, a phone in the pocket, Table 6.1's z gyro bias."""
+    generated = Processes(0, folder).run(
+        "pdr-sim", "generate", "--placement", "pocket", "--scenario", "block_two_laps",
+        "--imu", "thesis_table_6_1", "--seed", str(seed), "--out", str(folder / "walk"))
+    assert generated.returncode == 0, generated.stderr
+    return folder / "walk"
+
+
+def in_process(walk, out, *drift_args: str) -> dict:
+    """``pdr-pocket run --drift online`` on ``walk`` into ``out``: its report."""
+    result = Processes(0, out.parent).run("pdr-pocket", "run", str(walk), "--config", NO_MAG,
+                                          "--out", str(out), "--drift", "online", *drift_args)
+    assert result.returncode == 0, result.stderr
+    return json.loads((out / "report.json").read_text())
+
+
 
 
 @dataclass
@@ -21,6 +46,19 @@ class GraphRun:
 
 
 RECORDED = "[pdr/pocket/pose, pdr/pocket/path, pdr/landmarks, pdr/drift]"
+
+
+def demo_walk(tmp_path_factory):
+    """The walk of make demo (seed 1), whose figures the README gives: a module's fixture
+    (``walk = pytest.fixture(scope="module")(demo_walk)``)."""
+    return generate(tmp_path_factory.mktemp("block"), seed=1)
+
+
+def in_process_loop(walk, tmp_path_factory):
+    """The in-process loop on the walk (nearest association): its output and report; a
+    module's fixture, as :func:`demo_walk`."""
+    out = tmp_path_factory.mktemp("online") / "run"
+    return out, in_process(walk, out)
 
 
 def expected_messages(report: dict) -> int:
