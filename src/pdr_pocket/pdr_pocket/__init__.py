@@ -9,7 +9,9 @@ The navigator (chapters 3, 4 and 6):
 - :mod:`compiled_mounting`: the thigh's frame in the sensor's, the thigh pitch and
   heading, learned sample by sample (numba).
 - :mod:`steps`: the step detectors (Section 4.1); :mod:`compiled_peaks`: their per-sample
-  loops, the pitch maxima and the footfalls (numba).
+  loops, the pitch maxima and the footfalls (numba); :mod:`lowpass_design`: the footfalls'
+  Butterworth low-pass, designed as scipy.signal does without importing it;
+  :mod:`compiled_biquads`: that low-pass, run (numba).
 - :mod:`activity`: a step's activity from the thigh pitch (Section 4.1.3), standing or
   sitting at rest.
 - :mod:`step_length`: the stride models behind one interface and their calibration

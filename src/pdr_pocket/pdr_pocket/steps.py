@@ -40,6 +40,7 @@ from pdr_pocket.compiled_peaks import (
     peak_loop,
 )
 from pdr_pocket.config import StepsConfig
+from pdr_pocket.lowpass_design import butterworth_sections, steady_state_delays
 
 # The baselines' fixed thresholds, "adapted to a comfortable walking speed" as in Table 4.1:
 # just below the weaker footfall's peak of ‖α‖ at 3.5 km/h (12.3 m/s² raw and low-passed,
@@ -152,12 +153,10 @@ class FootfallDetector:
         return events[:count]
 
     def _design(self, period_s: float, first: float) -> None:
-        from scipy.signal import butter, sosfilt_zi
-
         nyquist = 0.5 / period_s
         cutoff = min(self.config.footfall_cutoff_hz, 0.8 * nyquist)
-        self.sos = butter(4, cutoff / nyquist, output="sos")
-        self.zi = sosfilt_zi(self.sos) * first
+        self.sos = butterworth_sections(4, cutoff / nyquist)
+        self.zi = steady_state_delays(self.sos) * first
 
     def detect(self, t: np.ndarray, pitch: np.ndarray, accel: np.ndarray) -> DetectedSteps:
         """A whole record, from a fresh state: the cycles."""

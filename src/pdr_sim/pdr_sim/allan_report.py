@@ -14,7 +14,6 @@ import numpy as np
 from pdr_core import units
 from pdr_core.io.batch import MessageBatch
 from pdr_core.sensors.allan import NoiseParameters, allan_deviation, noise_parameters
-from pdr_sim import plots
 
 SENSORS = {"gyro": "angular_velocity", "accel": "linear_acceleration"}
 
@@ -71,6 +70,8 @@ class AllanReport:
         return "\n".join(lines) + "\n"
 
     def plot(self, path: Path, title: str) -> None:
+        from pdr_sim import plots  # Matplotlib: only for the plots
+
         base = path.with_suffix("")
         plots.allan_png({k: v for k, v in self.curves.items() if k.startswith("gyro")},
                         path, "σ_A [rad/s]", f"gyroscope: {title}")

@@ -26,10 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.spatial.transform import Rotation
-from scipy.stats import chi2
 
 from pdr_core.evaluation.attitude_metrics import heading_offset
 from pdr_core.evaluation.metrics import aligned, alignment_yaw
+from pdr_core.maths.chi2 import chi2_quantile
 from pdr_core.maths.rotations import covariance_about_vertical
 
 CHECKPOINT_INTERVAL_S = 1.0     # one NEES a second
@@ -117,7 +117,7 @@ def nees_figures(values: np.ndarray, dof: int) -> dict:
                 "inside": None}
     n, mean = len(values), float(values.mean())
     tail = (1 - BAND_PROBABILITY) / 2
-    low, high = chi2.ppf([tail, 1 - tail], n * dof) / (n * dof)
+    low, high = (chi2_quantile(p, n * dof) / (n * dof) for p in (tail, 1 - tail))
     return {"samples": n, "nees": mean, "nees_per_dof": mean / dof,
             "band_per_dof": [float(low), float(high)],
             "inside": bool(low <= mean / dof <= high)}

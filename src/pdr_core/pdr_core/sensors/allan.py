@@ -25,7 +25,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 
 def allan_deviation(rate: np.ndarray, rate_hz: float, points_per_decade: int = 12
@@ -125,6 +124,8 @@ def gm_sigma_for_bias_instability(bias_instability: float, gm_tau_s: float,
             f"bias instability {bias_instability:g} leaves no dip in the Allan deviation with "
             f"correlation time {gm_tau_s:g} s; use a correlation time above "
             f"{2.2 * (white_density / bias_instability) ** 2:.3g} s")
+    from scipy.optimize import brentq  # 0.1-0.3 s to import, for a bias given by its instability
+
     upper = bias_instability
     while excess(upper) < 0:
         upper *= 2.0
