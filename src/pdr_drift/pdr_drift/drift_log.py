@@ -14,7 +14,8 @@ from pdr_drift.landmarks import Landmark
 @dataclass
 class DriftLog:
     """What the drift estimator did: landmarks, drift estimates, corrections with their
-    outcome (accepted, message), and offline ε₀ [rad/s] with the estimates kept."""
+    time (the step's or stride's, from the first IMU sample [s]) and outcome (accepted,
+    message), and offline ε₀ [rad/s] with the estimates kept."""
 
     landmarks: list[Landmark] = field(default_factory=list)
     drifts: list[DriftEstimate] = field(default_factory=list)
@@ -32,5 +33,6 @@ class DriftLog:
                 "corrections_accepted": accepted,
                 "corrections_refused": len(self.corrections) - accepted,
                 "correction_messages": [m for _, _, m in self.corrections],
+                "correction_times_s": [float(t) for t, _, _ in self.corrections],
                 "offline_drift_deg_per_s": None if self.offline_drift is None
                 else float(np.degrees(self.offline_drift))}
