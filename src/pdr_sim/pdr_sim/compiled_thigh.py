@@ -23,6 +23,10 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from pdr_core.maths import kernel_cache
+
+kernel_cache.forget_if_changed(__file__)
+
 X, Y, Z, HEADING, PITCH, SWAY = range(6)       # spline channels
 
 

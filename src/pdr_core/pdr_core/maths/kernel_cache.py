@@ -31,11 +31,29 @@ import time
 from pathlib import Path
 from typing import TextIO
 
-from numba.core import event
+from numba.core import config, event
 
 PROGRESS_VARIABLE = "PDR_COMPILE_PROGRESS"   # set (to anything): announce compilations
 FIRST_COMPILE_S = 100   # all the kernels' first compilation, make demo on 2 cores [s]
 PROGRESS_EVERY_S = 10.0     # a progress line when a callee is done this long after the last [s]
+OPT_LEVEL = "1"
+"""LLVM's optimisation level of the kernels (``NUMBA_OPT``; numba's default is 3). At 1 a
+fresh clone compiles the foot filter and smoother in 56 s instead of 80 and the pocket's
+kernels in 85 s instead of 105, and they run as fast: the foot filter at 769,000 samples/s
+against 740,000, the segmented smoother at 806,000 against 874,000, ``pdr-pocket run`` on
+the demo's 7-min walk in 0.57 s against 0.63 (test/benchmarks/bench_ekf.py, one machine;
+docs/testing.md, "Issue 58 and the budget")."""
+
+
+def choose_opt_level() -> None:
+    """Compile at :data:`OPT_LEVEL` unless the user set ``NUMBA_OPT``: numba reads it
+    again (its configuration), and the processes this one starts inherit it."""
+    if "NUMBA_OPT" not in os.environ:
+        os.environ["NUMBA_OPT"] = OPT_LEVEL
+        config.reload_config()
+
+
+choose_opt_level()
 
 
 def forget_if_changed(module_file: str, *dependencies: str) -> None:

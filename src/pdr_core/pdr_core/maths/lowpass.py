@@ -27,6 +27,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from pdr_core.maths import kernel_cache
+
+kernel_cache.forget_if_changed(__file__)
+
 
 @njit(cache=True)
 def lowpass_decay(dt_s, tau_s):
