@@ -20,7 +20,7 @@ fi
 started=$SECONDS
 echo "[warm] compiling the numba kernels to machine code once, into caches beside the" \
   "sources: the foot navigator's and the simulator's (pdr_ins_ekf, pdr_sim) and, at the" \
-  "same time, the pocket navigator's (pdr_pocket); about 100 s on a fresh clone," \
+  "same time, the pocket navigator's (pdr_pocket); about 75 s on a fresh clone," \
   "seconds after an edit" >&2
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT

@@ -11,7 +11,7 @@ and the batch no longer equalled the single run.
 :func:`forget_if_changed`, called at the import of such a module, removes its cache files
 when the sources it depends on differ from those it was last compiled against.
 
-A fresh clone has no cache: the first run compiles every kernel it calls, about 100 s
+A fresh clone has no cache: the first run compiles every kernel it calls, about 75 s
 for all of them (``make demo``, issue 54), which looked like a hang.
 :class:`CompileProgress` prints a line before the first compilation of a process (what
 is being compiled and roughly how long it takes), one per kernel compiled (its
@@ -34,7 +34,7 @@ from typing import TextIO
 from numba.core import config, event
 
 PROGRESS_VARIABLE = "PDR_COMPILE_PROGRESS"   # set (to anything): announce compilations
-FIRST_COMPILE_S = 100   # all the kernels' first compilation, make demo on 2 cores [s]
+FIRST_COMPILE_S = 75    # all the kernels' first compilation at -O1, make demo on 2 cores [s]
 PROGRESS_EVERY_S = 10.0     # a progress line when a callee is done this long after the last [s]
 OPT_LEVEL = "1"
 """LLVM's optimisation level of the kernels (``NUMBA_OPT``; numba's default is 3). At 1 a
