@@ -9,6 +9,7 @@ PATH runs instead. One graph for the module (tests/conftest.py ``module_procs``)
 start and a bag played once."""
 from __future__ import annotations
 
+import itertools
 import os
 import re
 import select
@@ -32,7 +33,9 @@ DISCOVERY_WAIT_S = 10.0     # a ros2 call retried until the graph shows what it 
 ODOMETRY_FIELDS = ["header", "child_frame_id", "pose", "twist"]
 ODOMETRY_LEAVES = 3 + 1 + 7 + 36 + 6 + 36   # stamp, frame, child, pose, twist, covariances
 HZ_NAMESPACE = "/hz"        # of the IMU played at real time for ros2 topic hz
-HZ_WAIT_S = 20.0            # ros2 topic hz's first block: at most a playback's start and 1 s
+HZ_WAIT_S = 25.0            # ros2 topic hz's third block: at most a playback's start and 3 s
+HZ_BLOCKS = 3               # the block whose rate is checked: the start's transient is over
+HZ_WINDOW = 50              # --window: the rate over the last second of a 50 Hz topic
 HZ_BLOCK = re.compile(r"average rate: (\d+\.\d{3})\n\tmin: (\d+\.\d{3})s max: (\d+\.\d{3})s "
                       r"std dev: (\d+\.\d{5})s window: (\d+)")
 
@@ -123,10 +126,12 @@ def test_echo_of_a_topic_the_graph_does_not_have_says_so(pocket_graph):
 
 
 def test_topic_hz_gives_the_rate_of_a_playback_at_real_time(pocket_graph):
-    """``topic hz`` on a second playback of the bag's IMU, at real time, in a namespace of
-    its own (apart from pocket_pdr's input): its first block within 10 % of the bag's
-    rate, in ros2cli's format; Ctrl-C ends it quietly. The two start at once: hz waits
-    for the topic."""
+    """``topic hz --window 50`` on a second playback of the bag's IMU, at real time, in a
+    namespace of its own (apart from pocket_pdr's input): its third block, the last second,
+    within 10 % of the bag's rate, every block in ros2cli's format; Ctrl-C ends it quietly.
+    The two start at once: hz waits for the topic. Not the first block: a reader of
+    ros2cli's ``sensor_data`` QoS (best effort, depth 5) that stalls at its start on a
+    loaded machine loses messages (38 Hz seen once of 50 Hz beside a busy core)."""
     procs, _ = pocket_graph
     stamps = BagReader(BAG).read("/imu/data").stamp_ns
     bag_rate = 1e9 / np.mean(np.diff(stamps))
@@ -134,19 +139,22 @@ def test_topic_hz_gives_the_rate_of_a_playback_at_real_time(pocket_graph):
                          f"bag:={BAG}", "-p", "topics:=[/imu/data]", "-p", "rate:=1.0",
                          name="bag_play_hz")
     topic = f"{HZ_NAMESPACE}/imu/data"
-    hz = subprocess.Popen([command("ros2"), "topic", "hz", topic], env=procs.env,
-                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    lines = lines_until(hz, lambda line: line.startswith("\tmin: "), HZ_WAIT_S)
+    hz = subprocess.Popen([command("ros2"), "topic", "hz", topic, "--window", str(HZ_WINDOW)],
+                          env=procs.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          text=True)
+    blocks_seen = itertools.count(1)
+    lines = lines_until(hz, lambda line: line.startswith("\tmin: ")
+                        and next(blocks_seen) == HZ_BLOCKS, HZ_WAIT_S)
     procs.stop(player)
     assert procs.stop(hz) == signal.SIGINT and hz.stderr.read() == ""
-    *before, first, second = lines
+    before, printed = lines[:-2 * HZ_BLOCKS], lines[-2 * HZ_BLOCKS:]
     assert set(before) <= {f"WARNING: topic [{topic}] does not appear to be published yet"}
-    block = HZ_BLOCK.fullmatch(f"{first}\n{second}")
-    assert block, lines
-    rate, shortest, longest, _, window = map(float, block.groups())
-    assert abs(rate - bag_rate) < 0.1 * bag_rate, (rate, bag_rate)
+    blocks = [HZ_BLOCK.fullmatch("\n".join(printed[k:k + 2])) for k in range(0, len(printed), 2)]
+    assert all(blocks), lines
+    rate, shortest, longest, _, window = map(float, blocks[-1].groups())
+    assert abs(rate - bag_rate) < 0.1 * bag_rate, (rate, bag_rate, lines)
     assert shortest <= round(1 / rate, 3) <= longest     # the mean, to the printed digits
-    assert window >= 0.5 * bag_rate
+    assert window == HZ_WINDOW
 
 
 def lines_until(proc: subprocess.Popen, last, timeout: float) -> list[str]:
