@@ -17,6 +17,9 @@ The navigator (chapters 3, 4 and 6):
 - :mod:`step_length`: the stride models behind one interface and their calibration
   (Section 4.2); :mod:`stairs`: vertical displacement on stairs and floors (Section 4.3).
 - :mod:`position`: the position filter, with heading and heading drift (chapter 6).
+- :mod:`line_calibration`: the person's own stride and riser lines (Eqs. (4.2), (4.4),
+  (4.5)), learned from a foot INS's strides paired by stamp with the pocket's steps
+  (Section 7.3); :mod:`saved_lines`: their saved fit.
 - :mod:`navigator`: :class:`~navigator.PocketNavigator`, composing them per chunk of
   samples, the same whatever the chunks.
 - :mod:`config`: the YAML configuration (``config/pocket_pdr.yaml``).
