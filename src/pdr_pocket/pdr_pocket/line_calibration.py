@@ -32,7 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pdr_core.maths.angles import circular_mean
+from pdr_core.io.batch import MessageBatch
+from pdr_core.maths.angles import circular_mean, wrap_angle
 from pdr_core.vocabulary import Activity
 from pdr_core.walking.gait import FOOT_STRIDE_MIN_M, stride_bound_m
 from pdr_pocket.config import PositionConfig, StairsConfig, StepsConfig
@@ -378,6 +379,46 @@ class StrideCalibrator:
         r = s.foot_vertical_sigma_cm ** 2 + (a * s.stairs_amplitude_sigma_deg) ** 2
         climb_cm = CM_PER_M * (foot.vertical_m - self.grade * foot.length_m)
         return (climb_cm if line == UP else -climb_cm), r
+
+def heading_changes_deg(heading_rad: np.ndarray, previous_rad: float = math.nan) -> np.ndarray:
+    """Each step's heading change [deg] from the one before (``previous_rad`` before the
+    first; NaN: unknown), wrapped to (−180, 180]."""
+    heading = np.asarray(heading_rad, float)
+    before = np.concatenate([[previous_rad], heading[:-1]])
+    return np.degrees(wrap_angle(heading - before))
+
+
+def pocket_steps(step: MessageBatch, previous_heading_rad: float = math.nan
+                 ) -> list[PocketStep]:
+    """The pocket's ``pdr/pocket/step`` messages (pdr_msgs/Step) as :class:`PocketStep`,
+    stamped at ``header.stamp`` (s since the epoch), Δθ = ``pitch_amplitude`` in deg."""
+    turns = heading_changes_deg(step["heading"], previous_heading_rad)
+    return [PocketStep(float(t), float(d), float(np.degrees(a)), int(k), float(h))
+            for t, d, a, k, h in zip(step.stamp_ns * 1e-9, step["duration"],
+                                     step["pitch_amplitude"], step["activity"], turns,
+                                     strict=True)]
+
+
+def foot_strides(stride: MessageBatch, previous_heading_rad: float = math.nan
+                 ) -> list[FootStride]:
+    """The foot INS's ``pdr/foot/step`` messages (pdr_msgs/Step) as :class:`FootStride`."""
+    turns = heading_changes_deg(stride["heading"], previous_heading_rad)
+    return [FootStride(float(t), float(n), float(v), float(d), int(k), float(h))
+            for t, n, v, d, k, h in zip(stride.stamp_ns * 1e-9, stride["length"],
+                                        stride["vertical_displacement"], stride["duration"],
+                                        stride["activity"], turns, strict=True)]
+
+
+def calibrated(pocket: MessageBatch, foot: MessageBatch,
+               calibrator: StrideCalibrator | None = None) -> StrideCalibrator:
+    """A calibrator fed a whole walk's pocket steps and foot strides (the offline mode;
+    the node pushes the same messages one by one and, the decisions depending on the
+    stamps alone, ends with the same fit)."""
+    calibrator = calibrator or StrideCalibrator()
+    calibrator.push_pocket(pocket_steps(pocket))
+    calibrator.push_foot(foot_strides(foot))
+    return calibrator
+
 
 def _check_order(last: float | None, stamp_s: float, what: str) -> None:
     if not math.isfinite(stamp_s) or (last is not None and stamp_s <= last):
