@@ -17,6 +17,10 @@ DIAGNOSTICS = "/diagnostics"                        # diagnostic_msgs/Diagnostic
 TF = "/tf"                                          # tf2_msgs/TFMessage, absolute (REP-105)
 TF_STATIC = "/tf_static"                            # tf2_msgs/TFMessage, absolute, latched
 
+# a foot IMU beside the pocket's on one walk (pdr-sim generate --with-foot): its topics
+# under this namespace, /foot/imu/data and so on (issue 57)
+FOOT_NAMESPACE = "/foot"
+
 # the foot navigator (zupt_ekf, pdr-ekf run)
 FOOT_POSE = "/pdr/foot/pose"
 FOOT_VELOCITY = "/pdr/foot/velocity"

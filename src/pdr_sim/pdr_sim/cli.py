@@ -44,6 +44,7 @@ from pdr_sim.cli_options import add_bag_output, add_csv_format, csv_format
 from pdr_sim.foot_trajectory import level_walk_like
 from pdr_sim.import_cli import add_import_csv, add_import_oxiod, add_import_phone
 from pdr_sim.overrides import with_overrides
+from pdr_sim.paired_foot import foot_simulation, namespaced
 from pdr_sim.pocket_scenario import POCKET_BUILTIN
 from pdr_sim.scenario import BUILTIN
 from pdr_sim.simulation import (
@@ -96,6 +97,13 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
                    help="foot: instead of the scenario, a level walk of the same duration, "
                         "seed, standing at start and end, and environment (walk strides out "
                         "and back), to compare a gait against")
+    p.add_argument("--with-foot", action="store_true",
+                   help="pocket: also the foot IMU of the pocket's leg on the same walk, "
+                        "under /foot (foot/imu/data, foot/imu/mag, foot/ground_truth/pose, "
+                        "foot/ground_truth/stance) on the same clock, with its own errors: "
+                        "the two-IMU walk a foot INS calibrates the pocket's lines on")
+    p.add_argument("--foot-imu", default="xsens_mtw",
+                   help="with --with-foot: the foot IMU's profile")
     add_bag_output(p)
     p.add_argument("--plot", type=Path, metavar="DIR",
                    help="also write DIR/trajectory.png and DIR/signals.png (pocket: and "
@@ -128,13 +136,22 @@ def _run_generate(args: argparse.Namespace) -> int:
     config = SimulationConfig(scenario, data, args.imu, overrides, args.rate, args.seed,
                               args.gravity, family, args.pressure)
     sim = simulate(config)
-    write_batches(args.out, sim.batches | truth_tf(sim.pose), overwrite=args.overwrite,
-                  compress=args.compress,
-                  custom_data={"pdr.simulation": yaml.safe_dump(simulation_record(sim),
-                                                                sort_keys=False)})
+    batches = sim.batches | truth_tf(sim.pose)
+    records = {"pdr.simulation": simulation_record(sim)}
+    if args.with_foot:
+        if family != "pocket":
+            raise InputError("--with-foot", "is for a pocket placement (the foot beside it)")
+        foot = foot_simulation(sim, args.foot_imu, overrides)
+        batches |= namespaced(foot.batches)
+        records["pdr.simulation.foot"] = simulation_record(foot)
+    write_batches(args.out, batches, overwrite=args.overwrite, compress=args.compress,
+                  custom_data={key: yaml.safe_dump(record, sort_keys=False)
+                               for key, record in records.items()})
+    foot_note = f", with the foot's IMU ({args.foot_imu}) under /foot" if args.with_foot \
+        else ""
     print(f"{args.out}: {scenario.name}, {len(sim.imu)} samples at {args.rate:g} Hz "
           f"({sim.trajectory.t[-1]:.1f} s), {_route_summary(sim)}, imu {args.imu}, "
-          f"seed {args.seed}")
+          f"seed {args.seed}{foot_note}")
     if args.plot:
         from pdr_sim import plots  # Matplotlib: only for the plots
 

@@ -44,7 +44,9 @@ class Phases:
     """Phase table, arrays of length P: start time [s], duration [s], kind, start position
     (P, 3), start yaw [rad], and per-phase parameters (stride length, height, pitch max,
     signed curvature 1/r [1/m] (+ left), turn angle [rad]); the pieces of the gait
-    phases (rows of the other phases unused) and the landing impacts."""
+    phases (rows of the other phases unused) and the landing impacts; optionally the
+    height a swing climbs (:mod:`pdr_sim.paired_foot`'s stairs), in proportion to its
+    along-track progress s(τ)/L."""
 
     start: np.ndarray
     duration: np.ndarray
@@ -61,6 +63,7 @@ class Phases:
     end_yaw: float
     pieces: Pieces
     impacts: Impacts
+    climb: np.ndarray | None = None     # height gained over a swing [m] (+ up), or none
 
     @property
     def path_length_m(self) -> float:
@@ -239,6 +242,11 @@ class FootTrajectory:
             swing = self.fitted.swing(phase, length)
         pos[rows, 2] += swing.z.f
         vel[rows, 2], acc[rows, 2] = swing.z.d1, swing.z.d2
+        if phases.climb is not None:
+            grade = phases.climb[phase_of] / length
+            pos[rows, 2] += grade * swing.s.f
+            vel[rows, 2] += grade * swing.s.d1
+            acc[rows, 2] += grade * swing.s.d2
         euler[rows, 0] += swing.roll.f
         euler[rows, 1] += swing.pitch.f
         rate[rows, 0], rate[rows, 1] = swing.roll.d1, swing.pitch.d1

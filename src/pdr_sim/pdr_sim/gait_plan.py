@@ -280,14 +280,16 @@ class _Planner:
     def finish(self) -> GaitPlan:
         """Close the last bout and centre the scatter on each walk segment and flight, so
         that the person's lines hold exactly for every segment's and flight's mean (the
-        thesis averages each staircase, Section 4.3.2) while single steps scatter."""
+        thesis averages each staircase, Section 4.3.2) while single steps scatter; with
+        the person's ``centre_scatter`` false, the scatter stays as drawn, a real walk's
+        deviation from its line (what a calibration must average out, issue 57)."""
         self._end_bout()
         c = self.cycles
         group = np.asarray(c.group, dtype=int)
         for name, values in (("scatter_m", np.asarray(c.scatter_m, float)),
                              ("pitch_scatter", np.asarray(self.pitch_scatter, float))):
             means = np.bincount(group, values) / np.maximum(np.bincount(group), 1)
-            centred = values - means[group]
+            centred = values - means[group] if self.person.centre_scatter else values
             if name == "scatter_m":
                 c.scatter_m = list(centred)
             else:

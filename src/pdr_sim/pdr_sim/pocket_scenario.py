@@ -72,7 +72,8 @@ from pdr_sim.scenario import (
 # recordings around a small room in its own field, issue 53).
 POCKET_BUILTIN = ("h1_rectangle", "h2_rectangle_speeds", "h3_museum", "up_dw",
                   "sit_stand", "theresienhoehe", "building", "out_and_back_39min",
-                  "block_two_laps", "corridor_grid", "building_lift", "indoor_loops")
+                  "block_two_laps", "corridor_grid", "building_lift", "indoor_loops",
+                  "two_imu_walk", "two_imu_stairs")
 
 SEGMENT_TYPES = ("standing", "sitting", "walk", "turn", "stairs", "platform", "lift")
 # Human range checked on the scenario (beyond it the key is refused).
@@ -160,6 +161,7 @@ class PersonSpec:
     cadence_hz_per_mps: float = 0.25
     stair_cadence_hz: float = 0.8
     stride_scatter_m: float = 0.02          # σ of s about its line, per step
+    centre_scatter: bool = True             # the scatter's mean 0 over each segment
     stair_pitch_scatter_deg: float = 0.3    # σ of Δθ about the stairs lines, per step
     speed_scatter: float = 0.03             # relative σ of each step's speed
     pitch_min_fraction: float = 0.15        # level: θ_Hmin = −fraction·Δθ_H
@@ -392,6 +394,10 @@ def _person(data: Any, where: str) -> PersonSpec:
         if key == "leg":
             if value not in ("left", "right"):
                 raise InputError(at, f"must be left or right, got {value!r}")
+            out[key] = value
+        elif key == "centre_scatter":
+            if not isinstance(value, bool):
+                raise InputError(at, f"must be true or false, got {value!r}")
             out[key] = value
         elif key == "lever_arm_m":
             out[key] = vector(value, at)

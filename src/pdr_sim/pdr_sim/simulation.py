@@ -196,8 +196,9 @@ def _true_signals(model: TrajectoryModel, t: np.ndarray, config: SimulationConfi
 
 
 def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
-             workers: int = WORKERS) -> Simulation:
-    """Run the simulation (errors default to the configured profile).
+             workers: int = WORKERS, model: TrajectoryModel | None = None) -> Simulation:
+    """Run the simulation (errors default to the configured profile, the trajectory to the
+    scenario's: ``model`` gives another, e.g. :mod:`pdr_sim.paired_foot`'s).
 
     The trajectory and true signals are computed on ``workers`` threads over consecutive
     blocks of samples, and the three sensors' errors on one thread each (NumPy releases
@@ -205,7 +206,7 @@ def simulate(config: SimulationConfig, errors: ImuErrors | None = None,
     the seed, so the result depends only on the configuration, not on ``workers``.
     """
     errors = errors or profile(config.imu, config.imu_overrides)
-    model = trajectory_model(config.scenario)
+    model = model or trajectory_model(config.scenario)
     field_model, distortion = magnetic_environment(config.scenario.environment.magnetic_field)
     blocks = np.array_split(sample_times(model.duration_s, config.rate_hz), workers)
     with ThreadPoolExecutor(workers) as pool:
