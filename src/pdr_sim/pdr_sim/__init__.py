@@ -16,7 +16,8 @@ errors (:mod:`pdr_core.sensors.imu_errors`) -> message batches (:mod:`simulation
 - :mod:`pocket_scenario`: pocket scenarios (who walks, where the phone sits, the route);
   :mod:`gait_plan`: their gait cycles and rests; :mod:`thigh_trajectory`: the thigh's
   trajectory and truth (steps, activities, landmarks), with :mod:`compiled_thigh` its
-  per-sample kinematics (numba).
+  per-sample kinematics (numba); :mod:`paired_foot`: the foot of the pocket's leg on the
+  same walk (``--with-foot``), a second IMU for one pedestrian.
 - :mod:`signals`: specific force, angular rate and magnetic field of any trajectory.
 - :mod:`simulation`: a scenario and an IMU profile to the messages of a run.
 - :mod:`step_fit`: step patterns fitted to a recorded foot (Zampella et al. 2011,
