@@ -53,11 +53,15 @@ def walk(n=80, seed=0) -> dict[str, MessageBatch]:
 
 @pytest.fixture
 def bags(tmp_path):
-    """The walk as the foot's and the pocket's bags, and both in one."""
+    """The walk as the foot's and the pocket's bags, both in one, and the foot's an hour
+    later (another walk)."""
     batches = walk()
     write_batches(tmp_path / "foot", {topics.FOOT_STEP: batches[topics.FOOT_STEP]})
     write_batches(tmp_path / "pocket", {topics.POCKET_STEP: batches[topics.POCKET_STEP]})
     write_batches(tmp_path / "both", batches)
+    later = batches[topics.FOOT_STEP]
+    write_batches(tmp_path / "later", {topics.FOOT_STEP: replace(
+        later, stamp_ns=later.stamp_ns + 3600 * 10**9)})
     return tmp_path
 
 
@@ -91,6 +95,12 @@ def test_the_saved_fit_is_the_offline_feed_of_the_same_messages(bags):
         one = read_fit(folder / "again.yaml")
         assert one.forgetting == 1.0
         assert one.lines[LEVEL].fit.pairs == level.fit.pairs
+    # strides of another walk: nothing paired, said on stderr, the configured lines saved
+    other = cli("pdr-pocket", "calibrate-step", "--foot", folder / "later", "--pocket",
+                folder / "pocket", "--out", folder / "none.yaml")
+    assert other.returncode == 0 and "warning" in other.stderr and "no step paired" in \
+        other.stderr
+    assert read_fit(folder / "none.yaml").lines == saved_fit(StrideCalibrator()).lines
 
 
 @pytest.mark.parametrize(("args", "problem"), [

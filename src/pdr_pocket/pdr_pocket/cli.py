@@ -355,13 +355,7 @@ def _calibrate_from_distances(args: argparse.Namespace) -> int:
 def _step_batch(path: Path, topic: str):
     """The pdr_msgs/Step messages of ``topic`` in the bag ``path``; InputError naming the
     bag when it has none."""
-    reader = BagReader(path)
-    if topic not in reader.topics:
-        have = ", ".join(sorted(reader.topics)) or "none"
-        raise InputError(path, f"no topic {topic} (the bag has: {have}); pass the output of "
-                               f"{'pdr-ekf' if topic == topics.FOOT_STEP else 'pdr-pocket'} "
-                               "run --out")
-    batch = reader.read(topic)
+    batch = BagReader(path).read(topic)     # InputError for a bag without it
     if len(batch) == 0:
         raise InputError(path, f"{topic} has no messages")
     return batch
@@ -403,6 +397,9 @@ def _calibrate_from_foot(args: argparse.Namespace) -> int:
         print(f"{name}: {fit.pairs} pairs  a {fit.slope:.5g} ± {sigma[0]:.2g} {unit[0]}  "
               f"b {fit.offset:.4g} ± {sigma[1]:.2g} {unit[1]} (1σ)  residual "
               f"{fit.residual_sigma:.3g} {unit[1]}")
+    if not any(fit.pairs for fit in cal.fits.values()):
+        print(f"pdr-pocket: warning: {pocket_path}, {args.foot}: no step paired with a stride "
+              "(one walk on one clock?); the saved fit is the configured lines", file=sys.stderr)
     refused = ", ".join(f"{reason} {count}" for reason, count in cal.refused.items() if count)
     print(f"refused: {refused or 'none'}; undecided at the end: {cal.pending}\nwrote {args.out}")
     return 0
