@@ -17,6 +17,8 @@ import pytest
 
 from pdr_core.io.bag import BagReader, write_batches
 from pdr_core.report_files import write_report
+from pdr_pocket.line_calibration import StrideCalibrator
+from pdr_pocket.saved_lines import saved_fit, write_fit
 from wstest import ROOT, Processes
 
 pytestmark = pytest.mark.ros
@@ -117,6 +119,7 @@ class Runs:
         ends = BagReader(POCKET_WALK).read("/ground_truth/step").stamp_ns
         np.savetxt(folder / "cycles.csv", (ends - 1_700_000_000_000_000_000) * 1e-9,
                    header="t_s", comments="")
+        write_fit(folder / "fit.yaml", saved_fit(StrideCalibrator()))   # no line walked
 
     def report(self, case: str):
         if case not in self.done:
@@ -165,6 +168,10 @@ CASES = {
     "pocket_drift_no_truth": ("pdr-pocket run", ["pdr-pocket", "run", f"{OUT}/imu_only", "--out",
                                                  f"{OUT}/pocket_drift_no_truth", "--drift",
                                                  "offline"], {"no pose", "--drift"}, True, ()),
+    "pocket_step_calibration": ("pdr-pocket run", ["pdr-pocket", "run", f"{OUT}/imu_only",
+                                                   "--out", f"{OUT}/pocket_step_calibration",
+                                                   "--step-calibration", f"{OUT}/fit.yaml"],
+                                {"no pose", "--step-calibration"}, True, ()),
     "evaluate_everything": ("pdr-pocket evaluate",
                             ["pdr-pocket", "evaluate", f"{OUT}/pocket_drift_no_truth", "--truth",
                              POCKET_WALK, "--truth-steps", f"{OUT}/cycles.csv",

@@ -15,6 +15,10 @@ Subcommands:
     calibrate-step BAG --distance-m D
                                 b_H of the stride line (Eq. (4.2)) from a walk of known
                                 length (a_H too with --fit-slope and walks at two speeds).
+    calibrate-step --foot FOOT --pocket POCKET --out FIT
+                                the person's stride and riser lines (Eqs. (4.2), (4.4),
+                                (4.5)) from a foot INS on the same walk (Section 7.3):
+                                the saved fit run --step-calibration takes.
     table-steps BAG...          Table 4.1 on simulated bags: the pitch maximum and the
                                 three baseline detectors, undetected and false steps.
     table-stride BAG...         Table 4.4: the distance error of the pitch line, and of the
@@ -140,6 +144,11 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--drift-config", type=Path,
                    help="YAML of the drift estimator (pdr_drift.config); default: built in")
     p.add_argument("--plot", action="store_true", help="also write OUT/path.png")
+    p.add_argument("--step-calibration", type=Path, metavar="FIT_YAML",
+                   help="the person's stride and riser lines, YAML of pdr-pocket "
+                        "calibrate-step --foot: each line fitted replaces the configured "
+                        "one, a line not walked keeps it (overrides the configuration's "
+                        "step_calibration)")
     p.set_defaults(func=_run_navigator)
 
 
@@ -147,7 +156,7 @@ def _run_navigator(args: argparse.Namespace) -> int:
     from pdr_pocket.pocket_offline import PocketOptions, run
 
     options = PocketOptions(args.config, args.mag_calibration, args.drift, args.drift_config,
-                            args.strict, args.plot, args.overwrite)
+                            args.strict, args.plot, args.overwrite, args.step_calibration)
     report = run(args.bag, options, args.out)
     if report["refused"]:
         print(f"pdr-pocket: refused: {args.bag}: {report['placement']['placement']}: "
@@ -242,30 +251,78 @@ def _run_evaluate(args: argparse.Namespace) -> int:
 
 
 def _add_calibrate_step(sub: argparse._SubParsersAction) -> None:
+    from pdr_pocket.line_calibration import CalibrationSettings
+
     p = sub.add_parser(
-        "calibrate-step", help="fit the person's stride line from walks of known length",
+        "calibrate-step", help="fit the person's stride line from walks of known length, "
+                               "or their stride and riser lines from a foot INS",
         description="The stride line s = a_H·Δθ + b_H (Muñoz Díaz 2016, Eq. (4.2), Section "
-                    "4.2.3): b_H with the universal a_H from a walk of known length at a "
-                    "comfortable speed, or with --fit-slope both from two or more walks at "
-                    "different speeds. Writes the person's YAML (its step_length section), "
-                    "to pass as --config. Refuses walks too short or too uniform, saying why.")
-    p.add_argument("bags", type=Path, nargs="+", metavar="BAG",
+                    "4.2.3), two ways. From walks of known length (BAG... --distance-m D): "
+                    "b_H with the universal a_H from a walk at a comfortable speed, or with "
+                    "--fit-slope both from two or more walks at different speeds; writes the "
+                    "person's YAML (its step_length section), to pass as --config, and "
+                    "refuses walks too short or too uniform, saying why. From a foot INS "
+                    "worn on the same walk (--foot FOOT --pocket POCKET, Section 7.3): the "
+                    "pocket's steps (pdr/pocket/step of pdr-pocket run --out) paired by "
+                    "their stamps with the foot's strides (pdr/foot/step of pdr-ekf run "
+                    "--out), what is not one cycle of one line walked by both refused, the "
+                    "level line and the stairs lines (Eqs. (4.4), (4.5)) by recursive least "
+                    "squares from the configured lines; writes the saved fit, to pass as "
+                    "pdr-pocket run --step-calibration (docs/pocket.md), and prints each "
+                    "line's pairs, slope, offset and 1σ and the refusals by reason.")
+    p.add_argument("bags", type=Path, nargs="*", metavar="BAG",
                    help="bags of walks of known length (imu/data, imu/mag)")
-    p.add_argument("--distance-m", required=True,
+    p.add_argument("--distance-m",
                    help="the length of each walk [m], comma-separated in the bags' order")
-    p.add_argument("--fit-slope", action="store_true", help="fit a_H too")
+    p.add_argument("--fit-slope", action="store_true", help="fit a_H too (walks of known "
+                                                            "length; --foot always does)")
+    p.add_argument("--foot", type=Path, metavar="FOOT",
+                   help="a bag with the foot INS's pdr/foot/step: the output of pdr-ekf run "
+                        "--out on the foot IMU of the walk")
+    p.add_argument("--pocket", type=Path, metavar="POCKET",
+                   help="a bag with the pocket's pdr/pocket/step: the output of pdr-pocket "
+                        "run --out on the phone of the same walk (default: the --foot bag, "
+                        "when it holds both topics)")
+    p.add_argument("--forgetting", type=float, default=CalibrationSettings.forgetting,
+                   help="λ of the recursive least squares with --foot, dimensionless "
+                        "within (0, 1]: a memory of about 1/(1 − λ) pairs")
+    p.add_argument("--height-m", type=float,
+                   help="the person's height [m] with --foot: bounds the foot strides "
+                        "taken (default: the population's adult)")
     p.add_argument("--config", type=Path, help="YAML configuration (default: the installed "
-                                               "one); its a_H is kept without --fit-slope")
-    p.add_argument("--out", type=Path, required=True, help="the person's YAML to write")
+                                               "one); its a_H is kept without --fit-slope, "
+                                               "its lines are the priors with --foot")
+    p.add_argument("--out", type=Path, required=True,
+                   help="the person's YAML to write (with --foot, the saved fit)")
     p.set_defaults(func=_run_calibrate_step)
 
 
 def _run_calibrate_step(args: argparse.Namespace) -> int:
+    foot_options = [name for name, given in (("--pocket", args.pocket is not None),
+                                             ("--height-m", args.height_m is not None))
+                    if given]
+    if args.foot is None:
+        if not args.bags:
+            raise InputError("calibrate-step", "give walks of known length (BAG... "
+                                               "--distance-m D) or a foot INS's strides "
+                                               "(--foot FOOT --pocket POCKET)")
+        if foot_options:
+            raise InputError(foot_options[0], "goes with --foot")
+        return _calibrate_from_distances(args)
+    if args.bags or args.distance_m is not None or args.fit_slope:
+        raise InputError("--foot", "one way at a time: walks of known length (BAG... "
+                                   "--distance-m D) or a foot INS (--foot), not both")
+    return _calibrate_from_foot(args)
+
+
+def _calibrate_from_distances(args: argparse.Namespace) -> int:
     import yaml
 
     from pdr_pocket.step_length import fit_line, fit_offset
     from pdr_pocket.studies.tables import level_amplitudes
 
+    if args.distance_m is None:
+        raise InputError("--distance-m", "the length of each walk is needed with BAG...")
     try:
         distances = [float(d) for d in args.distance_m.split(",")]
     except ValueError:
@@ -292,6 +349,59 @@ def _run_calibrate_step(args: argparse.Namespace) -> int:
           f"{np.mean(np.concatenate(amplitudes)):.1f} deg\n"
           f"a_H {a_h:.5f} m/deg{' (fitted)' if args.fit_slope else ' (kept)'}  b_H {b_h:.4f} m"
           f"\nwrote {args.out}")
+    return 0
+
+
+def _step_batch(path: Path, topic: str):
+    """The pdr_msgs/Step messages of ``topic`` in the bag ``path``; InputError naming the
+    bag when it has none."""
+    batch = BagReader(path).read(topic)     # InputError for a bag without it
+    if len(batch) == 0:
+        raise InputError(path, f"{topic} has no messages")
+    return batch
+
+
+def _calibrate_from_foot(args: argparse.Namespace) -> int:
+    from pdr_pocket.line_calibration import (
+        LEVEL,
+        CalibrationSettings,
+        StrideCalibrator,
+        calibrated,
+    )
+    from pdr_pocket.saved_lines import saved_fit, write_fit
+
+    pocket_path = args.pocket or args.foot
+    foot = _step_batch(args.foot, topics.FOOT_STEP)
+    pocket = _step_batch(pocket_path, topics.POCKET_STEP)
+    try:
+        settings = CalibrationSettings(forgetting=args.forgetting, height_m=args.height_m)
+    except ValueError as exc:
+        raise InputError("--forgetting", str(exc)) from None
+    config = load_pocket_config(args.config)
+    try:
+        cal = calibrated(pocket, foot, StrideCalibrator(config.step_length, config.stairs,
+                                                        settings))
+    except ValueError as exc:       # stamps not increasing
+        raise InputError(f"{pocket_path}, {args.foot}", str(exc)) from None
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    write_fit(args.out, saved_fit(cal, sources={"foot": str(args.foot),
+                                                "pocket": str(pocket_path)}))
+    print(f"{pocket_path}: {len(pocket)} pocket steps, {args.foot}: {len(foot)} foot strides")
+    for name, fit in cal.fits.items():
+        unit = ("m/deg", "m") if name == LEVEL else ("cm/deg", "cm")
+        if fit.pairs == 0:
+            print(f"{name}: no pair, the configured line kept: a {fit.slope:.5g} {unit[0]}  "
+                  f"b {fit.offset:.4g} {unit[1]}")
+            continue
+        sigma = np.sqrt(np.diag(fit.covariance))
+        print(f"{name}: {fit.pairs} pairs  a {fit.slope:.5g} ± {sigma[0]:.2g} {unit[0]}  "
+              f"b {fit.offset:.4g} ± {sigma[1]:.2g} {unit[1]} (1σ)  residual "
+              f"{fit.residual_sigma:.3g} {unit[1]}")
+    if not any(fit.pairs for fit in cal.fits.values()):
+        print(f"pdr-pocket: warning: {pocket_path}, {args.foot}: no step paired with a stride "
+              "(one walk on one clock?); the saved fit is the configured lines", file=sys.stderr)
+    refused = ", ".join(f"{reason} {count}" for reason, count in cal.refused.items() if count)
+    print(f"refused: {refused or 'none'}; undecided at the end: {cal.pending}\nwrote {args.out}")
     return 0
 
 

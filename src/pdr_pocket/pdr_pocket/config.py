@@ -349,9 +349,12 @@ class PocketConfig:
     person: PersonConfig = field(default_factory=PersonConfig)
     barometer: BarometerConfig = field(default_factory=BarometerConfig)
     magnetometer_calibration: str | None = None   # YAML of pdr-pocket calibrate-mag
+    step_calibration: str | None = None   # YAML of pdr-pocket calibrate-step --foot
+                                          # (pdr_pocket.saved_lines: the person's lines)
 
 
 ACTIVITY_MODELS = ("thesis", "level_prior")
+CALIBRATION_FILES = ("magnetometer_calibration", "step_calibration")
 SECTIONS = {"mounting": MountingConfig, "steps": StepsConfig, "activity": ActivityConfig,
             "step_length": StepLengthConfig, "stairs": StairsConfig,
             "position": PositionConfig, "person": PersonConfig,
@@ -367,8 +370,9 @@ def pocket_config(data: dict | None, where: str = "config") -> PocketConfig:
     for name, kind in SECTIONS.items():
         if values.get(name) is not None:
             out[name] = dataclass_from_mapping(kind, values[name], f"{where}.{name}")
-    if values.get("magnetometer_calibration") is not None:
-        out["magnetometer_calibration"] = str(values["magnetometer_calibration"])
+    for name in CALIBRATION_FILES:
+        if values.get(name) is not None:
+            out[name] = str(values[name])
     return PocketConfig(**out)
 
 
@@ -379,12 +383,13 @@ def default_config_path() -> Path:
 
 def load_pocket_config(path: str | Path | None = None) -> PocketConfig:
     """The configuration of a YAML file (default :func:`default_config_path`); a relative
-    ``magnetometer_calibration`` is taken relative to the file."""
+    ``magnetometer_calibration`` or ``step_calibration`` is taken relative to the file."""
     path = Path(path) if path else default_config_path()
     config = pocket_config(read_config_file(path), str(path))
-    calibration = config.magnetometer_calibration
-    if calibration is not None and not Path(calibration).is_absolute():
-        config = replace(config, magnetometer_calibration=str(path.parent / calibration))
+    for name in CALIBRATION_FILES:
+        calibration = getattr(config, name)
+        if calibration is not None and not Path(calibration).is_absolute():
+            config = replace(config, **{name: str(path.parent / calibration)})
     return config
 
 

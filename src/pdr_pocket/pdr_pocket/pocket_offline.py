@@ -280,7 +280,7 @@ class PocketOptions:
     ``mag_calibration`` YAML (None: the configuration's), the ``drift`` corrections
     (none, online or offline) and their ``drift_config`` YAML (None: built in),
     ``strict`` (refuse input no walk gives, and damaged bags), ``plot`` and ``overwrite``
-    (of ``out``)."""
+    (of ``out``), the ``step_calibration`` YAML (None: the configuration's)."""
 
     config: Path | None = None
     mag_calibration: Path | None = None
@@ -289,22 +289,33 @@ class PocketOptions:
     strict: bool = False
     plot: bool = False
     overwrite: bool = False
+    step_calibration: Path | None = None
 
 
 def run(bag: Path, options: PocketOptions = PocketOptions(), out: Path | None = None
         ) -> dict:
     """``pdr-pocket run`` in Python: navigate ``bag`` (:func:`navigate_bag`), report
     (:func:`report_of`) and, when ``out`` is given, write it (:func:`write_run`, the plot
-    with ``options.plot``); the report, as ``out/report.json`` holds it. Prints nothing."""
+    with ``options.plot``); the report, as ``out/report.json`` holds it. Prints nothing.
+    A saved fit of the person's lines (``options.step_calibration``, else the
+    configuration's) is applied to the configuration first (pdr_pocket.saved_lines), and
+    the report's ``step_calibration`` says which lines it took."""
     from pdr_drift.config import load_drift_config
     from pdr_pocket.config import load_pocket_config
+    from pdr_pocket.saved_lines import applied, fitted, read_fit
 
     bag = Path(bag)
     config = load_pocket_config(options.config)
+    fit_path = options.step_calibration or config.step_calibration
+    if fit_path is not None:
+        fit = read_fit(fit_path)
+        config = applied(config, fit, fit_path)
     run_ = navigate_bag(bag, config, options.mag_calibration, drift=options.drift,
                         drift_config=load_drift_config(options.drift_config),
                         strict=options.strict)
     report = report_of(run_, config, options.drift)
+    if fit_path is not None:
+        report["step_calibration"] = {"file": str(fit_path), "lines": list(fitted(fit))}
     if out is not None:
         write_run(run_, report, Path(out), config.stairs.floor_height_m,
                   overwrite=options.overwrite, plot_source=bag if options.plot else None)

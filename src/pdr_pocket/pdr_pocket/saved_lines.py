@@ -20,11 +20,14 @@ covariance is of [a, b] in those units², row-major.
 
 - :func:`saved_fit`: a calibrator's state as a :class:`SavedFit`;
 - :func:`write_fit`, :func:`read_fit`: the file; a malformed one is an InputError naming
-  the file and the key.
+  the file and the key;
+- :func:`applied`: a configuration with the person's lines of a saved fit (``run
+  --step-calibration``, the configuration's ``step_calibration``), :func:`fitted` the lines
+  it took.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +35,7 @@ import yaml
 
 from pdr_core.config_files import check_keys, key_path, parse_yaml, typed_value
 from pdr_core.errors import InputError
-from pdr_pocket.config import StairsConfig
+from pdr_pocket.config import PocketConfig, StairsConfig
 from pdr_pocket.line_calibration import DOWN, LEVEL, LINES, REASONS, UP, StrideCalibrator
 from pdr_pocket.step_length import StepLengthConfig
 
@@ -142,6 +145,32 @@ def read_fit(path: str | Path) -> SavedFit:
                                                             f"{forgetting}")
     return SavedFit(lines, forgetting, _refused(blocks["refused"], key_path(fit_where, "refused")),
                     _sources(blocks.get("sources") or {}, key_path(fit_where, "sources")))
+
+
+def fitted(fit: SavedFit) -> tuple[str, ...]:
+    """The lines of ``fit`` that were walked (:data:`LINES` names, in their order)."""
+    return tuple(name for name in LINES if fit.lines[name].fit is not None)
+
+
+def applied(config: PocketConfig, fit: SavedFit, where: str | Path = "saved fit"
+            ) -> PocketConfig:
+    """``config`` with the person's lines of ``fit``: a fitted level line replaces
+    ``step_length``'s a_H and b_H and marks it ``calibrated`` (the person's, not scaled by
+    height), fitted stairs lines ``stairs``' a_U, b_U, a_D, b_D; a line not walked (``fit``
+    None) keeps the configured one. InputError naming ``where`` (the file) when a line is
+    none the configuration takes (a slope not positive)."""
+    sections = {"step_length": config.step_length, "stairs": config.stairs}
+    try:
+        for name in fitted(fit):
+            section, slope_key, offset_key = _KEYS[name]
+            sections[section] = replace(sections[section], **{
+                slope_key: fit.lines[name].slope, offset_key: fit.lines[name].offset})
+    except ValueError as exc:
+        raise InputError(where, f"its {name} line does not fit the configuration: {exc}"
+                         ) from None
+    if fit.lines[LEVEL].fit is not None:
+        sections["step_length"] = replace(sections["step_length"], calibrated=True)
+    return replace(config, **sections)
 
 
 # the keys of the file's mappings, as dataclasses for pdr_core.config_files.check_keys
