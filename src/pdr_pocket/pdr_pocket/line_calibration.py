@@ -89,19 +89,24 @@ class FootStride:
 class CalibrationSettings:
     """The calibrator's constants (desk study of issue 57, Section 3).
 
-    Prior: σ_a = ``slope_sigma_fraction`` of each configured slope (the slopes are "very
-    similar" among people, Section 4.2.3); level σ_b = PositionConfig's
-    ``stride_offset_sigma_m`` (people lie up to 14 cm per stride off the population line,
-    as 2σ); stairs σ_b ``stairs_offset_sigma_cm`` (an assumption: no data). Noise R of
-    one pair: level (cv·s)² + σ_foot² + (a·σ_Δθ)², with ``stride_cv`` a person's stride
+    Prior: σ_a = ``slope_sigma_fraction`` of the configured level slope (the slopes are
+    "very similar" among people, Section 4.2.3: a walk at several speeds still shows a
+    person's own) and ``stairs_slope_sigma_fraction`` of each stairs slope: the stairs of a
+    building are standardised (Section 4.3), so a walk sees a stairs line at one Δθ only,
+    where its slope cannot be told from its offset; at 2 % the slope takes about 5 % of a
+    correction at 17 cm risers ((0.02·a·Δθ)² against σ_b²) and the person's difference goes
+    to the offset, as the thesis' calibration of b_H alone. Level σ_b = PositionConfig's
+    ``stride_offset_sigma_m`` (people lie up to 14 cm per stride off the population line, as
+    2σ); stairs σ_b ``stairs_offset_sigma_cm`` (an assumption: no data). Noise R of one
+    pair: level (cv·s)² + σ_foot² + (a·σ_Δθ)², with ``stride_cv`` a person's stride
     variation about their own line (Gabell & Nayak 1984 bound it by 6 %; 2.5 % taken),
-    ``foot_length_sigma_m`` a foot INS's stride end (pdr_core.walking.gait:
-    about a centimetre) and ``level_amplitude_sigma_deg``; stairs σ_foot,v² + (a·σ_Δθ)²
-    in cm.
+    ``foot_length_sigma_m`` a foot INS's stride end (pdr_core.walking.gait: about a
+    centimetre) and ``level_amplitude_sigma_deg``; stairs σ_foot,v² + (a·σ_Δθ)² in cm.
     """
 
     forgetting: float = 0.999                   # λ: a memory of about 1/(1 − λ) pairs
     slope_sigma_fraction: float = 0.10
+    stairs_slope_sigma_fraction: float = 0.02
     level_offset_sigma_m: float = PositionConfig.stride_offset_sigma_m
     stairs_offset_sigma_cm: float = 4.0
     stride_cv: float = 0.025
@@ -264,12 +269,15 @@ class StrideCalibrator:
         step_length = step_length or StepLengthConfig()
         stairs = stairs or StairsConfig()
         s = self.settings = settings or CalibrationSettings()
-        lines = {LEVEL: (step_length.a_h_m_per_deg, step_length.b_h_m, s.level_offset_sigma_m),
-                 UP: (stairs.a_u_cm_per_deg, stairs.b_u_cm, s.stairs_offset_sigma_cm),
-                 DOWN: (stairs.a_d_cm_per_deg, stairs.b_d_cm, s.stairs_offset_sigma_cm)}
-        self.prior = {name: (a, b) for name, (a, b, _) in lines.items()}
-        self.fits = {name: LineFit(a, b, s.slope_sigma_fraction * abs(a), sigma_b, s.forgetting)
-                     for name, (a, b, sigma_b) in lines.items()}
+        lines = {LEVEL: (step_length.a_h_m_per_deg, step_length.b_h_m,
+                         s.slope_sigma_fraction, s.level_offset_sigma_m),
+                 UP: (stairs.a_u_cm_per_deg, stairs.b_u_cm, s.stairs_slope_sigma_fraction,
+                      s.stairs_offset_sigma_cm),
+                 DOWN: (stairs.a_d_cm_per_deg, stairs.b_d_cm, s.stairs_slope_sigma_fraction,
+                        s.stairs_offset_sigma_cm)}
+        self.prior = {name: (a, b) for name, (a, b, _, _) in lines.items()}
+        self.fits = {name: LineFit(a, b, fraction * abs(a), sigma_b, s.forgetting)
+                     for name, (a, b, fraction, sigma_b) in lines.items()}
         self.refused = dict.fromkeys(REASONS, 0)
         self.lag = _Lag(s.lag_steps, s.lag_spread_max_cycles)
         self._pocket: deque[PocketStep] = deque()

@@ -1,0 +1,227 @@
+"""Study (issue 57, acceptance 1 and 2): the foot INS calibrates the pocket's lines.
+
+Run on purpose, not in CI (about 15 minutes on 2 cores):
+
+    ./ws python test/benchmarks/study_foot_calibration.py [--seeds 10] [--workers 2]
+        [--out out/study_foot_calibration]
+
+Three persons whose lines differ from the population's (the shipped configuration's
+a_H = 0.025 m/°, b_H = 0.42 m and the stairs lines of Section 4.3.1) as much as the
+thesis' persons do (1.2–9.6 % of the distance, its Table 4.4), 10 seeds each. Per person
+and seed, with the commands a user types:
+
+1. ``pdr-sim generate --placement pocket --with-foot`` of ``two_imu_walk`` (level, 10 min)
+   or ``two_imu_stairs`` (11 min, three lines), the person's lines set, strides deviating
+   from them step by step (2.5 %, not centred);
+2. ``pdr-ekf run`` on the foot's topics and ``pdr-pocket run`` on the pocket's;
+3. ``pdr-pocket calibrate-step --foot --pocket``: the person's lines;
+4. a second walk of the same person, phone alone (``h2_rectangle_speeds`` level, 7 min at
+   2.5 and 4.8 km/h; ``up_dw`` with stairs, risers of 15 to 21 cm), another seed:
+   ``pdr-pocket run`` with the population's lines (before) and ``--step-calibration``
+   (after): the distance error against the true strides and each flight's riser error.
+
+Prints a row per person and walk and writes OUT/runs.csv (a row per run) and
+OUT/summary.md.
+"""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import csv
+import io
+import json
+import sys
+import tempfile
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from pdr_core import topics
+from pdr_core.evaluation.parallel import on_one_thread
+from pdr_sim.pocket_scenario import PersonSpec
+
+# the persons: lines as far from the population's as the thesis' persons are
+PERSONS = {
+    "short strides": {"a_h_m_per_deg": 0.025, "b_h_m": 0.35, "b_u_cm": -10.5,
+                      "b_d_cm": -22.0},
+    "long strides": {"a_h_m_per_deg": 0.026, "b_h_m": 0.50, "b_u_cm": -6.5,
+                     "b_d_cm": -17.0},
+    "flat slope": {"a_h_m_per_deg": 0.022, "b_h_m": 0.52, "b_u_cm": -7.5,
+                   "b_d_cm": -21.0},
+}
+WALKS = {"level": ("two_imu_walk", "h2_rectangle_speeds"),
+         "stairs": ("two_imu_stairs", "up_dw")}
+SECOND_SEED_OFFSET = 1000
+FOOT = topics.FOOT_NAMESPACE
+
+
+def _cli(main_module: str, *args) -> str:
+    """A CLI's ``main`` run in this process; its stdout, or RuntimeError with its stderr."""
+    import importlib
+
+    main = importlib.import_module(main_module).main
+    out, err = io.StringIO(), io.StringIO()
+    code = 0
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            main([str(a) for a in args])
+        except SystemExit as exited:
+            code = exited.code if isinstance(exited.code, int) else 1
+    if code:
+        raise RuntimeError(f"{main_module} {' '.join(map(str, args))}: {err.getvalue()}")
+    return out.getvalue()
+
+
+def _person_sets(person: dict, seed: int) -> list[str]:
+    sets = [f"seed={seed}"]
+    for key, value in person.items():
+        sets += ["--set", f"person.{key}={value}"]
+    return ["--set", sets[0], *sets[1:]]
+
+
+def one_run(person_name: str, walk: str, seed: int) -> dict:
+    """Steps 1-4 of the module docstring for one person, walk kind and seed."""
+    person = PERSONS[person_name]
+    calibration, second = WALKS[walk]
+    with tempfile.TemporaryDirectory(prefix="study57_") as tmp:
+        work = Path(tmp)
+        _cli("pdr_sim.cli", "generate", "--placement", "pocket", "--scenario", calibration,
+             "--with-foot", "--seed", seed, *_person_sets(person, seed), "--out",
+             work / "pair")
+        _cli("pdr_ins_ekf.cli", "run", work / "pair", "--out", work / "foot",
+             "--imu-topic", FOOT + topics.IMU_DATA,
+             "--truth-topic", FOOT + topics.GROUND_TRUTH_POSE,
+             "--stance-truth-topic", FOOT + topics.GROUND_TRUTH_STANCE)
+        _cli("pdr_pocket.cli", "run", work / "pair", "--out", work / "pocket")
+        _cli("pdr_pocket.cli", "calibrate-step", "--foot", work / "foot", "--pocket",
+             work / "pocket", "--out", work / "fit.yaml")
+        fit = yaml.safe_load((work / "fit.yaml").read_text())
+        second_seed = seed + SECOND_SEED_OFFSET
+        _cli("pdr_sim.cli", "generate", "--placement", "pocket", "--scenario", second,
+             "--seed", second_seed, *_person_sets(person, second_seed), "--out",
+             work / "second")
+        _cli("pdr_pocket.cli", "run", work / "second", "--out", work / "before")
+        _cli("pdr_pocket.cli", "run", work / "second", "--step-calibration",
+             work / "fit.yaml", "--out", work / "after")
+        _cli("pdr_pocket.cli", "run", work / "second", "--step-calibration",
+             _own_lines(person, work / "own.yaml"), "--out", work / "own")
+        before, after, own = (json.loads((work / name / "report.json").read_text())
+                              for name in ("before", "after", "own"))
+    row = {"person": person_name, "walk": walk, "seed": seed,
+           "true_b_h_m": person["b_h_m"], "true_a_h_m_per_deg": person["a_h_m_per_deg"],
+           "b_h_m": fit["step_length"]["b_h_m"],
+           "a_h_m_per_deg": fit["step_length"]["a_h_m_per_deg"],
+           "level_pairs": (fit["fit"]["level"] or {}).get("pairs", 0),
+           "distance_error_before_pct": before["distance_error_pct"],
+           "distance_error_after_pct": after["distance_error_pct"],
+           "distance_error_own_pct": own["distance_error_pct"],
+           "steps_off_the_line": _off_the_line(after, walk)}
+    row["offset_error_cm"] = 100.0 * (row["b_h_m"] - person["b_h_m"])
+    if walk == "stairs":
+        for line, key in (("up", "u"), ("down", "d")):
+            row[f"b_{key}_cm"] = fit["stairs"][f"b_{key}_cm"]
+            row[f"{line}_offset_error_cm"] = row[f"b_{key}_cm"] - person[f"b_{key}_cm"]
+            row[f"a_{key}_cm_per_deg"] = fit["stairs"][f"a_{key}_cm_per_deg"]
+            row[f"{line}_pairs"] = (fit["fit"][line] or {}).get("pairs", 0)
+        row["riser_error_before_pct"] = _riser_error(before)
+        row["riser_error_after_pct"] = _riser_error(after)
+        row["riser_error_own_pct"] = _riser_error(own)
+    return row
+
+
+def _own_lines(person: dict, path: Path) -> Path:
+    """A saved fit holding the person's own (true) lines: what a perfect calibration
+    would give, the floor of each figure."""
+    from pdr_pocket.saved_lines import FitStats, LineEstimate, SavedFit, write_fit
+
+    exact = FitStats(1, ((0.0, 0.0), (0.0, 0.0)), 0.0)
+    up = (PersonSpec.a_u_cm_per_deg, person["b_u_cm"])
+    down = (PersonSpec.a_d_cm_per_deg, person["b_d_cm"])
+    lines = {"level": LineEstimate(person["a_h_m_per_deg"], person["b_h_m"], exact),
+             "up": LineEstimate(*up, exact), "down": LineEstimate(*down, exact)}
+    return write_fit(path, SavedFit(lines, 1.0, {}, {"person": "the simulated truth"}))
+
+
+def _off_the_line(report: dict, walk: str) -> int:
+    """The second walk's steps whose stride the level line did not give, where a
+    calibration of it cannot act: another model while the placement was unknown, and on
+    a level walk the steps taken for stairs."""
+    by_line = report["placement"]["cycles_by_model"].get("pitch", 0)
+    on_stairs = report["activities"]["upstairs"] + report["activities"]["downstairs"]
+    return int(report["steps"] - by_line) + (on_stairs if walk == "level" else 0)
+
+
+def _riser_error(report: dict) -> float:
+    """The mean |riser error| [%] over the second walk's flights."""
+    errors = [abs(f["error_pct"]) for f in report["staircase_riser_error_pct"]
+              if f["error_pct"] is not None]
+    return float(np.mean(errors)) if errors else float("nan")
+
+
+def _summary(rows: list[dict]) -> list[str]:
+    """A row per person and walk: the largest offset errors, the distance error of the
+    second walk (mean, and the largest in brackets) with the population's lines, the
+    fitted ones and the person's own, the mean riser errors, and how many runs had steps
+    the level line did not measure."""
+    lines = ["| person | walk | runs | level offset error, max [cm] | up, down offset "
+             "error, max [cm] | distance error: population's lines [%] | fitted [%] | "
+             "person's own [%] | riser error: population's [%] | fitted [%] | own [%] | "
+             "runs with steps off the line |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for walk in WALKS:
+        for person in PERSONS:
+            runs = [r for r in rows if r["person"] == person and r["walk"] == walk]
+            if not runs:
+                continue
+            cells = [f"{max(abs(r['offset_error_cm']) for r in runs):.2f}", "—"]
+            for which in ("before", "after", "own"):
+                d = np.array([r[f"distance_error_{which}_pct"] for r in runs])
+                cells.append(f"{d.mean():+.2f} ({np.abs(d).max():.2f})")
+            cells += ["—"] * 3
+            if walk == "stairs":
+                cells[1] = ", ".join(f"{max(abs(r[f'{line}_offset_error_cm']) for r in runs):.2f}"
+                                     for line in ("up", "down"))
+                cells[5:8] = [f"{np.mean([r[f'riser_error_{w}_pct'] for r in runs]):.2f}"
+                              for w in ("before", "after", "own")]
+            off = sum(1 for r in runs if r["steps_off_the_line"])
+            lines.append(f"| {person} | {walk} | {len(runs)} | " + " | ".join(cells)
+                         + f" | {off} |")
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--seeds", type=int, default=10)
+    p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--walks", nargs="+", choices=list(WALKS), default=list(WALKS))
+    p.add_argument("--out", type=Path, default=Path("out/study_foot_calibration"))
+    args = p.parse_args(argv)
+    tasks = [(person, walk, seed) for walk in args.walks for person in PERSONS
+             for seed in range(1, args.seeds + 1)]
+    rows = []
+    with ProcessPoolExecutor(args.workers) as pool:
+        futures = [pool.submit(on_one_thread, one_run, *task) for task in tasks]
+        for done, future in enumerate(futures, 1):
+            row = future.result()
+            rows.append(row)
+            print(f"[{done}/{len(tasks)}] {row['person']}, {row['walk']}, seed {row['seed']}: "
+                  f"offset {row['offset_error_cm']:+.2f} cm, distance "
+                  f"{row['distance_error_before_pct']:+.2f} % -> "
+                  f"{row['distance_error_after_pct']:+.2f} %", file=sys.stderr, flush=True)
+    args.out.mkdir(parents=True, exist_ok=True)
+    keys = sorted({k for r in rows for k in r}, key=lambda k: list(rows[-1]).index(k)
+                  if k in rows[-1] else 99)
+    with (args.out / "runs.csv").open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=keys)
+        writer.writeheader()
+        writer.writerows(rows)
+    table = _summary(rows)
+    (args.out / "summary.md").write_text("\n".join(table) + "\n")
+    print("\n".join(table))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
