@@ -163,13 +163,14 @@ def _riser_error(report: dict) -> float:
 def _summary(rows: list[dict]) -> list[str]:
     """A row per person and walk: the largest offset errors, the distance error of the
     second walk (mean, and the largest in brackets) with the population's lines, the
-    fitted ones and the person's own, the mean riser errors, and how many runs had steps
-    the level line did not measure."""
+    fitted ones and the person's own, the largest difference the fit makes against the
+    person's own lines (the calibration's share of the error), the mean riser errors, and
+    how many runs had steps the level line did not measure."""
     lines = ["| person | walk | runs | level offset error, max [cm] | up, down offset "
              "error, max [cm] | distance error: population's lines [%] | fitted [%] | "
-             "person's own [%] | riser error: population's [%] | fitted [%] | own [%] | "
-             "runs with steps off the line |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "person's own [%] | fitted − own, max [%] | riser error: population's [%] | "
+             "fitted [%] | own [%] | runs with steps off the line |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for walk in WALKS:
         for person in PERSONS:
             runs = [r for r in rows if r["person"] == person and r["walk"] == walk]
@@ -179,11 +180,13 @@ def _summary(rows: list[dict]) -> list[str]:
             for which in ("before", "after", "own"):
                 d = np.array([r[f"distance_error_{which}_pct"] for r in runs])
                 cells.append(f"{d.mean():+.2f} ({np.abs(d).max():.2f})")
-            cells += ["—"] * 3
+            calibration = max(abs(r["distance_error_after_pct"] - r["distance_error_own_pct"])
+                              for r in runs)
+            cells += [f"{calibration:.2f}"] + ["—"] * 3
             if walk == "stairs":
                 cells[1] = ", ".join(f"{max(abs(r[f'{line}_offset_error_cm']) for r in runs):.2f}"
                                      for line in ("up", "down"))
-                cells[5:8] = [f"{np.mean([r[f'riser_error_{w}_pct'] for r in runs]):.2f}"
+                cells[6:9] = [f"{np.mean([r[f'riser_error_{w}_pct'] for r in runs]):.2f}"
                               for w in ("before", "after", "own")]
             off = sum(1 for r in runs if r["steps_off_the_line"])
             lines.append(f"| {person} | {walk} | {len(runs)} | " + " | ".join(cells)
