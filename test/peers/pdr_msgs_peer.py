@@ -20,7 +20,7 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
 from pdr_core.corrections.answered_requests import AnsweredRequests
-from pdr_msgs.msg import DriftEstimate, Landmark, Stance, Step
+from pdr_msgs.msg import DriftEstimate, Landmark, Stance, Step, StrideLines
 from pdr_msgs.srv import ApplyCorrection
 
 QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -41,8 +41,17 @@ def samples() -> dict:
                         yaw_after=1.6, floor=-1)
     drift = DriftEstimate(landmark_first=3, landmark_revisit=9, deviation=0.05, elapsed=120.0,
                           drift=0.05 / 120.0, drift_variance=1e-9)
+    lines = StrideLines(level_slope=0.0251, level_offset=0.371,
+                        level_covariance=[1.1e-7, -3.6e-6, -3.6e-6, 1.3e-4], level_pairs=412,
+                        level_residual_sigma=0.036, up_slope=0.81, up_offset=-8.9,
+                        up_covariance=[0.004, -0.1, -0.1, 4.0], up_pairs=38,
+                        up_residual_sigma=1.2, down_slope=2.0, down_offset=-19.24,
+                        down_covariance=[0.04, 0.0, 0.0, 16.0], down_pairs=0,
+                        down_residual_sigma=0.0, refused_reasons=["lag", "turn"],
+                        refused_counts=[10, 31], forgetting=0.999)
+    lines.header.frame_id = "map"
     return {"test/stance": stance, "test/step": step, "test/landmark": landmark,
-            "test/drift": drift}
+            "test/drift": drift, "test/stride_lines": lines}
 
 
 def publish() -> None:

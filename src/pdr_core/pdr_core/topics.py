@@ -42,6 +42,9 @@ POCKET_PATH = "/pdr/pocket/path"
 POCKET_CORRECTED_PATH = "/pdr/pocket/corrected_path"   # pdr-drift run's offline correction
 POCKET_APPLY_CORRECTION = "/pdr/pocket/apply_correction"   # the service pocket_pdr offers
 
+# the stride calibrator (stride_calibrator): the foot INS calibrates the pocket's lines
+POCKET_STRIDE_LINES = "/pdr/pocket/stride_lines"    # pdr_msgs/StrideLines, the fitted lines
+
 # the landmark drift estimator (landmark_drift, pdr-drift run)
 LANDMARKS = "/pdr/landmarks"
 DRIFT = "/pdr/drift"
