@@ -21,19 +21,20 @@ the steps and every step is level.
 from __future__ import annotations
 
 import copy
-from dataclasses import fields, is_dataclass, replace
+from dataclasses import dataclass, fields, is_dataclass, replace
 
 import numpy as np
 
 from pdr_core.corrections.correction import Correction
 from pdr_core.corrections.replay import TakenCorrection
-from pdr_pocket.config import PocketConfig
+from pdr_pocket.config import PocketConfig, StairsConfig
 from pdr_pocket.corrections import CorrectionTaker
 from pdr_pocket.height_records import BarometerStatus
 from pdr_pocket.pitch_source import PitchSource
 from pdr_pocket.records import NavigatorOutput
 from pdr_pocket.samples import Samples
 from pdr_pocket.step_assembly import StepAssembly
+from pdr_pocket.step_length import StepLengthConfig
 
 
 def frozen_records(config: PocketConfig) -> dict[int, object]:
@@ -49,6 +50,29 @@ def frozen_records(config: PocketConfig) -> dict[int, object]:
             records[id(item)] = item
             todo.extend(getattr(item, f.name) for f in fields(item))
     return records
+
+
+@dataclass(frozen=True)
+class TakenLines:
+    """The person's lines taken at instant ``t_s`` [s of the navigator's time]
+    (:meth:`PocketNavigator.take_lines`): an input of a replay's history
+    (pdr_core.corrections.replay), taken again in its place when a correction reaches back
+    before it, so the steps before it keep the lines they had."""
+
+    t_s: float
+    step_length: StepLengthConfig
+    stairs: StairsConfig
+
+    @property
+    def end_s(self) -> float:
+        return self.t_s
+
+    def __len__(self) -> int:
+        return 1
+
+    def split(self, t_s: float) -> tuple[tuple, TakenLines]:
+        """An instant: all of it after ``t_s`` (the replay splits only what ends after)."""
+        return (), self
 
 
 class PocketNavigator:
@@ -153,11 +177,21 @@ class PocketNavigator:
         what was done or why not). Its stamp is the caller's (pdr_pocket.streaming)."""
         return self.taker.take(correction)
 
-    def rerun(self, item: Samples | TakenCorrection) -> None:
+    def take_lines(self, step_length: StepLengthConfig, stairs: StairsConfig) -> None:
+        """The person's level and stairs lines (pdr_pocket.line_calibration) for the
+        steps confirmed from now on (pdr_pocket.step_assembly.StepAssembly.take_lines);
+        the steps before keep theirs."""
+        self.config = replace(self.config, step_length=step_length, stairs=stairs)
+        self.shared = frozen_records(self.config)
+        self.assembly.take_lines(step_length, stairs)
+
+    def rerun(self, item: Samples | TakenCorrection | TakenLines) -> None:
         """A kept input again, on a replay (pdr_core.corrections.replay.Worker): a chunk of samples,
-        or a correction taken before (gated again)."""
+        a correction taken before (gated again) or lines taken before."""
         if isinstance(item, TakenCorrection):
             self.apply_correction(item.correction)
+        elif isinstance(item, TakenLines):
+            self.take_lines(item.step_length, item.stairs)
         else:
             self.process(item)
 

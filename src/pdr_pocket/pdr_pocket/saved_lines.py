@@ -23,10 +23,14 @@ covariance is of [a, b] in those units², row-major.
   the file and the key;
 - :func:`applied`: a configuration with the person's lines of a saved fit (``run
   --step-calibration``, the configuration's ``step_calibration``), :func:`fitted` the lines
-  it took.
+  it took;
+- :data:`LINE_PARAMETERS`, :func:`line_parameters`, :func:`taken_lines`: the lines as
+  ``pocket_pdr``'s parameters (``step_length.b_h_m``, ...), which ``stride_calibrator``
+  sets live.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -92,6 +96,45 @@ _KEYS = {LEVEL: ("step_length", "a_h_m_per_deg", "b_h_m"),
          UP: ("stairs", "a_u_cm_per_deg", "b_u_cm"),
          DOWN: ("stairs", "a_d_cm_per_deg", "b_d_cm")}
 _SIGMA_KEY = {LEVEL: "residual_sigma_m", UP: "residual_sigma_cm", DOWN: "residual_sigma_cm"}
+LINE_PARAMETERS = {name: (f"{section}.{slope}", f"{section}.{offset}")
+                   for name, (section, slope, offset) in _KEYS.items()}
+"""Each line's (slope, offset) as ``pocket_pdr``'s parameters: the configuration's
+``section.key`` (units as the module docstring's)."""
+
+
+def line_parameters(fit: SavedFit, min_pairs: int = 1) -> dict[str, float]:
+    """The lines of ``fit`` fitted from at least ``min_pairs`` pairs as parameter -> value
+    (:data:`LINE_PARAMETERS`); a line not walked, or from fewer pairs, gives none."""
+    values = {}
+    for name, line in fit.lines.items():
+        if line.fit is not None and line.fit.pairs >= max(min_pairs, 1):
+            slope, offset = LINE_PARAMETERS[name]
+            values[slope], values[offset] = line.slope, line.offset
+    return values
+
+
+def taken_lines(step_length: StepLengthConfig, stairs: StairsConfig,
+                values: dict[str, float]) -> tuple[StepLengthConfig, StairsConfig]:
+    """``step_length`` and ``stairs`` with the lines' ``values`` by parameter
+    (:data:`LINE_PARAMETERS`; the others kept); a level line that changes is the person's
+    (``calibrated`` true: not scaled to a height). ValueError naming the parameter for an
+    unknown one, a value not finite, or a slope not above 0."""
+    known = {p for pair in LINE_PARAMETERS.values() for p in pair}
+    changes: dict[str, dict[str, float]] = {"step_length": {}, "stairs": {}}
+    for name, value in values.items():
+        if name not in known:
+            raise ValueError(f"{name}: not a line's parameter ({', '.join(sorted(known))})")
+        if not math.isfinite(value):
+            raise ValueError(f"{name}: {value} is not finite")
+        section, key = name.split(".")
+        changes[section][key] = float(value)
+    for slope, _ in LINE_PARAMETERS.values():
+        if slope in values and not values[slope] > 0.0:
+            raise ValueError(f"{slope}: a slope must be above 0, got {values[slope]}")
+    level = changes["step_length"]
+    if any(value != getattr(step_length, key) for key, value in level.items()):
+        level["calibrated"] = True
+    return replace(step_length, **level), replace(stairs, **changes["stairs"])
 
 
 def write_fit(path: str | Path, fit: SavedFit) -> Path:

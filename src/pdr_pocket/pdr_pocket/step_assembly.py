@@ -22,6 +22,8 @@ heading, vertical specific force and tilt), so the chunks can be cut anywhere.
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from pdr_core.maths.angles import wrap_angle
@@ -30,7 +32,7 @@ from pdr_core.vocabulary import STAIRS_ACTIVITIES, Activity, Ride
 from pdr_core.walking.gait import MAX_WALKING_SPEED_MPS, WALK_RATIO_MAX_M_PER_SPM, stride_bound_m
 from pdr_pocket.activity import StepShape, activity_classifier, rest_activity
 from pdr_pocket.compiled_peaks import EV_MAX, EV_MIN, EV_T_CONFIRM, EV_T_MAX
-from pdr_pocket.config import PocketConfig
+from pdr_pocket.config import PocketConfig, StairsConfig
 from pdr_pocket.height_filter import HeightFilter
 from pdr_pocket.height_records import StepHeight
 from pdr_pocket.pitch_source import PitchChunk
@@ -39,7 +41,7 @@ from pdr_pocket.position import PositionFilter
 from pdr_pocket.records import RIDES, StepRecord
 from pdr_pocket.samples import Samples
 from pdr_pocket.stairs import Staircases, vertical_displacement_m
-from pdr_pocket.step_length import STRIDE_MODELS, StrideInputs, stride_model
+from pdr_pocket.step_length import STRIDE_MODELS, StepLengthConfig, StrideInputs, stride_model
 from pdr_pocket.steps import FootfallDetector, PitchMaximumDetector
 
 
@@ -70,6 +72,15 @@ class StepAssembly:
         self.tilt_var_max = 0.0                 # the tilt's largest variance [rad²]
         self.last_confirm = -np.inf
         self.last_activity = Activity.WALKING
+
+    def take_lines(self, step_length: StepLengthConfig, stairs: StairsConfig) -> None:
+        """The level stride line (``step_length``'s a_H, b_H and ``calibrated``) and the
+        stairs lines (``stairs``' a_U, b_U, a_D, b_D) for the steps confirmed from now on:
+        the stride models and Eqs. (4.4)-(4.5) read them; the placement found, the
+        staircases' flight check and the position filter's state go on as they are."""
+        self.config = replace(self.config, step_length=step_length, stairs=stairs)
+        self.strides = {name: stride_model(step_length, self.config.person.height_m, name)
+                        for name in STRIDE_MODELS}
 
     def use_sensors(self, gyroscope: bool) -> None:
         """Choose the step detector and the activities by the signals there are (the

@@ -44,7 +44,7 @@ result whatever the chunks, pdr_pocket.navigator):
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -56,13 +56,14 @@ from pdr_core.sensors.magnetometer_pairing import latest_readings
 from pdr_core.sensors.sample_pairing import readings_at_samples
 from pdr_pocket.arrivals import MAG, Arrivals
 from pdr_pocket.compiled_orientation_data import ATT_ROWS
-from pdr_pocket.config import PocketConfig
+from pdr_pocket.config import PocketConfig, StairsConfig
 from pdr_pocket.magnetometer import MagCalibration
-from pdr_pocket.navigator import PocketNavigator
+from pdr_pocket.navigator import PocketNavigator, TakenLines
 from pdr_pocket.orientation import AttitudeEstimate
 from pdr_pocket.placement import Placement, walk_placement
 from pdr_pocket.records import NavigatorOutput, StepRecord
 from pdr_pocket.samples import Samples
+from pdr_pocket.step_length import StepLengthConfig
 
 UNIT_CHECK_SAMPLES = 50
 MAG_BEFORE_IMU_NS = 60_000_000_000   # readings kept before the first IMU sample [ns]
@@ -533,6 +534,20 @@ class StreamingPocket:
             return self._counted(CorrectionResult(False, f"nothing applied: {problem}"))
         return self._counted(self.replay.correct(self, correction, self._time_s(stamp_ns)))
 
+    # --- the person's lines (pdr_pocket.line_calibration, the node stride_calibrator) --
+    def take_lines(self, step_length: StepLengthConfig, stairs: StairsConfig) -> None:
+        """The person's level line (``step_length``) and stairs lines (``stairs``) for
+        the steps of the samples processed from now on (pdr_pocket.navigator.PocketNavigator
+        .take_lines); the steps of the samples processed before keep theirs, also when a
+        correction runs them again (the lines are an input of the replay's history,
+        :class:`~pdr_pocket.navigator.TakenLines`). With ``block_s``, call :meth:`release`
+        first for the samples that came before. A :meth:`reset` keeps them."""
+        self.config = replace(self.config, step_length=step_length, stairs=stairs)
+        self.navigator.take_lines(step_length, stairs)
+        if self.processed_ns is not None:
+            t_now = self._time_s(self.processed_ns)
+            self.replay.history.record(TakenLines(t_now, step_length, stairs), t_now)
+
     # --- the replay's side (pdr_core.corrections.replay.Replayable) -------------------------------
     @staticmethod
     def worker(state: PocketNavigator) -> PocketNavigator:
@@ -543,9 +558,9 @@ class StreamingPocket:
     def adopt(self, worker: PocketNavigator) -> None:
         self.navigator = worker
 
-    def take(self, item: Samples | TakenCorrection) -> list[Revised]:
+    def take(self, item: Samples | TakenCorrection | TakenLines) -> list[Revised]:
         """An input taken again and kept: the steps a chunk gives, run again."""
-        if isinstance(item, TakenCorrection):
+        if isinstance(item, TakenCorrection | TakenLines):
             self.navigator.rerun(item)
             self.replay.history.record(item, item.t_s)
             return []
