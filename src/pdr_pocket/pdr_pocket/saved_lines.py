@@ -26,7 +26,7 @@ covariance is of [a, b] in those units², row-major.
   it took;
 - :data:`LINE_PARAMETERS`, :func:`line_parameters`, :func:`taken_lines`: the lines as
   ``pocket_pdr``'s parameters (``step_length.b_h_m``, ...), which ``stride_calibrator``
-  sets live.
+  sets live; :func:`lines_text` says them.
 """
 from __future__ import annotations
 
@@ -111,6 +111,17 @@ def line_parameters(fit: SavedFit, min_pairs: int = 1) -> dict[str, float]:
             slope, offset = LINE_PARAMETERS[name]
             values[slope], values[offset] = line.slope, line.offset
     return values
+
+
+def lines_text(step_length: StepLengthConfig, stairs: StairsConfig) -> str:
+    """The three lines in one line of a log."""
+    return (f"level s = {_line(step_length.a_h_m_per_deg, step_length.b_h_m)} m, "
+            f"up v = {_line(stairs.a_u_cm_per_deg, stairs.b_u_cm)} cm, "
+            f"down v = {_line(stairs.a_d_cm_per_deg, stairs.b_d_cm)} cm (Δθ in deg)")
+
+
+def _line(slope: float, offset: float) -> str:
+    return f"{slope:.5g}·Δθ {'-' if offset < 0 else '+'} {abs(offset):.4g}"
 
 
 def taken_lines(step_length: StepLengthConfig, stairs: StairsConfig,

@@ -33,8 +33,17 @@ sample waits for a late magnetometer reading, in seconds of IMU data), ``block_s
 how long a sample may wait to be processed with the ones after it, in seconds of IMU data;
 a call of the navigator costs far more than a sample in it, pdr_pocket.streaming.BLOCK_S;
 0: each sample's attitude at once; the samples waiting for their block go out once no IMU
-message has come for ``block_s`` of the node's clock, and before a correction is taken).
-The start-up line names the resolved topics and services.
+message has come for ``block_s`` of the node's clock, and before a correction is taken),
+``step_calibration`` (the saved fit of ``pdr-pocket calibrate-step --foot``,
+pdr_pocket.saved_lines: its walked lines replace the configuration's, as ``pdr-pocket run
+--step-calibration``) and the person's lines ``step_length.a_h_m_per_deg``,
+``step_length.b_h_m``, ``stairs.a_u_cm_per_deg``, ``stairs.b_u_cm``,
+``stairs.a_d_cm_per_deg``, ``stairs.b_d_cm`` (defaults: the configuration's, with the
+saved fit's). Set while the node runs (``stride_calibrator`` does, through the standard
+``set_parameters`` service, issue 57), the lines are checked (finite, slopes above 0; a
+refusal says why) and taken for the steps confirmed from then on
+(pdr_pocket.streaming.StreamingPocket.take_lines, after the samples waiting for their
+block), each logged. The start-up line names the resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
 topics keep pace), so the estimates equal ``pdr-pocket run``'s on the same bag, byte for
@@ -57,9 +66,12 @@ a minute is no longer fused (pdr_pocket.height_filter): a throttled warning says
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from geometry_msgs.msg import PoseStamped, PoseWithCovarianceStamped, Vector3Stamped
 from nav_msgs.msg import Odometry, Path
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -70,6 +82,7 @@ from pdr_core import topics
 from pdr_core.corrections.answered_requests import AnsweredRequests
 from pdr_core.corrections.correction import from_request
 from pdr_core.corrections.replay import CorrectionResult
+from pdr_core.errors import InputError
 from pdr_core.frames import MAP_FRAME, SENSOR_FRAME
 from pdr_core.io import cdr
 from pdr_core.io.batch import MessageBatch
@@ -96,6 +109,13 @@ from pdr_pocket.messages import (
     step_fields,
 )
 from pdr_pocket.placement import UNKNOWN, stride_choice
+from pdr_pocket.saved_lines import (
+    LINE_PARAMETERS,
+    line_parameters,
+    lines_text,
+    read_fit,
+    taken_lines,
+)
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
 from pdr_pocket.streaming import BLOCK_S, CORRECTION_WINDOW_S, MAG_WAIT_S, StreamingPocket
 
@@ -138,7 +158,10 @@ class PocketPdrNode(Node):
         block_s = declare(self, "block_s", BLOCK_S, "how long a sample may wait to be "
                           "processed with the ones after it, in one block [s of IMU data]; "
                           "0: each at once")
-        config = load_pocket_config(path or None)
+        step_calibration = declare(self, "step_calibration", "", "saved fit YAML of pdr-pocket "
+                                   "calibrate-step --foot; its walked lines replace the "
+                                   "configuration's")
+        config = person_lines(self, load_pocket_config(path or None), step_calibration)
         self.mag_updates = config.orientation.magnetic
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
@@ -185,6 +208,11 @@ class PocketPdrNode(Node):
         self.detection_told = self.no_gait_told = False
         self.placement_told = UNKNOWN
         self.diagnostics = NodeDiagnostics(self, self.diagnostic_counters)
+        self.add_on_set_parameters_callback(self.on_set_parameters)
+        if step_calibration:
+            said = lines_text(config.step_length, config.stairs)
+            self.get_logger().info(f"pocket_pdr: took the person's lines from "
+                                   f"{step_calibration}: {said}")
         magnetometer = "magnetic updates" if self.mag_updates else \
             "the first reading's heading only (no magnetic update configured)"
         self.get_logger().info(
@@ -193,6 +221,27 @@ class PocketPdrNode(Node):
             f"{self.mag_topic}: {magnetometer}; "
             f"strides: {stride_choice(self.navigator.config.step_length)}; "
             f"{wiring(self)}")
+
+    def on_set_parameters(self, parameters) -> SetParametersResult:
+        """The person's lines set while the node runs (``stride_calibrator``): checked
+        (pdr_pocket.saved_lines.taken_lines), then taken for the steps confirmed from now
+        on, after the samples waiting for their block; logged. Other parameters are
+        accepted as before (read at the start only)."""
+        values = {p.name: p.value for p in parameters if p.name in LINE_NAMES}
+        if not values:
+            return SetParametersResult(successful=True)
+        nav = self.navigator
+        try:
+            step_length, stairs = taken_lines(nav.config.step_length, nav.config.stairs,
+                                              values)
+        except (TypeError, ValueError) as exc:
+            self.get_logger().warning(f"pocket_pdr: the person's lines refused: {exc}")
+            return SetParametersResult(successful=False, reason=str(exc))
+        self.publish(nav.release())
+        nav.take_lines(step_length, stairs)
+        self.get_logger().info(f"pocket_pdr: took the person's lines from a parameter "
+                               f"update: {lines_text(step_length, stairs)}")
+        return SetParametersResult(successful=True)
 
     def on_quiet(self) -> None:
         """The samples that wait for their block (``block_s``) processed and published once
@@ -457,6 +506,42 @@ class PocketPdrNode(Node):
         self.path.poses = []
         response.success, response.message = True, "navigator reset"
         return response
+
+
+LINE_NAMES = tuple(name for pair in LINE_PARAMETERS.values() for name in pair)
+LINE_DESCRIPTIONS = {
+    "step_length.a_h_m_per_deg": "the person's level stride line s = a_H·Δθ + b_H: a_H "
+                                 "[m/deg] (Muñoz Díaz 2016 Eq. (4.2))",
+    "step_length.b_h_m": "the level stride line's offset b_H [m]",
+    "stairs.a_u_cm_per_deg": "the climb of a gait cycle upstairs v = a_U·Δθ + b_U: a_U "
+                             "[cm/deg] (Eq. (4.4))",
+    "stairs.b_u_cm": "the upstairs line's offset b_U [cm]",
+    "stairs.a_d_cm_per_deg": "the descent of a gait cycle downstairs v = a_D·Δθ + b_D: a_D "
+                             "[cm/deg] (Eq. (4.5))",
+    "stairs.b_d_cm": "the downstairs line's offset b_D [cm]"}
+
+
+def person_lines(node: Node, config, step_calibration: str):
+    """``config`` (pdr_pocket.config.PocketConfig) with the walked lines of the saved fit
+    ``step_calibration`` (when given), then the line parameters, declared with those as
+    defaults (a value given with ``-p`` replaces its default): InputError naming the file or
+    the parameter for one that cannot be used."""
+    if step_calibration:
+        step_length, stairs = taken_lines(config.step_length, config.stairs,
+                                          line_parameters(read_fit(step_calibration)))
+        config = replace(config, step_length=step_length, stairs=stairs)
+    sections = {"step_length": config.step_length, "stairs": config.stairs}
+    values = {}
+    for name in LINE_NAMES:
+        section, key = name.split(".")
+        values[name] = declare(node, name, float(getattr(sections[section], key)),
+                               LINE_DESCRIPTIONS[name])
+    try:
+        step_length, stairs = taken_lines(config.step_length, config.stairs, values)
+    except ValueError as exc:
+        name, _, problem = str(exc).partition(": ")
+        raise InputError(f"parameter {name}", problem) from None
+    return replace(config, step_length=step_length, stairs=stairs)
 
 
 def _said(state: str, why: str) -> str:
