@@ -41,6 +41,7 @@ def test_a_navigator_configuration_as_params_file_is_refused_in_one_line(procs, 
 
 @pytest.mark.parametrize(("node", "params_file"), [
     ("pocket_pdr", POCKET_CONFIG / "pocket_pdr_params.yaml"),
+    ("stride_calibrator", POCKET_CONFIG / "stride_calibrator_params.yaml"),
     ("landmark_drift", ROOT / "src" / "pdr_drift" / "config" / "landmark_drift_params.yaml"),
     ("zupt_ekf", ROOT / "src" / "pdr_ins_ekf" / "config" / "zupt_ekf.yaml")])
 def test_the_shipped_parameter_files_start_their_nodes(procs, node, params_file):
@@ -79,7 +80,15 @@ def test_an_integer_for_a_double_is_taken(procs, ros):
      "parameter frame_id: is gone: use map_frame (steps, poses, path) or sensor_frame"),
     ("landmark_drift", ["-p", "frame_id:=alice"], "parameter frame_id: is gone: use map_frame"),
     ("zupt_ekf", ["-p", "frame_id:=alice"], "parameter frame_id: is gone: use map_frame"),
-    ("imu_sim", ["-p", "imu:=xsens"], "parameter imu: 'xsens' is not one of ideal")])
+    ("imu_sim", ["-p", "imu:=xsens"], "parameter imu: 'xsens' is not one of ideal"),
+    ("pocket_pdr", ["-p", "stairs.a_u_cm_per_deg:=-0.8"],
+     "parameter stairs.a_u_cm_per_deg: a slope must be above 0, got -0.8"),
+    ("pocket_pdr", ["-p", "step_length.b_h_m:=.nan"],
+     "parameter step_length.b_h_m: nan is not finite"),
+    ("pocket_pdr", ["-p", "step_calibration:=/nonexistent/fit.yaml"],
+     "/nonexistent/fit.yaml: cannot read the saved fit"),
+    ("stride_calibrator", ["-p", "forgetting:=1.5"],
+     "parameter forgetting: forgetting must be within (0, 1], got 1.5")])
 def test_a_wrong_parameter_is_refused_in_one_line(procs, node, args, says):
     line = refused(procs, node, "--ros-args", *args)
     assert line.startswith(f"{node}: error: {says}"), line

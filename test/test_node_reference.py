@@ -38,7 +38,7 @@ def documented_parameters(text: str) -> dict[str, dict[str, tuple[str, str]]]:
         if heading:
             current = nodes.setdefault(heading.group(1), {})
             continue
-        row = re.match(r"^\| `(\w+)` \| ([^|]+) \| ([^|]*) \|", line)
+        row = re.match(r"^\| `([\w.]+)` \| ([^|]+) \| ([^|]*) \|", line)
         if row and current is not None:
             current[row.group(1)] = (row.group(2).strip(), row.group(3).strip())
     return nodes
@@ -74,13 +74,15 @@ def node_classes(tmp_path: Path) -> dict[str, tuple[type, list[str]]]:
     from pdr_drift.nodes.landmark_drift import LandmarkDriftNode
     from pdr_ins_ekf.nodes.zupt_ekf import ZuptEkfNode
     from pdr_pocket.nodes.pocket_pdr import PocketPdrNode
+    from pdr_pocket.nodes.stride_calibrator import StrideCalibratorNode
     from pdr_sim.nodes.bag_play import BagPlayer
     from pdr_sim.nodes.bag_record import BagRecorder
     from pdr_sim.nodes.imu_sim import ImuSim
     return {"imu_sim": (ImuSim, []), "bag_play": (BagPlayer, []),
             "bag_record": (BagRecorder, [f"out:={tmp_path / 'bag'}", "topics:=[imu/data]"]),
             "zupt_ekf": (ZuptEkfNode, []), "pocket_pdr": (PocketPdrNode, []),
-            "landmark_drift": (LandmarkDriftNode, [])}
+            "landmark_drift": (LandmarkDriftNode, []),
+            "stride_calibrator": (StrideCalibratorNode, [])}
 
 
 def construct(cls: type, parameters: list[str]) -> Node:
@@ -95,7 +97,8 @@ def ros():
     rclpy.try_shutdown()
 
 
-NODES = ["imu_sim", "bag_play", "bag_record", "zupt_ekf", "pocket_pdr", "landmark_drift"]
+NODES = ["imu_sim", "bag_play", "bag_record", "zupt_ekf", "pocket_pdr", "landmark_drift",
+         "stride_calibrator"]
 
 
 def test_every_node_has_a_section():

@@ -21,5 +21,7 @@ setup(
     description="See package.xml.",
     license="Apache-2.0",
     entry_points={"console_scripts": ["pdr-pocket = pdr_pocket.cli:main",
-                                     "pocket_pdr = pdr_pocket.nodes.pocket_pdr:main"]},
+                                     "pocket_pdr = pdr_pocket.nodes.pocket_pdr:main",
+                                     "stride_calibrator = "
+                                     "pdr_pocket.nodes.stride_calibrator:main"]},
 )

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -387,6 +387,18 @@ class StrideCalibrator:
         r = s.foot_vertical_sigma_cm ** 2 + (a * s.stairs_amplitude_sigma_deg) ** 2
         climb_cm = CM_PER_M * (foot.vertical_m - self.grade * foot.length_m)
         return (climb_cm if line == UP else -climb_cm), r
+
+def unusable(item: PocketStep | FootStride) -> str | None:
+    """Why :class:`StrideCalibrator` cannot take a step or a stride (a live node drops and
+    counts it): ``non_finite``, a value not finite (the heading change aside: NaN is
+    unknown), or ``unknown_activity``, none of :class:`Activity`; None: it can."""
+    if not all(math.isfinite(getattr(item, f.name)) for f in fields(item)
+               if f.name != "heading_change_deg"):
+        return "non_finite"
+    if item.activity not in set(Activity):
+        return "unknown_activity"
+    return None
+
 
 def heading_changes_deg(heading_rad: np.ndarray, previous_rad: float = math.nan) -> np.ndarray:
     """Each step's heading change [deg] from the one before (``previous_rad`` before the

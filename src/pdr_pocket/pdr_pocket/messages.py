@@ -10,7 +10,9 @@
 - :func:`path_batch`: the steps' poses for ``pdr/pocket/path``;
 - :func:`attitude_batches`: ``pdr/pocket/attitude`` (sensor_msgs/Imu with orientation and
   its covariance, REP-145) and ``pdr/pocket/gyro_bias`` (geometry_msgs/Vector3Stamped) at
-  every sample.
+  every sample;
+- :func:`stride_lines_fields`: ``pdr/pocket/stride_lines`` (pdr_msgs/StrideLines), the
+  person's lines a :class:`~pdr_pocket.line_calibration.StrideCalibrator` fitted.
 """
 from __future__ import annotations
 
@@ -31,6 +33,7 @@ from pdr_core.io.odometry import ANGULAR, odometry_fields, tf_batches
 from pdr_core.maths.rotations import quaternion_from_orthonormal
 from pdr_pocket.compiled_orientation_data import ATT_ROWS
 from pdr_pocket.inputs import PocketInputs
+from pdr_pocket.line_calibration import LINES, REASONS, StrideCalibrator
 from pdr_pocket.orientation import AttitudeEstimate
 from pdr_pocket.records import NavigatorOutput, StepRecord
 
@@ -158,3 +161,23 @@ def attitude_batches(inputs: PocketInputs, estimate: AttitudeEstimate,
     bias = MessageBatch(VECTOR3_STAMPED, inputs.stamp_ns, frame,
                         {"vector": estimate.bias})
     return {topics.POCKET_ATTITUDE: attitude, topics.POCKET_GYRO_BIAS: bias}
+
+
+def stride_lines_fields(calibrator: StrideCalibrator) -> dict[str, object]:
+    """The fields of one pdr_msgs/StrideLines but its header: per line of
+    :data:`~pdr_pocket.line_calibration.LINES` (``level_``, ``up_``, ``down_``) the slope,
+    offset, covariance of [slope, offset] (4 values, row-major; the prior's before any pair),
+    pairs and residual σ (NaN before any pair), in the lines' units (level m/deg and m,
+    stairs cm/deg and cm); the refusals by reason (every one of
+    :data:`~pdr_pocket.line_calibration.REASONS`, in that order) and λ."""
+    fields: dict[str, object] = {}
+    for name in LINES:
+        fit = calibrator.fits[name]
+        fields.update({f"{name}_slope": fit.slope, f"{name}_offset": fit.offset,
+                       f"{name}_covariance": [float(v) for v in fit.covariance.ravel()],
+                       f"{name}_pairs": fit.pairs,
+                       f"{name}_residual_sigma": fit.residual_sigma})
+    fields["refused_reasons"] = list(REASONS)
+    fields["refused_counts"] = [calibrator.refused[reason] for reason in REASONS]
+    fields["forgetting"] = calibrator.settings.forgetting
+    return fields
