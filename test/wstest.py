@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import functools
 import hashlib
 import importlib
 import io
@@ -21,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pdr_core.io.bag import write_batches
+from pdr_core.io.bag import BagReader, write_batches
 from pdr_core.io.batch import MessageBatch
 from pdr_core.io.msgtypes import IMU
 from pdr_core.sensors.imu_checks import MAX_PLAUSIBLE_ACCEL_MPS2, MAX_PLAUSIBLE_RATE_RADPS
@@ -277,6 +278,17 @@ def drop_reason(stamp_ns: int, last_kept_ns: int | None, accel, gyro) -> str | N
     if last_kept_ns is not None and stamp_ns <= last_kept_ns:
         return "stamp_not_increasing"
     return None
+
+
+@functools.cache
+def pocket_walk(seconds: float = 30.0):
+    """The first ``seconds`` of bags/pocket_walk: stamps [ns], specific force [m/s²], rate
+    [rad/s] and field [T] (the live adapter's tests: test_fuzz, test_take_lines)."""
+    reader = BagReader(ROOT / "bags" / "pocket_walk")
+    imu, mag = reader.read("/imu/data"), reader.read("/imu/mag")
+    n = int(np.searchsorted(imu.stamp_ns, imu.stamp_ns[0] + seconds * 1e9))
+    return (imu.stamp_ns[:n], imu["linear_acceleration"][:n], imu["angular_velocity"][:n],
+            mag["magnetic_field"][:n])
 
 
 def samples_of(sim, gyro: bool = True, mag: bool = True):

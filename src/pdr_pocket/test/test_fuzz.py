@@ -16,7 +16,6 @@ navigator is called once a block, not once a sample."""
 from __future__ import annotations
 
 import itertools
-from functools import cache
 from types import SimpleNamespace
 
 import numpy as np
@@ -25,10 +24,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pdr_core.corrections.correction import from_request
-from pdr_core.io.bag import BagReader
 from pdr_pocket.config import PocketConfig
 from pdr_pocket.streaming import BLOCK_S, UNIT_CHECK_SAMPLES, StreamingPocket
-from wstest import ROOT, drop_reason
+from wstest import drop_reason, pocket_walk
 
 CONFIG = PocketConfig()
 BASE = 1_700_000_000_000_000_000
@@ -91,23 +89,13 @@ def assert_finite(out) -> None:
         assert np.isfinite(step.position).all() and np.isfinite(step.covariance).all()
 
 
-@cache
-def walk(seconds: float = 30.0):
-    """The first ``seconds`` of bags/pocket_walk: stamps, specific force, rate, field."""
-    reader = BagReader(ROOT / "bags" / "pocket_walk")
-    imu, mag = reader.read("/imu/data"), reader.read("/imu/mag")
-    n = int(np.searchsorted(imu.stamp_ns, imu.stamp_ns[0] + seconds * 1e9))
-    return (imu.stamp_ns[:n], imu["linear_acceleration"][:n], imu["angular_velocity"][:n],
-            mag["magnetic_field"][:n])
-
-
 def navigate(garbage: dict[int, str], cuts: tuple[int, ...] = ()) -> tuple[list, dict]:
     """The walk through StreamingPocket, with a sample of kind ``garbage[k]`` pushed
     before sample k: 'nan', 'inf' or 'huge' values at a valid stamp, or valid values at a
     'repeat'ed stamp or one going 'back'; a NaN magnetometer reading with each. The valid
     samples between two bad ones (and the ``cuts``) go in as one block of readings and one
     of IMU samples, as the node passes on what arrived together."""
-    stamps, accel, gyro, field_t = walk()
+    stamps, accel, gyro, field_t = pocket_walk()
     live, steps = StreamingPocket(CONFIG), []
     for start, end in itertools.pairwise(sorted({0, *garbage, *cuts, len(stamps)})):
         if start in garbage:
@@ -164,7 +152,7 @@ def one_by_one(block_s: float, garbage: dict[int, str]) -> tuple[StreamingPocket
     """The walk's first 30 s pushed a message at a time, the magnetometer's reading before
     its IMU sample, a garbage sample of kind ``garbage[k]`` before sample k: the
     navigator and its processed chunks."""
-    stamps, accel, gyro, field_t = walk()
+    stamps, accel, gyro, field_t = pocket_walk()
     live, chunks = StreamingPocket(CONFIG, block_s=block_s), []
     for k, stamp in enumerate(stamps):
         if k in garbage:
@@ -205,13 +193,13 @@ def test_the_navigator_is_called_once_a_block(at_once):
     _, expected = at_once
     _, chunks = one_by_one(BLOCK_S, {})
     samples = sum(len(c.stamp_ns) for c in chunks)
-    rate_hz = 1e9 / np.median(np.diff(walk()[0]))
+    rate_hz = 1e9 / np.median(np.diff(pocket_walk()[0]))
     assert len(expected) >= samples - UNIT_CHECK_SAMPLES    # at once: a chunk a sample
     assert len(chunks) <= samples / (BLOCK_S * rate_hz) + 1
 
 
 def test_nothing_waits_after_flush():
-    stamps, accel, gyro, field_t = walk()
+    stamps, accel, gyro, field_t = pocket_walk()
     live = StreamingPocket(CONFIG, block_s=10.0)
     assert live.push_mags(stamps[:200], field_t[:200]) == []
     assert live.push_imus(stamps[:200], accel[:200], gyro[:200]) == []
@@ -222,7 +210,7 @@ def test_nothing_waits_after_flush():
 def test_release_lets_go_what_waits_only_for_its_block():
     """The node's idle timer and its service call ``release``: the samples held for their
     block go, with their magnetometer readings; one whose reading has not come stays."""
-    stamps, accel, gyro, field_t = walk()
+    stamps, accel, gyro, field_t = pocket_walk()
     live = StreamingPocket(CONFIG, block_s=10.0)
     assert live.push_mags(stamps[:199], field_t[:199]) == []
     assert live.push_imus(stamps[:200], accel[:200], gyro[:200]) == []

@@ -13,32 +13,23 @@ import numpy as np
 import pytest
 
 from pdr_core.corrections.correction import Correction
-from pdr_core.io.bag import BagReader
 from pdr_core.vocabulary import Activity
 from pdr_pocket.config import PocketConfig, StairsConfig
 from pdr_pocket.saved_lines import taken_lines
 from pdr_pocket.step_length import StepLengthConfig
 from pdr_pocket.streaming import StreamingPocket
-from wstest import ROOT
+from wstest import pocket_walk
 
 CONFIG = PocketConfig()
 TAKEN_AT_S = 20.5       # the lines are taken after this much of the walk [s], between steps
+WALK_S = 40.0           # the first 40 s of bags/pocket_walk
 NEW_B_H_M = CONFIG.step_length.b_h_m + 0.1
-
-
-def walk(seconds: float = 40.0):
-    """The first ``seconds`` of bags/pocket_walk: stamps, specific force, rate, field."""
-    reader = BagReader(ROOT / "bags" / "pocket_walk")
-    imu, mag = reader.read("/imu/data"), reader.read("/imu/mag")
-    n = int(np.searchsorted(imu.stamp_ns, imu.stamp_ns[0] + seconds * 1e9))
-    return (imu.stamp_ns[:n], imu["linear_acceleration"][:n], imu["angular_velocity"][:n],
-            mag["magnetic_field"][:n])
 
 
 def navigated(take: bool):
     """The walk in two blocks (navigator time [s] from its first sample), the new level
     line taken between them when ``take``: the navigator and its steps."""
-    stamps, accel, gyro, field_t = walk()
+    stamps, accel, gyro, field_t = pocket_walk(WALK_S)
     cut = int(np.searchsorted(stamps, stamps[0] + TAKEN_AT_S * 1e9))
     live, steps = StreamingPocket(CONFIG), []
     for block in (slice(0, cut), slice(cut, None)):
@@ -85,7 +76,7 @@ def test_a_correction_before_the_lines_keeps_each_step_s_own_line(runs):
     again: those before the take with the configured line, those after with the new one
     (the lines are an input of the replay's history)."""
     _, (live, after) = runs
-    stamps = walk()[0]
+    stamps = pocket_walk(WALK_S)[0]
     stamp = int(stamps[0] + (TAKEN_AT_S - 5.0) * 1e9)
     result = live.apply_correction(Correction(0.0, 1e-6, None, None, None, None, stamp))
     assert result.accepted, result.message
