@@ -15,7 +15,8 @@ pairs that changed to the navigator: a call of ``<target_node>/set_parameters`` 
 standard rcl_interfaces service) with ``step_length.a_h_m_per_deg``,
 ``step_length.b_h_m``, ``stairs.a_u_cm_per_deg``, ... (pdr_pocket.saved_lines
 .LINE_PARAMETERS), one call at a time, the latest lines sent again once it is answered
-when they changed meanwhile; each answer is logged.
+when they changed meanwhile, and all of them to a navigator started again; each answer is
+logged.
 
 Parameters (docs/nodes.md): ``config`` (the pocket configuration whose lines are the
 priors, as ``pocket_pdr``'s), ``target_node`` (``pocket_pdr``), ``min_pairs`` (30),
@@ -23,9 +24,9 @@ priors, as ``pocket_pdr``'s), ``target_node`` (``pocket_pdr``), ``min_pairs`` (3
 ``pdr-pocket calibrate-step --foot``, is written after each update of the lines and when
 the node shuts down; empty: not saved). A message that cannot be decoded, with a value
 that is not finite or an unknown activity (pdr_pocket.line_calibration.unusable), or
-stamped not after the last of its stream is dropped and counted with a throttled warning; the
-refusals of the pairing (pdr_pocket.line_calibration.REASONS) are counted in the
-published lines and said in a throttled line.
+stamped not after the last of its stream is dropped and counted with a throttled
+warning; the refusals of the pairing (pdr_pocket.line_calibration.REASONS) are counted
+in the published lines and said in a throttled line.
 """
 from __future__ import annotations
 
@@ -163,7 +164,10 @@ class StrideCalibratorNode(Node):
     def hand_over(self) -> None:
         """The lines fitted from ``min_pairs`` pairs that the navigator does not have yet,
         to its set_parameters service, one call at a time (also the timer's callback: a
-        navigator that was not there yet gets them)."""
+        navigator that was not there yet gets them, and one started again gets them
+        all)."""
+        if not self.client.service_is_ready():
+            self.sent.clear()
         if self.in_flight is not None or not self.client.service_is_ready():
             return
         values = line_parameters(saved_fit(self.calibrator), self.min_pairs)
