@@ -35,15 +35,16 @@ a call of the navigator costs far more than a sample in it, pdr_pocket.streaming
 0: each sample's attitude at once; the samples waiting for their block go out once no IMU
 message has come for ``block_s`` of the node's clock, and before a correction is taken),
 ``step_calibration`` (the saved fit of ``pdr-pocket calibrate-step --foot``,
-pdr_pocket.saved_lines: its walked lines replace the configuration's, as ``pdr-pocket run
---step-calibration``) and the person's lines ``step_length.a_h_m_per_deg``,
-``step_length.b_h_m``, ``stairs.a_u_cm_per_deg``, ``stairs.b_u_cm``,
-``stairs.a_d_cm_per_deg``, ``stairs.b_d_cm`` (defaults: the configuration's, with the
-saved fit's). Set while the node runs (``stride_calibrator`` does, through the standard
-``set_parameters`` service, issue 57), the lines are checked (finite, slopes above 0; a
-refusal says why) and taken for the steps confirmed from then on
-(pdr_pocket.streaming.StreamingPocket.take_lines, after the samples waiting for their
-block), each logged. The start-up line names the resolved topics and services.
+pdr_pocket.saved_lines.applied: its walked lines replace the configuration's, as
+``pdr-pocket run --step-calibration``; empty: the configuration's ``step_calibration``)
+and the person's lines ``step_length.a_h_m_per_deg``, ``step_length.b_h_m``,
+``stairs.a_u_cm_per_deg``, ``stairs.b_u_cm``, ``stairs.a_d_cm_per_deg``,
+``stairs.b_d_cm`` (defaults: the configuration's, with the saved fit's). Set while the
+node runs (``stride_calibrator`` does, through the standard ``set_parameters`` service,
+issue 57), the lines are checked (finite, slopes above 0; a refusal says why) and taken
+for the steps confirmed from then on (pdr_pocket.streaming.StreamingPocket.take_lines,
+after the samples waiting for their block), each logged. The start-up line names the
+resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
 topics keep pace), so the estimates equal ``pdr-pocket run``'s on the same bag, byte for
@@ -109,13 +110,7 @@ from pdr_pocket.messages import (
     step_fields,
 )
 from pdr_pocket.placement import UNKNOWN, stride_choice
-from pdr_pocket.saved_lines import (
-    LINE_PARAMETERS,
-    line_parameters,
-    lines_text,
-    read_fit,
-    taken_lines,
-)
+from pdr_pocket.saved_lines import LINE_PARAMETERS, applied, lines_text, read_fit, taken_lines
 from pdr_pocket.sensor_inputs import SENSOR_INPUTS
 from pdr_pocket.streaming import BLOCK_S, CORRECTION_WINDOW_S, MAG_WAIT_S, StreamingPocket
 
@@ -160,8 +155,11 @@ class PocketPdrNode(Node):
                           "0: each at once")
         step_calibration = declare(self, "step_calibration", "", "saved fit YAML of pdr-pocket "
                                    "calibrate-step --foot; its walked lines replace the "
-                                   "configuration's")
-        config = person_lines(self, load_pocket_config(path or None), step_calibration)
+                                   "configuration's; empty: the configuration's "
+                                   "step_calibration")
+        config = load_pocket_config(path or None)
+        step_calibration = step_calibration or config.step_calibration or ""
+        config = person_lines(self, config, step_calibration)
         self.mag_updates = config.orientation.magnetic
         calibration_path = calibration_path or config.magnetometer_calibration
         calibration = MagCalibration.load(calibration_path) if calibration_path else None
@@ -523,13 +521,12 @@ LINE_DESCRIPTIONS = {
 
 def person_lines(node: Node, config, step_calibration: str):
     """``config`` (pdr_pocket.config.PocketConfig) with the walked lines of the saved fit
-    ``step_calibration`` (when given), then the line parameters, declared with those as
-    defaults (a value given with ``-p`` replaces its default): InputError naming the file or
-    the parameter for one that cannot be used."""
+    ``step_calibration`` (when given; pdr_pocket.saved_lines.applied, as ``pdr-pocket run
+    --step-calibration``), then the line parameters, declared with those as defaults (a
+    value given with ``-p`` replaces its default): InputError naming the file or the
+    parameter for one that cannot be used."""
     if step_calibration:
-        step_length, stairs = taken_lines(config.step_length, config.stairs,
-                                          line_parameters(read_fit(step_calibration)))
-        config = replace(config, step_length=step_length, stairs=stairs)
+        config = applied(config, read_fit(step_calibration), step_calibration)
     sections = {"step_length": config.step_length, "stairs": config.stairs}
     values = {}
     for name in LINE_NAMES:
