@@ -40,11 +40,11 @@ pdr_pocket.saved_lines.applied: its walked lines replace the configuration's, as
 and the person's lines ``step_length.a_h_m_per_deg``, ``step_length.b_h_m``,
 ``stairs.a_u_cm_per_deg``, ``stairs.b_u_cm``, ``stairs.a_d_cm_per_deg``,
 ``stairs.b_d_cm`` (defaults: the configuration's, with the saved fit's). Set while the
-node runs (``stride_calibrator`` does, through the standard ``set_parameters`` service,
-issue 57), the lines are checked (finite, slopes above 0; a refusal says why) and taken
-for the steps confirmed from then on (pdr_pocket.streaming.StreamingPocket.take_lines,
-after the samples waiting for their block), each logged. The start-up line names the
-resolved topics and services.
+node runs (``stride_calibrator`` does, through the standard
+``set_parameters_atomically`` service, issue 57), the lines set together are checked
+together (finite, slopes above 0; a refusal says why) and taken for the steps confirmed
+from then on (pdr_pocket.streaming.StreamingPocket.take_lines, after the samples waiting
+for their block), each logged. The start-up line names the resolved topics and services.
 
 A sample goes out once the magnetometer reading for it has come (at once when the two
 topics keep pace), so the estimates equal ``pdr-pocket run``'s on the same bag, byte for

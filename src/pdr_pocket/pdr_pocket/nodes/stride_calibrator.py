@@ -11,8 +11,9 @@ stamps alone: the fit equals ``calibrated()`` on the same messages offline. Afte
 push that paired a step it publishes ``pdr/pocket/stride_lines`` (pdr_msgs/StrideLines,
 pdr_pocket.messages.stride_lines_fields; reliable, transient-local, depth 100), stamped
 with the last pocket step decided, and hands the lines fitted from at least ``min_pairs``
-pairs that changed to the navigator: a call of ``<target_node>/set_parameters`` (the
-standard rcl_interfaces service) with ``step_length.a_h_m_per_deg``,
+pairs that changed to the navigator: a call of
+``<target_node>/set_parameters_atomically`` (the standard rcl_interfaces service, all
+the lines of one call taken together or none) with ``step_length.a_h_m_per_deg``,
 ``step_length.b_h_m``, ``stairs.a_u_cm_per_deg``, ... (pdr_pocket.saved_lines
 .LINE_PARAMETERS), one call at a time, the latest lines sent again once it is answered
 when they changed meanwhile, and all of them to a navigator started again; each answer is
@@ -34,7 +35,7 @@ import contextlib
 import math
 
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
-from rcl_interfaces.srv import SetParameters
+from rcl_interfaces.srv import SetParametersAtomically
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
@@ -73,7 +74,7 @@ class StrideCalibratorNode(Node):
         path = declare(self, "config", "", "pocket navigator YAML whose lines are the priors "
                        "(pdr_pocket.config); empty: the installed config/pocket_pdr.yaml")
         self.target = declare(self, "target_node", "pocket_pdr", "the navigator whose "
-                              "set_parameters service takes the fitted lines")
+                              "set_parameters_atomically service takes the fitted lines")
         self.min_pairs = declare(self, "min_pairs", 30, "a line is handed to the navigator "
                                  "once fitted from this many pairs [pairs]")
         forgetting = declare(self, "forgetting", CalibrationSettings.forgetting,
@@ -100,10 +101,11 @@ class StrideCalibratorNode(Node):
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)
         self.lines_pub = self.create_publisher(StrideLines, graph_name(topics.POCKET_STRIDE_LINES),
                                                out)
-        self.client = self.create_client(SetParameters, f"{self.target}/set_parameters")
+        self.client = self.create_client(SetParametersAtomically,
+                                         f"{self.target}/set_parameters_atomically")
         self.pocket_stamps: dict[float, int] = {}   # the pocket steps not decided: s -> ns
         self.last_decided_ns = 0
-        self.sent: dict[str, float] = {}            # the lines the navigator took
+        self.offered: dict[str, float] = {}         # the lines last sent to the navigator
         self.in_flight = None
         self.saved_told = False
         self.create_timer(1.0, self.hand_over)
@@ -162,39 +164,40 @@ class StrideCalibratorNode(Node):
         self.hand_over()
 
     def hand_over(self) -> None:
-        """The lines fitted from ``min_pairs`` pairs that the navigator does not have yet,
-        to its set_parameters service, one call at a time (also the timer's callback: a
-        navigator that was not there yet gets them, and one started again gets them
-        all)."""
+        """The lines fitted from ``min_pairs`` pairs not offered to the navigator yet, to
+        its set_parameters_atomically service, one call at a time (also the timer's
+        callback: a navigator that was not there yet gets them, and one started again gets
+        them all)."""
         if not self.client.service_is_ready():
-            self.sent.clear()
+            self.offered.clear()
         if self.in_flight is not None or not self.client.service_is_ready():
             return
         values = line_parameters(saved_fit(self.calibrator), self.min_pairs)
-        changed = {k: v for k, v in values.items() if self.sent.get(k) != v}
+        changed = {k: v for k, v in values.items() if self.offered.get(k) != v}
         if not changed:
             return
-        request = SetParameters.Request(parameters=[Parameter(name=k, value=ParameterValue(
-            type=ParameterType.PARAMETER_DOUBLE, double_value=v)) for k, v in changed.items()])
+        request = SetParametersAtomically.Request(parameters=[
+            Parameter(name=k, value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
+                                                   double_value=v))
+            for k, v in changed.items()])
+        self.offered.update(changed)
         self.in_flight = self.client.call_async(request)
         self.in_flight.add_done_callback(lambda future: self.answered(future, changed))
 
     def answered(self, future, values: dict[str, float]) -> None:
-        """The navigator's answer: the lines it took are remembered, a refusal logged;
-        then the lines that changed meanwhile."""
+        """The navigator's answer, logged (a refusal as a warning with its reason; the lines
+        it refused are not offered again until they change); then the lines that changed
+        meanwhile."""
         self.in_flight = None
-        results = future.result().results if future.result() is not None else []
-        for (name, value), result in zip(values.items(), results, strict=False):
-            if result.successful:
-                self.sent[name] = value
-            else:
-                self.get_logger().warning(f"stride_calibrator: {self.target} refused "
-                                          f"{name} = {value:.6g}: {result.reason}",
-                                          throttle_duration_sec=WARN_S)
-        if results and all(r.successful for r in results):
-            said = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
+        response = future.result()
+        said = ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
+        if response is not None and response.result.successful:
             self.get_logger().info(f"stride_calibrator: {self.target} took {said}",
                                    throttle_duration_sec=WARN_S)
+        else:
+            reason = response.result.reason if response is not None else "no answer"
+            self.get_logger().warning(f"stride_calibrator: {self.target} refused {said}: "
+                                      f"{reason}", throttle_duration_sec=WARN_S)
         self.hand_over()
 
     def report(self, name: str) -> None:
