@@ -28,9 +28,10 @@ def write(folder: Path, name: str, text: str) -> Path:
     return path
 
 
-def test_the_project_ships_its_three_graphs_and_the_replay():
+def test_the_project_ships_its_four_graphs_and_the_replay():
     assert [p.name for p in SHIPPED] == ["pocket_drift.launch.xml", "foot.launch.xml",
-                                         "pocket.launch.xml", "replay.launch.xml"]
+                                         "pocket.launch.xml", "two_imu.launch.xml",
+                                         "replay.launch.xml"]
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.name)
