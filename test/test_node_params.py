@@ -88,7 +88,9 @@ def test_an_integer_for_a_double_is_taken(procs, ros):
     ("pocket_pdr", ["-p", "step_calibration:=/nonexistent/fit.yaml"],
      "/nonexistent/fit.yaml: cannot read the saved fit"),
     ("stride_calibrator", ["-p", "forgetting:=1.5"],
-     "parameter forgetting: forgetting must be within (0, 1], got 1.5")])
+     "parameter forgetting: forgetting must be within (0, 1], got 1.5"),
+    ("stride_calibrator", ["-p", "every_pairs:=0"],
+     "parameter every_pairs: must be at least 1, got 0")])
 def test_a_wrong_parameter_is_refused_in_one_line(procs, node, args, says):
     line = refused(procs, node, "--ros-args", *args)
     assert line.startswith(f"{node}: error: {says}"), line

@@ -11,7 +11,7 @@ stamps alone: the fit equals ``calibrated()`` on the same messages offline. Afte
 push that paired a step it publishes ``pdr/pocket/stride_lines`` (pdr_msgs/StrideLines,
 pdr_pocket.messages.stride_lines_fields; reliable, transient-local, depth 100), stamped
 with the last pocket step decided, and hands the lines fitted from at least ``min_pairs``
-pairs that changed to the navigator: a call of
+pairs (then from each ``every_pairs`` more) that changed to the navigator: a call of
 ``<target_node>/set_parameters_atomically`` (the standard rcl_interfaces service, all
 the lines of one call taken together or none) with ``step_length.a_h_m_per_deg``,
 ``step_length.b_h_m``, ``stairs.a_u_cm_per_deg``, ... (pdr_pocket.saved_lines
@@ -19,20 +19,23 @@ the lines of one call taken together or none) with ``step_length.a_h_m_per_deg``
 when they changed meanwhile, and all of them to a navigator started again; each answer is
 logged.
 
-Parameters (docs/nodes.md): ``config`` (the pocket configuration whose lines are the
-priors, as ``pocket_pdr``'s), ``target_node`` (``pocket_pdr``), ``min_pairs`` (30),
-``forgetting`` (λ of the fit, 0.999), ``save_to`` (where the saved fit, the YAML of
-``pdr-pocket calibrate-step --foot``, is written after each update of the lines and when
-the node shuts down; empty: not saved). A message that cannot be decoded, with a value
-that is not finite or an unknown activity (pdr_pocket.line_calibration.unusable), or
-stamped not after the last of its stream is dropped and counted with a throttled
-warning; the refusals of the pairing (pdr_pocket.line_calibration.REASONS) are counted
-in the published lines and said in a throttled line.
+Parameters (docs/nodes.md): ``config`` (the pocket configuration whose lines are the priors,
+as ``pocket_pdr``'s), ``target_node`` (``pocket_pdr``), ``min_pairs`` (30), ``every_pairs``
+(20: a line is handed over again each time it has that many pairs more, so the navigator
+takes and logs a line about every 20 strides, not at each), ``forgetting`` (λ of the fit,
+0.999), ``save_to`` (where the saved fit, the YAML of ``pdr-pocket calibrate-step --foot``,
+is written after each update of the lines and when the node shuts down; empty: not saved). A
+message that cannot be decoded, with a value that is not finite or an unknown activity
+(pdr_pocket.line_calibration.unusable), or stamped not after the last of its stream is
+dropped and counted with a throttled warning; the refusals of the pairing
+(pdr_pocket.line_calibration.REASONS) are counted in the published lines and said in a
+throttled line.
 """
 from __future__ import annotations
 
 import contextlib
 import math
+from dataclasses import replace
 
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParametersAtomically
@@ -58,7 +61,7 @@ from pdr_pocket.line_calibration import (
     unusable,
 )
 from pdr_pocket.messages import stride_lines_fields
-from pdr_pocket.saved_lines import line_parameters, saved_fit, write_fit
+from pdr_pocket.saved_lines import LINE_PARAMETERS, line_parameters, saved_fit, write_fit
 
 MAX_BLOCK = 100         # messages taken from a subscription's queue per callback
 DEPTH = 100             # history of the stride_lines publisher (messages)
@@ -77,11 +80,17 @@ class StrideCalibratorNode(Node):
                               "set_parameters_atomically service takes the fitted lines")
         self.min_pairs = declare(self, "min_pairs", 30, "a line is handed to the navigator "
                                  "once fitted from this many pairs [pairs]")
+        self.every_pairs = declare(self, "every_pairs", 20, "then again each time it has "
+                                   "this many pairs more [pairs]")
         forgetting = declare(self, "forgetting", CalibrationSettings.forgetting,
                              "forgetting factor λ of the fit, (0, 1]; 1: none")
         self.save_to = declare(self, "save_to", "", "where the saved fit (YAML of "
                                "pdr-pocket calibrate-step --foot) is written after each "
                                "update and at shutdown; empty: not saved")
+        for name in ("min_pairs", "every_pairs"):
+            if getattr(self, name) < 1:
+                raise InputError(f"parameter {name}", f"must be at least 1, got "
+                                                      f"{getattr(self, name)}")
         config = load_pocket_config(path or None)
         try:
             settings = CalibrationSettings(forgetting=forgetting,
@@ -106,6 +115,7 @@ class StrideCalibratorNode(Node):
         self.pocket_stamps: dict[float, int] = {}   # the pocket steps not decided: s -> ns
         self.last_decided_ns = 0
         self.offered: dict[str, float] = {}         # the lines last sent to the navigator
+        self.offered_pairs: dict[str, int] = {}     # ... and their pairs then, by line
         self.in_flight = None
         self.saved_told = False
         self.create_timer(1.0, self.hand_over)
@@ -164,18 +174,26 @@ class StrideCalibratorNode(Node):
         self.hand_over()
 
     def hand_over(self) -> None:
-        """The lines fitted from ``min_pairs`` pairs not offered to the navigator yet, to
-        its set_parameters_atomically service, one call at a time (also the timer's
+        """The lines fitted from ``min_pairs`` pairs, and again from each ``every_pairs``
+        pairs more, that changed since they were offered, to the navigator's
+        set_parameters_atomically service, one call at a time (also the timer's
         callback: a navigator that was not there yet gets them, and one started again gets
         them all)."""
         if not self.client.service_is_ready():
             self.offered.clear()
+            self.offered_pairs.clear()
         if self.in_flight is not None or not self.client.service_is_ready():
             return
-        values = line_parameters(saved_fit(self.calibrator), self.min_pairs)
+        fit = saved_fit(self.calibrator)
+        due = {name: line for name, line in fit.lines.items() if line.fit is not None
+               and line.fit.pairs >= self.offered_pairs.get(name, -self.every_pairs)
+               + self.every_pairs}
+        values = line_parameters(replace(fit, lines=due), self.min_pairs)
         changed = {k: v for k, v in values.items() if self.offered.get(k) != v}
         if not changed:
             return
+        self.offered_pairs.update({name: line.fit.pairs for name, line in due.items()
+                                   if LINE_PARAMETERS[name][0] in values})
         request = SetParametersAtomically.Request(parameters=[
             Parameter(name=k, value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
                                                    double_value=v))
