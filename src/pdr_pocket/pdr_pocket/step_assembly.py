@@ -174,12 +174,14 @@ class StepAssembly:
             float(event[EV_MAX]), float(event[EV_MIN]), float(wrap_angle(turn)),
             duration, float(np.sqrt(self.tilt_var_max))))
         vertical_range = self.vz_max - self.vz_min
-        on_line = activity == Activity.WALKING      # the stride is the level line's
-        length = self._walked(StrideInputs(amplitude_deg, duration, vertical_range)) \
-            if on_line else c.step_length.stairs_stride_m
         climbed = vertical_displacement_m(activity, amplitude_deg, c.stairs)
         index = len(self.steps)
         activity, vertical = self.staircases.admit(index, t_max, activity, climbed, heading)
+        # the stride is the level line's unless the step is published as stairs: one whose
+        # flight the check refused is level, its stride too
+        on_line = activity == Activity.WALKING
+        length = self._walked(StrideInputs(amplitude_deg, duration, vertical_range)) \
+            if on_line else c.step_length.stairs_stride_m
         on_stairs = activity in STAIRS_ACTIVITIES
         stairs_var = c.stairs.vertical_sigma_m**2
         # the height filter takes each stairs step's own climb over its own cycle, the one

@@ -96,6 +96,25 @@ def test_a_walk_that_speeds_up_stays_level(seed):
     assert [s.activity for s in out.steps] == [Activity.WALKING] * len(sim.model.true_steps.end_s)
 
 
+def test_steps_of_a_refused_flight_walk_the_level_line():
+    """A person who swings the thigh 44-49° at 4.8 km/h (a_H 0.022 m/°, b_H 0.52 m; issue
+    57's study, H2 at seed 1008): the pitch reads runs of fast level steps as upstairs, and
+    the flight check refuses them (no climb in their height). Those steps are published as
+    level walking and take the level line's stride, not the stairs' 0.52 m (they did: 34
+    steps, 13.6 % of the walk short)."""
+    _, data = load_pocket_scenario("h2_rectangle_speeds")
+    data = {**data, "seed": 1008,
+            "person": {"a_h_m_per_deg": 0.022, "b_h_m": 0.52, "b_u_cm": -7.5, "b_d_cm": -21.0}}
+    sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "h2"), data, "xsens_mtw",
+                                    {}, 100.0, 1008, placement="pocket"))
+    navigator = PocketNavigator(PocketConfig())
+    out = navigator.process(samples_of(sim))
+    assert navigator.staircases.check.refused["steps"] >= 20
+    level = [s.length for s in out.steps if s.activity == Activity.WALKING]
+    stairs_stride = PocketConfig().step_length.stairs_stride_m
+    assert min(level) > 0.8 > stairs_stride
+
+
 def test_sitting_and_standing_periods_have_no_step_and_are_named():
     sim, out = navigated("sit_stand")
     steps_t = np.array([s.t for s in out.steps])
