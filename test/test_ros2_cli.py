@@ -146,7 +146,8 @@ def test_topic_hz_gives_the_rate_of_a_playback_at_real_time(pocket_graph):
     lines = lines_until(hz, lambda line: line.startswith("\tmin: ")
                         and next(blocks_seen) == HZ_BLOCKS, HZ_WAIT_S)
     procs.stop(player)
-    assert procs.stop(hz) == signal.SIGINT and hz.stderr.read() == ""
+    stopped, said = procs.stop(hz), hz.stderr.read()
+    assert (stopped, said) == (signal.SIGINT, ""), said
     before, printed = lines[:-2 * HZ_BLOCKS], lines[-2 * HZ_BLOCKS:]
     assert set(before) <= {f"WARNING: topic [{topic}] does not appear to be published yet"}
     blocks = [HZ_BLOCK.fullmatch("\n".join(printed[k:k + 2])) for k in range(0, len(printed), 2)]
@@ -301,10 +302,23 @@ def test_param_list_get_and_dump_show_the_nodes_parameters(pocket_graph):
     assert (missing.returncode, missing.stderr) == (1, "Parameter not set\n")
     assert dumped.stdout.startswith("/pocket_pdr:\n  ros__parameters:\n    "), dumped.stderr
     assert dumped.stdout.endswith("\n\n")                 # print of yaml.dump's text
-    parameters = yaml.safe_load(dumped.stdout)["/pocket_pdr"]["ros__parameters"]
+    tree = yaml.safe_load(dumped.stdout)["/pocket_pdr"]["ros__parameters"]
+    parameters = dotted(tree)           # ros2cli nests a dotted name: stairs: {b_u_cm: ...}
     assert sorted(parameters) == [line.strip() for line in lines]
     assert parameters["imu_durability"] == "transient_local"
     assert parameters["block_s"] == 0.25 and parameters["use_sim_time"] is False
+    assert tree["step_length"]["b_h_m"] == parameters["step_length.b_h_m"]
+
+
+def dotted(tree: dict, prefix: str = "") -> dict:
+    """A dump's nested parameters by their dotted names."""
+    flat = {}
+    for key, value in tree.items():
+        if isinstance(value, dict):
+            flat |= dotted(value, f"{prefix}{key}.")
+        else:
+            flat[f"{prefix}{key}"] = value
+    return flat
 
 
 def test_param_set_changes_the_value_or_says_why_not(pocket_graph):

@@ -12,7 +12,7 @@ import os
 import sys
 import time
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 
 NODE_NAME_PREFIX = "_ros2cli"     # ros2cli's name for its own (hidden) node
 DISCOVERY_S = 0.5                 # ros2cli's DirectNode DEFAULT_TIMEOUT (--spin-time)
@@ -36,7 +36,11 @@ def graph_node(spin_time: float = DISCOVERY_S, name: str | None = None) -> Itera
             rclpy.spin_once(node, timeout_sec=left)
         yield node
     finally:
-        rclpy.try_shutdown()
+        # Ctrl-C: rclpy's signal handler may shut the context down between try_shutdown's
+        # look and its call, which then raises RCLError (a RuntimeError), "rcl_shutdown
+        # already called": the context is shut down either way
+        with suppress(RuntimeError):
+            rclpy.try_shutdown()
 
 
 def topic_types(node, topic: str) -> list[str]:
