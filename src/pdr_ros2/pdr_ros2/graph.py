@@ -24,8 +24,11 @@ DUPLICATE_NODES_WARNING = ("WARNING: Be aware that there are nodes in the graph 
 @contextmanager
 def graph_node(spin_time: float = DISCOVERY_S, name: str | None = None) -> Iterator:
     """A hidden rclpy node in ``$ROS_DOMAIN_ID`` (``name``, by default ``_ros2cli_<pid>``),
-    after ``spin_time`` [s] of discovery; rclpy shut down on leaving."""
+    after ``spin_time`` [s] of discovery; rclpy shut down on leaving. Ctrl-C is a
+    KeyboardInterrupt whichever of Python and rclpy's signal handler takes it first (rclpy's
+    shuts the context down, and a spin then raises ExternalShutdownException)."""
     import rclpy
+    from rclpy.executors import ExternalShutdownException
 
     rclpy.init()
     try:
@@ -35,6 +38,8 @@ def graph_node(spin_time: float = DISCOVERY_S, name: str | None = None) -> Itera
         while (left := deadline - time.monotonic()) > 0:
             rclpy.spin_once(node, timeout_sec=left)
         yield node
+    except ExternalShutdownException:
+        raise KeyboardInterrupt from None
     finally:
         # Ctrl-C: rclpy's signal handler may shut the context down between try_shutdown's
         # look and its call, which then raises RCLError (a RuntimeError), "rcl_shutdown

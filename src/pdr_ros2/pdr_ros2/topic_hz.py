@@ -37,6 +37,7 @@ def topic_hz(args) -> None:
             report = rate.report()
             if report is not None:
                 print(report.text(), flush=True)
+    raise KeyboardInterrupt     # only Ctrl-C ends it: rclpy's handler shut the context down
 
 
 def published_types(node, topic: str) -> list[str]:
