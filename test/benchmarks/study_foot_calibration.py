@@ -20,8 +20,8 @@ and seed, with the commands a user types:
    ``pdr-pocket run`` with the population's lines (before) and ``--step-calibration``
    (after): the distance error against the true strides and each flight's riser error.
 
-Prints a row per person and walk and writes OUT/runs.csv (a row per run) and
-OUT/summary.md.
+Prints a row per person and walk and writes OUT/runs.csv (a row per run), OUT/summary.md
+and OUT/study.png (docs/img/foot_calibration_study.png).
 """
 from __future__ import annotations
 
@@ -194,6 +194,46 @@ def _summary(rows: list[dict]) -> list[str]:
     return lines
 
 
+def plot(rows: list[dict], path: Path) -> Path:
+    """The second walks' distance errors per run (the population's lines, the fitted ones,
+    the person's own) and, for the stairs walks, the riser errors: a PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), width_ratios=(2, 1))
+    groups = [(walk, person) for walk in WALKS for person in PERSONS]
+    colours = {"before": "tab:red", "after": "tab:blue", "own": "tab:green"}
+    names = {"before": "population's lines", "after": "fitted by the foot INS",
+             "own": "the person's own"}
+    for which, offset in (("before", -0.2), ("after", 0.0), ("own", 0.2)):
+        for g, (walk, person) in enumerate(groups):
+            values = [r[f"distance_error_{which}_pct"] for r in rows
+                      if r["walk"] == walk and r["person"] == person]
+            axes[0].scatter(np.full(len(values), g + offset), values, s=12,
+                            color=colours[which], label=names[which] if g == 0 else None)
+            if walk == "stairs":
+                risers = [r[f"riser_error_{which}_pct"] for r in rows
+                          if r["walk"] == walk and r["person"] == person]
+                axes[1].scatter(np.full(len(risers), g - len(PERSONS) + offset), risers, s=12,
+                                color=colours[which])
+    axes[0].axhspan(-1.0, 1.0, color="0.9", zorder=0)
+    axes[0].set_xticks(range(len(groups)), [f"{p}\n{w}" for w, p in groups], fontsize=8)
+    axes[0].set_ylabel("second walk's distance error [%]")
+    axes[0].set_title("the phone alone on a second walk (band: ±1 %)")
+    axes[0].legend(fontsize=8)
+    axes[1].set_xticks(range(len(PERSONS)), list(PERSONS), fontsize=8)
+    axes[1].set_ylabel("mean |riser error| over the flights [%]")
+    axes[1].set_title("risers of up_dw (15-21 cm)")
+    fig.suptitle("The foot INS calibrates the pocket's lines (issue 57): three persons, "
+                 f"{len({r['seed'] for r in rows})} seeds each")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--seeds", type=int, default=10)
@@ -223,6 +263,7 @@ def main(argv: list[str] | None = None) -> int:
     table = _summary(rows)
     (args.out / "summary.md").write_text("\n".join(table) + "\n")
     print("\n".join(table))
+    print(f"plot: {plot(rows, args.out / 'study.png')}")
     return 0
 
 
