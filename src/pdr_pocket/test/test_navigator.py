@@ -109,7 +109,9 @@ def test_steps_of_a_refused_flight_walk_the_level_line():
                                     {}, 100.0, 1008, placement="pocket"))
     navigator = PocketNavigator(PocketConfig())
     out = navigator.process(samples_of(sim))
-    assert navigator.staircases.check.refused["steps"] >= 20
+    assert navigator.staircases.check.refused["steps"] >= 20, \
+        "the pitch no longer reads these fast steps as stairs (the classifier mended?): " \
+        "this test needs another walk whose flights the check refuses"
     level = [s.length for s in out.steps if s.activity == Activity.WALKING]
     stairs_stride = PocketConfig().step_length.stairs_stride_m
     assert min(level) > 0.8 > stairs_stride
