@@ -90,8 +90,8 @@ def _pair_of_pairs(matrix: np.ndarray) -> tuple[tuple[float, float], tuple[float
     return ((float(matrix[0, 0]), float(matrix[0, 1])), (float(matrix[1, 0]), float(matrix[1, 1])))
 
 
-FIT_HEADER = ("# The person's lines (pdr-pocket calibrate-step --foot), "
-              "Muñoz Díaz 2016 Eqs. (4.2), (4.4), (4.5)\n")
+FIT_HEADER = "# The person's lines ({}), Muñoz Díaz 2016 Eqs. (4.2), (4.4), (4.5)\n"
+WRITTEN_BY = "pdr-pocket calibrate-step --foot"
 _KEYS = {LEVEL: ("step_length", "a_h_m_per_deg", "b_h_m"),
          UP: ("stairs", "a_u_cm_per_deg", "b_u_cm"),
          DOWN: ("stairs", "a_d_cm_per_deg", "b_d_cm")}
@@ -148,8 +148,9 @@ def taken_lines(step_length: StepLengthConfig, stairs: StairsConfig,
     return replace(step_length, **level), replace(stairs, **changes["stairs"])
 
 
-def write_fit(path: str | Path, fit: SavedFit) -> Path:
-    """``fit`` as YAML at ``path`` (module docstring); returns the path."""
+def write_fit(path: str | Path, fit: SavedFit, written_by: str = WRITTEN_BY) -> Path:
+    """``fit`` as YAML at ``path`` (module docstring), its first line naming what wrote it
+    (``written_by``: the CLI, or the node ``stride_calibrator``); returns the path."""
     data: dict = {"step_length": {"calibrated": fit.lines[LEVEL].fit is not None},
                   "stairs": {}}
     blocks: dict = {}
@@ -164,8 +165,8 @@ def write_fit(path: str | Path, fit: SavedFit) -> Path:
     data["fit"] = {**blocks, "forgetting": fit.forgetting, "refused": dict(fit.refused),
                    "sources": dict(fit.sources)}
     path = Path(path)
-    path.write_text(FIT_HEADER + yaml.safe_dump(data, sort_keys=False, allow_unicode=True,
-                                                  default_flow_style=None))
+    text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True, default_flow_style=None)
+    path.write_text(FIT_HEADER.format(written_by) + text)
     return path
 
 

@@ -63,6 +63,7 @@ from pdr_pocket.line_calibration import (
 from pdr_pocket.messages import stride_lines_fields
 from pdr_pocket.saved_lines import LINE_PARAMETERS, line_parameters, saved_fit, write_fit
 
+WRITTEN_BY = "the node stride_calibrator"      # the saved fit's first line names it
 MAX_BLOCK = 100         # messages taken from a subscription's queue per callback
 DEPTH = 100             # history of the stride_lines publisher (messages)
 WARN_S = 5.0            # dropped messages and refusals: said at most this often [s]
@@ -237,7 +238,7 @@ class StrideCalibratorNode(Node):
             return True
         sources = {name: s.subscription.topic_name for name, s in self.streams.items()}
         try:
-            write_fit(self.save_to, saved_fit(self.calibrator, sources))
+            write_fit(self.save_to, saved_fit(self.calibrator, sources), WRITTEN_BY)
         except OSError as exc:
             self.get_logger().error(f"stride_calibrator: the fit not saved to {self.save_to}: "
                                     f"{exc}", throttle_duration_sec=WARN_S)
@@ -250,7 +251,8 @@ class StrideCalibratorNode(Node):
         if self.save_to:
             with contextlib.suppress(OSError):
                 write_fit(self.save_to, saved_fit(self.calibrator, {
-                    name: s.subscription.topic_name for name, s in self.streams.items()}))
+                    name: s.subscription.topic_name for name, s in self.streams.items()}),
+                    WRITTEN_BY)
         super().destroy_node()
 
 
