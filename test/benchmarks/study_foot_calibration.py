@@ -26,9 +26,7 @@ and OUT/study.png (docs/img/foot_calibration_study.png).
 from __future__ import annotations
 
 import argparse
-import contextlib
 import csv
-import io
 import json
 import sys
 import tempfile
@@ -38,9 +36,12 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # test/: wstest
+
 from pdr_core import topics
 from pdr_core.evaluation.parallel import on_one_thread
 from pdr_sim.pocket_scenario import PersonSpec
+from wstest import cli
 
 # the persons: lines as far from the population's as the thesis' persons are
 PERSONS = {
@@ -57,28 +58,19 @@ SECOND_SEED_OFFSET = 1000
 FOOT = topics.FOOT_NAMESPACE
 
 
-def _cli(main_module: str, *args) -> str:
-    """A CLI's ``main`` run in this process; its stdout, or RuntimeError with its stderr."""
-    import importlib
-
-    main = importlib.import_module(main_module).main
-    out, err = io.StringIO(), io.StringIO()
-    code = 0
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main([str(a) for a in args])
-        except SystemExit as exited:
-            code = exited.code if isinstance(exited.code, int) else 1
-    if code:
-        raise RuntimeError(f"{main_module} {' '.join(map(str, args))}: {err.getvalue()}")
-    return out.getvalue()
+def _cli(prog: str, *args) -> str:
+    """A CLI run in this process (wstest.cli); its stdout, or RuntimeError with its
+    stderr."""
+    done = cli(prog, *args)
+    if done.returncode:
+        raise RuntimeError(f"{prog} {' '.join(map(str, args))}: {done.stderr}")
+    return done.stdout
 
 
 def _person_sets(person: dict, seed: int) -> list[str]:
-    sets = [f"seed={seed}"]
-    for key, value in person.items():
-        sets += ["--set", f"person.{key}={value}"]
-    return ["--set", sets[0], *sets[1:]]
+    """``--set`` options: the walk's seed and the person's lines."""
+    values = {"seed": seed, **{f"person.{key}": value for key, value in person.items()}}
+    return [word for key, value in values.items() for word in ("--set", f"{key}={value}")]
 
 
 def one_run(person_name: str, walk: str, seed: int) -> dict:
@@ -87,25 +79,25 @@ def one_run(person_name: str, walk: str, seed: int) -> dict:
     calibration, second = WALKS[walk]
     with tempfile.TemporaryDirectory(prefix="study57_") as tmp:
         work = Path(tmp)
-        _cli("pdr_sim.cli", "generate", "--placement", "pocket", "--scenario", calibration,
+        _cli("pdr-sim", "generate", "--placement", "pocket", "--scenario", calibration,
              "--with-foot", "--seed", seed, *_person_sets(person, seed), "--out",
              work / "pair")
-        _cli("pdr_ins_ekf.cli", "run", work / "pair", "--out", work / "foot",
+        _cli("pdr-ekf", "run", work / "pair", "--out", work / "foot",
              "--imu-topic", FOOT + topics.IMU_DATA,
              "--truth-topic", FOOT + topics.GROUND_TRUTH_POSE,
              "--stance-truth-topic", FOOT + topics.GROUND_TRUTH_STANCE)
-        _cli("pdr_pocket.cli", "run", work / "pair", "--out", work / "pocket")
-        _cli("pdr_pocket.cli", "calibrate-step", "--foot", work / "foot", "--pocket",
+        _cli("pdr-pocket", "run", work / "pair", "--out", work / "pocket")
+        _cli("pdr-pocket", "calibrate-step", "--foot", work / "foot", "--pocket",
              work / "pocket", "--out", work / "fit.yaml")
         fit = yaml.safe_load((work / "fit.yaml").read_text())
         second_seed = seed + SECOND_SEED_OFFSET
-        _cli("pdr_sim.cli", "generate", "--placement", "pocket", "--scenario", second,
+        _cli("pdr-sim", "generate", "--placement", "pocket", "--scenario", second,
              "--seed", second_seed, *_person_sets(person, second_seed), "--out",
              work / "second")
-        _cli("pdr_pocket.cli", "run", work / "second", "--out", work / "before")
-        _cli("pdr_pocket.cli", "run", work / "second", "--step-calibration",
+        _cli("pdr-pocket", "run", work / "second", "--out", work / "before")
+        _cli("pdr-pocket", "run", work / "second", "--step-calibration",
              work / "fit.yaml", "--out", work / "after")
-        _cli("pdr_pocket.cli", "run", work / "second", "--step-calibration",
+        _cli("pdr-pocket", "run", work / "second", "--step-calibration",
              _own_lines(person, work / "own.yaml"), "--out", work / "own")
         before, after, own = (json.loads((work / name / "report.json").read_text())
                               for name in ("before", "after", "own"))
