@@ -18,7 +18,14 @@ from pdr_core.io.batch import MessageBatch
 from pdr_core.io.msgtypes import STEP
 from pdr_core.vocabulary import Activity
 from pdr_pocket.config import PocketConfig, load_pocket_config
-from pdr_pocket.line_calibration import DOWN, LEVEL, UP, StrideCalibrator, calibrated
+from pdr_pocket.line_calibration import (
+    DOWN,
+    LEVEL,
+    UP,
+    CalibrationSettings,
+    StrideCalibrator,
+    calibrated,
+)
 from pdr_pocket.saved_lines import FitStats, applied, read_fit, saved_fit, write_fit
 from wstest import ROOT, cli
 
@@ -127,6 +134,26 @@ def test_each_wrong_input_is_one_line_naming_it(bags, args, problem):
     assert result.returncode == 2, result.stderr
     assert problem.format(folder=folder, **names) in result.stderr
     assert len(result.stderr.splitlines()) == 1 and not (folder / "x.yaml").exists()
+
+
+def test_the_persons_height_bounds_the_strides_as_the_node_does(bags):
+    """The configuration's person.height_m bounds the foot strides taken, as it does in the
+    node stride_calibrator (its settings); --height-m overrides it."""
+    config_file = bags / "short.yaml"
+    config_file.write_text("person: {height_m: 1.2}\n")
+    pocket = BagReader(bags / "pocket").read(topics.POCKET_STEP)
+    foot = BagReader(bags / "foot").read(topics.FOOT_STEP)
+    config = load_pocket_config(config_file)
+    for height_args, height_m in (([], 1.2), (["--height-m", "1.9"], 1.9)):
+        done = cli("pdr-pocket", "calibrate-step", "--foot", bags / "foot", "--pocket",
+                   bags / "pocket", "--config", config_file, *height_args, "--out",
+                   bags / "fit.yaml")
+        assert done.returncode == 0, done.stderr
+        expected = saved_fit(calibrated(pocket, foot, StrideCalibrator(
+            config.step_length, config.stairs, CalibrationSettings(height_m=height_m))))
+        saved = read_fit(bags / "fit.yaml")
+        assert saved.lines == expected.lines and saved.refused == expected.refused
+        assert (saved.refused["implausible"] > 0) == (height_m == 1.2)
 
 
 def fit_of(config: PocketConfig, level_offset_m: float):

@@ -288,7 +288,8 @@ def _add_calibrate_step(sub: argparse._SubParsersAction) -> None:
                         "within (0, 1]: a memory of about 1/(1 − λ) pairs")
     p.add_argument("--height-m", type=float,
                    help="the person's height [m] with --foot: bounds the foot strides "
-                        "taken (default: the population's adult)")
+                        "taken (default: the configuration's person.height_m, else the "
+                        "population's adult)")
     p.add_argument("--config", type=Path, help="YAML configuration (default: the installed "
                                                "one); its a_H is kept without --fit-slope, "
                                                "its lines are the priors with --foot")
@@ -373,11 +374,12 @@ def _calibrate_from_foot(args: argparse.Namespace) -> int:
     pocket_path = args.pocket or args.foot
     foot = _step_batch(args.foot, topics.FOOT_STEP)
     pocket = _step_batch(pocket_path, topics.POCKET_STEP)
-    try:
-        settings = CalibrationSettings(forgetting=args.forgetting, height_m=args.height_m)
+    config = load_pocket_config(args.config)
+    height_m = config.person.height_m if args.height_m is None else args.height_m
+    try:       # the node stride_calibrator's settings, so that both fit alike
+        settings = CalibrationSettings(forgetting=args.forgetting, height_m=height_m)
     except ValueError as exc:
         raise InputError("--forgetting", str(exc)) from None
-    config = load_pocket_config(args.config)
     try:
         cal = calibrated(pocket, foot, StrideCalibrator(config.step_length, config.stairs,
                                                         settings))
