@@ -98,13 +98,16 @@ def test_a_walk_that_speeds_up_stays_level(seed):
 
 def test_steps_of_a_refused_flight_walk_the_level_line():
     """A person who swings the thigh 44-49° at 4.8 km/h (a_H 0.022 m/°, b_H 0.52 m; issue
-    57's study, H2 at seed 1008): the pitch reads runs of fast level steps as upstairs, and
+    57's study, H2 at seed 1008) and all of the faster swing's growth forward
+    (``faster_swing_back_fraction`` 0.15, the thesis' fixed fraction: θ_max 39°, θ_min
+    −7°, shaped like a step up): the pitch reads runs of fast level steps as upstairs, and
     the flight check refuses them (no climb in their height). Those steps are published as
     level walking and take the level line's stride, not the stairs' 0.52 m (they did: 34
     steps, 13.6 % of the walk short)."""
     _, data = load_pocket_scenario("h2_rectangle_speeds")
     data = {**data, "seed": 1008,
-            "person": {"a_h_m_per_deg": 0.022, "b_h_m": 0.52, "b_u_cm": -7.5, "b_d_cm": -21.0}}
+            "person": {"a_h_m_per_deg": 0.022, "b_h_m": 0.52, "b_u_cm": -7.5, "b_d_cm": -21.0,
+                       "faster_swing_back_fraction": 0.15}}
     sim = simulate(SimulationConfig(pocket_scenario_from_dict(data, "h2"), data, "xsens_mtw",
                                     {}, 100.0, 1008, placement="pocket"))
     navigator = PocketNavigator(PocketConfig())

@@ -163,15 +163,35 @@ class _Planner:
 
     def level_step(self, speed_kmh: float, turn: float = 0.0) -> None:
         """One level cycle at about ``speed_kmh``: Δθ from the person's line at the
-        stride this speed and cadence give; the stride itself follows the pitch."""
+        stride this speed and cadence give; the stride itself follows the pitch, θ_min
+        from :meth:`level_pitch_min`."""
         p = self.person
         v = speed_kmh * KMH * (1.0 + p.speed_scatter * self.rng.standard_normal())
         period = 1.0 / cadence_hz(p, v)
-        amplitude = np.radians((v * period - p.b_h_m) / p.a_h_m_per_deg)
-        pitch_min = -p.pitch_min_fraction * amplitude
+        amplitude = self.level_amplitude(v * period)
+        pitch_min = self.level_pitch_min(amplitude)
         scatter = p.stride_scatter_m * self.rng.standard_normal()
         self._cycle(period, Activity.WALKING, pitch_min + amplitude, pitch_min, turn=turn,
                     scatter=scatter)
+
+    def level_amplitude(self, stride_m: float) -> float:
+        """Δθ [rad] of a level stride [m] by the person's line (Eq. (4.2))."""
+        p = self.person
+        return np.radians((stride_m - p.b_h_m) / p.a_h_m_per_deg)
+
+    def level_pitch_min(self, amplitude: float) -> float:
+        """θ_Hmin [rad] of a level swing Δθ [rad]: −``pitch_min_fraction``·Δθ (the thesis'
+        H1, θ_Hmax 26° of Δθ_H 32°) up to the swing at ``DEFAULT_SPEED_KMH``; a swing
+        beyond it grows ``faster_swing_back_fraction`` of its excess behind the vertical.
+        So does the real thigh board (docs/simulator.md): from its normal to its fast walk
+        Δθ grows from 31.3° to 39.5°, θ_min from −8.2° to −12.6°, θ_max only from 23.1°
+        to 26.9°. A fixed fraction would put the whole growth forward: at 4.8 km/h a flat
+        line's level step (Δθ 45°) shaped like a step up (θ_max 39°, θ_min −7°)."""
+        p = self.person
+        normal = self.level_amplitude(nominal_stride_m(p, DEFAULT_SPEED_KMH))
+        faster = max(amplitude - normal, 0.0)
+        return -p.pitch_min_fraction * (amplitude - faster) - \
+            p.faster_swing_back_fraction * faster
 
     def stair_step(self, direction: str, risers: int, riser_m: float, tread_m: float) -> None:
         """One cycle on stairs over ``risers`` risers: v = risers·riser fixes Δθ through

@@ -164,7 +164,10 @@ class PersonSpec:
     centre_scatter: bool = True             # the scatter's mean 0 over each segment
     stair_pitch_scatter_deg: float = 0.3    # σ of Δθ about the stairs lines, per step
     speed_scatter: float = 0.03             # relative σ of each step's speed
-    pitch_min_fraction: float = 0.15        # level: θ_Hmin = −fraction·Δθ_H
+    pitch_min_fraction: float = 0.15        # level: θ_Hmin = −fraction·Δθ_H up to the pace
+                                            # of DEFAULT_SPEED_KMH
+    faster_swing_back_fraction: float = 0.5  # ... and beyond it, this share of Δθ's growth
+                                             # behind the vertical
     up_pitch_min_sigma_deg: float = 2.0     # upstairs: θ_Umin ~ N(0, σ)
     down_pitch_min_deg: float = 7.0         # downstairs: θ_Dmin (positive)
     hip_sway_deg: float = 20.0              # thigh yaw sway, peak to peak

@@ -14,9 +14,11 @@ from pdr_core.sensors.magnetic_field import MagneticField, homogeneous
 from pdr_core.vocabulary import Activity
 from pdr_sim import signals
 from pdr_sim.pocket_scenario import (
+    DEFAULT_SPEED_KMH,
     PersonSpec,
     load_pocket_scenario,
     mounting_matrix,
+    nominal_stride_m,
     pocket_scenario_from_dict,
 )
 from pdr_sim.thigh_trajectory import ThighTrajectory
@@ -192,6 +194,28 @@ def test_level_pitch_has_the_thesis_shape(builtin):
         heel_t, heel_v, dip_t, _ = local_extrema(model, swing, end + 0.1 * cycles.duration[k])
         assert len(heel_t) == 1 and top - np.radians(10) < heel_v[0] < top - np.radians(2)
         assert len(dip_t) == 1 and abs(heel_t[0] - end) < 0.05 * cycles.duration[k]
+
+
+def test_a_faster_level_swing_grows_both_ways(builtin):
+    """H2 (2.5 and 4.8 km/h), docs/simulator.md: the slow steps keep the thesis' shape,
+    θ_Hmin = −0.15·Δθ_H; the fast ones swing half their growth beyond the swing of
+    3.5 km/h behind the vertical, as the real thigh board's fast walk does (54 %), so
+    their θ_max stays below the thigh's on stairs (about twice θ_Hmax)."""
+    model = builtin("h2_rectangle_speeds")
+    steps = model.true_steps
+    level = steady_level_steps(model)
+    amplitude = steps.pitch_amplitude[level]
+    slow, fast = level[amplitude < np.radians(25)], level[amplitude > np.radians(38)]
+    assert len(slow) > 50 and len(fast) > 50
+    fraction = -steps.pitch_min[slow] / steps.pitch_amplitude[slow]
+    assert np.allclose(fraction, 0.15, atol=0.01)
+    person = PersonSpec()
+    normal = np.radians((nominal_stride_m(person, DEFAULT_SPEED_KMH) - person.b_h_m)
+                        / person.a_h_m_per_deg)
+    grown = steps.pitch_amplitude[fast] - normal
+    back = -steps.pitch_min[fast] - 0.15 * normal
+    assert np.allclose(back / grown, 0.5, atol=0.03)
+    assert np.degrees(steps.pitch_max[fast]).max() < 36.0
 
 
 # --- acceptance 3: stairs -------------------------------------------------------------------
