@@ -1,6 +1,6 @@
 """Study (issue 57, acceptance 1 and 2): the foot INS calibrates the pocket's lines.
 
-Run on purpose, not in CI (about 15 minutes on 2 cores):
+Run on purpose, not in CI (about 3 minutes on 2 cores):
 
     ./ws python test/benchmarks/study_foot_calibration.py [--seeds 10] [--workers 2]
         [--out out/study_foot_calibration]
