@@ -389,6 +389,9 @@ def _segment(data: Any, where: str) -> PocketSegment:
     return PocketSegment(**out)
 
 
+SWING_SHARES = ("pitch_min_fraction", "faster_swing_back_fraction")   # of Δθ, in [0, 1]
+
+
 def _person(data: Any, where: str) -> PersonSpec:
     values = check_keys(data, PersonSpec, where)
     out: dict[str, Any] = {}
@@ -408,6 +411,10 @@ def _person(data: Any, where: str) -> PersonSpec:
             out[key] = number(value, at)
         elif key in ("a_h_m_per_deg", "a_u_cm_per_deg", "a_d_cm_per_deg", "stair_cadence_hz"):
             out[key] = number(value, at, 0.0, strict=True)
+        elif key in SWING_SHARES:
+            out[key] = number(value, at, 0.0)
+            if out[key] > 1.0:
+                raise InputError(at, f"a share of the swing, at most 1, got {value}")
         else:
             out[key] = number(value, at, 0.0)
     return PersonSpec(**out)
