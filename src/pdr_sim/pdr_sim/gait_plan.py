@@ -121,6 +121,9 @@ class _Planner:
         self.floor = 0                  # floor index (0 = start floor)
         self.flights_above = 0          # flights climbed above ``floor`` (a mid landing)
         self.walking = False
+        # the person's level swing at DEFAULT_SPEED_KMH [rad] (level_pitch_min)
+        self.normal_amplitude = self.level_amplitude(
+            nominal_stride_m(self.person, DEFAULT_SPEED_KMH))
 
     # rests ---------------------------------------------------------------------------
     def rest(self, duration: float, activity: int, pitch: float, turn: float = 0.0) -> None:
@@ -188,8 +191,7 @@ class _Planner:
         to 26.9°. A fixed fraction would put the whole growth forward: at 4.8 km/h a flat
         line's level step (Δθ 45°) shaped like a step up (θ_max 39°, θ_min −7°)."""
         p = self.person
-        normal = self.level_amplitude(nominal_stride_m(p, DEFAULT_SPEED_KMH))
-        faster = max(amplitude - normal, 0.0)
+        faster = max(amplitude - self.normal_amplitude, 0.0)
         return -p.pitch_min_fraction * (amplitude - faster) - \
             p.faster_swing_back_fraction * faster
 
